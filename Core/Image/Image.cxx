@@ -1,0 +1,146 @@
+// Image.cxx: compositing and OpenImageIO-based reading and writing.
+#include "Image/Image.h"
+
+#include "Common/FileUtil.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <unistd.h>
+
+namespace ddg
+{
+
+Image compositeOverBackground(const Image& in, const std::array<double, 3>& background)
+{
+  if (in.channels != 4)
+  {
+    throw Error("compositeOverBackground needs an RGBA image");
+  }
+  Image out(in.width, in.height, 3);
+  long bg8[3];
+  for (int c = 0; c < 3; ++c)
+  {
+    bg8[c] = std::lround(255.0 * std::clamp(background[c], 0.0, 1.0));
+  }
+  const size_t n = static_cast<size_t>(in.width) * in.height;
+  for (size_t i = 0; i < n; ++i)
+  {
+    const double a = std::clamp(static_cast<double>(in.pixels[4 * i + 3]), 0.0, 1.0);
+    const long a8 = std::lround(255.0 * a);
+    for (int c = 0; c < 3; ++c)
+    {
+      const double col = std::clamp(static_cast<double>(in.pixels[4 * i + c]), 0.0, 1.0);
+      long v = std::lround(255.0 * col) + std::lround(bg8[c] * (255 - a8) / 255.0);
+      v = std::min(v, 255L);
+      out.pixels[3 * i + c] = static_cast<float>(v) / 255.0f;
+    }
+  }
+  return out;
+}
+
+Image readImage(const std::string& path)
+{
+  auto input = OIIO::ImageInput::open(path);
+  if (!input)
+  {
+    std::string reason = OIIO::geterror();
+    throw Error("cannot read image '" + path + "': " + (reason.empty() ? "unknown format" : reason));
+  }
+  const OIIO::ImageSpec& spec = input->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
+  {
+    throw Error("image '" + path + "' is empty or not a 2D image");
+  }
+  Image img(spec.width, spec.height, spec.nchannels);
+  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+  {
+    std::string reason = input->geterror();
+    throw Error("cannot read image '" + path + "': " + reason);
+  }
+  input->close();
+  return img;
+}
+
+void writeImage(const Image& image, const std::string& path)
+{
+  if (image.empty() || (image.channels != 1 && image.channels != 3 && image.channels != 4))
+  {
+    throw Error("cannot write image '" + path + "': it is empty or has an unsupported channel count");
+  }
+  const std::string ext = fileExtension(path);
+  const bool keepFloat = ext == ".exr" || ext == ".tif" || ext == ".tiff";
+  // Temporary name keeps the extension so OpenImageIO picks the right format.
+  const auto slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+  const std::string tmp = dir + ".ddg-tmp-" + std::to_string(::getpid()) + "-" +
+    path.substr(slash == std::string::npos ? 0 : slash + 1);
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out)
+  {
+    throw Error("cannot write image '" + path + "': no writer for its extension");
+  }
+  OIIO::ImageSpec spec(image.width, image.height, image.channels,
+    keepFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (!out->open(tmp, spec))
+  {
+    throw Error("cannot write image '" + path + "': " + out->geterror());
+  }
+  bool ok;
+  if (keepFloat)
+  {
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+  }
+  else
+  {
+    std::vector<unsigned char> bytes(image.pixels.size());
+    for (size_t i = 0; i < bytes.size(); ++i)
+    {
+      const float v = std::clamp(image.pixels[i], 0.0f, 1.0f);
+      bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+    }
+    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  }
+  ok = out->close() && ok;
+  if (!ok)
+  {
+    std::remove(tmp.c_str());
+    throw Error("cannot write image '" + path + "': " + out->geterror());
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw Error("cannot write image '" + path + "': cannot move it into place");
+  }
+}
+
+Image toChannels(const Image& in, int channels)
+{
+  if (in.channels == channels)
+  {
+    return in;
+  }
+  Image out(in.width, in.height, channels);
+  const size_t n = static_cast<size_t>(in.width) * in.height;
+  for (size_t i = 0; i < n; ++i)
+  {
+    for (int c = 0; c < channels; ++c)
+    {
+      float v;
+      if (c < 3)
+      {
+        v = in.channels >= 3 ? in.pixels[i * in.channels + c] : in.pixels[i * in.channels];
+      }
+      else
+      {
+        v = in.channels == 4 || in.channels == 2 ? in.pixels[i * in.channels + in.channels - 1] : 1.0f;
+      }
+      out.pixels[i * channels + c] = v;
+    }
+  }
+  return out;
+}
+
+} // namespace ddg

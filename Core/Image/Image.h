@@ -1,0 +1,52 @@
+// Image.h: float images, compositing over a background as ParaView's framebuffer does, and file
+// I/O through OpenImageIO.
+#pragma once
+
+#include "Common/Error.h"
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace ddg
+{
+
+/// A float image, `channels` interleaved values per pixel, row 0 at the top.
+struct Image
+{
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<float> pixels; ///< width * height * channels
+
+  Image() = default;
+  Image(int w, int h, int c, float fill = 0.0f)
+    : width(w)
+    , height(h)
+    , channels(c)
+    , pixels(static_cast<size_t>(w) * h * c, fill)
+  {
+  }
+  float& at(int x, int y, int c) { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c) const { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
+  bool empty() const { return pixels.empty(); }
+};
+
+/// Composes a premultiplied RGBA image over an opaque background exactly as ParaView's 8-bit
+/// framebuffer does: out = round(255 C) + round(bg8 (255 - round(255 A)) / 255),
+/// bg8 = round(255 background), per channel, clamped to 255. Returns RGB with values k / 255.
+Image compositeOverBackground(const Image& premultipliedRGBA, const std::array<double, 3>& background);
+
+/// Reads any image OpenImageIO reads (PNG, JPEG, TIFF, EXR, ...) as float in [0, 1] for
+/// integer formats. Throws ddg::Error with the path and OpenImageIO's reason.
+Image readImage(const std::string& path);
+
+/// Writes an image; the format follows the extension. 8-bit formats (PNG, JPEG, ...) get
+/// round(255 clamp(v, 0, 1)); EXR and TIFF ".tif(f)" keep float. 1, 3 or 4 channels.
+/// Written atomically (temporary file + rename). Throws ddg::Error on failure.
+void writeImage(const Image& image, const std::string& path);
+
+/// Drops or adds channels: RGBA -> RGB (alpha dropped), gray -> RGB, RGB -> RGBA (alpha 1).
+Image toChannels(const Image& image, int channels);
+
+} // namespace ddg

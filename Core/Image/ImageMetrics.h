@@ -1,0 +1,20 @@
+// ImageMetrics.h: PSNR and SSIM between two images of the same size.
+#pragma once
+
+#include "Image/Image.h"
+
+namespace ddg
+{
+
+/// PSNR in dB over the first 3 channels (RGB) of two images with values in [0, 1]:
+/// 10 log10(1 / MSE). Returns +infinity for identical images. Throws ddg::Error when the
+/// sizes differ or an image has fewer than 3 channels (grey images are expanded first).
+double psnr(const Image& a, const Image& b);
+
+/// Mean SSIM (Wang et al. 2004) over RGB: 11 x 11 Gaussian window (sigma 1.5), K1 = 0.01,
+/// K2 = 0.03, dynamic range 1, computed per channel on the "valid" window positions
+/// (windows fully inside the image) and averaged. Images smaller than 11 px use the largest
+/// odd window that fits.
+double ssim(const Image& a, const Image& b);
+
+} // namespace ddg

@@ -1,0 +1,235 @@
+// View.cxx: view JSON, validation, default camera and ray generation (vtkCamera conventions).
+#include "Render/View.h"
+
+#include "Common/Error.h"
+#include "Common/FileUtil.h"
+#include "Volume/Volume.h"
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <sstream>
+
+namespace ddg
+{
+namespace
+{
+using nlohmann::json;
+
+Eigen::Vector3d vec3(const json& j, const char* key, const std::string& origin)
+{
+  if (!j.contains(key))
+  {
+    throw Error(origin + ": camera needs \"" + key + "\"");
+  }
+  const json& a = j[key];
+  if (!a.is_array() || a.size() != 3 || !a[0].is_number() || !a[1].is_number() || !a[2].is_number())
+  {
+    throw Error(origin + ": camera \"" + key + "\" must be three numbers");
+  }
+  return { a[0].get<double>(), a[1].get<double>(), a[2].get<double>() };
+}
+
+bool finite(const Eigen::Vector3d& v)
+{
+  return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
+}
+
+} // namespace
+
+void View::validate() const
+{
+  const Camera& c = camera;
+  if (!finite(c.position) || !finite(c.focalPoint) || !finite(c.viewUp))
+  {
+    throw Error("degenerate camera: position, focal_point and view_up must be finite");
+  }
+  const Eigen::Vector3d dir = c.focalPoint - c.position;
+  if (dir.norm() <= 1e-12 * (1.0 + c.position.norm()))
+  {
+    throw Error("degenerate camera: position and focal_point coincide");
+  }
+  if (c.viewUp.norm() == 0.0 || dir.normalized().cross(c.viewUp.normalized()).norm() < 1e-6)
+  {
+    throw Error("degenerate camera: view_up is zero or parallel to the viewing direction");
+  }
+  if (!c.parallelProjection && !(c.viewAngle > 0.0 && c.viewAngle < 180.0))
+  {
+    throw Error("degenerate camera: view_angle must lie in (0, 180) degrees");
+  }
+  if (c.parallelProjection && !(c.parallelScale > 0.0 && std::isfinite(c.parallelScale)))
+  {
+    throw Error("degenerate camera: parallel_scale must be positive");
+  }
+  if (width < 1 || height < 1 || width > kMaxImageSide || height > kMaxImageSide ||
+    static_cast<long long>(width) * height > kMaxImagePixels)
+  {
+    std::ostringstream msg;
+    msg << "image size " << width << " x " << height << " is out of range (each side 1.."
+        << kMaxImageSide << ", at most " << kMaxImagePixels << " pixels)";
+    throw Error(msg.str());
+  }
+  for (double b : background)
+  {
+    if (!std::isfinite(b) || b < 0 || b > 1)
+    {
+      throw Error("background colour components must lie in [0, 1]");
+    }
+  }
+  if (opacityUnitDistance && !(*opacityUnitDistance > 0 && std::isfinite(*opacityUnitDistance)))
+  {
+    throw Error("opacity_unit_distance must be positive");
+  }
+}
+
+View parseView(const std::string& jsonText, const std::string& origin)
+{
+  json j;
+  try
+  {
+    j = json::parse(jsonText);
+  }
+  catch (const json::parse_error& e)
+  {
+    throw Error(origin + " is not valid JSON: " + e.what());
+  }
+  if (!j.is_object() || !j.contains("camera") || !j["camera"].is_object())
+  {
+    throw Error(origin + ": needs a \"camera\" object");
+  }
+  View v;
+  try
+  {
+    const json& c = j["camera"];
+    v.camera.position = vec3(c, "position", origin);
+    v.camera.focalPoint = vec3(c, "focal_point", origin);
+    v.camera.viewUp = vec3(c, "view_up", origin);
+    v.camera.viewAngle = c.value("view_angle", 30.0);
+    v.camera.parallelProjection = c.value("parallel_projection", false);
+    v.camera.parallelScale = c.value("parallel_scale", 1.0);
+    if (j.contains("size"))
+    {
+      const json& s = j["size"];
+      if (!s.is_array() || s.size() != 2 || !s[0].is_number() || !s[1].is_number())
+      {
+        throw Error(origin + ": \"size\" must be [width, height]");
+      }
+      const double w = s[0].get<double>(), h = s[1].get<double>();
+      if (w != std::floor(w) || h != std::floor(h) || w < 0 || h < 0 || w > 1e9 || h > 1e9)
+      {
+        throw Error(origin + ": \"size\" must be two non-negative integers");
+      }
+      v.width = static_cast<int>(w);
+      v.height = static_cast<int>(h);
+    }
+    if (j.contains("background"))
+    {
+      const auto b = vec3(j, "background", origin);
+      v.background = { b[0], b[1], b[2] };
+    }
+    if (j.contains("opacity_unit_distance") && !j["opacity_unit_distance"].is_null())
+    {
+      v.opacityUnitDistance = j["opacity_unit_distance"].get<double>();
+    }
+  }
+  catch (const json::exception& e)
+  {
+    throw Error(origin + ": " + e.what());
+  }
+  try
+  {
+    v.validate();
+  }
+  catch (const Error& e)
+  {
+    throw Error(origin + ": " + e.what());
+  }
+  return v;
+}
+
+View readView(const std::string& path)
+{
+  return parseView(readTextFile(path, "view"), "view '" + path + "'");
+}
+
+std::string viewToJson(const View& v)
+{
+  json c;
+  const auto& cam = v.camera;
+  c["position"] = { cam.position[0], cam.position[1], cam.position[2] };
+  c["focal_point"] = { cam.focalPoint[0], cam.focalPoint[1], cam.focalPoint[2] };
+  c["view_up"] = { cam.viewUp[0], cam.viewUp[1], cam.viewUp[2] };
+  c["view_angle"] = cam.viewAngle;
+  c["parallel_projection"] = cam.parallelProjection;
+  c["parallel_scale"] = cam.parallelScale;
+  json j;
+  j["camera"] = c;
+  j["size"] = { v.width, v.height };
+  j["background"] = { v.background[0], v.background[1], v.background[2] };
+  if (v.opacityUnitDistance)
+  {
+    j["opacity_unit_distance"] = *v.opacityUnitDistance;
+  }
+  return j.dump(2) + "\n";
+}
+
+void writeView(const View& view, const std::string& path)
+{
+  writeFileAtomic(path, viewToJson(view), "view");
+}
+
+View defaultView(const Volume& volume, int width, int height)
+{
+  View v;
+  v.width = width;
+  v.height = height;
+  const auto b = volume.bounds();
+  const Eigen::Vector3d center(0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]));
+  const Eigen::Vector3d extent(b[1] - b[0], b[3] - b[2], b[5] - b[4]);
+  double radius = 0.5 * extent.norm();
+  if (radius == 0.0)
+  {
+    radius = 0.5;
+  }
+  const double distance = radius / std::sin(v.camera.viewAngle * M_PI / 360.0);
+  v.camera.focalPoint = center;
+  v.camera.position = center + Eigen::Vector3d(0, 0, distance);
+  v.camera.viewUp = { 0, 1, 0 };
+  v.camera.parallelScale = radius;
+  return v;
+}
+
+RayGenerator::RayGenerator(const View& view)
+  : V(view)
+{
+  view.validate();
+  const Camera& c = view.camera;
+  Forward = (c.focalPoint - c.position).normalized();
+  // vtkCamera / vtkPerspectiveTransform::SetupCamera: side = dir x up, up' = side x dir.
+  Right = Forward.cross(c.viewUp).normalized();
+  Up = Right.cross(Forward);
+  Aspect = static_cast<double>(view.width) / view.height;
+  HalfHeight = c.parallelProjection ? c.parallelScale : std::tan(c.viewAngle * M_PI / 360.0);
+}
+
+void RayGenerator::ray(int x, int y, Eigen::Vector3d& origin, Eigen::Vector3d& direction) const
+{
+  // Normalised device coordinates of the pixel centre; rows counted from the bottom.
+  const double ndcX = 2.0 * (x + 0.5) / V.width - 1.0;
+  const double ndcY = 2.0 * ((V.height - 1 - y) + 0.5) / V.height - 1.0;
+  const double sx = ndcX * HalfHeight * Aspect;
+  const double sy = ndcY * HalfHeight;
+  if (V.camera.parallelProjection)
+  {
+    origin = V.camera.position + sx * Right + sy * Up;
+    direction = Forward;
+  }
+  else
+  {
+    origin = V.camera.position;
+    direction = (Forward + sx * Right + sy * Up).normalized();
+  }
+}
+
+} // namespace ddg

@@ -1,0 +1,83 @@
+// View.h: the view contract — camera exactly as ParaView states it, image size, background,
+// opacity unit distance — and the rays it casts.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <optional>
+#include <string>
+
+namespace ddg
+{
+
+class Volume;
+
+/// A camera in ParaView's terms (vtkCamera): world coordinates of the volume.
+struct Camera
+{
+  Eigen::Vector3d position{ 0, 0, 1 };
+  Eigen::Vector3d focalPoint{ 0, 0, 0 };
+  Eigen::Vector3d viewUp{ 0, 1, 0 };
+  double viewAngle = 30.0;       ///< vertical full angle in degrees (perspective)
+  bool parallelProjection = false;
+  double parallelScale = 1.0;    ///< half the viewport height in world units (parallel)
+};
+
+/// What to render and how: the view JSON
+///   { "camera": { "position": [x,y,z], "focal_point": [x,y,z], "view_up": [x,y,z],
+///                 "view_angle": 30, "parallel_projection": false, "parallel_scale": 1 },
+///     "size": [width, height], "background": [r, g, b],
+///     "opacity_unit_distance": d }          (optional: ParaView's default for the volume)
+/// Defaults: view_angle 30, parallel_projection false, parallel_scale 1, size [512, 512],
+/// background [0.329, 0.349, 0.427] (pvpython's). position, focal_point, view_up are required.
+struct View
+{
+  Camera camera;
+  int width = 512;
+  int height = 512;
+  std::array<double, 3> background{ 0.329, 0.349, 0.427 };
+  std::optional<double> opacityUnitDistance;
+
+  /// Throws ddg::Error for a degenerate camera (position == focal point, view_up parallel to
+  /// the view direction or zero, view angle outside (0, 180), parallel scale <= 0, anything
+  /// non-finite), an image size outside [1, 16384] per side or above 64 Mpixel, a background
+  /// outside [0, 1], or an opacity unit distance <= 0.
+  void validate() const;
+};
+
+/// Largest image side and pixel count accepted by View::validate.
+constexpr int kMaxImageSide = 16384;
+constexpr long long kMaxImagePixels = 64LL * 1024 * 1024;
+
+View parseView(const std::string& jsonText, const std::string& origin = "view");
+View readView(const std::string& path);
+std::string viewToJson(const View& view);
+void writeView(const View& view, const std::string& path);
+
+/// The camera ParaView's "Reset Camera" gives when looking down -z with +y up at a volume
+/// (vtkRenderer::ResetCamera: distance = radius / sin(view_angle / 2), radius = half diagonal).
+View defaultView(const Volume& volume, int width = 512, int height = 512);
+
+/// Orthonormal camera frame and projection of a View, to generate one ray per pixel centre.
+/// Pixel (x, y) has x to the right and y DOWN from the top row (image order); ParaView's
+/// window coordinates count rows from the bottom.
+class RayGenerator
+{
+public:
+  explicit RayGenerator(const View& view);
+  /// Origin and unit direction of the ray through the centre of pixel (x, y).
+  void ray(int x, int y, Eigen::Vector3d& origin, Eigen::Vector3d& direction) const;
+
+  const Eigen::Vector3d& forward() const { return Forward; }
+  const Eigen::Vector3d& right() const { return Right; }
+  const Eigen::Vector3d& up() const { return Up; }
+
+private:
+  View V;
+  Eigen::Vector3d Forward, Right, Up;
+  double HalfHeight = 1; ///< tan(angle/2) (perspective) or parallel scale
+  double Aspect = 1;
+};
+
+} // namespace ddg

@@ -1,0 +1,277 @@
+// ddg.cxx: the command-line program — the project's public interface for rendering and (later)
+// reconstruction, generation, training and gallery operations. See `ddg --help`.
+#include "DDGVolumeAdaptor.h"
+
+#include "Common/Error.h"
+#include "Image/Image.h"
+#include "Image/ImageMetrics.h"
+#include "Render/RayCaster.h"
+#include "Render/View.h"
+#include "TransferFunction/TransferFunctionIO.h"
+
+#include <CLI/CLI.hpp>
+#include <Eigen/Geometry>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+namespace
+{
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// --- ddg render -----------------------------------------------------------------------------
+
+struct RenderArgs
+{
+  std::string volume, tf, view, out, array;
+  bool alpha = false, jitter = false, noSkip = false;
+  double sampleDistance = 0, sampleOffset = 0.5;
+  int threads = 0;
+};
+
+int runRender(const RenderArgs& a)
+{
+  const auto t0 = Clock::now();
+  const ddg::View view = ddg::readView(a.view);
+  const ddg::TransferFunctionFile tf = ddg::readTransferFunctionFile(a.tf);
+  const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
+  if (volume.nonFiniteCount() > 0)
+  {
+    std::cerr << "ddg render: warning: " << volume.nonFiniteCount()
+              << " NaN/infinite voxels were set to the minimum value " << volume.range()[0] << "\n";
+  }
+  const ddg::RayCaster caster(volume);
+  const double tLoad = msSince(t0);
+  ddg::RenderOptions opt;
+  opt.jitter = a.jitter;
+  opt.sampleDistance = a.sampleDistance;
+  opt.sampleOffset = a.sampleOffset;
+  opt.emptySpaceSkipping = !a.noSkip;
+  opt.threads = a.threads;
+  const auto t1 = Clock::now();
+  const ddg::Image rgba = tf.is2D ? caster.render(tf.tf2D.bake(), view, opt)
+                                  : caster.render(caster.paraviewTable(tf.tf1D), view, opt);
+  const double tRender = msSince(t1);
+  if (a.alpha)
+  {
+    // PNG convention: straight (unpremultiplied) alpha.
+    ddg::Image straight = rgba;
+    for (size_t i = 0; i < straight.pixels.size(); i += 4)
+    {
+      const float al = straight.pixels[i + 3];
+      for (int c = 0; c < 3; ++c)
+      {
+        straight.pixels[i + c] = al > 0 ? std::min(1.0f, straight.pixels[i + c] / al) : 0.0f;
+      }
+    }
+    ddg::writeImage(straight, a.out);
+  }
+  else
+  {
+    ddg::writeImage(ddg::compositeOverBackground(rgba, view.background), a.out);
+  }
+  std::printf("wrote %s (%d x %d) load %.0f ms, render %.1f ms\n", a.out.c_str(), view.width,
+    view.height, tLoad, tRender);
+  return 0;
+}
+
+// --- ddg compare ----------------------------------------------------------------------------
+
+struct CompareArgs
+{
+  std::string a, b;
+  double minPsnr = -1;
+  bool json = false;
+};
+
+int runCompare(const CompareArgs& c)
+{
+  const ddg::Image a = ddg::readImage(c.a);
+  const ddg::Image b = ddg::readImage(c.b);
+  const double p = ddg::psnr(a, b);
+  const double s = ddg::ssim(a, b);
+  if (c.json)
+  {
+    std::printf("{\"psnr\": %.4f, \"ssim\": %.6f}\n", std::isinf(p) ? 999.0 : p, s);
+  }
+  else
+  {
+    std::printf("PSNR %.2f dB  SSIM %.5f\n", std::isinf(p) ? 999.0 : p, s);
+  }
+  if (c.minPsnr >= 0 && p < c.minPsnr)
+  {
+    std::fprintf(stderr, "ddg compare: PSNR %.2f dB is below the required %.2f dB\n", p, c.minPsnr);
+    return 3;
+  }
+  return 0;
+}
+
+// --- ddg view -------------------------------------------------------------------------------
+
+struct ViewArgs
+{
+  std::string volume, out, array;
+  std::vector<int> size{ 512, 512 };
+  double azimuth = 0, elevation = 0, zoom = 1;
+  bool parallel = false;
+  std::vector<double> background;
+};
+
+int runView(const ViewArgs& a)
+{
+  const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
+  ddg::View v = ddg::defaultView(volume, a.size[0], a.size[1]);
+  auto& cam = v.camera;
+  // vtkCamera::Azimuth (about view up through the focal point), then Elevation (about the
+  // right vector), then OrthogonalizeViewUp.
+  const Eigen::Vector3d up = cam.viewUp.normalized();
+  Eigen::Vector3d offset = cam.position - cam.focalPoint;
+  offset = Eigen::AngleAxisd(a.azimuth * M_PI / 180.0, up) * offset;
+  const Eigen::Vector3d right = (-offset).normalized().cross(up).normalized();
+  offset = Eigen::AngleAxisd(-a.elevation * M_PI / 180.0, right) * offset;
+  cam.position = cam.focalPoint + offset / (a.parallel ? 1.0 : a.zoom);
+  const Eigen::Vector3d forward = (-offset).normalized();
+  cam.viewUp = forward.cross(up).normalized().cross(forward).normalized();
+  if (cam.viewUp.norm() < 0.5 || !std::isfinite(cam.viewUp[0]))
+  {
+    throw ddg::Error("elevation of +-90 degrees makes view_up parallel to the view direction");
+  }
+  cam.parallelProjection = a.parallel;
+  cam.parallelScale /= a.zoom;
+  if (!a.background.empty())
+  {
+    if (a.background.size() != 3)
+    {
+      throw ddg::Error("--background needs three numbers r g b");
+    }
+    v.background = { a.background[0], a.background[1], a.background[2] };
+  }
+  v.validate();
+  ddg::writeView(v, a.out);
+  std::printf("wrote %s\n", a.out.c_str());
+  return 0;
+}
+
+// --- ddg info -------------------------------------------------------------------------------
+
+int runInfo(const std::string& path, const std::string& array)
+{
+  const ddg::Volume v = ddg::readVolumeFile(path, array);
+  const auto& d = v.dims();
+  const auto& s = v.spacing();
+  const auto& o = v.origin();
+  std::printf("volume       %s\n", path.c_str());
+  std::printf("dimensions   %d x %d x %d (%lld voxels)\n", d[0], d[1], d[2],
+    static_cast<long long>(v.voxelCount()));
+  std::printf("scalar type  %s\n", ddg::scalarTypeName(v.originalType()));
+  std::printf("origin       %g %g %g\n", o[0], o[1], o[2]);
+  std::printf("spacing      %g %g %g\n", s[0], s[1], s[2]);
+  std::printf("range        %g .. %g\n", v.range()[0], v.range()[1]);
+  if (v.nonFiniteCount() > 0)
+  {
+    std::printf("non-finite   %lld voxels (rendered as the minimum)\n",
+      static_cast<long long>(v.nonFiniteCount()));
+  }
+  try
+  {
+    const ddg::RayCaster caster(v);
+    std::printf("sample distance (ParaView default)        %.7g\n", caster.defaultSampleDistance());
+    std::printf("opacity unit distance (ParaView default)  %.7g\n", caster.defaultOpacityUnitDistance());
+  }
+  catch (const ddg::Error& e)
+  {
+    std::printf("not renderable: %s\n", e.what());
+  }
+  return 0;
+}
+
+} // namespace
+
+int main(int argc, char** argv)
+{
+  CLI::App app{ "ddg — Differentiable Design Gallery: volume rendering and transfer functions.\n"
+                "Files shared by every command (see README.md):\n"
+                "  TF file   ParaView preset JSON [{\"Name\", \"ColorSpace\", \"RGBPoints\": [x,r,g,b,...],\n"
+                "            \"Points\": [x,alpha,midpoint,sharpness,...]}], or the DDG 2D TF JSON\n"
+                "            {\"Format\": \"ddg-transfer-function-2d\", ...}\n"
+                "  view file {\"camera\": {\"position\", \"focal_point\", \"view_up\", \"view_angle\",\n"
+                "            \"parallel_projection\", \"parallel_scale\"}, \"size\": [w,h],\n"
+                "            \"background\": [r,g,b], \"opacity_unit_distance\": d (optional)}\n"
+                "  volumes   .vti .vtk .nrrd .nhdr .mha .mhd .nii .nii.gz, or raw(.gz) + JSON sidecar",
+    "ddg" };
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "ddg 0.1.0");
+
+  RenderArgs ra;
+  auto* render = app.add_subcommand("render",
+    "Render a volume with a TF file and a view file to an image (as ParaView's Volume representation would).");
+  render->add_option("--volume", ra.volume, "Volume file")->required();
+  render->add_option("--tf", ra.tf, "Transfer function file (ParaView preset JSON or DDG 2D JSON)")->required();
+  render->add_option("--view", ra.view, "View JSON (camera, size, background, opacity_unit_distance)")->required();
+  render->add_option("--out", ra.out, "Output image (.png, .jpg, .tif, .exr, ...)")->required();
+  render->add_option("--array", ra.array, "Point array to render (default: the active scalars)");
+  render->add_flag("--alpha", ra.alpha, "Write RGBA with straight alpha instead of RGB over the background");
+  render->add_flag("--jitter", ra.jitter, "Jitter the first sample per pixel (default: off)");
+  render->add_option("--sample-distance", ra.sampleDistance,
+    "Sample distance in world units (default 0: ParaView's rule, mean spacing / 2)")->check(CLI::NonNegativeNumber);
+  render->add_option("--sample-offset", ra.sampleOffset,
+    "First sample at entry + offset * step when not jittering (default 0.5)")->check(CLI::Range(0.0, 1.0));
+  render->add_flag("--no-skip", ra.noSkip, "Disable empty-space skipping (same image, slower)");
+  render->add_option("--threads", ra.threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 256));
+
+  CompareArgs ca;
+  auto* compare = app.add_subcommand("compare", "Print PSNR (dB) and SSIM between two images of the same size.");
+  compare->add_option("a", ca.a, "First image")->required();
+  compare->add_option("b", ca.b, "Second image")->required();
+  compare->add_option("--min-psnr", ca.minPsnr, "Exit with status 3 when PSNR is below this (dB)");
+  compare->add_flag("--json", ca.json, "Print {\"psnr\": ..., \"ssim\": ...}");
+
+  ViewArgs va;
+  auto* viewCmd = app.add_subcommand("view",
+    "Write a view JSON for a volume: ParaView's reset camera (looking down -z, +y up), then azimuth/elevation/zoom.");
+  viewCmd->add_option("--volume", va.volume, "Volume file")->required();
+  viewCmd->add_option("--out", va.out, "Output view JSON")->required();
+  viewCmd->add_option("--array", va.array, "Point array (default: the active scalars)");
+  viewCmd->add_option("--size", va.size, "Image width and height (default 512 512)")->expected(2);
+  viewCmd->add_option("--azimuth", va.azimuth, "Degrees about the view up vector (default 0)");
+  viewCmd->add_option("--elevation", va.elevation, "Degrees about the right vector (default 0)");
+  viewCmd->add_option("--zoom", va.zoom, "Zoom factor > 0 (default 1)")->check(CLI::PositiveNumber);
+  viewCmd->add_flag("--parallel", va.parallel, "Parallel projection");
+  viewCmd->add_option("--background", va.background, "Background r g b in [0, 1]")->expected(3);
+
+  std::string infoVolume, infoArray;
+  auto* info = app.add_subcommand("info", "Print a volume's dimensions, spacing, type, range and ParaView's defaults.");
+  info->add_option("--volume", infoVolume, "Volume file")->required();
+  info->add_option("--array", infoArray, "Point array (default: the active scalars)");
+
+  try
+  {
+    app.parse(argc, argv);
+  }
+  catch (const CLI::ParseError& e)
+  {
+    return app.exit(e);
+  }
+
+  const std::string name = app.get_subcommands().front()->get_name();
+  try
+  {
+    if (*render) return runRender(ra);
+    if (*compare) return runCompare(ca);
+    if (*viewCmd) return runView(va);
+    if (*info) return runInfo(infoVolume, infoArray);
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "ddg %s: error: %s\n", name.c_str(), e.what());
+    return 1;
+  }
+  return 0;
+}

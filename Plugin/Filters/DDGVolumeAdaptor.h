@@ -1,0 +1,35 @@
+// DDGVolumeAdaptor.h: VTK <-> Core conversions shared by the filters and the `ddg` program.
+#pragma once
+
+#include "DDGFiltersModule.h" // export macro
+
+#include "Image/Image.h"
+#include "Volume/Volume.h"
+
+#include <string>
+
+class vtkDataArray;
+class vtkImageData;
+
+namespace ddg
+{
+
+/// Converts point-data scalars of an image to a Core volume (dims, origin, spacing, original
+/// scalar type kept). `array` may be null: the point scalars are used. Throws ddg::Error for
+/// no/empty data, cell data, a multi-component array or a non-numeric array. A non-identity
+/// direction matrix throws too (ParaView 5.11's volume mapper and Core both assume axis-aligned).
+DDGFILTERS_EXPORT Volume toCoreVolume(vtkImageData* image, vtkDataArray* array = nullptr);
+
+/// Reads a volume file: .vti, .vtk (legacy structured points), .nrrd/.nhdr, .mha/.mhd,
+/// .nii/.nii.gz through ParaView's bundled VTK readers, and the project's raw(.gz) + JSON
+/// pairs through Core. `arrayName` selects a point array (empty: the active scalars).
+/// Throws ddg::Error with the path and the reason.
+DDGFILTERS_EXPORT Volume readVolumeFile(const std::string& path, const std::string& arrayName = "");
+
+/// Fills a 2D vtkImageData (width x height x 1, VTK's bottom-up rows) from a premultiplied RGBA
+/// render: point array "RGBA" (float, premultiplied) and "Image" (unsigned char RGB over
+/// `background`, ParaView's compositing), "Image" being the active scalars.
+DDGFILTERS_EXPORT void toVTKImage(const Image& premultipliedRGBA,
+  const std::array<double, 3>& background, vtkImageData* output);
+
+} // namespace ddg
