@@ -43,7 +43,10 @@ Image compositeOverBackground(const Image& in, const std::array<double, 3>& back
 
 Image readImage(const std::string& path)
 {
-  auto input = OIIO::ImageInput::open(path);
+  // Keep alpha as stored (straight for PNG); OpenImageIO would premultiply otherwise.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto input = OIIO::ImageInput::open(path, &config);
   if (!input)
   {
     std::string reason = OIIO::geterror();
@@ -84,6 +87,7 @@ void writeImage(const Image& image, const std::string& path)
   }
   OIIO::ImageSpec spec(image.width, image.height, image.channels,
     keepFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  spec.attribute("oiio:UnassociatedAlpha", 1); // write alpha as given, never un-premultiply
   if (!out->open(tmp, spec))
   {
     throw Error("cannot write image '" + path + "': " + out->geterror());

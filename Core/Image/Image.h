@@ -38,11 +38,13 @@ struct Image
 Image compositeOverBackground(const Image& premultipliedRGBA, const std::array<double, 3>& background);
 
 /// Reads any image OpenImageIO reads (PNG, JPEG, TIFF, EXR, ...) as float in [0, 1] for
-/// integer formats. Throws ddg::Error with the path and OpenImageIO's reason.
+/// integer formats, alpha exactly as stored (straight alpha for PNG; no premultiplication).
+/// Throws ddg::Error with the path and OpenImageIO's reason.
 Image readImage(const std::string& path);
 
 /// Writes an image; the format follows the extension. 8-bit formats (PNG, JPEG, ...) get
 /// round(255 clamp(v, 0, 1)); EXR and TIFF ".tif(f)" keep float. 1, 3 or 4 channels.
+/// Values are written as given (an RGBA image is stored as is: pass straight alpha for PNG).
 /// Written atomically (temporary file + rename). Throws ddg::Error on failure.
 void writeImage(const Image& image, const std::string& path);
 

@@ -8,6 +8,7 @@
 
 #include <vtkDataArray.h>
 #include <vtkDataObject.h>
+#include <vtkAlgorithmOutput.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
@@ -23,6 +24,10 @@ struct vtkDDGVolumeRender::Internals
   std::unique_ptr<ddg::RayCaster> Caster;
   vtkMTimeType InputTime = 0;
   vtkDataArray* Array = nullptr;
+  // The last error and the state it was reported for: the pipeline may re-run a failed
+  // request (an empty output never satisfies the update extent); report each failure once.
+  std::string LastError;
+  vtkMTimeType LastErrorState = 0;
 };
 
 vtkDDGVolumeRender::vtkDDGVolumeRender()
@@ -76,6 +81,19 @@ int vtkDDGVolumeRender::RequestInformation(
   return 1;
 }
 
+int vtkDDGVolumeRender::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  // The whole volume is needed, whatever image extent is requested downstream.
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  }
+  return 1;
+}
+
 int vtkDDGVolumeRender::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
@@ -118,6 +136,7 @@ int vtkDDGVolumeRender::RequestData(
     const ddg::Image image = tf.is2D ? caster.render(tf.tf2D.bake(), view, options, progress)
                                      : caster.render(caster.paraviewTable(tf.tf1D), view, options, progress);
     ddg::toVTKImage(image, view.background, output);
+    this->Internal->LastError.clear();
   }
   catch (const ddg::Cancelled&)
   {
@@ -126,7 +145,18 @@ int vtkDDGVolumeRender::RequestData(
   catch (const std::exception& e)
   {
     output->Initialize();
-    vtkErrorMacro(<< e.what());
+    // State = this filter's and its producer's parameters (not the data's MTime, which moves
+    // whenever the producer re-executes).
+    vtkAlgorithm* producer = this->GetNumberOfInputConnections(0) > 0
+      ? this->GetInputConnection(0, 0)->GetProducer()
+      : nullptr;
+    const vtkMTimeType state = std::max(this->GetMTime(), producer ? producer->GetMTime() : 0);
+    if (e.what() != this->Internal->LastError || state != this->Internal->LastErrorState)
+    {
+      this->Internal->LastError = e.what();
+      this->Internal->LastErrorState = state;
+      vtkErrorMacro(<< e.what());
+    }
   }
   return 1;
 }

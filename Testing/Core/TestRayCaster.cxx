@@ -1,0 +1,226 @@
+// TestRayCaster.cxx: the fast ray caster against the naive reference (values to 1e-5), exactness
+// of block skipping and threading, ParaView's default distances, cancellation and bad input.
+//
+// Compared: ddg::RayCaster::render vs ddg::testing::referenceRender on small analytic volumes
+// (anisotropic spacing, non-zero origin, uint8 and float types), perspective and parallel views,
+// 1D and 2D tables. Tolerance kValueTol = 1e-5 on premultiplied RGBA for at least 99.9% of
+// pixels, and kOutlierTol = 2e-3 for the rest (float vs double sample positions can move one
+// sample across the exit face of the box).
+#include "ReferenceRayCaster.h"
+
+#include "Common/Error.h"
+#include "Render/RayCaster.h"
+#include "TransferFunction/GaussianPrimitive.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace ddg;
+
+namespace
+{
+constexpr double kValueTol = 1e-5;
+constexpr double kOutlierTol = 2e-3;
+
+Volume blobVolume(ScalarType type, std::array<double, 3> spacing = { 1.0, 1.3, 0.8 },
+  std::array<double, 3> origin = { -3.0, 2.0, 5.0 })
+{
+  const std::array<int, 3> dims{ 24, 20, 28 };
+  std::vector<float> v(static_cast<size_t>(dims[0]) * dims[1] * dims[2]);
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+      {
+        const double x = (i - 11.5) / 8.0, y = (j - 9.5) / 7.0, z = (k - 13.5) / 9.0;
+        const double r2 = x * x + y * y + z * z;
+        double val = 255.0 * std::exp(-1.5 * r2) * (0.75 + 0.25 * std::sin(3 * x + 2 * y));
+        if (type == ScalarType::UInt8) val = std::round(std::clamp(val, 0.0, 255.0));
+        v[i + dims[0] * (j + static_cast<size_t>(dims[1]) * k)] = static_cast<float>(val);
+      }
+  return Volume(dims, origin, spacing, v, type);
+}
+
+View orbitView(const Volume& vol, double azimuthDeg, bool parallel, int w = 48, int h = 40)
+{
+  View v = defaultView(vol, w, h);
+  const Eigen::Vector3d f = v.camera.focalPoint;
+  const double dist = (v.camera.position - f).norm() * 0.8;
+  const double a = azimuthDeg * M_PI / 180.0;
+  v.camera.position = f + dist * Eigen::Vector3d(std::sin(a), 0.3, std::cos(a)).normalized();
+  v.camera.parallelProjection = parallel;
+  v.camera.parallelScale *= 0.7;
+  return v;
+}
+
+TransferFunction1D testTF()
+{
+  TransferFunction1D tf;
+  tf.color = { { 0, 0.1, 0.2, 0.9 }, { 90, 0.2, 0.9, 0.3 }, { 180, 1.0, 0.6, 0.1 }, { 255, 1, 1, 1 } };
+  tf.opacity = { { 0, 0 }, { 40, 0 }, { 120, 0.3, 0.4, 0.2 }, { 200, 0.05 }, { 255, 0.9 } };
+  return tf;
+}
+
+void expectClose(const Image& fast, const Image& ref)
+{
+  ASSERT_EQ(fast.width, ref.width);
+  ASSERT_EQ(fast.height, ref.height);
+  size_t outliers = 0;
+  double worst = 0;
+  for (size_t i = 0; i < fast.pixels.size(); ++i)
+  {
+    const double d = std::abs(fast.pixels[i] - ref.pixels[i]);
+    worst = std::max(worst, d);
+    outliers += d > kValueTol ? 1 : 0;
+    ASSERT_LE(d, kOutlierTol) << "value " << i;
+  }
+  EXPECT_LE(outliers, fast.pixels.size() / 1000) << "worst difference " << worst;
+}
+
+} // namespace
+
+TEST(RayCaster, MatchesReferencePerspectiveAndParallel)
+{
+  for (ScalarType type : { ScalarType::UInt8, ScalarType::Float32 })
+  {
+    const Volume vol = blobVolume(type);
+    const RayCaster caster(vol);
+    const auto table = caster.paraviewTable(testTF());
+    for (bool parallel : { false, true })
+    {
+      for (double az : { 0.0, 63.0, 200.0 })
+      {
+        const View view = orbitView(vol, az, parallel);
+        RenderOptions opt;
+        const Image fast = caster.render(table, view, opt);
+        const Image ref = reference::referenceRender(vol, table, view, caster.defaultSampleDistance(),
+          caster.defaultOpacityUnitDistance(), opt.sampleOffset, opt.terminationOpacity);
+        SCOPED_TRACE(::testing::Message() << "type " << scalarTypeName(type) << " parallel " << parallel << " az " << az);
+        expectClose(fast, ref);
+      }
+    }
+  }
+}
+
+TEST(RayCaster, MatchesReferenceWith2DTable)
+{
+  const Volume vol = blobVolume(ScalarType::Float32);
+  const RayCaster caster(vol);
+  std::vector<GaussianPrimitive> prims(2);
+  prims[0].mean = { 120, 10 };
+  prims[0].stddev = { 25, 8 };
+  prims[0].rgb = { 0.9, 0.3, 0.2 };
+  prims[0].opacity = 0.4;
+  prims[1].mean = { 200, 30 };
+  prims[1].stddev = { 20, 15 };
+  prims[1].rgb = { 0.2, 0.5, 1.0 };
+  prims[1].opacity = 0.8;
+  const auto table = rasterize2D(prims, { 0, 255 }, { 0, 60 }, 64, 32);
+  const View view = orbitView(vol, 30, false);
+  const Image fast = caster.render(table, view);
+  const Image ref = reference::referenceRender2D(vol, table, view, caster.defaultSampleDistance(),
+    caster.defaultOpacityUnitDistance(), 0.5, 1.0 - 1.0 / 255.0);
+  expectClose(fast, ref);
+  double alpha = 0;
+  for (size_t i = 3; i < fast.pixels.size(); i += 4) alpha += fast.pixels[i];
+  EXPECT_GT(alpha, 1.0) << "the 2D table should make something visible";
+}
+
+TEST(RayCaster, SkippingAndThreadsDoNotChangeTheImage)
+{
+  const Volume vol = blobVolume(ScalarType::UInt8);
+  const RayCaster caster(vol);
+  // Narrow opacity band: most blocks are empty and get skipped.
+  TransferFunction1D tf = testTF();
+  tf.opacity = { { 0, 0 }, { 150, 0 }, { 160, 0.8 }, { 170, 0 }, { 255, 0 } };
+  const auto table = caster.paraviewTable(tf);
+  const View view = orbitView(vol, 40, false, 64, 64);
+  RenderOptions a, b, c;
+  b.emptySpaceSkipping = false;
+  c.threads = 1;
+  const Image ia = caster.render(table, view, a);
+  const Image ib = caster.render(table, view, b);
+  const Image ic = caster.render(table, view, c);
+  EXPECT_EQ(ia.pixels, ib.pixels);
+  EXPECT_EQ(ia.pixels, ic.pixels);
+}
+
+TEST(RayCaster, ParaViewDefaultDistances)
+{
+  // NOTES-paraview-rendering: 64^3 unit spacing -> d = 0.3155606, unit distance = sqrt(3);
+  // 128^3 and larger -> mean spacing / 2.
+  const Volume small({ 64, 64, 64 }, { 0, 0, 0 }, { 1, 1, 1 }, std::vector<float>(64 * 64 * 64, 0.0f));
+  std::vector<float> v(64 * 64 * 64, 0.0f);
+  v[5] = 1.0f;
+  const RayCaster c64(Volume({ 64, 64, 64 }, { 0, 0, 0 }, { 1, 1, 1 }, v));
+  EXPECT_NEAR(c64.defaultSampleDistance(), 0.3155606, 1e-6);
+  EXPECT_NEAR(c64.defaultOpacityUnitDistance(), std::sqrt(3.0), 1e-12);
+  std::vector<float> big(static_cast<size_t>(130) * 130 * 130, 0.0f);
+  big[7] = 2.0f;
+  const RayCaster c130(Volume({ 130, 130, 130 }, { 0, 0, 0 }, { 1, 2, 3 }, big));
+  EXPECT_NEAR(c130.defaultSampleDistance(), 1.0, 1e-12);
+}
+
+TEST(RayCaster, ConstantAndFlatVolumesAreRejected)
+{
+  const Volume constant({ 4, 4, 4 }, { 0, 0, 0 }, { 1, 1, 1 }, std::vector<float>(64, 7.0f));
+  EXPECT_THROW({ RayCaster c(constant); }, Error);
+  std::vector<float> flat(16, 0.0f);
+  flat[3] = 1.0f;
+  const Volume slice({ 4, 4, 1 }, { 0, 0, 0 }, { 1, 1, 1 }, flat);
+  EXPECT_THROW({ RayCaster c(slice); }, Error);
+}
+
+TEST(RayCaster, ProgressCanCancel)
+{
+  const Volume vol = blobVolume(ScalarType::UInt8);
+  const RayCaster caster(vol);
+  const auto table = caster.paraviewTable(testTF());
+  const View view = orbitView(vol, 10, false, 128, 128);
+  double last = -1;
+  caster.render(table, view, {}, [&](double f) {
+    EXPECT_GE(f, last);
+    last = f;
+    return true;
+  });
+  EXPECT_DOUBLE_EQ(last, 1.0);
+  EXPECT_THROW(caster.render(table, view, {}, [](double) { return false; }), Cancelled);
+}
+
+TEST(RayCaster, EmptyTableRangeOrBadOffsetIsAnError)
+{
+  const Volume vol = blobVolume(ScalarType::UInt8);
+  const RayCaster caster(vol);
+  TransferTable1D bad;
+  EXPECT_THROW(caster.render(bad, orbitView(vol, 0, false)), Error);
+  RenderOptions opt;
+  opt.sampleOffset = 2.0;
+  EXPECT_THROW(caster.render(caster.paraviewTable(testTF()), orbitView(vol, 0, false), opt), Error);
+}
+
+TEST(RayCaster, OpacityCorrectionFollowsUnitDistance)
+{
+  // A thin slab of constant alpha: with unit distance == sample distance the per-sample alpha
+  // is the table alpha; with twice the unit distance it is 1 - (1 - a)^(1/2).
+  std::vector<float> v(static_cast<size_t>(8) * 8 * 8, 100.0f);
+  v[0] = 0.0f; // non-constant range [0, 100]
+  const Volume vol({ 8, 8, 8 }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::Float32);
+  const RayCaster caster(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 1, 1, 1 } };
+  tf.opacity = { { 0, 0.2 }, { 100, 0.2 } };
+  View view;
+  view.width = view.height = 3;
+  view.camera.focalPoint = { 3.5, 3.5, 3.5 };
+  view.camera.position = { 3.5, 3.5, 50 };
+  view.camera.parallelProjection = true;
+  view.camera.parallelScale = 0.5;
+  RenderOptions opt;
+  opt.sampleDistance = 7.0 / 4.0; // samples at 0.5, 1.5, 2.5, 3.5 steps: 4 samples in 7 units
+  view.opacityUnitDistance = opt.sampleDistance;
+  const Image a = caster.render(caster.paraviewTable(tf), view, opt);
+  EXPECT_NEAR(a.at(1, 1, 3), 1.0 - std::pow(0.8, 4), 1e-5);
+  view.opacityUnitDistance = 2 * opt.sampleDistance;
+  const Image b = caster.render(caster.paraviewTable(tf), view, opt);
+  EXPECT_NEAR(b.at(1, 1, 3), 1.0 - std::pow(0.8, 2), 1e-5);
+}

@@ -1,0 +1,65 @@
+// TestView.cxx: view JSON contract (defaults, errors) and ray generation conventions
+// (pixel centres, rows from the top, vertical view angle, parallel scale = half height).
+// Rays against VTK's own camera matrices are in Testing/Plugin/TestCameraRays.cxx.
+#include "Common/Error.h"
+#include "Render/View.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace ddg;
+
+TEST(View, ParsesDefaultsAndRoundTrips)
+{
+  const View v = parseView(R"({"camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]}})");
+  EXPECT_EQ(v.width, 512);
+  EXPECT_EQ(v.camera.viewAngle, 30.0);
+  EXPECT_FALSE(v.opacityUnitDistance.has_value());
+  View w = v;
+  w.opacityUnitDistance = 2.5;
+  w.width = 100;
+  const View again = parseView(viewToJson(w));
+  EXPECT_EQ(again.width, 100);
+  EXPECT_EQ(*again.opacityUnitDistance, 2.5);
+}
+
+TEST(View, RejectsDegenerateCamerasAndSizes)
+{
+  const std::string cam = R"("camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]})";
+  EXPECT_THROW(parseView("{"), Error);
+  EXPECT_THROW(parseView(R"({"camera": {"position": [0, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]}})"), Error);
+  EXPECT_THROW(parseView(R"({"camera": {"position": [0, 0, 5], "focal_point": [0, 0, 0], "view_up": [0, 0, 1]}})"), Error);
+  EXPECT_THROW(parseView(R"({"camera": {"position": [0, 0, 5], "focal_point": [0, 0, 0], "view_up": [0, 1, 0], "view_angle": 0}})"), Error);
+  EXPECT_THROW(parseView("{" + cam + R"(, "size": [0, 10]})"), Error);
+  EXPECT_THROW(parseView("{" + cam + R"(, "size": [100000, 100000]})"), Error);
+  EXPECT_THROW(parseView("{" + cam + R"(, "size": [10.5, 10]})"), Error);
+  EXPECT_THROW(parseView("{" + cam + R"(, "background": [2, 0, 0]})"), Error);
+  EXPECT_THROW(parseView("{" + cam + R"(, "opacity_unit_distance": -1})"), Error);
+}
+
+TEST(RayGenerator, PerspectiveAndParallelConventions)
+{
+  View v;
+  v.width = 200;
+  v.height = 100;
+  v.camera.position = { 0, 0, 10 };
+  v.camera.focalPoint = { 0, 0, 0 };
+  v.camera.viewUp = { 0, 1, 0.3 }; // not orthogonal: orthogonalised like vtkCamera
+  v.camera.viewAngle = 60;
+  RayGenerator g(v);
+  Eigen::Vector3d o, d;
+  // top-left pixel centre: ndc (-1 + 1/200, 1 - 1/100); tan(30 deg) scales y, times aspect 2 for x
+  g.ray(0, 0, o, d);
+  const double t = std::tan(M_PI / 6);
+  const Eigen::Vector3d expected = Eigen::Vector3d((-1 + 1.0 / 200) * t * 2, (1 - 1.0 / 100) * t, -1).normalized();
+  EXPECT_NEAR((d - expected).norm(), 0, 1e-12);
+  EXPECT_NEAR((o - v.camera.position).norm(), 0, 1e-12);
+  v.camera.parallelProjection = true;
+  v.camera.parallelScale = 5; // half height
+  RayGenerator p(v);
+  p.ray(199, 99, o, d);
+  EXPECT_NEAR(o[0], (1 - 1.0 / 200) * 5 * 2, 1e-12);
+  EXPECT_NEAR(o[1], (-1 + 1.0 / 100) * 5, 1e-12);
+  EXPECT_NEAR((d - Eigen::Vector3d(0, 0, -1)).norm(), 0, 1e-12);
+}
