@@ -18,36 +18,44 @@ namespace
 constexpr int kBlock = 8; // cells per block side for empty-space skipping
 constexpr int kTile = 16; // pixels per tile side (unit of parallel work)
 
-// Volume prepared for the march: normalised scalar field w = q * value, block min/max.
+// Volume prepared for the march: the scalars in their own (compact) type T, x fastest, and
+// per-block min/max for empty-space skipping. Block b covers cells [8b, 8b + 8), i.e. points
+// 8b .. 8b + 8, so a sample in the block only reads points inside the block's min/max.
+template <typename T>
 struct Field
 {
   int nx = 0, ny = 0, nz = 0;
-  std::vector<float> w;
+  std::vector<T> w;
   int bx = 0, by = 0, bz = 0;
   std::vector<float> blockMin, blockMax;
 
-  void build(int dx, int dy, int dz, std::vector<float> values)
+  void build(int dx, int dy, int dz, const std::vector<float>& values)
   {
     nx = dx;
     ny = dy;
     nz = dz;
-    w = std::move(values);
+    w.resize(values.size());
+    for (size_t i = 0; i < values.size(); ++i)
+    {
+      w[i] = static_cast<T>(values[i]); // exact: T is chosen to hold the original type
+    }
     bx = std::max(1, (nx - 1 + kBlock - 1) / kBlock);
     by = std::max(1, (ny - 1 + kBlock - 1) / kBlock);
     bz = std::max(1, (nz - 1 + kBlock - 1) / kBlock);
     blockMin.assign(static_cast<size_t>(bx) * by * bz, 0.0f);
     blockMax.assign(blockMin.size(), 0.0f);
-    parallelFor(bz, 0, [&](std::int64_t c, int) {
+    parallelFor(bz, 0, [&](std::int64_t c64, int) {
+      const int c = static_cast<int>(c64);
       for (int b = 0; b < by; ++b)
       {
         for (int a = 0; a < bx; ++a)
         {
-          float lo = w[index(a * kBlock, b * kBlock, static_cast<int>(c) * kBlock)], hi = lo;
-          for (int k = static_cast<int>(c) * kBlock; k <= std::min(nz - 1, (static_cast<int>(c) + 1) * kBlock); ++k)
+          float lo = static_cast<float>(w[index(a * kBlock, b * kBlock, c * kBlock)]), hi = lo;
+          for (int k = c * kBlock; k <= std::min(nz - 1, (c + 1) * kBlock); ++k)
             for (int j = b * kBlock; j <= std::min(ny - 1, (b + 1) * kBlock); ++j)
               for (int i = a * kBlock; i <= std::min(nx - 1, (a + 1) * kBlock); ++i)
               {
-                const float v = w[index(i, j, k)];
+                const float v = static_cast<float>(w[index(i, j, k)]);
                 lo = std::min(lo, v);
                 hi = std::max(hi, v);
               }
@@ -75,11 +83,12 @@ struct Field
     const int k = std::min(static_cast<int>(z), nz - 2);
     const float fx = x - i, fy = y - j, fz = z - k;
     const size_t sy = static_cast<size_t>(nx), sz = static_cast<size_t>(nx) * ny;
-    const float* p = w.data() + index(i, j, k);
-    const float c00 = p[0] + fx * (p[1] - p[0]);
-    const float c10 = p[sy] + fx * (p[sy + 1] - p[sy]);
-    const float c01 = p[sz] + fx * (p[sz + 1] - p[sz]);
-    const float c11 = p[sz + sy] + fx * (p[sz + sy + 1] - p[sz + sy]);
+    const T* p = w.data() + index(i, j, k);
+    auto v = [p](size_t o) { return static_cast<float>(p[o]); };
+    const float c00 = v(0) + fx * (v(1) - v(0));
+    const float c10 = v(sy) + fx * (v(sy + 1) - v(sy));
+    const float c01 = v(sz) + fx * (v(sz + 1) - v(sz));
+    const float c11 = v(sz + sy) + fx * (v(sz + sy + 1) - v(sz + sy));
     const float c0 = c00 + fy * (c10 - c00);
     const float c1 = c01 + fy * (c11 - c01);
     return c0 + fz * (c1 - c0);
@@ -105,7 +114,8 @@ struct Classify1D
   float scale = 1, bias = 0;
   std::vector<int> nonzeroPrefix; // count of entries with alpha > 0 in [0, i]
 
-  void prepare(const TransferTable1D& t, double wMin, double wMax, double exponent)
+  // q: the texture normalisation factor, folded into the scale (lookups take raw values).
+  void prepare(const TransferTable1D& t, double q, double exponent)
   {
     if (t.width < 2 || t.rgba.size() != static_cast<size_t>(t.width) * 4 || !(t.max > t.min))
     {
@@ -130,11 +140,9 @@ struct Classify1D
       count += table[i].a > 0.0f ? 1 : 0;
       nonzeroPrefix[i] = count;
     }
-    // t = ((w - min) / (max - min)) * width - 0.5
-    scale = static_cast<float>(width / (t.max - t.min));
+    // t = ((q v - min) / (max - min)) * width - 0.5
+    scale = static_cast<float>(q * width / (t.max - t.min));
     bias = static_cast<float>(-t.min * width / (t.max - t.min) - 0.5);
-    (void)wMin;
-    (void)wMax;
   }
 
   bool anyOpaque(float lo, float hi) const
@@ -157,15 +165,56 @@ struct Classify1D
   }
 };
 
+// Storage type of the prepared scalars: the smallest that holds the original type exactly.
+enum class Storage
+{
+  U8,
+  I8,
+  U16,
+  I16,
+  F32
+};
+
+Storage storageFor(ScalarType t)
+{
+  switch (t)
+  {
+    case ScalarType::UInt8: return Storage::U8;
+    case ScalarType::Int8: return Storage::I8;
+    case ScalarType::UInt16: return Storage::U16;
+    case ScalarType::Int16: return Storage::I16;
+    default: return Storage::F32;
+  }
+}
+
 } // namespace
 
 struct RayCaster::Internals
 {
   Volume Vol;
-  Field F;
   double TextureScale = 1;
+  Storage Kind = Storage::F32;
+  Field<std::uint8_t> U8;
+  Field<std::int8_t> I8;
+  Field<std::uint16_t> U16;
+  Field<std::int16_t> I16;
+  Field<float> F32;
   std::once_flag GradientOnce;
-  Field Gradient; // gradient magnitude (unscaled), for 2D tables
+  Field<float> Gradient; // gradient magnitude, for 2D tables
+
+  // Calls f(field) with the field of the volume's storage type.
+  template <typename F>
+  decltype(auto) withField(F&& f) const
+  {
+    switch (Kind)
+    {
+      case Storage::U8: return f(U8);
+      case Storage::I8: return f(I8);
+      case Storage::U16: return f(U16);
+      case Storage::I16: return f(I16);
+      default: return f(F32);
+    }
+  }
 };
 
 RayCaster::RayCaster(const Volume& volume)
@@ -192,14 +241,15 @@ RayCaster::RayCaster(const Volume& volume)
   }
   In->Vol = volume;
   In->TextureScale = textureScale(volume.originalType());
-  std::vector<float> w(volume.values().size());
-  const float q = static_cast<float>(In->TextureScale);
-  const auto& v = volume.values();
-  for (size_t i = 0; i < w.size(); ++i)
+  In->Kind = storageFor(volume.originalType());
+  switch (In->Kind)
   {
-    w[i] = v[i] * q;
+    case Storage::U8: In->U8.build(d[0], d[1], d[2], volume.values()); break;
+    case Storage::I8: In->I8.build(d[0], d[1], d[2], volume.values()); break;
+    case Storage::U16: In->U16.build(d[0], d[1], d[2], volume.values()); break;
+    case Storage::I16: In->I16.build(d[0], d[1], d[2], volume.values()); break;
+    case Storage::F32: In->F32.build(d[0], d[1], d[2], volume.values()); break;
   }
-  In->F.build(d[0], d[1], d[2], std::move(w));
 }
 
 RayCaster::~RayCaster() = default;
@@ -265,41 +315,86 @@ float RayCaster::jitterValue(int x, int yFromBottom)
 namespace
 {
 
-// Everything one render needs, shared read-only by the workers.
-struct March
+// 2D classification: bilinear lookup over (raw value, gradient magnitude).
+struct Classify2D
 {
-  const Field* field = nullptr;
-  const Field* gradient = nullptr; // 2D only
-  const Classify1D* c1 = nullptr;
-  const TransferTable2D* t2 = nullptr;
-  std::vector<char> blockEmpty;
-  double d = 1, exponent = 1;
-  float termination = 1.0f - 1.0f / 255.0f;
-  bool jitter = false;
-  double offset = 0.5;
-  bool skip = true;
-  Eigen::Vector3d origin, spacing, boxMin, boxMax;
-  std::vector<RGBA> table2D; // corrected 2D table
+  std::vector<RGBA> table;
+  int width = 0, height = 0;
   float vScale = 1, vBias = 0, gScale = 1, gBias = 0;
-  int tw = 0, th = 0;
 
-  RGBA lookup2D(float w, float g) const
+  void prepare(const TransferTable2D& t, double exponent)
   {
-    const float tx = std::clamp(w * vScale + vBias, 0.0f, static_cast<float>(tw - 1));
-    const float ty = std::clamp(g * gScale + gBias, 0.0f, static_cast<float>(th - 1));
-    const int i = std::min(static_cast<int>(tx), tw - 2);
-    const int j = std::min(static_cast<int>(ty), th - 2);
+    t.validate();
+    width = t.width;
+    height = t.height;
+    table.resize(static_cast<size_t>(width) * height);
+    for (size_t i = 0; i < table.size(); ++i)
+    {
+      const float* e = &t.rgba[4 * i];
+      table[i] = { e[0], e[1], e[2], correctOpacity(e[3], exponent) };
+    }
+    const double dv = t.valueRange[1] - t.valueRange[0];
+    const double dg = t.gradientRange[1] - t.gradientRange[0];
+    vScale = static_cast<float>(width / dv);
+    vBias = static_cast<float>(-t.valueRange[0] * width / dv - 0.5);
+    gScale = static_cast<float>(height / dg);
+    gBias = static_cast<float>(-t.gradientRange[0] * height / dg - 0.5);
+  }
+
+  static void coordRange(float lo, float hi, float scale, float bias, int n, int& i0, int& i1)
+  {
+    float t0 = lo * scale + bias, t1 = hi * scale + bias;
+    if (t0 > t1) std::swap(t0, t1);
+    i0 = std::clamp(static_cast<int>(std::floor(t0)) - 1, 0, n - 1);
+    i1 = std::clamp(static_cast<int>(std::ceil(t1)) + 1, 0, n - 1);
+  }
+
+  bool anyOpaque(float vLo, float vHi, float gLo, float gHi) const
+  {
+    int v0, v1, g0, g1;
+    coordRange(vLo, vHi, vScale, vBias, width, v0, v1);
+    coordRange(gLo, gHi, gScale, gBias, height, g0, g1);
+    for (int j = g0; j <= g1; ++j)
+      for (int i = v0; i <= v1; ++i)
+        if (table[static_cast<size_t>(j) * width + i].a > 0.0f) return true;
+    return false;
+  }
+
+  RGBA lookup(float v, float g) const
+  {
+    const float tx = std::clamp(v * vScale + vBias, 0.0f, static_cast<float>(width - 1));
+    const float ty = std::clamp(g * gScale + gBias, 0.0f, static_cast<float>(height - 1));
+    const int i = std::min(static_cast<int>(tx), width - 2);
+    const int j = std::min(static_cast<int>(ty), height - 2);
     const float fx = tx - i, fy = ty - j;
-    const RGBA* r0 = &table2D[static_cast<size_t>(j) * tw + i];
-    const RGBA* r1 = r0 + tw;
+    const RGBA* r0 = &table[static_cast<size_t>(j) * width + i];
+    const RGBA* r1 = r0 + width;
     auto lerp = [](const RGBA& a, const RGBA& b, float f) {
       return RGBA{ a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b), a.a + f * (b.a - a.a) };
     };
     return lerp(lerp(r0[0], r0[1], fx), lerp(r1[0], r1[1], fx), fy);
   }
+};
+
+// One render: geometry, step, classification and block emptiness, shared read-only by workers.
+template <typename FieldT>
+struct March
+{
+  const FieldT* field = nullptr;
+  const Field<float>* gradient = nullptr; // 2D only
+  const Classify1D* c1 = nullptr;
+  const Classify2D* c2 = nullptr;
+  std::vector<char> blockEmpty;
+  double d = 1;
+  float termination = 1.0f - 1.0f / 255.0f;
+  bool jitter = false;
+  double offset = 0.5;
+  bool skip = true;
+  Eigen::Vector3d origin, spacing, boxMin, boxMax;
 
   template <bool TwoD>
-  void castRay(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, float j, float* out) const
+  void castRay(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, float j, float* out,
+    RenderStats& stats) const
   {
     // Slab intersection with the point bounds.
     double t0 = -1e300, t1 = 1e300;
@@ -322,70 +417,82 @@ struct March
     {
       return;
     }
-    // Index-space start and step; sample k at E + (j + k) S, k = 0 .. kLast.
-    Eigen::Vector3d e, s;
+    // Index-space start and step; sample k at E + (j + k) S, k = 0 .. kLast (the first sample
+    // is always taken; later ones while inside the closed box).
+    double e[3], s[3], invS[3];
     for (int a = 0; a < 3; ++a)
     {
       e[a] = (o[a] + t0 * dir[a] - origin[a]) / spacing[a];
       s[a] = d * dir[a] / spacing[a];
+      invS[a] = s[a] != 0.0 ? 1.0 / s[a] : 0.0;
     }
     const double span = (t1 - t0) / d - j;
     const std::int64_t kLast = span > 0 ? static_cast<std::int64_t>(std::floor(span)) : 0;
+    ++stats.rays;
     const float ex = static_cast<float>(e[0]), ey = static_cast<float>(e[1]), ez = static_cast<float>(e[2]);
     const float sx = static_cast<float>(s[0]), sy = static_cast<float>(s[1]), sz = static_cast<float>(s[2]);
-    const Field& f = *field;
+    const FieldT& f = *field;
     float cr = 0, cg = 0, cb = 0, ca = 0;
-    int lastBlock = -1;
-    for (std::int64_t k = 0; k <= kLast; ++k)
+    // March block by block: find the block of sample k and the first sample past its far faces;
+    // skip the block when the TF makes it transparent, else sample it without further checks.
+    std::int64_t k = 0;
+    while (k <= kLast)
     {
-      const float kk = j + static_cast<float>(k);
-      const float px = ex + kk * sx, py = ey + kk * sy, pz = ez + kk * sz;
+      std::int64_t kEnd = kLast + 1;
+      bool empty = false;
       if (skip)
       {
-        const int ix = std::clamp(static_cast<int>(px) / kBlock, 0, f.bx - 1);
-        const int iy = std::clamp(static_cast<int>(py) / kBlock, 0, f.by - 1);
-        const int iz = std::clamp(static_cast<int>(pz) / kBlock, 0, f.bz - 1);
-        const int block = (iz * f.by + iy) * f.bx + ix;
-        if (block != lastBlock && blockEmpty[static_cast<size_t>(block)])
+        const float kk = j + static_cast<float>(k);
+        const int ib[3] = { std::clamp(static_cast<int>(ex + kk * sx) / kBlock, 0, f.bx - 1),
+          std::clamp(static_cast<int>(ey + kk * sy) / kBlock, 0, f.by - 1),
+          std::clamp(static_cast<int>(ez + kk * sz) / kBlock, 0, f.bz - 1) };
+        double kExit = static_cast<double>(kLast) + 1.0;
+        for (int a = 0; a < 3; ++a)
         {
-          // Jump to the first sample past this block's far faces.
-          double kExit = 1e300;
-          const int ib[3] = { ix, iy, iz };
-          for (int a = 0; a < 3; ++a)
+          if (s[a] != 0.0)
           {
-            if (s[a] > 0)
-              kExit = std::min(kExit, ((ib[a] + 1) * kBlock - e[a]) / s[a] - j);
-            else if (s[a] < 0)
-              kExit = std::min(kExit, (ib[a] * kBlock - e[a]) / s[a] - j);
+            const double face = (s[a] > 0 ? ib[a] + 1 : ib[a]) * static_cast<double>(kBlock);
+            kExit = std::min(kExit, (face - e[a]) * invS[a] - j);
           }
-          const double next = std::ceil(kExit);
-          if (next > static_cast<double>(k + 1))
-          {
-            k = static_cast<std::int64_t>(std::min(next, static_cast<double>(kLast) + 1.0)) - 1;
-          }
-          continue;
         }
-        lastBlock = block;
+        empty = blockEmpty[static_cast<size_t>((ib[2] * f.by + ib[1]) * f.bx + ib[0])];
+        // Samples within 1e-3 steps of the face are left to the next block: float positions
+        // then never put a skipped sample outside the (empty) block.
+        kEnd = std::clamp(static_cast<std::int64_t>(std::ceil(kExit - (empty ? 1e-3 : 0.0))), k + 1, kLast + 1);
       }
-      RGBA c;
-      if constexpr (TwoD)
+      if (empty)
       {
-        c = lookup2D(f.sample(px, py, pz), gradient->sample(px, py, pz));
+        stats.skippedSamples += kEnd - k;
+        k = kEnd;
+        continue;
       }
-      else
+      stats.samples += kEnd - k;
+      for (; k < kEnd; ++k)
       {
-        c = c1->lookup(f.sample(px, py, pz));
-      }
-      if (c.a > 0.0f)
-      {
-        const float wgt = (1.0f - ca) * c.a;
-        cr += wgt * c.r;
-        cg += wgt * c.g;
-        cb += wgt * c.b;
-        ca += wgt;
-        if (ca > termination)
+        const float kk = j + static_cast<float>(k);
+        const float px = ex + kk * sx, py = ey + kk * sy, pz = ez + kk * sz;
+        RGBA c;
+        if constexpr (TwoD)
         {
-          break;
+          c = c2->lookup(f.sample(px, py, pz), gradient->sample(px, py, pz));
+        }
+        else
+        {
+          c = c1->lookup(f.sample(px, py, pz));
+        }
+        if (c.a > 0.0f)
+        {
+          const float wgt = (1.0f - ca) * c.a;
+          cr += wgt * c.r;
+          cg += wgt * c.g;
+          cb += wgt * c.b;
+          ca += wgt;
+          if (ca > termination)
+          {
+            stats.samples -= kEnd - k - 1;
+            k = kLast + 1;
+            break;
+          }
         }
       }
     }
@@ -394,150 +501,138 @@ struct March
     out[2] = cb;
     out[3] = ca;
   }
-};
 
-template <bool TwoD>
-Image runMarch(const March& m, const View& view, int threads, const ProgressCallback& progress)
-{
-  const RayGenerator rays(view);
-  Image img(view.width, view.height, 4, 0.0f);
-  const int tilesX = (view.width + kTile - 1) / kTile;
-  const int tilesY = (view.height + kTile - 1) / kTile;
-  const std::int64_t tiles = static_cast<std::int64_t>(tilesX) * tilesY;
-  std::atomic<std::int64_t> done{ 0 };
-  std::atomic<bool> cancel{ false };
-  parallelFor(tiles, threads, [&](std::int64_t tile, int threadId) {
-    if (cancel.load(std::memory_order_relaxed))
+  void setup(const Volume& vol, const FieldT& fieldIn, double defaultD, const View& view,
+    const RenderOptions& opt)
+  {
+    field = &fieldIn;
+    d = opt.sampleDistance > 0 ? opt.sampleDistance : defaultD;
+    if (!std::isfinite(d) || d <= 0)
     {
-      return;
+      throw Error("sample distance must be positive");
     }
-    const int x0 = static_cast<int>(tile % tilesX) * kTile;
-    const int y0 = static_cast<int>(tile / tilesX) * kTile;
-    Eigen::Vector3d o, dir;
-    for (int y = y0; y < std::min(y0 + kTile, view.height); ++y)
+    termination = static_cast<float>(opt.terminationOpacity);
+    jitter = opt.jitter;
+    offset = opt.sampleOffset;
+    if (!(offset >= 0.0 && offset <= 1.0))
     {
-      for (int x = x0; x < std::min(x0 + kTile, view.width); ++x)
+      throw Error("sample offset must lie in [0, 1]");
+    }
+    skip = opt.emptySpaceSkipping;
+    const auto b = vol.bounds();
+    for (int a = 0; a < 3; ++a)
+    {
+      origin[a] = vol.origin()[a];
+      spacing[a] = vol.spacing()[a];
+      boxMin[a] = b[2 * a];
+      boxMax[a] = b[2 * a + 1];
+    }
+    (void)view;
+  }
+
+  template <bool TwoD>
+  Image run(const View& view, int threads, const ProgressCallback& progress, RenderStats* stats) const
+  {
+    const RayGenerator rays(view);
+    Image img(view.width, view.height, 4, 0.0f);
+    const int tilesX = (view.width + kTile - 1) / kTile;
+    const int tilesY = (view.height + kTile - 1) / kTile;
+    const std::int64_t tiles = static_cast<std::int64_t>(tilesX) * tilesY;
+    std::atomic<std::int64_t> done{ 0 };
+    std::atomic<bool> cancel{ false };
+    std::atomic<std::int64_t> rayCount{ 0 }, sampleCount{ 0 }, skipCount{ 0 };
+    parallelFor(tiles, threads, [&](std::int64_t tile, int threadId) {
+      if (cancel.load(std::memory_order_relaxed))
       {
-        rays.ray(x, y, o, dir);
-        const float j = m.jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : static_cast<float>(m.offset);
-        m.template castRay<TwoD>(o, dir, j, &img.at(x, y, 0));
+        return;
       }
-    }
-    const std::int64_t n = ++done;
-    if (threadId == 0 && progress && !progress(static_cast<double>(n) / tiles))
+      const int x0 = static_cast<int>(tile % tilesX) * kTile;
+      const int y0 = static_cast<int>(tile / tilesX) * kTile;
+      Eigen::Vector3d o, dir;
+      RenderStats tileStats;
+      for (int y = y0; y < std::min(y0 + kTile, view.height); ++y)
+      {
+        for (int x = x0; x < std::min(x0 + kTile, view.width); ++x)
+        {
+          rays.ray(x, y, o, dir);
+          const float j = jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : static_cast<float>(offset);
+          castRay<TwoD>(o, dir, j, &img.at(x, y, 0), tileStats);
+        }
+      }
+      rayCount += tileStats.rays;
+      sampleCount += tileStats.samples;
+      skipCount += tileStats.skippedSamples;
+      const std::int64_t n = ++done;
+      if (threadId == 0 && progress && !progress(static_cast<double>(n) / tiles))
+      {
+        cancel = true;
+      }
+    });
+    if (cancel)
     {
-      cancel = true;
+      throw Cancelled();
     }
-  });
-  if (cancel)
-  {
-    throw Cancelled();
+    if (progress)
+    {
+      progress(1.0);
+    }
+    if (stats)
+    {
+      stats->rays = rayCount;
+      stats->samples = sampleCount;
+      stats->skippedSamples = skipCount;
+    }
+    return img;
   }
-  if (progress)
-  {
-    progress(1.0);
-  }
-  return img;
-}
-
-void setupMarch(March& m, const Volume& vol, const Field& field, double defaultD,
-  double defaultUnit, const View& view, const RenderOptions& opt)
-{
-  view.validate();
-  m.field = &field;
-  m.d = opt.sampleDistance > 0 ? opt.sampleDistance : defaultD;
-  if (!std::isfinite(m.d) || m.d <= 0)
-  {
-    throw Error("sample distance must be positive");
-  }
-  const double unit = view.opacityUnitDistance ? *view.opacityUnitDistance : defaultUnit;
-  m.exponent = m.d / unit;
-  m.termination = static_cast<float>(opt.terminationOpacity);
-  m.jitter = opt.jitter;
-  m.offset = opt.sampleOffset;
-  if (!(m.offset >= 0.0 && m.offset <= 1.0))
-  {
-    throw Error("sample offset must lie in [0, 1]");
-  }
-  m.skip = opt.emptySpaceSkipping;
-  const auto b = vol.bounds();
-  for (int a = 0; a < 3; ++a)
-  {
-    m.origin[a] = vol.origin()[a];
-    m.spacing[a] = vol.spacing()[a];
-    m.boxMin[a] = b[2 * a];
-    m.boxMax[a] = b[2 * a + 1];
-  }
-}
+};
 
 } // namespace
 
 Image RayCaster::render(const TransferTable1D& table, const View& view, const RenderOptions& options,
-  const ProgressCallback& progress) const
+  const ProgressCallback& progress, RenderStats* stats) const
 {
-  March m;
-  setupMarch(m, In->Vol, In->F, defaultSampleDistance(), defaultOpacityUnitDistance(), view, options);
-  Classify1D c;
-  c.prepare(table, 0, 0, m.exponent);
-  m.c1 = &c;
-  const Field& f = In->F;
-  m.blockEmpty.resize(f.blockMin.size());
-  for (size_t i = 0; i < f.blockMin.size(); ++i)
-  {
-    m.blockEmpty[i] = !c.anyOpaque(f.blockMin[i], f.blockMax[i]);
-  }
-  return runMarch<false>(m, view, options.threads, progress);
+  view.validate();
+  return In->withField([&](const auto& field) {
+    March<std::decay_t<decltype(field)>> m;
+    m.setup(In->Vol, field, defaultSampleDistance(), view, options);
+    const double unit = view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
+    Classify1D c;
+    c.prepare(table, In->TextureScale, m.d / unit);
+    m.c1 = &c;
+    m.blockEmpty.resize(field.blockMin.size());
+    for (size_t i = 0; i < field.blockMin.size(); ++i)
+    {
+      m.blockEmpty[i] = !c.anyOpaque(field.blockMin[i], field.blockMax[i]);
+    }
+    return m.template run<false>(view, options.threads, progress, stats);
+  });
 }
 
 Image RayCaster::render(const TransferTable2D& table, const View& view, const RenderOptions& options,
-  const ProgressCallback& progress) const
+  const ProgressCallback& progress, RenderStats* stats) const
 {
+  view.validate();
   table.validate();
   std::call_once(In->GradientOnce, [this] {
     const auto& d = In->Vol.dims();
     In->Gradient.build(d[0], d[1], d[2], In->Vol.gradientMagnitude());
   });
-  March m;
-  setupMarch(m, In->Vol, In->F, defaultSampleDistance(), defaultOpacityUnitDistance(), view, options);
-  m.gradient = &In->Gradient;
-  m.t2 = &table;
-  m.tw = table.width;
-  m.th = table.height;
-  m.table2D.resize(static_cast<size_t>(m.tw) * m.th);
-  std::vector<char> opaque(m.table2D.size());
-  for (size_t i = 0; i < m.table2D.size(); ++i)
-  {
-    const float* e = &table.rgba[4 * i];
-    m.table2D[i] = { e[0], e[1], e[2], correctOpacity(e[3], m.exponent) };
-    opaque[i] = m.table2D[i].a > 0.0f;
-  }
-  // The value axis uses the same scaled field w as the 1D path.
-  const double q = In->TextureScale;
-  m.vScale = static_cast<float>(m.tw / (q * (table.valueRange[1] - table.valueRange[0])));
-  m.vBias = static_cast<float>(-table.valueRange[0] * m.tw / (table.valueRange[1] - table.valueRange[0]) - 0.5);
-  m.gScale = static_cast<float>(m.th / (table.gradientRange[1] - table.gradientRange[0]));
-  m.gBias = static_cast<float>(-table.gradientRange[0] * m.th / (table.gradientRange[1] - table.gradientRange[0]) - 0.5);
-  const Field& f = In->F;
-  const Field& g = In->Gradient;
-  m.blockEmpty.resize(f.blockMin.size());
-  for (size_t b = 0; b < f.blockMin.size(); ++b)
-  {
-    auto range = [](float lo, float hi, float scale, float bias, int n, int& i0, int& i1) {
-      float t0 = lo * scale + bias, t1 = hi * scale + bias;
-      if (t0 > t1) std::swap(t0, t1);
-      i0 = std::clamp(static_cast<int>(std::floor(t0)) - 1, 0, n - 1);
-      i1 = std::clamp(static_cast<int>(std::ceil(t1)) + 1, 0, n - 1);
-    };
-    int v0, v1, g0, g1;
-    range(f.blockMin[b], f.blockMax[b], m.vScale, m.vBias, m.tw, v0, v1);
-    range(g.blockMin[b], g.blockMax[b], m.gScale, m.gBias, m.th, g0, g1);
-    bool any = false;
-    for (int jj = g0; jj <= g1 && !any; ++jj)
-      for (int ii = v0; ii <= v1 && !any; ++ii)
-        any = opaque[static_cast<size_t>(jj) * m.tw + ii];
-    m.blockEmpty[b] = !any;
-  }
-  return runMarch<true>(m, view, options.threads, progress);
+  return In->withField([&](const auto& field) {
+    March<std::decay_t<decltype(field)>> m;
+    m.setup(In->Vol, field, defaultSampleDistance(), view, options);
+    const double unit = view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
+    Classify2D c;
+    c.prepare(table, m.d / unit);
+    m.c2 = &c;
+    m.gradient = &In->Gradient;
+    const Field<float>& g = In->Gradient;
+    m.blockEmpty.resize(field.blockMin.size());
+    for (size_t b = 0; b < field.blockMin.size(); ++b)
+    {
+      m.blockEmpty[b] = !c.anyOpaque(field.blockMin[b], field.blockMax[b], g.blockMin[b], g.blockMax[b]);
+    }
+    return m.template run<true>(view, options.threads, progress, stats);
+  });
 }
 
 } // namespace ddg

@@ -8,6 +8,7 @@
 #include "TransferFunction/TransferFunction2D.h"
 #include "Volume/Volume.h"
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 
@@ -26,6 +27,14 @@ public:
 
 /// Called with the fraction done in [0, 1] from the calling thread; return false to cancel.
 using ProgressCallback = std::function<bool(double fraction)>;
+
+/// Counters of one render (for benchmarks and tests).
+struct RenderStats
+{
+  std::int64_t rays = 0;           ///< rays that hit the volume's box
+  std::int64_t samples = 0;        ///< samples interpolated and classified
+  std::int64_t skippedSamples = 0; ///< samples jumped over in empty blocks
+};
 
 /// Options of a render. Defaults reproduce ParaView's still render of a Volume representation.
 struct RenderOptions
@@ -84,11 +93,11 @@ public:
 
   /// Renders with a 1D table (any range; lookups use the table's own range).
   Image render(const TransferTable1D& table, const View& view, const RenderOptions& options = {},
-    const ProgressCallback& progress = {}) const;
+    const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
   /// Renders with a 2D (value x gradient magnitude) table. The gradient magnitude volume is
   /// computed on first use (Volume::gradientMagnitude) and kept.
   Image render(const TransferTable2D& table, const View& view, const RenderOptions& options = {},
-    const ProgressCallback& progress = {}) const;
+    const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
 
   /// The per-pixel jitter tile value used when RenderOptions::jitter is on, for pixel (x, y)
   /// counted from the bottom-left as ParaView's window coordinates.
