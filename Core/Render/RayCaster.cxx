@@ -16,6 +16,7 @@ namespace
 {
 
 constexpr int kBlock = 8; // cells per block side for empty-space skipping
+constexpr int kSuper = 4;  // blocks per superblock side (coarse skipping level)
 constexpr int kTile = 16; // pixels per tile side (unit of parallel work)
 
 // Volume prepared for the march: the scalars in their own (compact) type T, x fastest, and
@@ -376,6 +377,61 @@ struct Classify2D
   }
 };
 
+constexpr int kBatch = 8; // samples interpolated together along a ray
+
+// Front-to-back "over" of one classified sample; returns true when the ray is opaque enough.
+inline bool composite(const RGBA& c, float& cr, float& cg, float& cb, float& ca, float termination)
+{
+  const float wgt = (1.0f - ca) * c.a;
+  cr += wgt * c.r;
+  cg += wgt * c.g;
+  cb += wgt * c.b;
+  ca += wgt;
+  return ca > termination;
+}
+
+// Trilinear values of kBatch consecutive samples p = e + (k0 + l) s, l = 0 .. kBatch-1.
+template <typename T>
+inline void sampleBatch(const Field<T>& f, float k0, float ex, float ey, float ez, float sx,
+  float sy, float sz, float* out)
+{
+  const float mx = static_cast<float>(f.nx - 1), my = static_cast<float>(f.ny - 1),
+              mz = static_cast<float>(f.nz - 1);
+  std::int64_t idx[kBatch];
+  float fx[kBatch], fy[kBatch], fz[kBatch];
+  for (int l = 0; l < kBatch; ++l)
+  {
+    const float kk = k0 + static_cast<float>(l);
+    const float x = std::min(std::max(ex + kk * sx, 0.0f), mx);
+    const float y = std::min(std::max(ey + kk * sy, 0.0f), my);
+    const float z = std::min(std::max(ez + kk * sz, 0.0f), mz);
+    const int i = std::min(static_cast<int>(x), f.nx - 2);
+    const int jj = std::min(static_cast<int>(y), f.ny - 2);
+    const int kz = std::min(static_cast<int>(z), f.nz - 2);
+    fx[l] = x - static_cast<float>(i);
+    fy[l] = y - static_cast<float>(jj);
+    fz[l] = z - static_cast<float>(kz);
+    idx[l] = i + static_cast<std::int64_t>(f.nx) * (jj + static_cast<std::int64_t>(f.ny) * kz);
+  }
+  const std::int64_t sy1 = f.nx, sz1 = static_cast<std::int64_t>(f.nx) * f.ny;
+  const T* p = f.w.data();
+  for (int l = 0; l < kBatch; ++l)
+  {
+    const T* q = p + idx[l];
+    const float v000 = static_cast<float>(q[0]), v100 = static_cast<float>(q[1]);
+    const float v010 = static_cast<float>(q[sy1]), v110 = static_cast<float>(q[sy1 + 1]);
+    const float v001 = static_cast<float>(q[sz1]), v101 = static_cast<float>(q[sz1 + 1]);
+    const float v011 = static_cast<float>(q[sz1 + sy1]), v111 = static_cast<float>(q[sz1 + sy1 + 1]);
+    const float c00 = v000 + fx[l] * (v100 - v000);
+    const float c10 = v010 + fx[l] * (v110 - v010);
+    const float c01 = v001 + fx[l] * (v101 - v001);
+    const float c11 = v011 + fx[l] * (v111 - v011);
+    const float c0 = c00 + fy[l] * (c10 - c00);
+    const float c1 = c01 + fy[l] * (c11 - c01);
+    out[l] = c0 + fz[l] * (c1 - c0);
+  }
+}
+
 // One render: geometry, step, classification and block emptiness, shared read-only by workers.
 template <typename FieldT>
 struct March
@@ -385,6 +441,8 @@ struct March
   const Classify1D* c1 = nullptr;
   const Classify2D* c2 = nullptr;
   std::vector<char> blockEmpty;
+  std::vector<char> superEmpty; // kSuper^3 blocks, empty when all of them are
+  int superX = 1, superY = 1, superZ = 1;
   double d = 1;
   float termination = 1.0f - 1.0f / 255.0f;
   bool jitter = false;
@@ -442,23 +500,38 @@ struct March
       bool empty = false;
       if (skip)
       {
+        // Coarse level first (kSuper^3 blocks), then the block itself.
         const float kk = j + static_cast<float>(k);
-        const int ib[3] = { std::clamp(static_cast<int>(ex + kk * sx) / kBlock, 0, f.bx - 1),
-          std::clamp(static_cast<int>(ey + kk * sy) / kBlock, 0, f.by - 1),
-          std::clamp(static_cast<int>(ez + kk * sz) / kBlock, 0, f.bz - 1) };
-        double kExit = static_cast<double>(kLast) + 1.0;
-        for (int a = 0; a < 3; ++a)
+        const float p[3] = { ex + kk * sx, ey + kk * sy, ez + kk * sz };
+        for (int level = 0; level < 2; ++level)
         {
-          if (s[a] != 0.0)
+          const int cells = level == 0 ? kBlock * kSuper : kBlock;
+          const int n[3] = { level == 0 ? superX : f.bx, level == 0 ? superY : f.by, level == 0 ? superZ : f.bz };
+          int ib[3];
+          for (int a = 0; a < 3; ++a)
           {
-            const double face = (s[a] > 0 ? ib[a] + 1 : ib[a]) * static_cast<double>(kBlock);
-            kExit = std::min(kExit, (face - e[a]) * invS[a] - j);
+            ib[a] = std::clamp(static_cast<int>(p[a]) / cells, 0, n[a] - 1);
           }
+          const size_t id = (static_cast<size_t>(ib[2]) * n[1] + ib[1]) * n[0] + ib[0];
+          empty = level == 0 ? superEmpty[id] != 0 : blockEmpty[id] != 0;
+          if (level == 0 && !empty)
+          {
+            continue;
+          }
+          double kExit = static_cast<double>(kLast) + 1.0;
+          for (int a = 0; a < 3; ++a)
+          {
+            if (s[a] != 0.0)
+            {
+              const double face = (s[a] > 0 ? ib[a] + 1 : ib[a]) * static_cast<double>(cells);
+              kExit = std::min(kExit, (face - e[a]) * invS[a] - j);
+            }
+          }
+          // Samples within 1e-3 steps of the face are left to the next block: float positions
+          // then never put a skipped sample outside the (empty) block.
+          kEnd = std::clamp(static_cast<std::int64_t>(std::ceil(kExit - (empty ? 1e-3 : 0.0))), k + 1, kLast + 1);
+          break;
         }
-        empty = blockEmpty[static_cast<size_t>((ib[2] * f.by + ib[1]) * f.bx + ib[0])];
-        // Samples within 1e-3 steps of the face are left to the next block: float positions
-        // then never put a skipped sample outside the (empty) block.
-        kEnd = std::clamp(static_cast<std::int64_t>(std::ceil(kExit - (empty ? 1e-3 : 0.0))), k + 1, kLast + 1);
       }
       if (empty)
       {
@@ -467,33 +540,47 @@ struct March
         continue;
       }
       stats.samples += kEnd - k;
-      for (; k < kEnd; ++k)
+      if constexpr (TwoD)
       {
-        const float kk = j + static_cast<float>(k);
-        const float px = ex + kk * sx, py = ey + kk * sy, pz = ez + kk * sz;
-        RGBA c;
-        if constexpr (TwoD)
+        for (; k < kEnd; ++k)
         {
-          c = c2->lookup(f.sample(px, py, pz), gradient->sample(px, py, pz));
-        }
-        else
-        {
-          c = c1->lookup(f.sample(px, py, pz));
-        }
-        if (c.a > 0.0f)
-        {
-          const float wgt = (1.0f - ca) * c.a;
-          cr += wgt * c.r;
-          cg += wgt * c.g;
-          cb += wgt * c.b;
-          ca += wgt;
-          if (ca > termination)
+          const float kk = j + static_cast<float>(k);
+          const float px = ex + kk * sx, py = ey + kk * sy, pz = ez + kk * sz;
+          const RGBA c = c2->lookup(f.sample(px, py, pz), gradient->sample(px, py, pz));
+          if (c.a > 0.0f && composite(c, cr, cg, cb, ca, termination))
           {
             stats.samples -= kEnd - k - 1;
             k = kLast + 1;
             break;
           }
         }
+      }
+      else
+      {
+        // Interpolate a batch of kBatch samples (independent: vectorisable), then composite
+        // them in order. Lanes past kEnd are computed (clamped, in bounds) but not used.
+        bool done = false;
+        for (; k < kEnd && !done; k += kBatch)
+        {
+          float value[kBatch];
+          sampleBatch(f, j + static_cast<float>(k), ex, ey, ez, sx, sy, sz, value);
+          const int n = static_cast<int>(std::min<std::int64_t>(kBatch, kEnd - k));
+          for (int l = 0; l < n; ++l)
+          {
+            const RGBA c = c1->lookup(value[l]);
+            if (c.a > 0.0f && composite(c, cr, cg, cb, ca, termination))
+            {
+              stats.samples -= kEnd - (k + l) - 1;
+              done = true;
+              break;
+            }
+          }
+        }
+        if (done)
+        {
+          break;
+        }
+        k = kEnd;
       }
     }
     out[0] = cr;
@@ -528,6 +615,21 @@ struct March
       boxMax[a] = b[2 * a + 1];
     }
     (void)view;
+  }
+
+  // Superblock emptiness from blockEmpty (call after filling blockEmpty).
+  void buildSuperLevel()
+  {
+    const FieldT& f = *field;
+    superX = (f.bx + kSuper - 1) / kSuper;
+    superY = (f.by + kSuper - 1) / kSuper;
+    superZ = (f.bz + kSuper - 1) / kSuper;
+    superEmpty.assign(static_cast<size_t>(superX) * superY * superZ, 1);
+    for (int c = 0; c < f.bz; ++c)
+      for (int b = 0; b < f.by; ++b)
+        for (int a = 0; a < f.bx; ++a)
+          if (!blockEmpty[(static_cast<size_t>(c) * f.by + b) * f.bx + a])
+            superEmpty[(static_cast<size_t>(c / kSuper) * superY + b / kSuper) * superX + a / kSuper] = 0;
   }
 
   template <bool TwoD>
@@ -604,6 +706,7 @@ Image RayCaster::render(const TransferTable1D& table, const View& view, const Re
     {
       m.blockEmpty[i] = !c.anyOpaque(field.blockMin[i], field.blockMax[i]);
     }
+    m.buildSuperLevel();
     return m.template run<false>(view, options.threads, progress, stats);
   });
 }
@@ -631,6 +734,7 @@ Image RayCaster::render(const TransferTable2D& table, const View& view, const Re
     {
       m.blockEmpty[b] = !c.anyOpaque(field.blockMin[b], field.blockMax[b], g.blockMin[b], g.blockMax[b]);
     }
+    m.buildSuperLevel();
     return m.template run<true>(view, options.threads, progress, stats);
   });
 }
