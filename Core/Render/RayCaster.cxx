@@ -493,6 +493,44 @@ struct March
     float cr = 0, cg = 0, cb = 0, ca = 0;
     // March block by block: find the block of sample k and the first sample past its far faces;
     // skip the block when the TF makes it transparent, else sample it without further checks.
+    // Classifies the block (or empty superblock) holding sample k; sets kEnd to the first
+    // sample past its far faces. Samples within 1e-3 steps of a face are left to the next
+    // block, so float positions never put a skipped sample outside its (empty) block.
+    auto visitBlock = [&](std::int64_t k0, std::int64_t& kEnd) {
+      const float kk = j + static_cast<float>(k0);
+      const float p[3] = { ex + kk * sx, ey + kk * sy, ez + kk * sz };
+      bool empty = false;
+      for (int level = 0; level < 2; ++level)
+      {
+        const int cells = level == 0 ? kBlock * kSuper : kBlock;
+        const int n[3] = { level == 0 ? superX : f.bx, level == 0 ? superY : f.by, level == 0 ? superZ : f.bz };
+        int ib[3];
+        for (int a = 0; a < 3; ++a)
+        {
+          ib[a] = std::clamp(static_cast<int>(p[a]) / cells, 0, n[a] - 1);
+        }
+        const size_t id = (static_cast<size_t>(ib[2]) * n[1] + ib[1]) * n[0] + ib[0];
+        empty = level == 0 ? superEmpty[id] != 0 : blockEmpty[id] != 0;
+        if (level == 0 && !empty)
+        {
+          continue; // look at the block inside the superblock
+        }
+        double kExit = static_cast<double>(kLast) + 1.0;
+        for (int a = 0; a < 3; ++a)
+        {
+          if (s[a] != 0.0)
+          {
+            const double face = (s[a] > 0 ? ib[a] + 1 : ib[a]) * static_cast<double>(cells);
+            kExit = std::min(kExit, (face - e[a]) * invS[a] - j);
+          }
+        }
+        kEnd = std::clamp(static_cast<std::int64_t>(std::ceil(kExit - (empty ? 1e-3 : 0.0))), k0 + 1, kLast + 1);
+        break;
+      }
+      return empty;
+    };
+    std::int64_t nextK = -1, nextEnd = 0; // a block classified ahead of time
+    bool nextEmpty = false;
     std::int64_t k = 0;
     while (k <= kLast)
     {
@@ -500,37 +538,25 @@ struct March
       bool empty = false;
       if (skip)
       {
-        // Coarse level first (kSuper^3 blocks), then the block itself.
-        const float kk = j + static_cast<float>(k);
-        const float p[3] = { ex + kk * sx, ey + kk * sy, ez + kk * sz };
-        for (int level = 0; level < 2; ++level)
+        empty = (k == nextK) ? nextEmpty : visitBlock(k, kEnd);
+        if (k == nextK)
         {
-          const int cells = level == 0 ? kBlock * kSuper : kBlock;
-          const int n[3] = { level == 0 ? superX : f.bx, level == 0 ? superY : f.by, level == 0 ? superZ : f.bz };
-          int ib[3];
-          for (int a = 0; a < 3; ++a)
+          kEnd = nextEnd;
+        }
+        // Extend a non-empty run over the following non-empty blocks, so that batches of
+        // samples run across block faces; remember the first empty block found.
+        while (!empty && kEnd <= kLast)
+        {
+          std::int64_t e2;
+          const bool empty2 = visitBlock(kEnd, e2);
+          if (empty2)
           {
-            ib[a] = std::clamp(static_cast<int>(p[a]) / cells, 0, n[a] - 1);
+            nextK = kEnd;
+            nextEnd = e2;
+            nextEmpty = true;
+            break;
           }
-          const size_t id = (static_cast<size_t>(ib[2]) * n[1] + ib[1]) * n[0] + ib[0];
-          empty = level == 0 ? superEmpty[id] != 0 : blockEmpty[id] != 0;
-          if (level == 0 && !empty)
-          {
-            continue;
-          }
-          double kExit = static_cast<double>(kLast) + 1.0;
-          for (int a = 0; a < 3; ++a)
-          {
-            if (s[a] != 0.0)
-            {
-              const double face = (s[a] > 0 ? ib[a] + 1 : ib[a]) * static_cast<double>(cells);
-              kExit = std::min(kExit, (face - e[a]) * invS[a] - j);
-            }
-          }
-          // Samples within 1e-3 steps of the face are left to the next block: float positions
-          // then never put a skipped sample outside the (empty) block.
-          kEnd = std::clamp(static_cast<std::int64_t>(std::ceil(kExit - (empty ? 1e-3 : 0.0))), k + 1, kLast + 1);
-          break;
+          kEnd = e2;
         }
       }
       if (empty)
