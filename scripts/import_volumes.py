@@ -36,7 +36,9 @@ def convert(shared, stem, out_path):
     digest = hashlib.sha256(raw).hexdigest()
     if digest != meta["sha256"]:
         sys.exit(f"{stem}: sha256 mismatch ({digest} != {meta['sha256']})")
-    dtype = np.dtype(meta["dtype"]).newbyteorder("<" if meta.get("endian", "little") == "little" else ">")
+    dtype = np.dtype(meta["dtype"]).newbyteorder(
+        "<" if meta.get("endian", "little") == "little" else ">"
+    )
     values = np.frombuffer(raw, dtype=dtype).astype(dtype.newbyteorder("="))
     nx, ny, nz = meta["dims"]
     assert values.size == nx * ny * nz
@@ -62,15 +64,19 @@ def convert(shared, stem, out_path):
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("--shared", default=os.path.join(here, "..", "..", "shared", "data", "volumes"))
+    parser.add_argument(
+        "--shared", default=os.path.join(here, "..", "..", "shared", "data", "volumes")
+    )
     parser.add_argument("--out", default=os.path.join(here, "..", "Data", "Volumes"))
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     for stem, name in VOLUMES.items():
         out_path = os.path.join(args.out, name + ".vti")
         meta = convert(args.shared, stem, out_path)
-        print(f"{name:8s} {meta['dims']} {meta['dtype']} spacing {meta['spacing']} -> "
-              f"{out_path} ({os.path.getsize(out_path) / 1e6:.1f} MB)")
+        print(
+            f"{name:8s} {meta['dims']} {meta['dtype']} spacing {meta['spacing']} -> "
+            f"{out_path} ({os.path.getsize(out_path) / 1e6:.1f} MB)"
+        )
 
 
 if __name__ == "__main__":

@@ -27,7 +27,8 @@ int resolveThreadCount(int threads, std::int64_t count)
   return n;
 }
 
-void parallelFor(std::int64_t count, int threads,
+void parallelFor(std::int64_t count,
+  int threads,
   const std::function<void(std::int64_t index, int threadId)>& body)
 {
   if (count <= 0)
@@ -40,7 +41,8 @@ void parallelFor(std::int64_t count, int threads,
   std::exception_ptr firstError;
   std::mutex errorMutex;
 
-  auto worker = [&](int threadId) {
+  auto worker = [&](int threadId)
+  {
     while (!failed.load(std::memory_order_relaxed))
     {
       const std::int64_t i = next.fetch_add(1, std::memory_order_relaxed);

@@ -50,7 +50,8 @@ Image readImage(const std::string& path)
   if (!input)
   {
     std::string reason = OIIO::geterror();
-    throw Error("cannot read image '" + path + "': " + (reason.empty() ? "unknown format" : reason));
+    throw Error(
+      "cannot read image '" + path + "': " + (reason.empty() ? "unknown format" : reason));
   }
   const OIIO::ImageSpec& spec = input->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
@@ -71,7 +72,8 @@ void writeImage(const Image& image, const std::string& path)
 {
   if (image.empty() || (image.channels != 1 && image.channels != 3 && image.channels != 4))
   {
-    throw Error("cannot write image '" + path + "': it is empty or has an unsupported channel count");
+    throw Error(
+      "cannot write image '" + path + "': it is empty or has an unsupported channel count");
   }
   const std::string ext = fileExtension(path);
   const bool keepFloat = ext == ".exr" || ext == ".tif" || ext == ".tiff";
@@ -85,7 +87,9 @@ void writeImage(const Image& image, const std::string& path)
   {
     throw Error("cannot write image '" + path + "': no writer for its extension");
   }
-  OIIO::ImageSpec spec(image.width, image.height, image.channels,
+  OIIO::ImageSpec spec(image.width,
+    image.height,
+    image.channels,
     keepFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:UnassociatedAlpha", 1); // write alpha as given, never un-premultiply
   if (!out->open(tmp, spec))
@@ -139,7 +143,8 @@ Image toChannels(const Image& in, int channels)
       }
       else
       {
-        v = in.channels == 4 || in.channels == 2 ? in.pixels[i * in.channels + in.channels - 1] : 1.0f;
+        v = in.channels == 4 || in.channels == 2 ? in.pixels[i * in.channels + in.channels - 1]
+                                                 : 1.0f;
       }
       out.pixels[i * channels + c] = v;
     }

@@ -14,8 +14,8 @@ void checkPair(const Image& a, const Image& b)
 {
   if (a.width != b.width || a.height != b.height)
   {
-    throw Error("images differ in size: " + std::to_string(a.width) + "x" + std::to_string(a.height) +
-      " vs " + std::to_string(b.width) + "x" + std::to_string(b.height));
+    throw Error("images differ in size: " + std::to_string(a.width) + "x" +
+      std::to_string(a.height) + " vs " + std::to_string(b.width) + "x" + std::to_string(b.height));
   }
   if (a.empty())
   {
@@ -56,7 +56,8 @@ double ssim(const Image& a0, const Image& b0)
     g[i] = std::exp(-0.5 * (i - r) * (i - r) / (1.5 * 1.5));
     gsum += g[i];
   }
-  for (double& v : g) v /= gsum;
+  for (double& v : g)
+    v /= gsum;
   const double c1 = 0.01 * 0.01, c2 = 0.03 * 0.03;
   const int w = a.width, h = a.height;
   double total = 0;
@@ -79,7 +80,8 @@ double ssim(const Image& a0, const Image& b0)
           s[3] += wk * vb * vb;
           s[4] += wk * va * vb;
         }
-        for (int q = 0; q < 5; ++q) rows[(static_cast<size_t>(y) * w + x) * 5 + q] = s[q];
+        for (int q = 0; q < 5; ++q)
+          rows[(static_cast<size_t>(y) * w + x) * 5 + q] = s[q];
       }
     }
     for (int y = r; y < h - r; ++y)
@@ -89,11 +91,13 @@ double ssim(const Image& a0, const Image& b0)
         double s[5] = { 0, 0, 0, 0, 0 };
         for (int k = -r; k <= r; ++k)
         {
-          for (int q = 0; q < 5; ++q) s[q] += g[k + r] * rows[(static_cast<size_t>(y + k) * w + x) * 5 + q];
+          for (int q = 0; q < 5; ++q)
+            s[q] += g[k + r] * rows[(static_cast<size_t>(y + k) * w + x) * 5 + q];
         }
         const double mx = s[0], my = s[1];
         const double vx = s[2] - mx * mx, vy = s[3] - my * my, cxy = s[4] - mx * my;
-        total += ((2 * mx * my + c1) * (2 * cxy + c2)) / ((mx * mx + my * my + c1) * (vx + vy + c2));
+        total +=
+          ((2 * mx * my + c1) * (2 * cxy + c2)) / ((mx * mx + my * my + c1) * (vx + vy + c2));
         ++count;
       }
     }

@@ -16,7 +16,7 @@ namespace
 {
 
 constexpr int kBlock = 8; // cells per block side for empty-space skipping
-constexpr int kSuper = 4;  // blocks per superblock side (coarse skipping level)
+constexpr int kSuper = 4; // blocks per superblock side (coarse skipping level)
 constexpr int kTile = 16; // pixels per tile side (unit of parallel work)
 
 // Volume prepared for the march: the scalars in their own (compact) type T, x fastest, and
@@ -45,32 +45,36 @@ struct Field
     bz = std::max(1, (nz - 1 + kBlock - 1) / kBlock);
     blockMin.assign(static_cast<size_t>(bx) * by * bz, 0.0f);
     blockMax.assign(blockMin.size(), 0.0f);
-    parallelFor(bz, 0, [&](std::int64_t c64, int) {
-      const int c = static_cast<int>(c64);
-      for (int b = 0; b < by; ++b)
+    parallelFor(bz,
+      0,
+      [&](std::int64_t c64, int)
       {
-        for (int a = 0; a < bx; ++a)
+        const int c = static_cast<int>(c64);
+        for (int b = 0; b < by; ++b)
         {
-          float lo = static_cast<float>(w[index(a * kBlock, b * kBlock, c * kBlock)]), hi = lo;
-          for (int k = c * kBlock; k <= std::min(nz - 1, (c + 1) * kBlock); ++k)
-            for (int j = b * kBlock; j <= std::min(ny - 1, (b + 1) * kBlock); ++j)
-              for (int i = a * kBlock; i <= std::min(nx - 1, (a + 1) * kBlock); ++i)
-              {
-                const float v = static_cast<float>(w[index(i, j, k)]);
-                lo = std::min(lo, v);
-                hi = std::max(hi, v);
-              }
-          const size_t id = (static_cast<size_t>(c) * by + b) * bx + a;
-          blockMin[id] = lo;
-          blockMax[id] = hi;
+          for (int a = 0; a < bx; ++a)
+          {
+            float lo = static_cast<float>(w[index(a * kBlock, b * kBlock, c * kBlock)]), hi = lo;
+            for (int k = c * kBlock; k <= std::min(nz - 1, (c + 1) * kBlock); ++k)
+              for (int j = b * kBlock; j <= std::min(ny - 1, (b + 1) * kBlock); ++j)
+                for (int i = a * kBlock; i <= std::min(nx - 1, (a + 1) * kBlock); ++i)
+                {
+                  const float v = static_cast<float>(w[index(i, j, k)]);
+                  lo = std::min(lo, v);
+                  hi = std::max(hi, v);
+                }
+            const size_t id = (static_cast<size_t>(c) * by + b) * bx + a;
+            blockMin[id] = lo;
+            blockMax[id] = hi;
+          }
         }
-      }
-    });
+      });
   }
 
   size_t index(int i, int j, int k) const
   {
-    return static_cast<size_t>(i) + static_cast<size_t>(nx) * (static_cast<size_t>(j) + static_cast<size_t>(ny) * k);
+    return static_cast<size_t>(i) +
+      static_cast<size_t>(nx) * (static_cast<size_t>(j) + static_cast<size_t>(ny) * k);
   }
 
   // Trilinear interpolation at index coordinates, clamped to the grid (nx, ny, nz >= 2).
@@ -136,8 +140,10 @@ struct Classify1D
           throw Error("transfer function table holds a non-finite value");
         }
       }
-      table[i] = { std::clamp(e[0], 0.0f, 1.0f), std::clamp(e[1], 0.0f, 1.0f),
-        std::clamp(e[2], 0.0f, 1.0f), correctOpacity(std::clamp(e[3], 0.0f, 1.0f), exponent) };
+      table[i] = { std::clamp(e[0], 0.0f, 1.0f),
+        std::clamp(e[1], 0.0f, 1.0f),
+        std::clamp(e[2], 0.0f, 1.0f),
+        correctOpacity(std::clamp(e[3], 0.0f, 1.0f), exponent) };
       count += table[i].a > 0.0f ? 1 : 0;
       nonzeroPrefix[i] = count;
     }
@@ -149,7 +155,8 @@ struct Classify1D
   bool anyOpaque(float lo, float hi) const
   {
     float t0 = lo * scale + bias, t1 = hi * scale + bias;
-    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > t1)
+      std::swap(t0, t1);
     const int i0 = std::clamp(static_cast<int>(std::floor(t0)) - 1, 0, width - 1);
     const int i1 = std::clamp(static_cast<int>(std::ceil(t1)) + 1, 0, width - 1);
     return nonzeroPrefix[i1] - (i0 > 0 ? nonzeroPrefix[i0 - 1] : 0) > 0;
@@ -162,7 +169,9 @@ struct Classify1D
     const float f = t - i;
     const RGBA& a = table[i];
     const RGBA& b = table[i + 1];
-    return { a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b), a.a + f * (b.a - a.a) };
+    return {
+      a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b), a.a + f * (b.a - a.a)
+    };
   }
 };
 
@@ -180,11 +189,16 @@ Storage storageFor(ScalarType t)
 {
   switch (t)
   {
-    case ScalarType::UInt8: return Storage::U8;
-    case ScalarType::Int8: return Storage::I8;
-    case ScalarType::UInt16: return Storage::U16;
-    case ScalarType::Int16: return Storage::I16;
-    default: return Storage::F32;
+    case ScalarType::UInt8:
+      return Storage::U8;
+    case ScalarType::Int8:
+      return Storage::I8;
+    case ScalarType::UInt16:
+      return Storage::U16;
+    case ScalarType::Int16:
+      return Storage::I16;
+    default:
+      return Storage::F32;
   }
 }
 
@@ -209,11 +223,16 @@ struct RayCaster::Internals
   {
     switch (Kind)
     {
-      case Storage::U8: return f(U8);
-      case Storage::I8: return f(I8);
-      case Storage::U16: return f(U16);
-      case Storage::I16: return f(I16);
-      default: return f(F32);
+      case Storage::U8:
+        return f(U8);
+      case Storage::I8:
+        return f(I8);
+      case Storage::U16:
+        return f(U16);
+      case Storage::I16:
+        return f(I16);
+      default:
+        return f(F32);
     }
   }
 };
@@ -245,11 +264,21 @@ RayCaster::RayCaster(const Volume& volume)
   In->Kind = storageFor(volume.originalType());
   switch (In->Kind)
   {
-    case Storage::U8: In->U8.build(d[0], d[1], d[2], volume.values()); break;
-    case Storage::I8: In->I8.build(d[0], d[1], d[2], volume.values()); break;
-    case Storage::U16: In->U16.build(d[0], d[1], d[2], volume.values()); break;
-    case Storage::I16: In->I16.build(d[0], d[1], d[2], volume.values()); break;
-    case Storage::F32: In->F32.build(d[0], d[1], d[2], volume.values()); break;
+    case Storage::U8:
+      In->U8.build(d[0], d[1], d[2], volume.values());
+      break;
+    case Storage::I8:
+      In->I8.build(d[0], d[1], d[2], volume.values());
+      break;
+    case Storage::U16:
+      In->U16.build(d[0], d[1], d[2], volume.values());
+      break;
+    case Storage::I16:
+      In->I16.build(d[0], d[1], d[2], volume.values());
+      break;
+    case Storage::F32:
+      In->F32.build(d[0], d[1], d[2], volume.values());
+      break;
   }
 }
 
@@ -264,10 +293,14 @@ double RayCaster::textureScale(ScalarType type)
 {
   switch (type)
   {
-    case ScalarType::UInt8: return 256.0 / 255.0;
-    case ScalarType::UInt16: return 65536.0 / 65535.0;
-    case ScalarType::Int16: return 32768.0 / 32767.0;
-    default: return 1.0;
+    case ScalarType::UInt8:
+      return 256.0 / 255.0;
+    case ScalarType::UInt16:
+      return 65536.0 / 65535.0;
+    case ScalarType::Int16:
+      return 32768.0 / 32767.0;
+    default:
+      return 1.0;
   }
 }
 
@@ -288,8 +321,8 @@ double RayCaster::defaultOpacityUnitDistance() const
 {
   const auto b = In->Vol.bounds();
   const auto& d = In->Vol.dims();
-  const double diag = std::sqrt((b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) +
-    (b[5] - b[4]) * (b[5] - b[4]));
+  const double diag = std::sqrt(
+    (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
   const double cells = static_cast<double>(d[0] - 1) * (d[1] - 1) * (d[2] - 1);
   return diag / std::cbrt(cells);
 }
@@ -345,7 +378,8 @@ struct Classify2D
   static void coordRange(float lo, float hi, float scale, float bias, int n, int& i0, int& i1)
   {
     float t0 = lo * scale + bias, t1 = hi * scale + bias;
-    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > t1)
+      std::swap(t0, t1);
     i0 = std::clamp(static_cast<int>(std::floor(t0)) - 1, 0, n - 1);
     i1 = std::clamp(static_cast<int>(std::ceil(t1)) + 1, 0, n - 1);
   }
@@ -357,7 +391,8 @@ struct Classify2D
     coordRange(gLo, gHi, gScale, gBias, height, g0, g1);
     for (int j = g0; j <= g1; ++j)
       for (int i = v0; i <= v1; ++i)
-        if (table[static_cast<size_t>(j) * width + i].a > 0.0f) return true;
+        if (table[static_cast<size_t>(j) * width + i].a > 0.0f)
+          return true;
     return false;
   }
 
@@ -370,8 +405,11 @@ struct Classify2D
     const float fx = tx - i, fy = ty - j;
     const RGBA* r0 = &table[static_cast<size_t>(j) * width + i];
     const RGBA* r1 = r0 + width;
-    auto lerp = [](const RGBA& a, const RGBA& b, float f) {
-      return RGBA{ a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b), a.a + f * (b.a - a.a) };
+    auto lerp = [](const RGBA& a, const RGBA& b, float f)
+    {
+      return RGBA{
+        a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b), a.a + f * (b.a - a.a)
+      };
     };
     return lerp(lerp(r0[0], r0[1], fx), lerp(r1[0], r1[1], fx), fy);
   }
@@ -392,8 +430,15 @@ inline bool composite(const RGBA& c, float& cr, float& cg, float& cb, float& ca,
 
 // Trilinear values of kBatch consecutive samples p = e + (k0 + l) s, l = 0 .. kBatch-1.
 template <typename T>
-inline void sampleBatch(const Field<T>& f, float k0, float ex, float ey, float ez, float sx,
-  float sy, float sz, float* out)
+inline void sampleBatch(const Field<T>& f,
+  float k0,
+  float ex,
+  float ey,
+  float ez,
+  float sx,
+  float sy,
+  float sz,
+  float* out)
 {
   const float mx = static_cast<float>(f.nx - 1), my = static_cast<float>(f.ny - 1),
               mz = static_cast<float>(f.nz - 1);
@@ -421,7 +466,8 @@ inline void sampleBatch(const Field<T>& f, float k0, float ex, float ey, float e
     const float v000 = static_cast<float>(q[0]), v100 = static_cast<float>(q[1]);
     const float v010 = static_cast<float>(q[sy1]), v110 = static_cast<float>(q[sy1 + 1]);
     const float v001 = static_cast<float>(q[sz1]), v101 = static_cast<float>(q[sz1 + 1]);
-    const float v011 = static_cast<float>(q[sz1 + sy1]), v111 = static_cast<float>(q[sz1 + sy1 + 1]);
+    const float v011 = static_cast<float>(q[sz1 + sy1]),
+                v111 = static_cast<float>(q[sz1 + sy1 + 1]);
     const float c00 = v000 + fx[l] * (v100 - v000);
     const float c10 = v010 + fx[l] * (v110 - v010);
     const float c01 = v001 + fx[l] * (v101 - v001);
@@ -451,7 +497,10 @@ struct March
   Eigen::Vector3d origin, spacing, boxMin, boxMax;
 
   template <bool TwoD>
-  void castRay(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, float j, float* out,
+  void castRay(const Eigen::Vector3d& o,
+    const Eigen::Vector3d& dir,
+    float j,
+    float* out,
     RenderStats& stats) const
   {
     // Slab intersection with the point bounds.
@@ -461,7 +510,8 @@ struct March
       if (dir[a] != 0.0)
       {
         double ta = (boxMin[a] - o[a]) / dir[a], tb = (boxMax[a] - o[a]) / dir[a];
-        if (ta > tb) std::swap(ta, tb);
+        if (ta > tb)
+          std::swap(ta, tb);
         t0 = std::max(t0, ta);
         t1 = std::min(t1, tb);
       }
@@ -487,8 +537,10 @@ struct March
     const double span = (t1 - t0) / d - j;
     const std::int64_t kLast = span > 0 ? static_cast<std::int64_t>(std::floor(span)) : 0;
     ++stats.rays;
-    const float ex = static_cast<float>(e[0]), ey = static_cast<float>(e[1]), ez = static_cast<float>(e[2]);
-    const float sx = static_cast<float>(s[0]), sy = static_cast<float>(s[1]), sz = static_cast<float>(s[2]);
+    const float ex = static_cast<float>(e[0]), ey = static_cast<float>(e[1]),
+                ez = static_cast<float>(e[2]);
+    const float sx = static_cast<float>(s[0]), sy = static_cast<float>(s[1]),
+                sz = static_cast<float>(s[2]);
     const FieldT& f = *field;
     float cr = 0, cg = 0, cb = 0, ca = 0;
     // March block by block: find the block of sample k and the first sample past its far faces;
@@ -496,14 +548,17 @@ struct March
     // Classifies the block (or empty superblock) holding sample k; sets kEnd to the first
     // sample past its far faces. Samples within 1e-3 steps of a face are left to the next
     // block, so float positions never put a skipped sample outside its (empty) block.
-    auto visitBlock = [&](std::int64_t k0, std::int64_t& kEnd) {
+    auto visitBlock = [&](std::int64_t k0, std::int64_t& kEnd)
+    {
       const float kk = j + static_cast<float>(k0);
       const float p[3] = { ex + kk * sx, ey + kk * sy, ez + kk * sz };
       bool empty = false;
       for (int level = 0; level < 2; ++level)
       {
         const int cells = level == 0 ? kBlock * kSuper : kBlock;
-        const int n[3] = { level == 0 ? superX : f.bx, level == 0 ? superY : f.by, level == 0 ? superZ : f.bz };
+        const int n[3] = {
+          level == 0 ? superX : f.bx, level == 0 ? superY : f.by, level == 0 ? superZ : f.bz
+        };
         int ib[3];
         for (int a = 0; a < 3; ++a)
         {
@@ -524,7 +579,8 @@ struct March
             kExit = std::min(kExit, (face - e[a]) * invS[a] - j);
           }
         }
-        kEnd = std::clamp(static_cast<std::int64_t>(std::ceil(kExit - (empty ? 1e-3 : 0.0))), k0 + 1, kLast + 1);
+        kEnd = std::clamp(
+          static_cast<std::int64_t>(std::ceil(kExit - (empty ? 1e-3 : 0.0))), k0 + 1, kLast + 1);
         break;
       }
       return empty;
@@ -615,7 +671,10 @@ struct March
     out[3] = ca;
   }
 
-  void setup(const Volume& vol, const FieldT& fieldIn, double defaultD, const View& view,
+  void setup(const Volume& vol,
+    const FieldT& fieldIn,
+    double defaultD,
+    const View& view,
     const RenderOptions& opt)
   {
     field = &fieldIn;
@@ -655,11 +714,15 @@ struct March
       for (int b = 0; b < f.by; ++b)
         for (int a = 0; a < f.bx; ++a)
           if (!blockEmpty[(static_cast<size_t>(c) * f.by + b) * f.bx + a])
-            superEmpty[(static_cast<size_t>(c / kSuper) * superY + b / kSuper) * superX + a / kSuper] = 0;
+            superEmpty[(static_cast<size_t>(c / kSuper) * superY + b / kSuper) * superX +
+              a / kSuper] = 0;
   }
 
   template <bool TwoD>
-  Image run(const View& view, int threads, const ProgressCallback& progress, RenderStats* stats) const
+  Image run(const View& view,
+    int threads,
+    const ProgressCallback& progress,
+    RenderStats* stats) const
   {
     const RayGenerator rays(view);
     Image img(view.width, view.height, 4, 0.0f);
@@ -669,33 +732,37 @@ struct March
     std::atomic<std::int64_t> done{ 0 };
     std::atomic<bool> cancel{ false };
     std::atomic<std::int64_t> rayCount{ 0 }, sampleCount{ 0 }, skipCount{ 0 };
-    parallelFor(tiles, threads, [&](std::int64_t tile, int threadId) {
-      if (cancel.load(std::memory_order_relaxed))
+    parallelFor(tiles,
+      threads,
+      [&](std::int64_t tile, int threadId)
       {
-        return;
-      }
-      const int x0 = static_cast<int>(tile % tilesX) * kTile;
-      const int y0 = static_cast<int>(tile / tilesX) * kTile;
-      Eigen::Vector3d o, dir;
-      RenderStats tileStats;
-      for (int y = y0; y < std::min(y0 + kTile, view.height); ++y)
-      {
-        for (int x = x0; x < std::min(x0 + kTile, view.width); ++x)
+        if (cancel.load(std::memory_order_relaxed))
         {
-          rays.ray(x, y, o, dir);
-          const float j = jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : static_cast<float>(offset);
-          castRay<TwoD>(o, dir, j, &img.at(x, y, 0), tileStats);
+          return;
         }
-      }
-      rayCount += tileStats.rays;
-      sampleCount += tileStats.samples;
-      skipCount += tileStats.skippedSamples;
-      const std::int64_t n = ++done;
-      if (threadId == 0 && progress && !progress(static_cast<double>(n) / tiles))
-      {
-        cancel = true;
-      }
-    });
+        const int x0 = static_cast<int>(tile % tilesX) * kTile;
+        const int y0 = static_cast<int>(tile / tilesX) * kTile;
+        Eigen::Vector3d o, dir;
+        RenderStats tileStats;
+        for (int y = y0; y < std::min(y0 + kTile, view.height); ++y)
+        {
+          for (int x = x0; x < std::min(x0 + kTile, view.width); ++x)
+          {
+            rays.ray(x, y, o, dir);
+            const float j =
+              jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : static_cast<float>(offset);
+            castRay<TwoD>(o, dir, j, &img.at(x, y, 0), tileStats);
+          }
+        }
+        rayCount += tileStats.rays;
+        sampleCount += tileStats.samples;
+        skipCount += tileStats.skippedSamples;
+        const std::int64_t n = ++done;
+        if (threadId == 0 && progress && !progress(static_cast<double>(n) / tiles))
+        {
+          cancel = true;
+        }
+      });
     if (cancel)
     {
       throw Cancelled();
@@ -716,53 +783,68 @@ struct March
 
 } // namespace
 
-Image RayCaster::render(const TransferTable1D& table, const View& view, const RenderOptions& options,
-  const ProgressCallback& progress, RenderStats* stats) const
+Image RayCaster::render(const TransferTable1D& table,
+  const View& view,
+  const RenderOptions& options,
+  const ProgressCallback& progress,
+  RenderStats* stats) const
 {
   view.validate();
-  return In->withField([&](const auto& field) {
-    March<std::decay_t<decltype(field)>> m;
-    m.setup(In->Vol, field, defaultSampleDistance(), view, options);
-    const double unit = view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
-    Classify1D c;
-    c.prepare(table, In->TextureScale, m.d / unit);
-    m.c1 = &c;
-    m.blockEmpty.resize(field.blockMin.size());
-    for (size_t i = 0; i < field.blockMin.size(); ++i)
+  return In->withField(
+    [&](const auto& field)
     {
-      m.blockEmpty[i] = !c.anyOpaque(field.blockMin[i], field.blockMax[i]);
-    }
-    m.buildSuperLevel();
-    return m.template run<false>(view, options.threads, progress, stats);
-  });
+      March<std::decay_t<decltype(field)>> m;
+      m.setup(In->Vol, field, defaultSampleDistance(), view, options);
+      const double unit =
+        view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
+      Classify1D c;
+      c.prepare(table, In->TextureScale, m.d / unit);
+      m.c1 = &c;
+      m.blockEmpty.resize(field.blockMin.size());
+      for (size_t i = 0; i < field.blockMin.size(); ++i)
+      {
+        m.blockEmpty[i] = !c.anyOpaque(field.blockMin[i], field.blockMax[i]);
+      }
+      m.buildSuperLevel();
+      return m.template run<false>(view, options.threads, progress, stats);
+    });
 }
 
-Image RayCaster::render(const TransferTable2D& table, const View& view, const RenderOptions& options,
-  const ProgressCallback& progress, RenderStats* stats) const
+Image RayCaster::render(const TransferTable2D& table,
+  const View& view,
+  const RenderOptions& options,
+  const ProgressCallback& progress,
+  RenderStats* stats) const
 {
   view.validate();
   table.validate();
-  std::call_once(In->GradientOnce, [this] {
-    const auto& d = In->Vol.dims();
-    In->Gradient.build(d[0], d[1], d[2], In->Vol.gradientMagnitude());
-  });
-  return In->withField([&](const auto& field) {
-    March<std::decay_t<decltype(field)>> m;
-    m.setup(In->Vol, field, defaultSampleDistance(), view, options);
-    const double unit = view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
-    Classify2D c;
-    c.prepare(table, m.d / unit);
-    m.c2 = &c;
-    m.gradient = &In->Gradient;
-    const Field<float>& g = In->Gradient;
-    m.blockEmpty.resize(field.blockMin.size());
-    for (size_t b = 0; b < field.blockMin.size(); ++b)
+  std::call_once(In->GradientOnce,
+    [this]
     {
-      m.blockEmpty[b] = !c.anyOpaque(field.blockMin[b], field.blockMax[b], g.blockMin[b], g.blockMax[b]);
-    }
-    m.buildSuperLevel();
-    return m.template run<true>(view, options.threads, progress, stats);
-  });
+      const auto& d = In->Vol.dims();
+      In->Gradient.build(d[0], d[1], d[2], In->Vol.gradientMagnitude());
+    });
+  return In->withField(
+    [&](const auto& field)
+    {
+      March<std::decay_t<decltype(field)>> m;
+      m.setup(In->Vol, field, defaultSampleDistance(), view, options);
+      const double unit =
+        view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
+      Classify2D c;
+      c.prepare(table, m.d / unit);
+      m.c2 = &c;
+      m.gradient = &In->Gradient;
+      const Field<float>& g = In->Gradient;
+      m.blockEmpty.resize(field.blockMin.size());
+      for (size_t b = 0; b < field.blockMin.size(); ++b)
+      {
+        m.blockEmpty[b] =
+          !c.anyOpaque(field.blockMin[b], field.blockMax[b], g.blockMin[b], g.blockMax[b]);
+      }
+      m.buildSuperLevel();
+      return m.template run<true>(view, options.threads, progress, stats);
+    });
 }
 
 } // namespace ddg

@@ -19,9 +19,9 @@ struct Camera
   Eigen::Vector3d position{ 0, 0, 1 };
   Eigen::Vector3d focalPoint{ 0, 0, 0 };
   Eigen::Vector3d viewUp{ 0, 1, 0 };
-  double viewAngle = 30.0;       ///< vertical full angle in degrees (perspective)
+  double viewAngle = 30.0; ///< vertical full angle in degrees (perspective)
   bool parallelProjection = false;
-  double parallelScale = 1.0;    ///< half the viewport height in world units (parallel)
+  double parallelScale = 1.0; ///< half the viewport height in world units (parallel)
 };
 
 /// What to render and how: the view JSON

@@ -11,23 +11,34 @@ namespace ddg
 
 ColorSpace parseColorSpace(const std::string& name)
 {
-  if (name == "RGB") return ColorSpace::RGB;
-  if (name == "HSV") return ColorSpace::HSV;
-  if (name == "Lab" || name == "CIELAB") return ColorSpace::Lab;
-  if (name == "Diverging") return ColorSpace::Diverging;
-  if (name == "Step") return ColorSpace::Step;
-  throw Error("unsupported ColorSpace '" + name + "' (RGB, HSV, Lab, Diverging and Step are supported)");
+  if (name == "RGB")
+    return ColorSpace::RGB;
+  if (name == "HSV")
+    return ColorSpace::HSV;
+  if (name == "Lab" || name == "CIELAB")
+    return ColorSpace::Lab;
+  if (name == "Diverging")
+    return ColorSpace::Diverging;
+  if (name == "Step")
+    return ColorSpace::Step;
+  throw Error(
+    "unsupported ColorSpace '" + name + "' (RGB, HSV, Lab, Diverging and Step are supported)");
 }
 
 const char* colorSpaceName(ColorSpace space)
 {
   switch (space)
   {
-    case ColorSpace::RGB: return "RGB";
-    case ColorSpace::HSV: return "HSV";
-    case ColorSpace::Lab: return "Lab";
-    case ColorSpace::Diverging: return "Diverging";
-    case ColorSpace::Step: return "Step";
+    case ColorSpace::RGB:
+      return "RGB";
+    case ColorSpace::HSV:
+      return "HSV";
+    case ColorSpace::Lab:
+      return "Lab";
+    case ColorSpace::Diverging:
+      return "Diverging";
+    case ColorSpace::Step:
+      return "Step";
   }
   return "RGB";
 }
@@ -51,7 +62,8 @@ RGB rgbToHsv(const RGB& c)
       h = 1.0 / 3.0 + (b - r) / 6.0 / d;
     else
       h = 2.0 / 3.0 + (r - g) / 6.0 / d;
-    if (h < 0) h += 1.0;
+    if (h < 0)
+      h += 1.0;
   }
   return { h, s, v };
 }
@@ -171,15 +183,18 @@ RGB labToMsh(const RGB& lab)
 
 RGB mshToLab(const RGB& msh)
 {
-  return { msh[0] * std::cos(msh[1]), msh[0] * std::sin(msh[1]) * std::cos(msh[2]),
+  return { msh[0] * std::cos(msh[1]),
+    msh[0] * std::sin(msh[1]) * std::cos(msh[2]),
     msh[0] * std::sin(msh[1]) * std::sin(msh[2]) };
 }
 
 double angleDiff(double a1, double a2)
 {
   double d = std::abs(a1 - a2);
-  while (d >= 2 * M_PI) d -= 2 * M_PI;
-  if (d > M_PI) d = 2 * M_PI - d;
+  while (d >= 2 * M_PI)
+    d -= 2 * M_PI;
+  if (d > M_PI)
+    d = 2 * M_PI - d;
   return d;
 }
 
@@ -189,7 +204,8 @@ double adjustHue(const RGB& msh, double unsatM)
   {
     return msh[2];
   }
-  const double spin = msh[1] * std::sqrt(unsatM * unsatM - msh[0] * msh[0]) / (msh[0] * std::sin(msh[1]));
+  const double spin =
+    msh[1] * std::sqrt(unsatM * unsatM - msh[0] * msh[0]) / (msh[0] * std::sin(msh[1]));
   return msh[2] > -0.3 * M_PI ? msh[2] + spin : msh[2] - spin;
 }
 
@@ -247,8 +263,11 @@ RGB interpolateColor(ColorSpace space, bool hsvWrap, double s, const RGB& a, con
         else
           h2[0] -= 1.0;
       }
-      RGB h{ (1 - s) * h1[0] + s * h2[0], (1 - s) * h1[1] + s * h2[1], (1 - s) * h1[2] + s * h2[2] };
-      if (h[0] < 0) h[0] += 1.0;
+      RGB h{
+        (1 - s) * h1[0] + s * h2[0], (1 - s) * h1[1] + s * h2[1], (1 - s) * h1[2] + s * h2[2]
+      };
+      if (h[0] < 0)
+        h[0] += 1.0;
       return hsvToRgb(h);
     }
     case ColorSpace::Lab:

@@ -12,7 +12,10 @@ namespace ddg
 namespace
 {
 
-void blend(const std::vector<GaussianPrimitive>& primitives, double x, double y, bool twoD,
+void blend(const std::vector<GaussianPrimitive>& primitives,
+  double x,
+  double y,
+  bool twoD,
   float* out)
 {
   double sum = 0, r = 0, g = 0, b = 0;
@@ -51,26 +54,33 @@ void validatePrimitives(const std::vector<GaussianPrimitive>& primitives, bool t
   for (size_t i = 0; i < primitives.size(); ++i)
   {
     const auto& p = primitives[i];
-    auto bad = [&](const std::string& what) {
+    auto bad = [&](const std::string& what)
+    {
       std::ostringstream msg;
       msg << "Gaussian primitive " << i << ": " << what;
       throw Error(msg.str());
     };
     for (int a = 0; a < (twoD ? 2 : 1); ++a)
     {
-      if (!std::isfinite(p.mean[a])) bad("mean is not finite");
-      if (!std::isfinite(p.stddev[a]) || p.stddev[a] <= 0) bad("stddev must be finite and > 0");
+      if (!std::isfinite(p.mean[a]))
+        bad("mean is not finite");
+      if (!std::isfinite(p.stddev[a]) || p.stddev[a] <= 0)
+        bad("stddev must be finite and > 0");
     }
     for (double c : p.rgb)
     {
-      if (!std::isfinite(c) || c < 0 || c > 1) bad("rgb must lie in [0, 1]");
+      if (!std::isfinite(c) || c < 0 || c > 1)
+        bad("rgb must lie in [0, 1]");
     }
-    if (!std::isfinite(p.opacity) || p.opacity < 0 || p.opacity > 1) bad("opacity must lie in [0, 1]");
+    if (!std::isfinite(p.opacity) || p.opacity < 0 || p.opacity > 1)
+      bad("opacity must lie in [0, 1]");
   }
 }
 
-TransferTable1D rasterize1D(
-  const std::vector<GaussianPrimitive>& primitives, double min, double max, int width)
+TransferTable1D rasterize1D(const std::vector<GaussianPrimitive>& primitives,
+  double min,
+  double max,
+  int width)
 {
   validatePrimitives(primitives, false);
   if (width < 2 || !(min < max))
@@ -90,7 +100,10 @@ TransferTable1D rasterize1D(
 }
 
 TransferTable2D rasterize2D(const std::vector<GaussianPrimitive>& primitives,
-  std::array<double, 2> valueRange, std::array<double, 2> gradientRange, int width, int height)
+  std::array<double, 2> valueRange,
+  std::array<double, 2> gradientRange,
+  int width,
+  int height)
 {
   validatePrimitives(primitives, true);
   TransferTable2D t;

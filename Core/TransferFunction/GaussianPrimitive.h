@@ -1,4 +1,5 @@
-// GaussianPrimitive.h: Gaussian TF primitives (the paper's design elements) and their rasterization.
+// GaussianPrimitive.h: Gaussian TF primitives (the paper's design elements) and their
+// rasterization.
 #pragma once
 
 #include "TransferFunction/TransferFunction1D.h"
@@ -27,11 +28,16 @@ void validatePrimitives(const std::vector<GaussianPrimitive>& primitives, bool t
 /// Rasterizes primitives into a 1D table over [min, max] with `width` entries:
 ///   w_i(x) = opacity_i * exp(-(x - mean_i)^2 / (2 stddev_i^2))
 ///   alpha(x) = min(1, sum_i w_i(x)),  rgb(x) = sum_i w_i rgb_i / sum_i w_i  (0 where sum is 0).
-TransferTable1D rasterize1D(
-  const std::vector<GaussianPrimitive>& primitives, double min, double max, int width);
+TransferTable1D rasterize1D(const std::vector<GaussianPrimitive>& primitives,
+  double min,
+  double max,
+  int width);
 
 /// The same in 2D over value x gradient magnitude, w_i a product of the two 1D Gaussians.
 TransferTable2D rasterize2D(const std::vector<GaussianPrimitive>& primitives,
-  std::array<double, 2> valueRange, std::array<double, 2> gradientRange, int width, int height);
+  std::array<double, 2> valueRange,
+  std::array<double, 2> gradientRange,
+  int width,
+  int height);
 
 } // namespace ddg

@@ -204,7 +204,8 @@ std::array<double, 3> TransferFunction1D::evaluateColor(double x) const
     }
     if (colorSpace == ColorSpace::HSV)
     {
-      if (out[0] < 0) out[0] += 1.0;
+      if (out[0] < 0)
+        out[0] += 1.0;
       out = hsvToRgb(out);
     }
     else if (colorSpace == ColorSpace::Lab)
@@ -318,8 +319,11 @@ namespace
 
 // Douglas-Peucker on a polyline of `channels` values per entry: keeps the entries needed so
 // linear interpolation between kept entries is within tol of every entry (max over channels).
-std::vector<int> simplify(const std::vector<float>& rgba, int width, int firstChannel,
-  int channels, double tol)
+std::vector<int> simplify(const std::vector<float>& rgba,
+  int width,
+  int firstChannel,
+  int channels,
+  double tol)
 {
   std::vector<char> keep(static_cast<size_t>(width), 0);
   keep.front() = keep.back() = 1;
@@ -364,8 +368,9 @@ std::vector<int> simplify(const std::vector<float>& rgba, int width, int firstCh
 
 } // namespace
 
-TransferFunction1D tableToTransferFunction(
-  const TransferTable1D& table, double tolerance, const std::string& name)
+TransferFunction1D tableToTransferFunction(const TransferTable1D& table,
+  double tolerance,
+  const std::string& name)
 {
   if (table.width < 2 || table.rgba.size() != static_cast<size_t>(table.width) * 4)
   {
@@ -378,8 +383,12 @@ TransferFunction1D tableToTransferFunction(
   auto unit = [](float v) { return std::clamp(static_cast<double>(v), 0.0, 1.0); };
   for (int i : simplify(table.rgba, table.width, 0, 3, tolerance))
   {
-    tf.color.push_back({ xOf(i), unit(table.rgba[4 * i]), unit(table.rgba[4 * i + 1]),
-      unit(table.rgba[4 * i + 2]), 0.5, 0.0 });
+    tf.color.push_back({ xOf(i),
+      unit(table.rgba[4 * i]),
+      unit(table.rgba[4 * i + 1]),
+      unit(table.rgba[4 * i + 2]),
+      0.5,
+      0.0 });
   }
   for (int i : simplify(table.rgba, table.width, 3, 1, tolerance))
   {

@@ -11,7 +11,8 @@ namespace ddg
 
 std::array<float, 4> TransferTable2D::lookup(double value, double gradient) const
 {
-  auto coord = [](double x, const std::array<double, 2>& r, int n, int& i, double& f) {
+  auto coord = [](double x, const std::array<double, 2>& r, int n, int& i, double& f)
+  {
     const double u = (x - r[0]) / (r[1] - r[0]);
     const double t = std::clamp(u * n - 0.5, 0.0, static_cast<double>(n - 1));
     i = std::min(static_cast<int>(t), n - 2);

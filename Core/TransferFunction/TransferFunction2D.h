@@ -19,8 +19,8 @@ struct TransferTable2D
 {
   std::array<double, 2> valueRange{ 0, 1 };
   std::array<double, 2> gradientRange{ 0, 1 };
-  int width = 0;  ///< entries along value
-  int height = 0; ///< entries along gradient magnitude
+  int width = 0;           ///< entries along value
+  int height = 0;          ///< entries along gradient magnitude
   std::vector<float> rgba; ///< width * height * 4
 
   std::array<float, 4> lookup(double value, double gradient) const;

@@ -83,7 +83,8 @@ std::array<double, N> fixed(const json& j, const char* key, const std::string& o
     throw Error(msg.str());
   }
   std::array<double, N> out{};
-  for (size_t i = 0; i < N; ++i) out[i] = v[i];
+  for (size_t i = 0; i < N; ++i)
+    out[i] = v[i];
   return out;
 }
 
@@ -103,7 +104,8 @@ TransferFunction1D parsePreset(const std::string& jsonText, const std::string& o
   }
   if (!obj->is_object())
   {
-    throw Error(origin + ": expected a ParaView preset (a list of objects with RGBPoints and Points)");
+    throw Error(
+      origin + ": expected a ParaView preset (a list of objects with RGBPoints and Points)");
   }
   if (obj->contains("Format") && (*obj)["Format"] == "ddg-transfer-function-2d")
   {
@@ -115,7 +117,8 @@ TransferFunction1D parsePreset(const std::string& jsonText, const std::string& o
   }
   if (!obj->contains("Points"))
   {
-    throw Error(origin + ": the preset has no opacity \"Points\" (a volume needs an opacity function)");
+    throw Error(
+      origin + ": the preset has no opacity \"Points\" (a volume needs an opacity function)");
   }
   TransferFunction1D tf;
   try
@@ -189,7 +192,8 @@ TransferFunction2D parseTransferFunction2D(const std::string& jsonText, const st
   json j = parseJson(jsonText, origin);
   if (!j.is_object() || j.value("Format", std::string()) != "ddg-transfer-function-2d")
   {
-    throw Error(origin + ": not a 2D transfer function (\"Format\": \"ddg-transfer-function-2d\" missing)");
+    throw Error(
+      origin + ": not a 2D transfer function (\"Format\": \"ddg-transfer-function-2d\" missing)");
   }
   TransferFunction2D tf;
   try
@@ -295,7 +299,8 @@ std::string transferFunction2DToJson(const TransferFunction2D& tf)
     for (const auto& p : tf.primitives)
     {
       prims.push_back({ { "mean", { p.mean[0], p.mean[1] } },
-        { "stddev", { p.stddev[0], p.stddev[1] } }, { "rgb", { p.rgb[0], p.rgb[1], p.rgb[2] } },
+        { "stddev", { p.stddev[0], p.stddev[1] } },
+        { "rgb", { p.rgb[0], p.rgb[1], p.rgb[2] } },
         { "opacity", p.opacity } });
     }
     j["Primitives"] = prims;
@@ -312,7 +317,8 @@ void writeTransferFunction2D(const TransferFunction2D& tf, const std::string& pa
   writeFileAtomic(path, transferFunction2DToJson(tf), "2D transfer function");
 }
 
-TransferFunctionFile parseTransferFunctionFile(const std::string& jsonText, const std::string& origin)
+TransferFunctionFile parseTransferFunctionFile(const std::string& jsonText,
+  const std::string& origin)
 {
   TransferFunctionFile f;
   // Cheap sniff; both parsers validate fully.

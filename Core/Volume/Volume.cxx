@@ -15,28 +15,44 @@ const char* scalarTypeName(ScalarType type)
 {
   switch (type)
   {
-    case ScalarType::UInt8: return "uint8";
-    case ScalarType::Int8: return "int8";
-    case ScalarType::UInt16: return "uint16";
-    case ScalarType::Int16: return "int16";
-    case ScalarType::UInt32: return "uint32";
-    case ScalarType::Int32: return "int32";
-    case ScalarType::Float32: return "float32";
-    case ScalarType::Float64: return "float64";
+    case ScalarType::UInt8:
+      return "uint8";
+    case ScalarType::Int8:
+      return "int8";
+    case ScalarType::UInt16:
+      return "uint16";
+    case ScalarType::Int16:
+      return "int16";
+    case ScalarType::UInt32:
+      return "uint32";
+    case ScalarType::Int32:
+      return "int32";
+    case ScalarType::Float32:
+      return "float32";
+    case ScalarType::Float64:
+      return "float64";
   }
   return "unknown";
 }
 
 ScalarType parseScalarType(const std::string& name)
 {
-  if (name == "uint8" || name == "uchar") return ScalarType::UInt8;
-  if (name == "int8" || name == "char") return ScalarType::Int8;
-  if (name == "uint16" || name == "ushort") return ScalarType::UInt16;
-  if (name == "int16" || name == "short") return ScalarType::Int16;
-  if (name == "uint32" || name == "uint") return ScalarType::UInt32;
-  if (name == "int32" || name == "int") return ScalarType::Int32;
-  if (name == "float32" || name == "float") return ScalarType::Float32;
-  if (name == "float64" || name == "double") return ScalarType::Float64;
+  if (name == "uint8" || name == "uchar")
+    return ScalarType::UInt8;
+  if (name == "int8" || name == "char")
+    return ScalarType::Int8;
+  if (name == "uint16" || name == "ushort")
+    return ScalarType::UInt16;
+  if (name == "int16" || name == "short")
+    return ScalarType::Int16;
+  if (name == "uint32" || name == "uint")
+    return ScalarType::UInt32;
+  if (name == "int32" || name == "int")
+    return ScalarType::Int32;
+  if (name == "float32" || name == "float")
+    return ScalarType::Float32;
+  if (name == "float64" || name == "double")
+    return ScalarType::Float64;
   throw Error("unknown scalar type '" + name +
     "' (expected uint8, int8, uint16, int16, uint32, int32, float32 or float64)");
 }
@@ -46,19 +62,26 @@ int scalarTypeSize(ScalarType type)
   switch (type)
   {
     case ScalarType::UInt8:
-    case ScalarType::Int8: return 1;
+    case ScalarType::Int8:
+      return 1;
     case ScalarType::UInt16:
-    case ScalarType::Int16: return 2;
+    case ScalarType::Int16:
+      return 2;
     case ScalarType::UInt32:
     case ScalarType::Int32:
-    case ScalarType::Float32: return 4;
-    case ScalarType::Float64: return 8;
+    case ScalarType::Float32:
+      return 4;
+    case ScalarType::Float64:
+      return 8;
   }
   return 0;
 }
 
-Volume::Volume(std::array<int, 3> dims, std::array<double, 3> origin,
-  std::array<double, 3> spacing, std::vector<float> values, ScalarType originalType)
+Volume::Volume(std::array<int, 3> dims,
+  std::array<double, 3> origin,
+  std::array<double, 3> spacing,
+  std::vector<float> values,
+  ScalarType originalType)
   : Dims(dims)
   , Origin(origin)
   , Spacing(spacing)
@@ -158,15 +181,16 @@ double Volume::sampleIndex(double x, double y, double z) const
 
 double Volume::sampleWorld(double x, double y, double z) const
 {
-  return sampleIndex((x - Origin[0]) / Spacing[0], (y - Origin[1]) / Spacing[1],
-    (z - Origin[2]) / Spacing[2]);
+  return sampleIndex(
+    (x - Origin[0]) / Spacing[0], (y - Origin[1]) / Spacing[1], (z - Origin[2]) / Spacing[2]);
 }
 
 std::vector<float> Volume::gradientMagnitude() const
 {
   std::vector<float> out(Values.size());
   const int nx = Dims[0], ny = Dims[1], nz = Dims[2];
-  auto diff = [&](int a, int i, int j, int k) -> double {
+  auto diff = [&](int a, int i, int j, int k) -> double
+  {
     int idx[3] = { i, j, k };
     const int n = Dims[a];
     if (n == 1)

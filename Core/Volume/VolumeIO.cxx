@@ -17,7 +17,8 @@ namespace
 
 bool endsWith(const std::string& s, const std::string& suffix)
 {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+    s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 std::string directoryOf(const std::string& path)
@@ -72,8 +73,11 @@ std::vector<unsigned char> readAllBytes(const std::string& path, size_t expected
 }
 
 template <typename T>
-Volume convert(const std::array<int, 3>& dims, const std::array<double, 3>& origin,
-  const std::array<double, 3>& spacing, const std::vector<unsigned char>& bytes, bool swap,
+Volume convert(const std::array<int, 3>& dims,
+  const std::array<double, 3>& origin,
+  const std::array<double, 3>& spacing,
+  const std::vector<unsigned char>& bytes,
+  bool swap,
   ScalarType type)
 {
   const size_t n = bytes.size() / sizeof(T);
@@ -125,7 +129,8 @@ Volume readRawVolume(const std::string& path)
   {
     throw Error("volume description '" + jsonPath + "' is not valid JSON: " + e.what());
   }
-  auto fail = [&](const std::string& what) { throw Error("volume description '" + jsonPath + "': " + what); };
+  auto fail = [&](const std::string& what)
+  { throw Error("volume description '" + jsonPath + "': " + what); };
   if (!j.is_object() || !j.contains("dims") || !j.contains("dtype"))
   {
     fail("needs \"dims\" and \"dtype\"");
@@ -138,21 +143,28 @@ Volume readRawVolume(const std::string& path)
   std::string rawName;
   try
   {
-    if (!j["dims"].is_array() || j["dims"].size() != 3) fail("\"dims\" must be [nx, ny, nz]");
-    for (int a = 0; a < 3; ++a) dims[a] = j["dims"][a].get<int>();
+    if (!j["dims"].is_array() || j["dims"].size() != 3)
+      fail("\"dims\" must be [nx, ny, nz]");
+    for (int a = 0; a < 3; ++a)
+      dims[a] = j["dims"][a].get<int>();
     if (j.contains("spacing"))
     {
-      if (!j["spacing"].is_array() || j["spacing"].size() != 3) fail("\"spacing\" must be [sx, sy, sz]");
-      for (int a = 0; a < 3; ++a) spacing[a] = j["spacing"][a].get<double>();
+      if (!j["spacing"].is_array() || j["spacing"].size() != 3)
+        fail("\"spacing\" must be [sx, sy, sz]");
+      for (int a = 0; a < 3; ++a)
+        spacing[a] = j["spacing"][a].get<double>();
     }
     if (j.contains("origin"))
     {
-      if (!j["origin"].is_array() || j["origin"].size() != 3) fail("\"origin\" must be [ox, oy, oz]");
-      for (int a = 0; a < 3; ++a) origin[a] = j["origin"][a].get<double>();
+      if (!j["origin"].is_array() || j["origin"].size() != 3)
+        fail("\"origin\" must be [ox, oy, oz]");
+      for (int a = 0; a < 3; ++a)
+        origin[a] = j["origin"][a].get<double>();
     }
     type = parseScalarType(j["dtype"].get<std::string>());
     const std::string endian = j.value("endian", std::string("little"));
-    if (endian != "little" && endian != "big") fail("\"endian\" must be \"little\" or \"big\"");
+    if (endian != "little" && endian != "big")
+      fail("\"endian\" must be \"little\" or \"big\"");
     swap = endian == "big";
     rawName = j.value("file", std::string());
   }
@@ -162,7 +174,8 @@ Volume readRawVolume(const std::string& path)
   }
   for (int a = 0; a < 3; ++a)
   {
-    if (dims[a] < 1) fail("dimensions must be positive");
+    if (dims[a] < 1)
+      fail("dimensions must be positive");
   }
   std::string rawPath;
   if (!rawName.empty())
@@ -182,14 +195,22 @@ Volume readRawVolume(const std::string& path)
   const auto bytes = readAllBytes(rawPath, count * static_cast<size_t>(scalarTypeSize(type)));
   switch (type)
   {
-    case ScalarType::UInt8: return convert<std::uint8_t>(dims, origin, spacing, bytes, swap, type);
-    case ScalarType::Int8: return convert<std::int8_t>(dims, origin, spacing, bytes, swap, type);
-    case ScalarType::UInt16: return convert<std::uint16_t>(dims, origin, spacing, bytes, swap, type);
-    case ScalarType::Int16: return convert<std::int16_t>(dims, origin, spacing, bytes, swap, type);
-    case ScalarType::UInt32: return convert<std::uint32_t>(dims, origin, spacing, bytes, swap, type);
-    case ScalarType::Int32: return convert<std::int32_t>(dims, origin, spacing, bytes, swap, type);
-    case ScalarType::Float32: return convert<float>(dims, origin, spacing, bytes, swap, type);
-    case ScalarType::Float64: return convert<double>(dims, origin, spacing, bytes, swap, type);
+    case ScalarType::UInt8:
+      return convert<std::uint8_t>(dims, origin, spacing, bytes, swap, type);
+    case ScalarType::Int8:
+      return convert<std::int8_t>(dims, origin, spacing, bytes, swap, type);
+    case ScalarType::UInt16:
+      return convert<std::uint16_t>(dims, origin, spacing, bytes, swap, type);
+    case ScalarType::Int16:
+      return convert<std::int16_t>(dims, origin, spacing, bytes, swap, type);
+    case ScalarType::UInt32:
+      return convert<std::uint32_t>(dims, origin, spacing, bytes, swap, type);
+    case ScalarType::Int32:
+      return convert<std::int32_t>(dims, origin, spacing, bytes, swap, type);
+    case ScalarType::Float32:
+      return convert<float>(dims, origin, spacing, bytes, swap, type);
+    case ScalarType::Float64:
+      return convert<double>(dims, origin, spacing, bytes, swap, type);
   }
   throw Error("unsupported scalar type");
 }

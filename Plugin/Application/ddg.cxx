@@ -77,8 +77,12 @@ int runRender(const RenderArgs& a)
   {
     ddg::writeImage(ddg::compositeOverBackground(rgba, view.background), a.out);
   }
-  std::printf("wrote %s (%d x %d) load %.0f ms, render %.1f ms\n", a.out.c_str(), view.width,
-    view.height, tLoad, tRender);
+  std::printf("wrote %s (%d x %d) load %.0f ms, render %.1f ms\n",
+    a.out.c_str(),
+    view.width,
+    view.height,
+    tLoad,
+    tRender);
   return 0;
 }
 
@@ -168,7 +172,10 @@ int runInfo(const std::string& path, const std::string& array)
   const auto& s = v.spacing();
   const auto& o = v.origin();
   std::printf("volume       %s\n", path.c_str());
-  std::printf("dimensions   %d x %d x %d (%lld voxels)\n", d[0], d[1], d[2],
+  std::printf("dimensions   %d x %d x %d (%lld voxels)\n",
+    d[0],
+    d[1],
+    d[2],
     static_cast<long long>(v.voxelCount()));
   std::printf("scalar type  %s\n", ddg::scalarTypeName(v.originalType()));
   std::printf("origin       %g %g %g\n", o[0], o[1], o[2]);
@@ -183,7 +190,8 @@ int runInfo(const std::string& path, const std::string& array)
   {
     const ddg::RayCaster caster(v);
     std::printf("sample distance (ParaView default)        %.7g\n", caster.defaultSampleDistance());
-    std::printf("opacity unit distance (ParaView default)  %.7g\n", caster.defaultOpacityUnitDistance());
+    std::printf(
+      "opacity unit distance (ParaView default)  %.7g\n", caster.defaultOpacityUnitDistance());
   }
   catch (const ddg::Error& e)
   {
@@ -196,38 +204,53 @@ int runInfo(const std::string& path, const std::string& array)
 
 int main(int argc, char** argv)
 {
-  CLI::App app{ "ddg — Differentiable Design Gallery: volume rendering and transfer functions.\n"
-                "Files shared by every command (see README.md):\n"
-                "  TF file   ParaView preset JSON [{\"Name\", \"ColorSpace\", \"RGBPoints\": [x,r,g,b,...],\n"
-                "            \"Points\": [x,alpha,midpoint,sharpness,...]}], or the DDG 2D TF JSON\n"
-                "            {\"Format\": \"ddg-transfer-function-2d\", ...}\n"
-                "  view file {\"camera\": {\"position\", \"focal_point\", \"view_up\", \"view_angle\",\n"
-                "            \"parallel_projection\", \"parallel_scale\"}, \"size\": [w,h],\n"
-                "            \"background\": [r,g,b], \"opacity_unit_distance\": d (optional)}\n"
-                "  volumes   .vti .vtk .nrrd .nhdr .mha .mhd .nii .nii.gz, or raw(.gz) + JSON sidecar",
-    "ddg" };
+  CLI::App app{
+    "ddg — Differentiable Design Gallery: volume rendering and transfer functions.\n"
+    "Files shared by every command (see README.md):\n"
+    "  TF file   ParaView preset JSON [{\"Name\", \"ColorSpace\", \"RGBPoints\": [x,r,g,b,...],\n"
+    "            \"Points\": [x,alpha,midpoint,sharpness,...]}], or the DDG 2D TF JSON\n"
+    "            {\"Format\": \"ddg-transfer-function-2d\", ...}\n"
+    "  view file {\"camera\": {\"position\", \"focal_point\", \"view_up\", \"view_angle\",\n"
+    "            \"parallel_projection\", \"parallel_scale\"}, \"size\": [w,h],\n"
+    "            \"background\": [r,g,b], \"opacity_unit_distance\": d (optional)}\n"
+    "  volumes   .vti .vtk .nrrd .nhdr .mha .mhd .nii .nii.gz, or raw(.gz) + JSON sidecar",
+    "ddg"
+  };
   app.require_subcommand(1);
   app.set_version_flag("--version", "ddg 0.1.0");
 
   RenderArgs ra;
   auto* render = app.add_subcommand("render",
-    "Render a volume with a TF file and a view file to an image (as ParaView's Volume representation would).");
+    "Render a volume with a TF file and a view file to an image (as ParaView's Volume "
+    "representation would).");
   render->add_option("--volume", ra.volume, "Volume file")->required();
-  render->add_option("--tf", ra.tf, "Transfer function file (ParaView preset JSON or DDG 2D JSON)")->required();
-  render->add_option("--view", ra.view, "View JSON (camera, size, background, opacity_unit_distance)")->required();
+  render->add_option("--tf", ra.tf, "Transfer function file (ParaView preset JSON or DDG 2D JSON)")
+    ->required();
+  render
+    ->add_option("--view", ra.view, "View JSON (camera, size, background, opacity_unit_distance)")
+    ->required();
   render->add_option("--out", ra.out, "Output image (.png, .jpg, .tif, .exr, ...)")->required();
   render->add_option("--array", ra.array, "Point array to render (default: the active scalars)");
-  render->add_flag("--alpha", ra.alpha, "Write RGBA with straight alpha instead of RGB over the background");
+  render->add_flag(
+    "--alpha", ra.alpha, "Write RGBA with straight alpha instead of RGB over the background");
   render->add_flag("--jitter", ra.jitter, "Jitter the first sample per pixel (default: off)");
-  render->add_option("--sample-distance", ra.sampleDistance,
-    "Sample distance in world units (default 0: ParaView's rule, mean spacing / 2)")->check(CLI::NonNegativeNumber);
-  render->add_option("--sample-offset", ra.sampleOffset,
-    "First sample at entry + offset * step when not jittering (default 0.5)")->check(CLI::Range(0.0, 1.0));
+  render
+    ->add_option("--sample-distance",
+      ra.sampleDistance,
+      "Sample distance in world units (default 0: ParaView's rule, mean spacing / 2)")
+    ->check(CLI::NonNegativeNumber);
+  render
+    ->add_option("--sample-offset",
+      ra.sampleOffset,
+      "First sample at entry + offset * step when not jittering (default 0.5)")
+    ->check(CLI::Range(0.0, 1.0));
   render->add_flag("--no-skip", ra.noSkip, "Disable empty-space skipping (same image, slower)");
-  render->add_option("--threads", ra.threads, "Worker threads (default 0: all cores)")->check(CLI::Range(0, 256));
+  render->add_option("--threads", ra.threads, "Worker threads (default 0: all cores)")
+    ->check(CLI::Range(0, 256));
 
   CompareArgs ca;
-  auto* compare = app.add_subcommand("compare", "Print PSNR (dB) and SSIM between two images of the same size.");
+  auto* compare =
+    app.add_subcommand("compare", "Print PSNR (dB) and SSIM between two images of the same size.");
   compare->add_option("a", ca.a, "First image")->required();
   compare->add_option("b", ca.b, "Second image")->required();
   compare->add_option("--min-psnr", ca.minPsnr, "Exit with status 3 when PSNR is below this (dB)");
@@ -235,7 +258,8 @@ int main(int argc, char** argv)
 
   ViewArgs va;
   auto* viewCmd = app.add_subcommand("view",
-    "Write a view JSON for a volume: ParaView's reset camera (looking down -z, +y up), then azimuth/elevation/zoom.");
+    "Write a view JSON for a volume: ParaView's reset camera (looking down -z, +y up), then "
+    "azimuth/elevation/zoom.");
   viewCmd->add_option("--volume", va.volume, "Volume file")->required();
   viewCmd->add_option("--out", va.out, "Output view JSON")->required();
   viewCmd->add_option("--array", va.array, "Point array (default: the active scalars)");
@@ -247,7 +271,8 @@ int main(int argc, char** argv)
   viewCmd->add_option("--background", va.background, "Background r g b in [0, 1]")->expected(3);
 
   std::string infoVolume, infoArray;
-  auto* info = app.add_subcommand("info", "Print a volume's dimensions, spacing, type, range and ParaView's defaults.");
+  auto* info = app.add_subcommand(
+    "info", "Print a volume's dimensions, spacing, type, range and ParaView's defaults.");
   info->add_option("--volume", infoVolume, "Volume file")->required();
   info->add_option("--array", infoArray, "Point array (default: the active scalars)");
 
@@ -263,10 +288,14 @@ int main(int argc, char** argv)
   const std::string name = app.get_subcommands().front()->get_name();
   try
   {
-    if (*render) return runRender(ra);
-    if (*compare) return runCompare(ca);
-    if (*viewCmd) return runView(va);
-    if (*info) return runInfo(infoVolume, infoArray);
+    if (*render)
+      return runRender(ra);
+    if (*compare)
+      return runCompare(ca);
+    if (*viewCmd)
+      return runView(va);
+    if (*info)
+      return runInfo(infoVolume, infoArray);
   }
   catch (const std::exception& e)
   {

@@ -34,21 +34,31 @@ ScalarType scalarTypeOf(int vtkType)
 {
   switch (vtkType)
   {
-    case VTK_UNSIGNED_CHAR: return ScalarType::UInt8;
+    case VTK_UNSIGNED_CHAR:
+      return ScalarType::UInt8;
     case VTK_CHAR:
-    case VTK_SIGNED_CHAR: return ScalarType::Int8;
-    case VTK_UNSIGNED_SHORT: return ScalarType::UInt16;
-    case VTK_SHORT: return ScalarType::Int16;
-    case VTK_UNSIGNED_INT: return ScalarType::UInt32;
-    case VTK_INT: return ScalarType::Int32;
-    case VTK_FLOAT: return ScalarType::Float32;
-    case VTK_DOUBLE: return ScalarType::Float64;
+    case VTK_SIGNED_CHAR:
+      return ScalarType::Int8;
+    case VTK_UNSIGNED_SHORT:
+      return ScalarType::UInt16;
+    case VTK_SHORT:
+      return ScalarType::Int16;
+    case VTK_UNSIGNED_INT:
+      return ScalarType::UInt32;
+    case VTK_INT:
+      return ScalarType::Int32;
+    case VTK_FLOAT:
+      return ScalarType::Float32;
+    case VTK_DOUBLE:
+      return ScalarType::Float64;
     case VTK_LONG:
     case VTK_LONG_LONG:
     case VTK_ID_TYPE:
     case VTK_UNSIGNED_LONG:
-    case VTK_UNSIGNED_LONG_LONG: return ScalarType::Float64;
-    default: throw Error("volume array has a non-numeric type");
+    case VTK_UNSIGNED_LONG_LONG:
+      return ScalarType::Float64;
+    default:
+      throw Error("volume array has a non-numeric type");
   }
 }
 
@@ -112,7 +122,8 @@ Volume toCoreVolume(vtkImageData* image, vtkDataArray* array)
     dm[3] == 0 && dm[5] == 0 && dm[6] == 0 && dm[7] == 0;
   if (!identity)
   {
-    throw Error("the volume has a non-identity direction matrix (oriented image); only axis-aligned volumes are supported");
+    throw Error("the volume has a non-identity direction matrix (oriented image); only "
+                "axis-aligned volumes are supported");
   }
   const ScalarType type = scalarTypeOf(array->GetDataType());
   const vtkIdType n = array->GetNumberOfTuples();
@@ -136,7 +147,8 @@ Volume toCoreVolume(vtkImageData* image, vtkDataArray* array)
         }
       }
     });
-    default: throw Error("volume array has a non-numeric type");
+    default:
+      throw Error("volume array has a non-numeric type");
   }
   double origin[3], spacing[3];
   image->GetOrigin(origin);
@@ -144,10 +156,14 @@ Volume toCoreVolume(vtkImageData* image, vtkDataArray* array)
   // Extents may start anywhere: the first point sits at origin + extent_min * spacing.
   int extent[6];
   image->GetExtent(extent);
-  std::array<double, 3> o{ origin[0] + extent[0] * spacing[0], origin[1] + extent[2] * spacing[1],
+  std::array<double, 3> o{ origin[0] + extent[0] * spacing[0],
+    origin[1] + extent[2] * spacing[1],
     origin[2] + extent[4] * spacing[2] };
-  return Volume({ dims[0], dims[1], dims[2] }, o, { spacing[0], spacing[1], spacing[2] },
-    std::move(values), type);
+  return Volume({ dims[0], dims[1], dims[2] },
+    o,
+    { spacing[0], spacing[1], spacing[2] },
+    std::move(values),
+    type);
 }
 
 Volume readVolumeFile(const std::string& path, const std::string& arrayName)
@@ -195,7 +211,8 @@ Volume readVolumeFile(const std::string& path, const std::string& arrayName)
   else
   {
     throw Error("cannot read volume '" + path +
-      "': unknown extension (use .vti, .vtk, .nrrd, .nhdr, .mha, .mhd, .nii, .nii.gz, or .json/.raw/.raw.gz)");
+      "': unknown extension (use .vti, .vtk, .nrrd, .nhdr, .mha, .mhd, .nii, .nii.gz, or "
+      ".json/.raw/.raw.gz)");
   }
   ReaderErrors errors(reader);
   reader->Update();
@@ -207,7 +224,8 @@ Volume readVolumeFile(const std::string& path, const std::string& arrayName)
     {
       reason.pop_back();
     }
-    throw Error("cannot read volume '" + path + "'" + (reason.empty() ? ": it holds no image data" : ": " + reason));
+    throw Error("cannot read volume '" + path + "'" +
+      (reason.empty() ? ": it holds no image data" : ": " + reason));
   }
   vtkDataArray* array = nullptr;
   if (!arrayName.empty())
@@ -255,7 +273,8 @@ void toVTKImage(const Image& rgba, const std::array<double, 3>& background, vtkI
       }
       for (int c = 0; c < 3; ++c)
       {
-        composed->SetTypedComponent(id, c, static_cast<unsigned char>(std::lround(rgb.at(x, y, c) * 255.0f)));
+        composed->SetTypedComponent(
+          id, c, static_cast<unsigned char>(std::lround(rgb.at(x, y, c) * 255.0f)));
       }
     }
   }

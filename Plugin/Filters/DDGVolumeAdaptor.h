@@ -30,6 +30,7 @@ DDGFILTERS_EXPORT Volume readVolumeFile(const std::string& path, const std::stri
 /// render: point array "RGBA" (float, premultiplied) and "Image" (unsigned char RGB over
 /// `background`, ParaView's compositing), "Image" being the active scalars.
 DDGFILTERS_EXPORT void toVTKImage(const Image& premultipliedRGBA,
-  const std::array<double, 3>& background, vtkImageData* output);
+  const std::array<double, 3>& background,
+  vtkImageData* output);
 
 } // namespace ddg

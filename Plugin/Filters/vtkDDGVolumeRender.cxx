@@ -6,9 +6,9 @@
 #include "Render/RayCaster.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
+#include <vtkAlgorithmOutput.h>
 #include <vtkDataArray.h>
 #include <vtkDataObject.h>
-#include <vtkAlgorithmOutput.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
@@ -55,8 +55,9 @@ int vtkDDGVolumeRender::FillInputPortInformation(int, vtkInformation* info)
   return 1;
 }
 
-int vtkDDGVolumeRender::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+int vtkDDGVolumeRender::RequestInformation(vtkInformation*,
+  vtkInformationVector**,
+  vtkInformationVector* outputVector)
 {
   vtkInformation* outInfo = outputVector->GetInformationObject(0);
   int extent[6] = { 0, -1, 0, -1, 0, -1 };
@@ -81,21 +82,24 @@ int vtkDDGVolumeRender::RequestInformation(
   return 1;
 }
 
-int vtkDDGVolumeRender::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+int vtkDDGVolumeRender::RequestUpdateExtent(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector*)
 {
   // The whole volume is needed, whatever image extent is requested downstream.
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
   if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
   {
     inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()),
+      6);
   }
   return 1;
 }
 
-int vtkDDGVolumeRender::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+int vtkDDGVolumeRender::RequestData(vtkInformation*,
+  vtkInformationVector** inputVector,
+  vtkInformationVector* outputVector)
 {
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
@@ -114,7 +118,8 @@ int vtkDDGVolumeRender::RequestData(
     const ddg::TransferFunctionFile tf = ddg::readTransferFunctionFile(this->TransferFunctionFile);
 
     vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector);
-    const vtkMTimeType inputTime = std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
+    const vtkMTimeType inputTime =
+      std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
     if (!this->Internal->Caster || this->Internal->InputTime != inputTime ||
       this->Internal->Array != array)
     {
@@ -129,12 +134,14 @@ int vtkDDGVolumeRender::RequestData(
     options.jitter = this->Jitter;
     options.sampleDistance = this->SampleDistance;
     options.threads = this->NumberOfThreads;
-    auto progress = [this](double f) {
+    auto progress = [this](double f)
+    {
       this->UpdateProgress(f);
       return !this->GetAbortExecute();
     };
-    const ddg::Image image = tf.is2D ? caster.render(tf.tf2D.bake(), view, options, progress)
-                                     : caster.render(caster.paraviewTable(tf.tf1D), view, options, progress);
+    const ddg::Image image = tf.is2D
+      ? caster.render(tf.tf2D.bake(), view, options, progress)
+      : caster.render(caster.paraviewTable(tf.tf1D), view, options, progress);
     ddg::toVTKImage(image, view.background, output);
     this->Internal->LastError.clear();
   }

@@ -3,7 +3,8 @@
 // one process; median of N runs each. Prints both times, the ratio and samples/second per core.
 //
 // Usage (needs an X display for VTK's render window: run under xvfb-run -a):
-//   BenchRayCaster [--volume Data/Volumes/engine.vti] [--tf Data/TransferFunctions/engine_block.json]
+//   BenchRayCaster [--volume Data/Volumes/engine.vti] [--tf
+//   Data/TransferFunctions/engine_block.json]
 //                  [--view Data/Views/engine_oblique.json] [--size 512] [--runs 7] [--threads 0]
 #include "DDGVolumeAdaptor.h"
 
@@ -67,12 +68,18 @@ int main(int argc, char** argv)
   for (int i = 1; i + 1 < argc; i += 2)
   {
     const std::string a = argv[i];
-    if (a == "--volume") volumePath = argv[i + 1];
-    else if (a == "--tf") tfPath = argv[i + 1];
-    else if (a == "--view") viewPath = argv[i + 1];
-    else if (a == "--size") size = std::stoi(argv[i + 1]);
-    else if (a == "--runs") runs = std::max(5, std::stoi(argv[i + 1]));
-    else if (a == "--threads") threads = std::stoi(argv[i + 1]);
+    if (a == "--volume")
+      volumePath = argv[i + 1];
+    else if (a == "--tf")
+      tfPath = argv[i + 1];
+    else if (a == "--view")
+      viewPath = argv[i + 1];
+    else if (a == "--size")
+      size = std::stoi(argv[i + 1]);
+    else if (a == "--runs")
+      runs = std::max(5, std::stoi(argv[i + 1]));
+    else if (a == "--threads")
+      threads = std::stoi(argv[i + 1]);
     else
     {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
@@ -92,7 +99,8 @@ int main(int argc, char** argv)
   view.width = view.height = size;
   const ddg::RayCaster caster(volume);
   const double d = caster.defaultSampleDistance();
-  const double unit = view.opacityUnitDistance ? *view.opacityUnitDistance : caster.defaultOpacityUnitDistance();
+  const double unit =
+    view.opacityUnitDistance ? *view.opacityUnitDistance : caster.defaultOpacityUnitDistance();
 
   // --- ours -------------------------------------------------------------------------------------
   ddg::RenderOptions opt;
@@ -105,21 +113,33 @@ int main(int argc, char** argv)
   ddg::RenderOptions noSkip = opt;
   noSkip.emptySpaceSkipping = false;
   ddg::RenderStats statsNoSkip;
-  const auto oursNoSkipMs = timeRuns(runs, [&] { caster.render(table, view, noSkip, {}, &statsNoSkip); });
+  const auto oursNoSkipMs =
+    timeRuns(runs, [&] { caster.render(table, view, noSkip, {}, &statsNoSkip); });
 
   // --- VTK fixed-point ray caster ----------------------------------------------------------------
   vtkNew<vtkColorTransferFunction> ctf;
-  for (const auto& n : tf.color) ctf->AddRGBPoint(n.x, n.r, n.g, n.b, n.midpoint, n.sharpness);
+  for (const auto& n : tf.color)
+    ctf->AddRGBPoint(n.x, n.r, n.g, n.b, n.midpoint, n.sharpness);
   switch (tf.colorSpace)
   {
-    case ddg::ColorSpace::HSV: ctf->SetColorSpaceToHSV(); break;
-    case ddg::ColorSpace::Lab: ctf->SetColorSpaceToLab(); break;
-    case ddg::ColorSpace::Diverging: ctf->SetColorSpaceToDiverging(); break;
-    case ddg::ColorSpace::Step: ctf->SetColorSpaceToStep(); break;
-    default: ctf->SetColorSpaceToRGB();
+    case ddg::ColorSpace::HSV:
+      ctf->SetColorSpaceToHSV();
+      break;
+    case ddg::ColorSpace::Lab:
+      ctf->SetColorSpaceToLab();
+      break;
+    case ddg::ColorSpace::Diverging:
+      ctf->SetColorSpaceToDiverging();
+      break;
+    case ddg::ColorSpace::Step:
+      ctf->SetColorSpaceToStep();
+      break;
+    default:
+      ctf->SetColorSpaceToRGB();
   }
   vtkNew<vtkPiecewiseFunction> pwf;
-  for (const auto& n : tf.opacity) pwf->AddPoint(n.x, n.alpha, n.midpoint, n.sharpness);
+  for (const auto& n : tf.opacity)
+    pwf->AddPoint(n.x, n.alpha, n.midpoint, n.sharpness);
   vtkNew<vtkVolumeProperty> property;
   property->SetColor(ctf);
   property->SetScalarOpacity(pwf);
@@ -152,10 +172,12 @@ int main(int argc, char** argv)
   cam->SetParallelScale(view.camera.parallelScale);
   renderer->ResetCameraClippingRange();
   std::vector<double> vtkDrawMs;
-  const auto vtkMs = timeRuns(runs, [&] {
-    window->Render();
-    vtkDrawMs.push_back(1000.0 * mapper->GetTimeToDraw());
-  });
+  const auto vtkMs = timeRuns(runs,
+    [&]
+    {
+      window->Render();
+      vtkDrawMs.push_back(1000.0 * mapper->GetTimeToDraw());
+    });
   vtkDrawMs.erase(vtkDrawMs.begin()); // warm-up
 
   // Agreement of the two images (both over the background, 8 bit).
@@ -165,23 +187,43 @@ int main(int argc, char** argv)
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x)
       for (int c = 0; c < 3; ++c)
-        vtkImage.at(x, size - 1 - y, c) = pixels->GetValue((static_cast<vtkIdType>(y) * size + x) * 3 + c) / 255.0f;
+        vtkImage.at(x, size - 1 - y, c) =
+          pixels->GetValue((static_cast<vtkIdType>(y) * size + x) * 3 + c) / 255.0f;
   const ddg::Image oursRGB = ddg::compositeOverBackground(ours, view.background);
 
   const double tOurs = median(oursMs), tOursNoSkip = median(oursNoSkipMs), tVtk = median(vtkMs),
                tVtkDraw = median(vtkDrawMs);
   const auto& dims = volume.dims();
-  std::printf("volume %s (%d x %d x %d), TF %s, %d x %d, sample distance %.4g, %d threads, median of %d runs\n",
-    volumePath.c_str(), dims[0], dims[1], dims[2], tfPath.c_str(), size, size, d, nThreads, runs);
-  std::printf("ddg RayCaster                     %8.1f ms  (%.3g samples, %.3g skipped, %.1f Msamples/s/core)\n",
-    tOurs, static_cast<double>(stats.samples), static_cast<double>(stats.skippedSamples),
+  std::printf("volume %s (%d x %d x %d), TF %s, %d x %d, sample distance %.4g, %d threads, median "
+              "of %d runs\n",
+    volumePath.c_str(),
+    dims[0],
+    dims[1],
+    dims[2],
+    tfPath.c_str(),
+    size,
+    size,
+    d,
+    nThreads,
+    runs);
+  std::printf("ddg RayCaster                     %8.1f ms  (%.3g samples, %.3g skipped, %.1f "
+              "Msamples/s/core)\n",
+    tOurs,
+    static_cast<double>(stats.samples),
+    static_cast<double>(stats.skippedSamples),
     stats.samples / (tOurs * 1e3) / nThreads);
-  std::printf("ddg RayCaster, no block skipping  %8.1f ms  (%.3g samples, %.1f Msamples/s/core)\n", tOursNoSkip,
-    static_cast<double>(statsNoSkip.samples), statsNoSkip.samples / (tOursNoSkip * 1e3) / nThreads);
-  std::printf("VTK FixedPointVolumeRayCastMapper %8.1f ms  (window Render); mapper draw time %.1f ms\n", tVtk, tVtkDraw);
+  std::printf("ddg RayCaster, no block skipping  %8.1f ms  (%.3g samples, %.1f Msamples/s/core)\n",
+    tOursNoSkip,
+    static_cast<double>(statsNoSkip.samples),
+    statsNoSkip.samples / (tOursNoSkip * 1e3) / nThreads);
+  std::printf(
+    "VTK FixedPointVolumeRayCastMapper %8.1f ms  (window Render); mapper draw time %.1f ms\n",
+    tVtk,
+    tVtkDraw);
   std::printf("speed-up vs VTK (window Render)    %.2fx\n", tVtk / tOurs);
   std::printf("speed-up vs VTK (mapper draw time) %.2fx\n", tVtkDraw / tOurs);
-  std::printf("image agreement ddg vs VTK fixed-point: PSNR %.2f dB, SSIM %.4f\n", ddg::psnr(oursRGB, vtkImage),
+  std::printf("image agreement ddg vs VTK fixed-point: PSNR %.2f dB, SSIM %.4f\n",
+    ddg::psnr(oursRGB, vtkImage),
     ddg::ssim(oursRGB, vtkImage));
   return 0;
 }

@@ -25,11 +25,13 @@ TEST(Image, CompositeMatchesParaViewFormula)
 TEST(ImageMetrics, IdentitiesAndKnownNoise)
 {
   Image a(32, 24, 3);
-  for (size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] = static_cast<float>((i * 37 % 101) / 100.0);
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    a.pixels[i] = static_cast<float>((i * 37 % 101) / 100.0);
   EXPECT_TRUE(std::isinf(psnr(a, a)));
   EXPECT_NEAR(ssim(a, a), 1.0, 1e-12);
   Image b = a;
-  for (float& v : b.pixels) v = std::min(1.0f, v + 0.01f);
+  for (float& v : b.pixels)
+    v = std::min(1.0f, v + 0.01f);
   // almost everywhere +0.01 -> MSE ~ 1e-4 -> ~40 dB
   EXPECT_NEAR(psnr(a, b), 40.0, 0.5);
   EXPECT_LT(ssim(a, b), 1.0);
@@ -40,7 +42,8 @@ TEST(ImageMetrics, IdentitiesAndKnownNoise)
 TEST(ImageIO, PngRoundTripIsExactOn8BitValues)
 {
   Image a(7, 5, 4);
-  for (size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] = static_cast<float>(i % 256) / 255.0f;
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+    a.pixels[i] = static_cast<float>(i % 256) / 255.0f;
   const std::string path = ::testing::TempDir() + "/ddg_roundtrip.png";
   writeImage(a, path);
   const Image b = readImage(path);

@@ -23,7 +23,8 @@ namespace
 constexpr double kValueTol = 1e-5;
 constexpr double kOutlierTol = 2e-3;
 
-Volume blobVolume(ScalarType type, std::array<double, 3> spacing = { 1.0, 1.3, 0.8 },
+Volume blobVolume(ScalarType type,
+  std::array<double, 3> spacing = { 1.0, 1.3, 0.8 },
   std::array<double, 3> origin = { -3.0, 2.0, 5.0 })
 {
   const std::array<int, 3> dims{ 24, 20, 28 };
@@ -35,7 +36,8 @@ Volume blobVolume(ScalarType type, std::array<double, 3> spacing = { 1.0, 1.3, 0
         const double x = (i - 11.5) / 8.0, y = (j - 9.5) / 7.0, z = (k - 13.5) / 9.0;
         const double r2 = x * x + y * y + z * z;
         double val = 255.0 * std::exp(-1.5 * r2) * (0.75 + 0.25 * std::sin(3 * x + 2 * y));
-        if (type == ScalarType::UInt8) val = std::round(std::clamp(val, 0.0, 255.0));
+        if (type == ScalarType::UInt8)
+          val = std::round(std::clamp(val, 0.0, 255.0));
         v[i + dims[0] * (j + static_cast<size_t>(dims[1]) * k)] = static_cast<float>(val);
       }
   return Volume(dims, origin, spacing, v, type);
@@ -56,7 +58,9 @@ View orbitView(const Volume& vol, double azimuthDeg, bool parallel, int w = 48, 
 TransferFunction1D testTF()
 {
   TransferFunction1D tf;
-  tf.color = { { 0, 0.1, 0.2, 0.9 }, { 90, 0.2, 0.9, 0.3 }, { 180, 1.0, 0.6, 0.1 }, { 255, 1, 1, 1 } };
+  tf.color = {
+    { 0, 0.1, 0.2, 0.9 }, { 90, 0.2, 0.9, 0.3 }, { 180, 1.0, 0.6, 0.1 }, { 255, 1, 1, 1 }
+  };
   tf.opacity = { { 0, 0 }, { 40, 0 }, { 120, 0.3, 0.4, 0.2 }, { 200, 0.05 }, { 255, 0.9 } };
   return tf;
 }
@@ -93,9 +97,15 @@ TEST(RayCaster, MatchesReferencePerspectiveAndParallel)
         const View view = orbitView(vol, az, parallel);
         RenderOptions opt;
         const Image fast = caster.render(table, view, opt);
-        const Image ref = reference::referenceRender(vol, table, view, caster.defaultSampleDistance(),
-          caster.defaultOpacityUnitDistance(), opt.sampleOffset, opt.terminationOpacity);
-        SCOPED_TRACE(::testing::Message() << "type " << scalarTypeName(type) << " parallel " << parallel << " az " << az);
+        const Image ref = reference::referenceRender(vol,
+          table,
+          view,
+          caster.defaultSampleDistance(),
+          caster.defaultOpacityUnitDistance(),
+          opt.sampleOffset,
+          opt.terminationOpacity);
+        SCOPED_TRACE(::testing::Message()
+          << "type " << scalarTypeName(type) << " parallel " << parallel << " az " << az);
         expectClose(fast, ref);
       }
     }
@@ -118,11 +128,17 @@ TEST(RayCaster, MatchesReferenceWith2DTable)
   const auto table = rasterize2D(prims, { 0, 255 }, { 0, 60 }, 64, 32);
   const View view = orbitView(vol, 30, false);
   const Image fast = caster.render(table, view);
-  const Image ref = reference::referenceRender2D(vol, table, view, caster.defaultSampleDistance(),
-    caster.defaultOpacityUnitDistance(), 0.5, 1.0 - 1.0 / 255.0);
+  const Image ref = reference::referenceRender2D(vol,
+    table,
+    view,
+    caster.defaultSampleDistance(),
+    caster.defaultOpacityUnitDistance(),
+    0.5,
+    1.0 - 1.0 / 255.0);
   expectClose(fast, ref);
   double alpha = 0;
-  for (size_t i = 3; i < fast.pixels.size(); i += 4) alpha += fast.pixels[i];
+  for (size_t i = 3; i < fast.pixels.size(); i += 4)
+    alpha += fast.pixels[i];
   EXPECT_GT(alpha, 1.0) << "the 2D table should make something visible";
 }
 
@@ -149,7 +165,8 @@ TEST(RayCaster, ParaViewDefaultDistances)
 {
   // NOTES-paraview-rendering: 64^3 unit spacing -> d = 0.3155606, unit distance = sqrt(3);
   // 128^3 and larger -> mean spacing / 2.
-  const Volume small({ 64, 64, 64 }, { 0, 0, 0 }, { 1, 1, 1 }, std::vector<float>(64 * 64 * 64, 0.0f));
+  const Volume small(
+    { 64, 64, 64 }, { 0, 0, 0 }, { 1, 1, 1 }, std::vector<float>(64 * 64 * 64, 0.0f));
   std::vector<float> v(64 * 64 * 64, 0.0f);
   v[5] = 1.0f;
   const RayCaster c64(Volume({ 64, 64, 64 }, { 0, 0, 0 }, { 1, 1, 1 }, v));
@@ -178,11 +195,15 @@ TEST(RayCaster, ProgressCanCancel)
   const auto table = caster.paraviewTable(testTF());
   const View view = orbitView(vol, 10, false, 128, 128);
   double last = -1;
-  caster.render(table, view, {}, [&](double f) {
-    EXPECT_GE(f, last);
-    last = f;
-    return true;
-  });
+  caster.render(table,
+    view,
+    {},
+    [&](double f)
+    {
+      EXPECT_GE(f, last);
+      last = f;
+      return true;
+    });
   EXPECT_DOUBLE_EQ(last, 1.0);
   EXPECT_THROW(caster.render(table, view, {}, [](double) { return false; }), Cancelled);
 }

@@ -101,9 +101,12 @@ TEST(TransferTable, ParaViewWidthAndLookupConvention)
   EXPECT_EQ(paraviewTableWidth(tf, 0, 255), 1024);
   tf.opacity = { { 0, 0 }, { 0.1, 1 }, { 255, 1 } }; // gap 0.1 -> 2550 -> 4096
   EXPECT_EQ(paraviewTableWidth(tf, 0, 255), 4096);
-  const auto t = bakeTable(TransferFunction1D{ "", ColorSpace::RGB, false, { { 0, 0, 0, 0 }, { 1, 1, 1, 1 } },
-                             { { 0, 0 }, { 1, 1 } } },
-    0, 1, 5);
+  const auto t = bakeTable(
+    TransferFunction1D{
+      "", ColorSpace::RGB, false, { { 0, 0, 0, 0 }, { 1, 1, 1, 1 } }, { { 0, 0 }, { 1, 1 } } },
+    0,
+    1,
+    5);
   // entries at 0, .25, .5, .75, 1; value 0.5 -> t = 0.5 * 5 - 0.5 = 2 -> entry 2 exactly
   EXPECT_NEAR(t.lookup(0.5)[3], 0.5, 1e-6);
   // value 0.1 -> t = 0 -> entry 0 (texel-centre clamp)
@@ -121,8 +124,11 @@ TEST(TransferTable, ControlPointsStayWithinTolerance)
   for (int i = 0; i < t.width; ++i)
   {
     const double x = i / 255.0;
-    t.rgba.insert(t.rgba.end(), { static_cast<float>(0.5 + 0.5 * std::sin(6 * x)), static_cast<float>(x),
-                                  0.3f, static_cast<float>(std::exp(-40 * (x - 0.6) * (x - 0.6))) });
+    t.rgba.insert(t.rgba.end(),
+      { static_cast<float>(0.5 + 0.5 * std::sin(6 * x)),
+        static_cast<float>(x),
+        0.3f,
+        static_cast<float>(std::exp(-40 * (x - 0.6) * (x - 0.6))) });
   }
   const double tol = 1.0 / 512.0;
   const TransferFunction1D tf = tableToTransferFunction(t, tol);
@@ -151,14 +157,20 @@ TEST(PresetJson, RoundTripAndErrors)
   EXPECT_EQ(again.color.size(), 2u);
   EXPECT_EQ(again.opacity[1].sharpness, 0.2);
 
-  EXPECT_THROW(parsePreset("[{\"Name\": "), Error);                                  // malformed
-  EXPECT_THROW(parsePreset("[]"), Error);                                            // empty list
-  EXPECT_THROW(parsePreset(R"([{"RGBPoints": [0,0,0,0]}])"), Error);                 // no Points
+  EXPECT_THROW(parsePreset("[{\"Name\": "), Error);                  // malformed
+  EXPECT_THROW(parsePreset("[]"), Error);                            // empty list
+  EXPECT_THROW(parsePreset(R"([{"RGBPoints": [0,0,0,0]}])"), Error); // no Points
   EXPECT_THROW(parsePreset(R"([{"RGBPoints": [0,0,0], "Points": [0,0,.5,0]}])"), Error); // not x4
-  EXPECT_THROW(parsePreset(R"([{"RGBPoints": [5,0,0,0, 1,1,1,1], "Points": [0,0,.5,0]}])"), Error); // unsorted
-  EXPECT_THROW(parsePreset(R"([{"RGBPoints": [0,0,0,2], "Points": [0,0,.5,0]}])"), Error);  // colour > 1
-  EXPECT_THROW(parsePreset(R"([{"RGBPoints": [0,0,0,0], "Points": [0,-1,.5,0]}])"), Error); // alpha < 0
-  EXPECT_THROW(parsePreset(R"([{"RGBPoints": [0,0,0,0], "Points": [0,0,.5,0], "ColorSpace": "Lab/CIEDE2000"}])"), Error);
+  EXPECT_THROW(
+    parsePreset(R"([{"RGBPoints": [5,0,0,0, 1,1,1,1], "Points": [0,0,.5,0]}])"), Error); // unsorted
+  EXPECT_THROW(
+    parsePreset(R"([{"RGBPoints": [0,0,0,2], "Points": [0,0,.5,0]}])"), Error); // colour > 1
+  EXPECT_THROW(
+    parsePreset(R"([{"RGBPoints": [0,0,0,0], "Points": [0,-1,.5,0]}])"), Error); // alpha < 0
+  EXPECT_THROW(
+    parsePreset(
+      R"([{"RGBPoints": [0,0,0,0], "Points": [0,0,.5,0], "ColorSpace": "Lab/CIEDE2000"}])"),
+    Error);
   EXPECT_THROW(parsePreset(R"([{"RGBPoints": ["a",0,0,0], "Points": [0,0,.5,0]}])"), Error);
 }
 
@@ -178,8 +190,17 @@ TEST(TwoDJson, PrimitivesAndTableRoundTrip)
   withTable.table = t;
   const auto again = parseTransferFunction2D(transferFunction2DToJson(withTable));
   EXPECT_EQ(again.table.rgba.size(), t.rgba.size());
-  EXPECT_THROW(parseTransferFunction2D(R"({"Format": "ddg-transfer-function-2d", "ValueRange": [0, 1], "GradientRange": [0, 1]})"), Error);
-  EXPECT_THROW(parseTransferFunction2D(R"({"Format": "ddg-transfer-function-2d", "ValueRange": [1, 0], "GradientRange": [0, 1], "Primitives": []})"), Error);
-  EXPECT_THROW(parseTransferFunction2D(R"({"Format": "ddg-transfer-function-2d", "ValueRange": [0, 1], "GradientRange": [0, 1],
-      "Primitives": [{"mean": [0, 0], "stddev": [0, 1], "rgb": [1, 1, 1], "opacity": 1}]})"), Error);
+  EXPECT_THROW(
+    parseTransferFunction2D(
+      R"({"Format": "ddg-transfer-function-2d", "ValueRange": [0, 1], "GradientRange": [0, 1]})"),
+    Error);
+  EXPECT_THROW(
+    parseTransferFunction2D(
+      R"({"Format": "ddg-transfer-function-2d", "ValueRange": [1, 0], "GradientRange": [0, 1], "Primitives": []})"),
+    Error);
+  EXPECT_THROW(
+    parseTransferFunction2D(
+      R"({"Format": "ddg-transfer-function-2d", "ValueRange": [0, 1], "GradientRange": [0, 1],
+      "Primitives": [{"mean": [0, 0], "stddev": [0, 1], "rgb": [1, 1, 1], "opacity": 1}]})"),
+    Error);
 }

@@ -12,7 +12,8 @@ using namespace ddg;
 
 TEST(View, ParsesDefaultsAndRoundTrips)
 {
-  const View v = parseView(R"({"camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]}})");
+  const View v = parseView(
+    R"({"camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]}})");
   EXPECT_EQ(v.width, 512);
   EXPECT_EQ(v.camera.viewAngle, 30.0);
   EXPECT_FALSE(v.opacityUnitDistance.has_value());
@@ -26,11 +27,21 @@ TEST(View, ParsesDefaultsAndRoundTrips)
 
 TEST(View, RejectsDegenerateCamerasAndSizes)
 {
-  const std::string cam = R"("camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]})";
+  const std::string cam =
+    R"("camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]})";
   EXPECT_THROW(parseView("{"), Error);
-  EXPECT_THROW(parseView(R"({"camera": {"position": [0, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]}})"), Error);
-  EXPECT_THROW(parseView(R"({"camera": {"position": [0, 0, 5], "focal_point": [0, 0, 0], "view_up": [0, 0, 1]}})"), Error);
-  EXPECT_THROW(parseView(R"({"camera": {"position": [0, 0, 5], "focal_point": [0, 0, 0], "view_up": [0, 1, 0], "view_angle": 0}})"), Error);
+  EXPECT_THROW(
+    parseView(
+      R"({"camera": {"position": [0, 0, 0], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]}})"),
+    Error);
+  EXPECT_THROW(
+    parseView(
+      R"({"camera": {"position": [0, 0, 5], "focal_point": [0, 0, 0], "view_up": [0, 0, 1]}})"),
+    Error);
+  EXPECT_THROW(
+    parseView(
+      R"({"camera": {"position": [0, 0, 5], "focal_point": [0, 0, 0], "view_up": [0, 1, 0], "view_angle": 0}})"),
+    Error);
   EXPECT_THROW(parseView("{" + cam + R"(, "size": [0, 10]})"), Error);
   EXPECT_THROW(parseView("{" + cam + R"(, "size": [100000, 100000]})"), Error);
   EXPECT_THROW(parseView("{" + cam + R"(, "size": [10.5, 10]})"), Error);
@@ -52,7 +63,8 @@ TEST(RayGenerator, PerspectiveAndParallelConventions)
   // top-left pixel centre: ndc (-1 + 1/200, 1 - 1/100); tan(30 deg) scales y, times aspect 2 for x
   g.ray(0, 0, o, d);
   const double t = std::tan(M_PI / 6);
-  const Eigen::Vector3d expected = Eigen::Vector3d((-1 + 1.0 / 200) * t * 2, (1 - 1.0 / 100) * t, -1).normalized();
+  const Eigen::Vector3d expected =
+    Eigen::Vector3d((-1 + 1.0 / 200) * t * 2, (1 - 1.0 / 100) * t, -1).normalized();
   EXPECT_NEAR((d - expected).norm(), 0, 1e-12);
   EXPECT_NEAR((o - v.camera.position).norm(), 0, 1e-12);
   v.camera.parallelProjection = true;

@@ -21,7 +21,8 @@ Volume linearVolume()
   std::vector<float> v;
   for (int k = 0; k < 6; ++k)
     for (int j = 0; j < 5; ++j)
-      for (int i = 0; i < 4; ++i) v.push_back(static_cast<float>(2 * i + 3 * j + 5 * k));
+      for (int i = 0; i < 4; ++i)
+        v.push_back(static_cast<float>(2 * i + 3 * j + 5 * k));
   return Volume({ 4, 5, 6 }, { 1, -1, 0 }, { 0.5, 2, 1 }, v, ScalarType::Int16);
 }
 } // namespace
@@ -31,7 +32,8 @@ TEST(Volume, TrilinearIsExactOnLinearFields)
   const Volume vol = linearVolume();
   EXPECT_NEAR(vol.sampleIndex(1.25, 2.5, 3.75), 2 * 1.25 + 3 * 2.5 + 5 * 3.75, 1e-9);
   // world (1 + 0.5 i, -1 + 2 j, k)
-  EXPECT_NEAR(vol.sampleWorld(1.0 + 0.5 * 2.2, -1 + 2 * 0.3, 4.9), 2 * 2.2 + 3 * 0.3 + 5 * 4.9, 1e-9);
+  EXPECT_NEAR(
+    vol.sampleWorld(1.0 + 0.5 * 2.2, -1 + 2 * 0.3, 4.9), 2 * 2.2 + 3 * 0.3 + 5 * 4.9, 1e-9);
   // clamped outside
   EXPECT_NEAR(vol.sampleIndex(-3, 0, 0), 0.0, 1e-9);
   EXPECT_NEAR(vol.sampleIndex(10, 10, 10), 2 * 3 + 3 * 4 + 5 * 5, 1e-9);

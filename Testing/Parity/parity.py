@@ -16,14 +16,25 @@ import os
 import subprocess
 import sys
 
-from paraview.simple import (ColorBy, CreateView, Delete, GetColorTransferFunction,
-                             GetOpacityTransferFunction, Render, SaveScreenshot, Show,
-                             XMLImageDataReader)
+from paraview.simple import (
+    ColorBy,
+    CreateView,
+    Delete,
+    GetColorTransferFunction,
+    GetOpacityTransferFunction,
+    Render,
+    SaveScreenshot,
+    Show,
+    XMLImageDataReader,
+)
 
 DEFAULT_CASES = [
-    ("tooth", "tooth_dentin_enamel"), ("tooth", "tooth_cool_warm"),
-    ("engine", "engine_block"), ("engine", "engine_hsv"),
-    ("headsq", "headsq_skin_bone"), ("headsq", "headsq_bone"),
+    ("tooth", "tooth_dentin_enamel"),
+    ("tooth", "tooth_cool_warm"),
+    ("engine", "engine_block"),
+    ("engine", "engine_hsv"),
+    ("headsq", "headsq_skin_bone"),
+    ("headsq", "headsq_bone"),
 ]
 DEFAULT_VIEWS = ["oblique", "side"]
 
@@ -66,14 +77,18 @@ def paraview_render(volume_path, preset, view_json, out_png):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--ddg", required=True, help="path of the ddg program")
     parser.add_argument("--data", required=True, help="the project's Data directory")
     parser.add_argument("--out", required=True, help="directory for the images and results")
     parser.add_argument("--min-psnr", type=float, default=45.0)
     parser.add_argument("--case", action="append", help="volume:preset (repeatable)")
     parser.add_argument("--view", action="append", help="view suffix (repeatable)")
-    parser.add_argument("--ddg-arg", action="append", default=[], help="extra argument for ddg render")
+    parser.add_argument(
+        "--ddg-arg", action="append", default=[], help="extra argument for ddg render"
+    )
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     cases = [tuple(c.split(":")) for c in args.case] if args.case else DEFAULT_CASES
@@ -91,17 +106,38 @@ def main():
                 view_json = json.load(f)
             stem = os.path.join(args.out, f"{preset_name}_{view_name}")
             paraview_render(volume_path, preset, view_json, stem + "_paraview.png")
-            subprocess.run([args.ddg, "render", "--volume", volume_path, "--tf", preset_path,
-                            "--view", view_path, "--out", stem + "_ddg.png"] + args.ddg_arg,
-                           check=True, stdout=subprocess.DEVNULL)
-            result = subprocess.run([args.ddg, "compare", "--json", stem + "_paraview.png", stem + "_ddg.png"],
-                                    check=True, capture_output=True, text=True)
+            subprocess.run(
+                [
+                    args.ddg,
+                    "render",
+                    "--volume",
+                    volume_path,
+                    "--tf",
+                    preset_path,
+                    "--view",
+                    view_path,
+                    "--out",
+                    stem + "_ddg.png",
+                ]
+                + args.ddg_arg,
+                check=True,
+                stdout=subprocess.DEVNULL,
+            )
+            result = subprocess.run(
+                [args.ddg, "compare", "--json", stem + "_paraview.png", stem + "_ddg.png"],
+                check=True,
+                capture_output=True,
+                text=True,
+            )
             metrics = json.loads(result.stdout)
             ok = metrics["psnr"] >= args.min_psnr
             failed += 0 if ok else 1
             rows.append((volume, preset_name, view_name, metrics["psnr"], metrics["ssim"], ok))
-            print(f"{volume:8s} {preset_name:22s} {view_name:8s} PSNR {metrics['psnr']:6.2f} dB  "
-                  f"SSIM {metrics['ssim']:.5f}  {'ok' if ok else 'FAIL'}", flush=True)
+            print(
+                f"{volume:8s} {preset_name:22s} {view_name:8s} PSNR {metrics['psnr']:6.2f} dB  "
+                f"SSIM {metrics['ssim']:.5f}  {'ok' if ok else 'FAIL'}",
+                flush=True,
+            )
     with open(os.path.join(args.out, "parity.md"), "w") as f:
         f.write("| volume | preset | view | PSNR (dB) | SSIM |\n|---|---|---|---|---|\n")
         for r in rows:

@@ -78,7 +78,8 @@ int main()
         {
           double in[4] = { ndc[0], ndc[1], p == 0 ? -1.0 : 1.0, 1.0 }, out[4];
           inv->MultiplyPoint(in, out);
-          for (int a = 0; a < 3; ++a) pts[p][a] = out[a] / out[3];
+          for (int a = 0; a < 3; ++a)
+            pts[p][a] = out[a] / out[3];
         }
         Eigen::Vector3d vtkDir(pts[1][0] - pts[0][0], pts[1][1] - pts[0][1], pts[1][2] - pts[0][2]);
         vtkDir.normalize();

@@ -16,8 +16,12 @@ plugin, data = sys.argv[1:3]
 with socket.socket() as s:
     s.bind(("localhost", 0))
     port = s.getsockname()[1]
-server = subprocess.Popen(["pvserver", f"--server-port={port}"], stdout=subprocess.PIPE,
-                          stderr=subprocess.STDOUT, text=True)
+server = subprocess.Popen(
+    ["pvserver", f"--server-port={port}"],
+    stdout=subprocess.PIPE,
+    stderr=subprocess.STDOUT,
+    text=True,
+)
 try:
     deadline = time.time() + 60
     for line in server.stdout:

@@ -13,7 +13,7 @@ import subprocess
 import sys
 
 from paraview import servermanager
-from paraview.simple import (LoadPlugin, XMLImageDataReader, SaveData, UpdatePipeline)
+from paraview.simple import LoadPlugin, XMLImageDataReader, SaveData, UpdatePipeline
 import paraview.simple as simple
 
 plugin, ddg, data, testdata, outdir = sys.argv[1:6]
@@ -37,14 +37,18 @@ assert out.GetPointData().GetScalars().GetName() == "Image"
 
 # Write the filter's image as PNG through VTK and compare with ddg render.
 from vtkmodules.vtkIOImage import vtkPNGWriter
+
 png = os.path.join(outdir, "filter_tooth.png")
 w = vtkPNGWriter()
 w.SetFileName(png)
 w.SetInputData(out)
 w.Write()
 ref = os.path.join(outdir, "cli_tooth.png")
-subprocess.run([ddg, "render", "--volume", volume, "--tf", tf, "--view", view, "--out", ref],
-               check=True, stdout=subprocess.DEVNULL)
+subprocess.run(
+    [ddg, "render", "--volume", volume, "--tf", tf, "--view", view, "--out", ref],
+    check=True,
+    stdout=subprocess.DEVNULL,
+)
 cmp = subprocess.run([ddg, "compare", "--min-psnr", "99", png, ref], capture_output=True, text=True)
 print("filter vs ddg render:", cmp.stdout.strip())
 assert cmp.returncode == 0, cmp.stderr
@@ -79,11 +83,25 @@ def expect_error(label, expected, **props):
     print(f"{label}: {messages[0].strip().splitlines()[-1]}")
 
 
-expect_error("missing TF", "cannot read transfer function", TransferFunctionFile=os.path.join(testdata, "nothing.json"))
-expect_error("malformed TF", "not valid JSON", TransferFunctionFile=os.path.join(testdata, "malformed_tf.json"))
-expect_error("unsorted TF", "are not sorted", TransferFunctionFile=os.path.join(testdata, "unsorted_tf.json"))
-expect_error("degenerate view", "degenerate camera", TransferFunctionFile=tf,
-             ViewFile=os.path.join(testdata, "degenerate_view.json"))
+expect_error(
+    "missing TF",
+    "cannot read transfer function",
+    TransferFunctionFile=os.path.join(testdata, "nothing.json"),
+)
+expect_error(
+    "malformed TF",
+    "not valid JSON",
+    TransferFunctionFile=os.path.join(testdata, "malformed_tf.json"),
+)
+expect_error(
+    "unsorted TF", "are not sorted", TransferFunctionFile=os.path.join(testdata, "unsorted_tf.json")
+)
+expect_error(
+    "degenerate view",
+    "degenerate camera",
+    TransferFunctionFile=tf,
+    ViewFile=os.path.join(testdata, "degenerate_view.json"),
+)
 expect_error("huge view", "out of range", ViewFile=os.path.join(testdata, "huge_size_view.json"))
 render.ViewFile = os.path.join(testdata, "small_view.json")
 reader.FileName = [os.path.join(testdata, "constant.vti")]
