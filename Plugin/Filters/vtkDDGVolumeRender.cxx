@@ -124,7 +124,14 @@ int vtkDDGVolumeRender::RequestData(vtkInformation*,
       this->Internal->Array != array)
     {
       this->Internal->Caster.reset();
-      this->Internal->Caster = std::make_unique<ddg::RayCaster>(ddg::toCoreVolume(input, array));
+      const ddg::Volume volume = ddg::toCoreVolume(input, array);
+      if (volume.nonFiniteCount() > 0)
+      {
+        vtkWarningMacro(<< volume.nonFiniteCount()
+                        << " NaN/infinite voxels are rendered as the minimum value "
+                        << volume.range()[0]);
+      }
+      this->Internal->Caster = std::make_unique<ddg::RayCaster>(volume);
       this->Internal->InputTime = inputTime;
       this->Internal->Array = array;
     }

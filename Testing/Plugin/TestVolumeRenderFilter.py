@@ -103,12 +103,45 @@ expect_error(
     ViewFile=os.path.join(testdata, "degenerate_view.json"),
 )
 expect_error("huge view", "out of range", ViewFile=os.path.join(testdata, "huge_size_view.json"))
-render.ViewFile = os.path.join(testdata, "small_view.json")
+expect_error(
+    "zero-size view",
+    "image size 0 x 32 is out of range",
+    ViewFile=os.path.join(testdata, "zero_size_view.json"),
+)
+expect_error(
+    "out-of-range TF",
+    "outside [0, 1]",
+    ViewFile=os.path.join(testdata, "small_view.json"),
+    TransferFunctionFile=os.path.join(testdata, "out_of_range_tf.json"),
+)
+render.TransferFunctionFile = tf
 reader.FileName = [os.path.join(testdata, "constant.vti")]
 expect_error("constant volume", "volume is constant")
 reader.FileName = [os.path.join(testdata, "vector.vti")]
 render.Scalars = ["POINTS", "velocity"]
 expect_error("vector volume", "components")
+
+reader.FileName = [os.path.join(testdata, "empty.vti")]
+render.Scalars = ["POINTS", "scalars"]
+expect_error("empty volume", "input volume is empty")
+
+# NaN voxels: rendered (as the minimum) with one warning, not an error.
+warnings = []
+
+
+@calldata_type(VTK_STRING)
+def on_warning(obj, event, calldata):
+    warnings.append(calldata)
+
+
+algorithm.AddObserver(vtkCommand.WarningEvent, on_warning)
+reader.FileName = [os.path.join(testdata, "nan.vti")]
+messages.clear()
+render.UpdatePipeline()
+assert not messages, messages
+assert len(warnings) == 1 and "2 NaN/infinite voxels" in warnings[0], warnings
+assert servermanager.Fetch(render).GetNumberOfPoints() == 32 * 24
+print("NaN volume:", warnings[0].strip().splitlines()[-1])
 
 # and it recovers on good input
 reader.FileName = [os.path.join(testdata, "small.vti")]
