@@ -61,9 +61,7 @@ void writeFileAtomic(const std::string& path, const std::string& content, const 
 std::string fileExtension(const std::string& path)
 {
   std::string lower = path;
-  std::transform(lower.begin(),
-    lower.end(),
-    lower.begin(),
+  std::transform(lower.begin(), lower.end(), lower.begin(),
     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   const auto slash = lower.find_last_of('/');
   const std::string name = slash == std::string::npos ? lower : lower.substr(slash + 1);

@@ -27,8 +27,7 @@ int resolveThreadCount(int threads, std::int64_t count)
   return n;
 }
 
-void parallelFor(std::int64_t count,
-  int threads,
+void parallelFor(std::int64_t count, int threads,
   const std::function<void(std::int64_t index, int threadId)>& body)
 {
   if (count <= 0)

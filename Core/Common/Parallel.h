@@ -15,8 +15,7 @@ int defaultThreadCount();
 /// dynamically (an atomic counter) over `threads` workers (0 = defaultThreadCount()).
 /// threadId is in [0, threads). The calling thread is one of the workers.
 /// If a body throws, the remaining indices are skipped and the first exception is rethrown.
-void parallelFor(std::int64_t count,
-  int threads,
+void parallelFor(std::int64_t count, int threads,
   const std::function<void(std::int64_t index, int threadId)>& body);
 
 /// The thread count parallelFor() will actually use for `threads` (resolves 0, clamps to count).

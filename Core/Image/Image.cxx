@@ -87,9 +87,7 @@ void writeImage(const Image& image, const std::string& path)
   {
     throw Error("cannot write image '" + path + "': no writer for its extension");
   }
-  OIIO::ImageSpec spec(image.width,
-    image.height,
-    image.channels,
+  OIIO::ImageSpec spec(image.width, image.height, image.channels,
     keepFloat ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:UnassociatedAlpha", 1); // write alpha as given, never un-premultiply
   if (!out->open(tmp, spec))

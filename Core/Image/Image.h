@@ -41,8 +41,8 @@ struct Image
 /// Composes a premultiplied RGBA image over an opaque background exactly as ParaView's 8-bit
 /// framebuffer does: out = round(255 C) + round(bg8 (255 - round(255 A)) / 255),
 /// bg8 = round(255 background), per channel, clamped to 255. Returns RGB with values k / 255.
-Image compositeOverBackground(const Image& premultipliedRGBA,
-  const std::array<double, 3>& background);
+Image compositeOverBackground(
+  const Image& premultipliedRGBA, const std::array<double, 3>& background);
 
 /// Reads any image OpenImageIO reads (PNG, JPEG, TIFF, EXR, ...) as float in [0, 1] for
 /// integer formats, alpha exactly as stored (straight alpha for PNG; no premultiplication).

@@ -2,6 +2,7 @@
 #include "Render/RayCaster.h"
 
 #include "Common/Parallel.h"
+#include "Render/RaySegment.h"
 
 #include <algorithm>
 #include <atomic>
@@ -45,8 +46,7 @@ struct Field
     bz = std::max(1, (nz - 1 + kBlock - 1) / kBlock);
     blockMin.assign(static_cast<size_t>(bx) * by * bz, 0.0f);
     blockMax.assign(blockMin.size(), 0.0f);
-    parallelFor(bz,
-      0,
+    parallelFor(bz, 0,
       [&](std::int64_t c64, int)
       {
         const int c = static_cast<int>(c64);
@@ -140,10 +140,8 @@ struct Classify1D
           throw Error("transfer function table holds a non-finite value");
         }
       }
-      table[i] = { std::clamp(e[0], 0.0f, 1.0f),
-        std::clamp(e[1], 0.0f, 1.0f),
-        std::clamp(e[2], 0.0f, 1.0f),
-        correctOpacity(std::clamp(e[3], 0.0f, 1.0f), exponent) };
+      table[i] = { std::clamp(e[0], 0.0f, 1.0f), std::clamp(e[1], 0.0f, 1.0f),
+        std::clamp(e[2], 0.0f, 1.0f), correctOpacity(std::clamp(e[3], 0.0f, 1.0f), exponent) };
       count += table[i].a > 0.0f ? 1 : 0;
       nonzeroPrefix[i] = count;
     }
@@ -169,9 +167,8 @@ struct Classify1D
     const float f = t - i;
     const RGBA& a = table[i];
     const RGBA& b = table[i + 1];
-    return {
-      a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b), a.a + f * (b.a - a.a)
-    };
+    return { a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b),
+      a.a + f * (b.a - a.a) };
   }
 };
 
@@ -407,9 +404,8 @@ struct Classify2D
     const RGBA* r1 = r0 + width;
     auto lerp = [](const RGBA& a, const RGBA& b, float f)
     {
-      return RGBA{
-        a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b), a.a + f * (b.a - a.a)
-      };
+      return RGBA{ a.r + f * (b.r - a.r), a.g + f * (b.g - a.g), a.b + f * (b.b - a.b),
+        a.a + f * (b.a - a.a) };
     };
     return lerp(lerp(r0[0], r0[1], fx), lerp(r1[0], r1[1], fx), fy);
   }
@@ -430,15 +426,8 @@ inline bool composite(const RGBA& c, float& cr, float& cg, float& cb, float& ca,
 
 // Trilinear values of kBatch consecutive samples p = e + (k0 + l) s, l = 0 .. kBatch-1.
 template <typename T>
-inline void sampleBatch(const Field<T>& f,
-  float k0,
-  float ex,
-  float ey,
-  float ez,
-  float sx,
-  float sy,
-  float sz,
-  float* out)
+inline void sampleBatch(const Field<T>& f, float k0, float ex, float ey, float ez, float sx,
+  float sy, float sz, float* out)
 {
   const float mx = static_cast<float>(f.nx - 1), my = static_cast<float>(f.ny - 1),
               mz = static_cast<float>(f.nz - 1);
@@ -497,45 +486,22 @@ struct March
   Eigen::Vector3d origin, spacing, boxMin, boxMax;
 
   template <bool TwoD>
-  void castRay(const Eigen::Vector3d& o,
-    const Eigen::Vector3d& dir,
-    float j,
-    float* out,
+  void castRay(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, float j, float* out,
     RenderStats& stats) const
   {
-    // Slab intersection with the point bounds.
-    double t0 = -1e300, t1 = 1e300;
-    for (int a = 0; a < 3; ++a)
-    {
-      if (dir[a] != 0.0)
-      {
-        double ta = (boxMin[a] - o[a]) / dir[a], tb = (boxMax[a] - o[a]) / dir[a];
-        if (ta > tb)
-          std::swap(ta, tb);
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-      }
-      else if (o[a] < boxMin[a] || o[a] > boxMax[a])
-      {
-        return;
-      }
-    }
-    t0 = std::max(t0, 0.0);
-    if (!(t1 >= t0))
+    RaySegment seg;
+    if (!raySegment(o, dir, boxMin, boxMax, origin, spacing, d, j, seg))
     {
       return;
     }
-    // Index-space start and step; sample k at E + (j + k) S, k = 0 .. kLast (the first sample
-    // is always taken; later ones while inside the closed box).
-    double e[3], s[3], invS[3];
+    const double* e = seg.e;
+    const double* s = seg.s;
+    const std::int64_t kLast = seg.kLast;
+    double invS[3];
     for (int a = 0; a < 3; ++a)
     {
-      e[a] = (o[a] + t0 * dir[a] - origin[a]) / spacing[a];
-      s[a] = d * dir[a] / spacing[a];
       invS[a] = s[a] != 0.0 ? 1.0 / s[a] : 0.0;
     }
-    const double span = (t1 - t0) / d - j;
-    const std::int64_t kLast = span > 0 ? static_cast<std::int64_t>(std::floor(span)) : 0;
     ++stats.rays;
     const float ex = static_cast<float>(e[0]), ey = static_cast<float>(e[1]),
                 ez = static_cast<float>(e[2]);
@@ -556,9 +522,8 @@ struct March
       for (int level = 0; level < 2; ++level)
       {
         const int cells = level == 0 ? kBlock * kSuper : kBlock;
-        const int n[3] = {
-          level == 0 ? superX : f.bx, level == 0 ? superY : f.by, level == 0 ? superZ : f.bz
-        };
+        const int n[3] = { level == 0 ? superX : f.bx, level == 0 ? superY : f.by,
+          level == 0 ? superZ : f.bz };
         int ib[3];
         for (int a = 0; a < 3; ++a)
         {
@@ -671,10 +636,7 @@ struct March
     out[3] = ca;
   }
 
-  void setup(const Volume& vol,
-    const FieldT& fieldIn,
-    double defaultD,
-    const View& view,
+  void setup(const Volume& vol, const FieldT& fieldIn, double defaultD, const View& view,
     const RenderOptions& opt)
   {
     field = &fieldIn;
@@ -719,10 +681,8 @@ struct March
   }
 
   template <bool TwoD>
-  Image run(const View& view,
-    int threads,
-    const ProgressCallback& progress,
-    RenderStats* stats) const
+  Image run(
+    const View& view, int threads, const ProgressCallback& progress, RenderStats* stats) const
   {
     const RayGenerator rays(view);
     Image img(view.width, view.height, 4, 0.0f);
@@ -732,8 +692,7 @@ struct March
     std::atomic<std::int64_t> done{ 0 };
     std::atomic<bool> cancel{ false };
     std::atomic<std::int64_t> rayCount{ 0 }, sampleCount{ 0 }, skipCount{ 0 };
-    parallelFor(tiles,
-      threads,
+    parallelFor(tiles, threads,
       [&](std::int64_t tile, int threadId)
       {
         if (cancel.load(std::memory_order_relaxed))
@@ -783,11 +742,8 @@ struct March
 
 } // namespace
 
-Image RayCaster::render(const TransferTable1D& table,
-  const View& view,
-  const RenderOptions& options,
-  const ProgressCallback& progress,
-  RenderStats* stats) const
+Image RayCaster::render(const TransferTable1D& table, const View& view,
+  const RenderOptions& options, const ProgressCallback& progress, RenderStats* stats) const
 {
   view.validate();
   return In->withField(
@@ -810,11 +766,8 @@ Image RayCaster::render(const TransferTable1D& table,
     });
 }
 
-Image RayCaster::render(const TransferTable2D& table,
-  const View& view,
-  const RenderOptions& options,
-  const ProgressCallback& progress,
-  RenderStats* stats) const
+Image RayCaster::render(const TransferTable2D& table, const View& view,
+  const RenderOptions& options, const ProgressCallback& progress, RenderStats* stats) const
 {
   view.validate();
   table.validate();

@@ -92,18 +92,12 @@ public:
   TransferTable1D paraviewTable(const TransferFunction1D& tf) const;
 
   /// Renders with a 1D table (any range; lookups use the table's own range).
-  Image render(const TransferTable1D& table,
-    const View& view,
-    const RenderOptions& options = {},
-    const ProgressCallback& progress = {},
-    RenderStats* stats = nullptr) const;
+  Image render(const TransferTable1D& table, const View& view, const RenderOptions& options = {},
+    const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
   /// Renders with a 2D (value x gradient magnitude) table. The gradient magnitude volume is
   /// computed on first use (Volume::gradientMagnitude) and kept.
-  Image render(const TransferTable2D& table,
-    const View& view,
-    const RenderOptions& options = {},
-    const ProgressCallback& progress = {},
-    RenderStats* stats = nullptr) const;
+  Image render(const TransferTable2D& table, const View& view, const RenderOptions& options = {},
+    const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
 
   /// The per-pixel jitter tile value used when RenderOptions::jitter is on, for pixel (x, y)
   /// counted from the bottom-left as ParaView's window coordinates.

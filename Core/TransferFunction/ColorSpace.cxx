@@ -183,8 +183,7 @@ RGB labToMsh(const RGB& lab)
 
 RGB mshToLab(const RGB& msh)
 {
-  return { msh[0] * std::cos(msh[1]),
-    msh[0] * std::sin(msh[1]) * std::cos(msh[2]),
+  return { msh[0] * std::cos(msh[1]), msh[0] * std::sin(msh[1]) * std::cos(msh[2]),
     msh[0] * std::sin(msh[1]) * std::sin(msh[2]) };
 }
 
@@ -263,9 +262,8 @@ RGB interpolateColor(ColorSpace space, bool hsvWrap, double s, const RGB& a, con
         else
           h2[0] -= 1.0;
       }
-      RGB h{
-        (1 - s) * h1[0] + s * h2[0], (1 - s) * h1[1] + s * h2[1], (1 - s) * h1[2] + s * h2[2]
-      };
+      RGB h{ (1 - s) * h1[0] + s * h2[0], (1 - s) * h1[1] + s * h2[1],
+        (1 - s) * h1[2] + s * h2[2] };
       if (h[0] < 0)
         h[0] += 1.0;
       return hsvToRgb(h);

@@ -12,11 +12,8 @@ namespace ddg
 namespace
 {
 
-void blend(const std::vector<GaussianPrimitive>& primitives,
-  double x,
-  double y,
-  bool twoD,
-  float* out)
+void blend(
+  const std::vector<GaussianPrimitive>& primitives, double x, double y, bool twoD, float* out)
 {
   double sum = 0, r = 0, g = 0, b = 0;
   for (const auto& p : primitives)
@@ -77,10 +74,8 @@ void validatePrimitives(const std::vector<GaussianPrimitive>& primitives, bool t
   }
 }
 
-TransferTable1D rasterize1D(const std::vector<GaussianPrimitive>& primitives,
-  double min,
-  double max,
-  int width)
+TransferTable1D rasterize1D(
+  const std::vector<GaussianPrimitive>& primitives, double min, double max, int width)
 {
   validatePrimitives(primitives, false);
   if (width < 2 || !(min < max))
@@ -100,10 +95,7 @@ TransferTable1D rasterize1D(const std::vector<GaussianPrimitive>& primitives,
 }
 
 TransferTable2D rasterize2D(const std::vector<GaussianPrimitive>& primitives,
-  std::array<double, 2> valueRange,
-  std::array<double, 2> gradientRange,
-  int width,
-  int height)
+  std::array<double, 2> valueRange, std::array<double, 2> gradientRange, int width, int height)
 {
   validatePrimitives(primitives, true);
   TransferTable2D t;
@@ -127,6 +119,84 @@ TransferTable2D rasterize2D(const std::vector<GaussianPrimitive>& primitives,
     }
   }
   return t;
+}
+
+void rasterizeAdjoint(const std::vector<GaussianPrimitive>& primitives, bool twoD,
+  std::array<double, 2> valueRange, std::array<double, 2> gradientRange, int width, int height,
+  const std::vector<double>& dL_dTable, std::vector<GaussianPrimitiveGradient>& gradients)
+{
+  validatePrimitives(primitives, twoD);
+  if (!twoD)
+  {
+    height = 1;
+  }
+  if (dL_dTable.size() != static_cast<size_t>(width) * height * 4 || width < 2 ||
+    (twoD && height < 2))
+  {
+    throw Error("rasterizeAdjoint: dL_dTable does not match the table size");
+  }
+  gradients.assign(primitives.size(), GaussianPrimitiveGradient{});
+  std::vector<double> w(primitives.size());
+  for (int j = 0; j < height; ++j)
+  {
+    const double y =
+      twoD ? gradientRange[0] + j * (gradientRange[1] - gradientRange[0]) / (height - 1) : 0.0;
+    for (int i = 0; i < width; ++i)
+    {
+      const double x = valueRange[0] + i * (valueRange[1] - valueRange[0]) / (width - 1);
+      // forward: w_p, sum, rgb = sum_p w_p c_p / sum, alpha = min(1, sum)
+      double sum = 0, rgb[3] = { 0, 0, 0 };
+      for (size_t p = 0; p < primitives.size(); ++p)
+      {
+        const auto& g = primitives[p];
+        double q = (x - g.mean[0]) / g.stddev[0];
+        q *= q;
+        if (twoD)
+        {
+          const double e = (y - g.mean[1]) / g.stddev[1];
+          q += e * e;
+        }
+        w[p] = g.opacity * std::exp(-0.5 * q);
+        sum += w[p];
+        for (int c = 0; c < 3; ++c)
+          rgb[c] += w[p] * g.rgb[c];
+      }
+      if (sum <= 0)
+      {
+        continue;
+      }
+      for (double& c : rgb)
+        c /= sum;
+      const double* d = &dL_dTable[4 * (static_cast<size_t>(j) * width + i)];
+      for (size_t p = 0; p < primitives.size(); ++p)
+      {
+        const auto& g = primitives[p];
+        auto& out = gradients[p];
+        // dL/dw_p through rgb = sum_q w_q c_q / sum and alpha = min(1, sum)
+        double dw = sum < 1.0 ? d[3] : 0.0;
+        for (int c = 0; c < 3; ++c)
+        {
+          dw += d[c] * (g.rgb[c] - rgb[c]) / sum;
+          out.rgb[c] += d[c] * w[p] / sum;
+        }
+        if (w[p] == 0.0)
+        {
+          continue;
+        }
+        // w_p = o exp(-((x - m0)^2 / s0^2 + (y - m1)^2 / s1^2) / 2)
+        out.opacity += dw * w[p] / g.opacity;
+        const double dx = x - g.mean[0];
+        out.mean[0] += dw * w[p] * dx / (g.stddev[0] * g.stddev[0]);
+        out.stddev[0] += dw * w[p] * dx * dx / (g.stddev[0] * g.stddev[0] * g.stddev[0]);
+        if (twoD)
+        {
+          const double dy = y - g.mean[1];
+          out.mean[1] += dw * w[p] * dy / (g.stddev[1] * g.stddev[1]);
+          out.stddev[1] += dw * w[p] * dy * dy / (g.stddev[1] * g.stddev[1] * g.stddev[1]);
+        }
+      }
+    }
+  }
 }
 
 } // namespace ddg

@@ -28,16 +28,28 @@ void validatePrimitives(const std::vector<GaussianPrimitive>& primitives, bool t
 /// Rasterizes primitives into a 1D table over [min, max] with `width` entries:
 ///   w_i(x) = opacity_i * exp(-(x - mean_i)^2 / (2 stddev_i^2))
 ///   alpha(x) = min(1, sum_i w_i(x)),  rgb(x) = sum_i w_i rgb_i / sum_i w_i  (0 where sum is 0).
-TransferTable1D rasterize1D(const std::vector<GaussianPrimitive>& primitives,
-  double min,
-  double max,
-  int width);
+TransferTable1D rasterize1D(
+  const std::vector<GaussianPrimitive>& primitives, double min, double max, int width);
 
 /// The same in 2D over value x gradient magnitude, w_i a product of the two 1D Gaussians.
 TransferTable2D rasterize2D(const std::vector<GaussianPrimitive>& primitives,
-  std::array<double, 2> valueRange,
-  std::array<double, 2> gradientRange,
-  int width,
-  int height);
+  std::array<double, 2> valueRange, std::array<double, 2> gradientRange, int width, int height);
+
+/// Gradient of a loss with respect to every parameter of a primitive.
+struct GaussianPrimitiveGradient
+{
+  std::array<double, 2> mean{ 0, 0 };
+  std::array<double, 2> stddev{ 0, 0 };
+  std::array<double, 3> rgb{ 0, 0, 0 };
+  double opacity = 0;
+};
+
+/// Adjoint of rasterize1D / rasterize2D (chain rule through the blend above): given
+/// dL/d(table entries) (RGBA per entry, same layout and ranges as the rasterized table; for 1D
+/// height = 1 and gradientRange is ignored), OVERWRITES `gradients` (one per primitive).
+/// Where alpha saturates (sum >= 1) the opacity path has zero gradient, as min() does.
+void rasterizeAdjoint(const std::vector<GaussianPrimitive>& primitives, bool twoD,
+  std::array<double, 2> valueRange, std::array<double, 2> gradientRange, int width, int height,
+  const std::vector<double>& dL_dTable, std::vector<GaussianPrimitiveGradient>& gradients);
 
 } // namespace ddg

@@ -319,11 +319,8 @@ namespace
 
 // Douglas-Peucker on a polyline of `channels` values per entry: keeps the entries needed so
 // linear interpolation between kept entries is within tol of every entry (max over channels).
-std::vector<int> simplify(const std::vector<float>& rgba,
-  int width,
-  int firstChannel,
-  int channels,
-  double tol)
+std::vector<int> simplify(
+  const std::vector<float>& rgba, int width, int firstChannel, int channels, double tol)
 {
   std::vector<char> keep(static_cast<size_t>(width), 0);
   keep.front() = keep.back() = 1;
@@ -368,9 +365,8 @@ std::vector<int> simplify(const std::vector<float>& rgba,
 
 } // namespace
 
-TransferFunction1D tableToTransferFunction(const TransferTable1D& table,
-  double tolerance,
-  const std::string& name)
+TransferFunction1D tableToTransferFunction(
+  const TransferTable1D& table, double tolerance, const std::string& name)
 {
   if (table.width < 2 || table.rgba.size() != static_cast<size_t>(table.width) * 4)
   {
@@ -383,12 +379,8 @@ TransferFunction1D tableToTransferFunction(const TransferTable1D& table,
   auto unit = [](float v) { return std::clamp(static_cast<double>(v), 0.0, 1.0); };
   for (int i : simplify(table.rgba, table.width, 0, 3, tolerance))
   {
-    tf.color.push_back({ xOf(i),
-      unit(table.rgba[4 * i]),
-      unit(table.rgba[4 * i + 1]),
-      unit(table.rgba[4 * i + 2]),
-      0.5,
-      0.0 });
+    tf.color.push_back({ xOf(i), unit(table.rgba[4 * i]), unit(table.rgba[4 * i + 1]),
+      unit(table.rgba[4 * i + 2]), 0.5, 0.0 });
   }
   for (int i : simplify(table.rgba, table.width, 3, 1, tolerance))
   {

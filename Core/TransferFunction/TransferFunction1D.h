@@ -82,8 +82,7 @@ int paraviewTableWidth(const TransferFunction1D& tf, double min, double max);
 /// Converts a dense table back to a ParaView transfer function: colour and opacity control
 /// points chosen (Douglas-Peucker on the table) so that re-evaluating them differs from every
 /// table entry by at most `tolerance` (per channel, in [0, 1] units). Colour space RGB.
-TransferFunction1D tableToTransferFunction(const TransferTable1D& table,
-  double tolerance = 1.0 / 512.0,
-  const std::string& name = "ddg");
+TransferFunction1D tableToTransferFunction(
+  const TransferTable1D& table, double tolerance = 1.0 / 512.0, const std::string& name = "ddg");
 
 } // namespace ddg

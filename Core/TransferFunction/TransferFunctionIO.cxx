@@ -298,10 +298,9 @@ std::string transferFunction2DToJson(const TransferFunction2D& tf)
     json prims = json::array();
     for (const auto& p : tf.primitives)
     {
-      prims.push_back({ { "mean", { p.mean[0], p.mean[1] } },
-        { "stddev", { p.stddev[0], p.stddev[1] } },
-        { "rgb", { p.rgb[0], p.rgb[1], p.rgb[2] } },
-        { "opacity", p.opacity } });
+      prims.push_back(
+        { { "mean", { p.mean[0], p.mean[1] } }, { "stddev", { p.stddev[0], p.stddev[1] } },
+          { "rgb", { p.rgb[0], p.rgb[1], p.rgb[2] } }, { "opacity", p.opacity } });
     }
     j["Primitives"] = prims;
   }
@@ -317,8 +316,8 @@ void writeTransferFunction2D(const TransferFunction2D& tf, const std::string& pa
   writeFileAtomic(path, transferFunction2DToJson(tf), "2D transfer function");
 }
 
-TransferFunctionFile parseTransferFunctionFile(const std::string& jsonText,
-  const std::string& origin)
+TransferFunctionFile parseTransferFunctionFile(
+  const std::string& jsonText, const std::string& origin)
 {
   TransferFunctionFile f;
   // Cheap sniff; both parsers validate fully.

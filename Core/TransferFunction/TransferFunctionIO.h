@@ -30,8 +30,8 @@ void writePreset(const TransferFunction1D& tf, const std::string& path);
 ///                       "opacity": a }, ... ]   (optional)
 ///     "RGBA": [r, g, b, a, ...] }               (optional, width*height*4, value fastest)
 /// One of Primitives or RGBA is required; RGBA wins when both are present.
-TransferFunction2D parseTransferFunction2D(const std::string& jsonText,
-  const std::string& origin = "2D transfer function");
+TransferFunction2D parseTransferFunction2D(
+  const std::string& jsonText, const std::string& origin = "2D transfer function");
 TransferFunction2D readTransferFunction2D(const std::string& path);
 std::string transferFunction2DToJson(const TransferFunction2D& tf);
 void writeTransferFunction2D(const TransferFunction2D& tf, const std::string& path);
@@ -44,7 +44,7 @@ struct TransferFunctionFile
   TransferFunction2D tf2D;
 };
 TransferFunctionFile readTransferFunctionFile(const std::string& path);
-TransferFunctionFile parseTransferFunctionFile(const std::string& jsonText,
-  const std::string& origin);
+TransferFunctionFile parseTransferFunctionFile(
+  const std::string& jsonText, const std::string& origin);
 
 } // namespace ddg

@@ -77,11 +77,8 @@ int scalarTypeSize(ScalarType type)
   return 0;
 }
 
-Volume::Volume(std::array<int, 3> dims,
-  std::array<double, 3> origin,
-  std::array<double, 3> spacing,
-  std::vector<float> values,
-  ScalarType originalType)
+Volume::Volume(std::array<int, 3> dims, std::array<double, 3> origin, std::array<double, 3> spacing,
+  std::vector<float> values, ScalarType originalType)
   : Dims(dims)
   , Origin(origin)
   , Spacing(spacing)

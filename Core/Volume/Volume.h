@@ -42,19 +42,13 @@ public:
 
   /// Builds a volume; throws ddg::Error when a dimension is < 1, values.size() != nx*ny*nz,
   /// spacing is not finite and positive, the origin is not finite, or no value is finite.
-  Volume(std::array<int, 3> dims,
-    std::array<double, 3> origin,
-    std::array<double, 3> spacing,
-    std::vector<float> values,
-    ScalarType originalType = ScalarType::Float32);
+  Volume(std::array<int, 3> dims, std::array<double, 3> origin, std::array<double, 3> spacing,
+    std::vector<float> values, ScalarType originalType = ScalarType::Float32);
 
   /// Builds a volume from raw scalars of type T (converted to float32).
   template <typename T>
-  static Volume fromScalars(std::array<int, 3> dims,
-    std::array<double, 3> origin,
-    std::array<double, 3> spacing,
-    const T* data,
-    ScalarType originalType);
+  static Volume fromScalars(std::array<int, 3> dims, std::array<double, 3> origin,
+    std::array<double, 3> spacing, const T* data, ScalarType originalType);
 
   const std::array<int, 3>& dims() const { return Dims; }
   const std::array<double, 3>& origin() const { return Origin; }
@@ -101,11 +95,8 @@ private:
 };
 
 template <typename T>
-Volume Volume::fromScalars(std::array<int, 3> dims,
-  std::array<double, 3> origin,
-  std::array<double, 3> spacing,
-  const T* data,
-  ScalarType originalType)
+Volume Volume::fromScalars(std::array<int, 3> dims, std::array<double, 3> origin,
+  std::array<double, 3> spacing, const T* data, ScalarType originalType)
 {
   std::int64_t n = 1;
   for (int d : dims)

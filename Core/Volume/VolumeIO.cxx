@@ -73,11 +73,8 @@ std::vector<unsigned char> readAllBytes(const std::string& path, size_t expected
 }
 
 template <typename T>
-Volume convert(const std::array<int, 3>& dims,
-  const std::array<double, 3>& origin,
-  const std::array<double, 3>& spacing,
-  const std::vector<unsigned char>& bytes,
-  bool swap,
+Volume convert(const std::array<int, 3>& dims, const std::array<double, 3>& origin,
+  const std::array<double, 3>& spacing, const std::vector<unsigned char>& bytes, bool swap,
   ScalarType type)
 {
   const size_t n = bytes.size() / sizeof(T);

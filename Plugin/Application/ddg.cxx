@@ -77,12 +77,8 @@ int runRender(const RenderArgs& a)
   {
     ddg::writeImage(ddg::compositeOverBackground(rgba, view.background), a.out);
   }
-  std::printf("wrote %s (%d x %d) load %.0f ms, render %.1f ms\n",
-    a.out.c_str(),
-    view.width,
-    view.height,
-    tLoad,
-    tRender);
+  std::printf("wrote %s (%d x %d) load %.0f ms, render %.1f ms\n", a.out.c_str(), view.width,
+    view.height, tLoad, tRender);
   return 0;
 }
 
@@ -172,10 +168,7 @@ int runInfo(const std::string& path, const std::string& array)
   const auto& s = v.spacing();
   const auto& o = v.origin();
   std::printf("volume       %s\n", path.c_str());
-  std::printf("dimensions   %d x %d x %d (%lld voxels)\n",
-    d[0],
-    d[1],
-    d[2],
+  std::printf("dimensions   %d x %d x %d (%lld voxels)\n", d[0], d[1], d[2],
     static_cast<long long>(v.voxelCount()));
   std::printf("scalar type  %s\n", ddg::scalarTypeName(v.originalType()));
   std::printf("origin       %g %g %g\n", o[0], o[1], o[2]);
@@ -235,13 +228,11 @@ int main(int argc, char** argv)
     "--alpha", ra.alpha, "Write RGBA with straight alpha instead of RGB over the background");
   render->add_flag("--jitter", ra.jitter, "Jitter the first sample per pixel (default: off)");
   render
-    ->add_option("--sample-distance",
-      ra.sampleDistance,
+    ->add_option("--sample-distance", ra.sampleDistance,
       "Sample distance in world units (default 0: ParaView's rule, mean spacing / 2)")
     ->check(CLI::NonNegativeNumber);
   render
-    ->add_option("--sample-offset",
-      ra.sampleOffset,
+    ->add_option("--sample-offset", ra.sampleOffset,
       "First sample at entry + offset * step when not jittering (default 0.5)")
     ->check(CLI::Range(0.0, 1.0));
   render->add_flag("--no-skip", ra.noSkip, "Disable empty-space skipping (same image, slower)");

@@ -156,14 +156,10 @@ Volume toCoreVolume(vtkImageData* image, vtkDataArray* array)
   // Extents may start anywhere: the first point sits at origin + extent_min * spacing.
   int extent[6];
   image->GetExtent(extent);
-  std::array<double, 3> o{ origin[0] + extent[0] * spacing[0],
-    origin[1] + extent[2] * spacing[1],
+  std::array<double, 3> o{ origin[0] + extent[0] * spacing[0], origin[1] + extent[2] * spacing[1],
     origin[2] + extent[4] * spacing[2] };
-  return Volume({ dims[0], dims[1], dims[2] },
-    o,
-    { spacing[0], spacing[1], spacing[2] },
-    std::move(values),
-    type);
+  return Volume({ dims[0], dims[1], dims[2] }, o, { spacing[0], spacing[1], spacing[2] },
+    std::move(values), type);
 }
 
 Volume readVolumeFile(const std::string& path, const std::string& arrayName)

@@ -29,8 +29,7 @@ DDGFILTERS_EXPORT Volume readVolumeFile(const std::string& path, const std::stri
 /// Fills a 2D vtkImageData (width x height x 1, VTK's bottom-up rows) from a premultiplied RGBA
 /// render: point array "RGBA" (float, premultiplied) and "Image" (unsigned char RGB over
 /// `background`, ParaView's compositing), "Image" being the active scalars.
-DDGFILTERS_EXPORT void toVTKImage(const Image& premultipliedRGBA,
-  const std::array<double, 3>& background,
-  vtkImageData* output);
+DDGFILTERS_EXPORT void toVTKImage(
+  const Image& premultipliedRGBA, const std::array<double, 3>& background, vtkImageData* output);
 
 } // namespace ddg

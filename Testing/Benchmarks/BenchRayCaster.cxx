@@ -70,12 +70,14 @@ int main(int argc, char** argv)
     const std::string a = argv[i];
     if (a == "--help" || a == "-h")
     {
-      std::printf("BenchRayCaster [--volume V.vti] [--tf PRESET.json] [--view VIEW.json] [--size N]\n"
-                  "               [--runs N>=5] [--threads N]\n"
-                  "Times ddg's ray caster and VTK's vtkFixedPointVolumeRayCastMapper on the same\n"
-                  "volume, TF, camera (VIEW.json at N x N) and sample distance; prints medians,\n"
-                  "the ratio and samples/s per core. Needs a display: run under xvfb-run -a.\n"
-                  "Defaults: Data/Volumes/engine.vti, engine_block.json, engine_oblique.json, 512, 7, all cores.\n");
+      std::printf(
+        "BenchRayCaster [--volume V.vti] [--tf PRESET.json] [--view VIEW.json] [--size N]\n"
+        "               [--runs N>=5] [--threads N]\n"
+        "Times ddg's ray caster and VTK's vtkFixedPointVolumeRayCastMapper on the same\n"
+        "volume, TF, camera (VIEW.json at N x N) and sample distance; prints medians,\n"
+        "the ratio and samples/s per core. Needs a display: run under xvfb-run -a.\n"
+        "Defaults: Data/Volumes/engine.vti, engine_block.json, engine_oblique.json, 512, 7, all "
+        "cores.\n");
       return 0;
     }
     if (i + 1 >= argc)
@@ -211,34 +213,20 @@ int main(int argc, char** argv)
   const auto& dims = volume.dims();
   std::printf("volume %s (%d x %d x %d), TF %s, %d x %d, sample distance %.4g, %d threads, median "
               "of %d runs\n",
-    volumePath.c_str(),
-    dims[0],
-    dims[1],
-    dims[2],
-    tfPath.c_str(),
-    size,
-    size,
-    d,
-    nThreads,
-    runs);
+    volumePath.c_str(), dims[0], dims[1], dims[2], tfPath.c_str(), size, size, d, nThreads, runs);
   std::printf("ddg RayCaster                     %8.1f ms  (%.3g samples, %.3g skipped, %.1f "
               "Msamples/s/core)\n",
-    tOurs,
-    static_cast<double>(stats.samples),
-    static_cast<double>(stats.skippedSamples),
+    tOurs, static_cast<double>(stats.samples), static_cast<double>(stats.skippedSamples),
     stats.samples / (tOurs * 1e3) / nThreads);
   std::printf("ddg RayCaster, no block skipping  %8.1f ms  (%.3g samples, %.1f Msamples/s/core)\n",
-    tOursNoSkip,
-    static_cast<double>(statsNoSkip.samples),
+    tOursNoSkip, static_cast<double>(statsNoSkip.samples),
     statsNoSkip.samples / (tOursNoSkip * 1e3) / nThreads);
   std::printf(
-    "VTK FixedPointVolumeRayCastMapper %8.1f ms  (window Render); mapper draw time %.1f ms\n",
-    tVtk,
+    "VTK FixedPointVolumeRayCastMapper %8.1f ms  (window Render); mapper draw time %.1f ms\n", tVtk,
     tVtkDraw);
   std::printf("speed-up vs VTK (window Render)    %.2fx\n", tVtk / tOurs);
   std::printf("speed-up vs VTK (mapper draw time) %.2fx\n", tVtkDraw / tOurs);
   std::printf("image agreement ddg vs VTK fixed-point: PSNR %.2f dB, SSIM %.4f\n",
-    ddg::psnr(oursRGB, vtkImage),
-    ddg::ssim(oursRGB, vtkImage));
+    ddg::psnr(oursRGB, vtkImage), ddg::ssim(oursRGB, vtkImage));
   return 0;
 }

@@ -60,22 +60,29 @@ raw = bytes(memoryview(scalars))
 with open(os.path.join(out, "tooth_nhdr.raw"), "wb") as f:
     f.write(raw)
 with open(os.path.join(out, "tooth.nhdr"), "w") as f:
-    f.write("NRRD0004\ntype: uchar\ndimension: 3\n"
-            f"sizes: {dims[0]} {dims[1]} {dims[2]}\nspacings: 1 1 1\n"
-            "encoding: raw\ndata file: tooth_nhdr.raw\n")
+    f.write(
+        "NRRD0004\ntype: uchar\ndimension: 3\n"
+        f"sizes: {dims[0]} {dims[1]} {dims[2]}\nspacings: 1 1 1\n"
+        "encoding: raw\ndata file: tooth_nhdr.raw\n"
+    )
 files.append(os.path.join(out, "tooth.nhdr"))
 
 # raw.gz + JSON (the shared data's format)
 with gzip.open(os.path.join(out, "tooth_pair.raw.gz"), "wb") as f:
     f.write(raw)
 with open(os.path.join(out, "tooth_pair.json"), "w") as f:
-    json.dump({"dims": list(dims), "dtype": "uint8", "spacing": [1, 1, 1], "file": "tooth_pair.raw.gz"}, f)
+    json.dump(
+        {"dims": list(dims), "dtype": "uint8", "spacing": [1, 1, 1], "file": "tooth_pair.raw.gz"}, f
+    )
 files.append(os.path.join(out, "tooth_pair.json"))
 
 
 def render(volume, png):
-    subprocess.run([ddg, "render", "--volume", volume, "--tf", tf, "--view", view, "--out", png],
-                   check=True, stdout=subprocess.DEVNULL)
+    subprocess.run(
+        [ddg, "render", "--volume", volume, "--tf", tf, "--view", view, "--out", png],
+        check=True,
+        stdout=subprocess.DEVNULL,
+    )
 
 
 reference = os.path.join(out, "reference.png")
@@ -84,11 +91,17 @@ failed = 0
 for path in files:
     png = path + ".png"
     render(path, png)
-    result = subprocess.run([ddg, "compare", "--min-psnr", "99", reference, png], capture_output=True, text=True)
+    result = subprocess.run(
+        [ddg, "compare", "--min-psnr", "99", reference, png], capture_output=True, text=True
+    )
     status = "ok" if result.returncode == 0 else "FAIL"
     failed += result.returncode != 0
     print(f"{os.path.basename(path):16s} {result.stdout.strip()}  {status}")
-info = subprocess.run([ddg, "info", "--volume", os.path.join(out, "tooth.nii.gz")], check=True,
-                      capture_output=True, text=True).stdout
+info = subprocess.run(
+    [ddg, "info", "--volume", os.path.join(out, "tooth.nii.gz")],
+    check=True,
+    capture_output=True,
+    text=True,
+).stdout
 assert "103 x 94 x 161" in info and "uint8" in info, info
 sys.exit(1 if failed else 0)

@@ -14,11 +14,7 @@ double corrected(double a, double exponent)
   return a > 0.0001 ? 1.0 - std::pow(1.0 - a, exponent) : a;
 }
 
-Image march(const Volume& volume,
-  const View& view,
-  double d,
-  double offset,
-  double termination,
+Image march(const Volume& volume, const View& view, double d, double offset, double termination,
   const std::function<std::array<double, 4>(const Eigen::Vector3d&)>& classify)
 {
   Image img(view.width, view.height, 4, 0.0f);
@@ -81,13 +77,8 @@ Image march(const Volume& volume,
 
 } // namespace
 
-Image referenceRender(const Volume& volume,
-  const TransferTable1D& table,
-  const View& view,
-  double d,
-  double unit,
-  double offset,
-  double termination)
+Image referenceRender(const Volume& volume, const TransferTable1D& table, const View& view,
+  double d, double unit, double offset, double termination)
 {
   TransferTable1D t = table;
   for (int i = 0; i < t.width; ++i)
@@ -95,11 +86,7 @@ Image referenceRender(const Volume& volume,
     t.rgba[4 * i + 3] = static_cast<float>(corrected(t.rgba[4 * i + 3], d / unit));
   }
   const double q = RayCaster::textureScale(volume.originalType());
-  return march(volume,
-    view,
-    d,
-    offset,
-    termination,
+  return march(volume, view, d, offset, termination,
     [&](const Eigen::Vector3d& p)
     {
       const auto c = t.lookup(q * volume.sampleWorld(p[0], p[1], p[2]));
@@ -107,13 +94,8 @@ Image referenceRender(const Volume& volume,
     });
 }
 
-Image referenceRender2D(const Volume& volume,
-  const TransferTable2D& table,
-  const View& view,
-  double d,
-  double unit,
-  double offset,
-  double termination)
+Image referenceRender2D(const Volume& volume, const TransferTable2D& table, const View& view,
+  double d, double unit, double offset, double termination)
 {
   TransferTable2D t = table;
   for (size_t i = 0; i < t.rgba.size() / 4; ++i)
@@ -122,11 +104,7 @@ Image referenceRender2D(const Volume& volume,
   }
   const auto g = volume.gradientMagnitude();
   const Volume gradient(volume.dims(), volume.origin(), volume.spacing(), g);
-  return march(volume,
-    view,
-    d,
-    offset,
-    termination,
+  return march(volume, view, d, offset, termination,
     [&](const Eigen::Vector3d& p)
     {
       const auto c =

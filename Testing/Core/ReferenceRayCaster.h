@@ -10,21 +10,11 @@ namespace ddg::reference
 /// Same model as ddg::RayCaster (see RayCaster.h), written the obvious way: double precision,
 /// world-space positions, Volume::sampleWorld, TransferTable lookup, no block skipping,
 /// one thread. Slow. `offset` is the first sample's offset in steps.
-Image referenceRender(const Volume& volume,
-  const TransferTable1D& table,
-  const View& view,
-  double sampleDistance,
-  double unitDistance,
-  double offset,
-  double terminationOpacity);
+Image referenceRender(const Volume& volume, const TransferTable1D& table, const View& view,
+  double sampleDistance, double unitDistance, double offset, double terminationOpacity);
 
 /// The same with a 2D table (value x gradient magnitude).
-Image referenceRender2D(const Volume& volume,
-  const TransferTable2D& table,
-  const View& view,
-  double sampleDistance,
-  double unitDistance,
-  double offset,
-  double terminationOpacity);
+Image referenceRender2D(const Volume& volume, const TransferTable2D& table, const View& view,
+  double sampleDistance, double unitDistance, double offset, double terminationOpacity);
 
 } // namespace ddg::reference

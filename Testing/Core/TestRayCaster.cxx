@@ -23,8 +23,7 @@ namespace
 constexpr double kValueTol = 1e-5;
 constexpr double kOutlierTol = 2e-3;
 
-Volume blobVolume(ScalarType type,
-  std::array<double, 3> spacing = { 1.0, 1.3, 0.8 },
+Volume blobVolume(ScalarType type, std::array<double, 3> spacing = { 1.0, 1.3, 0.8 },
   std::array<double, 3> origin = { -3.0, 2.0, 5.0 })
 {
   const std::array<int, 3> dims{ 24, 20, 28 };
@@ -58,9 +57,8 @@ View orbitView(const Volume& vol, double azimuthDeg, bool parallel, int w = 48, 
 TransferFunction1D testTF()
 {
   TransferFunction1D tf;
-  tf.color = {
-    { 0, 0.1, 0.2, 0.9 }, { 90, 0.2, 0.9, 0.3 }, { 180, 1.0, 0.6, 0.1 }, { 255, 1, 1, 1 }
-  };
+  tf.color = { { 0, 0.1, 0.2, 0.9 }, { 90, 0.2, 0.9, 0.3 }, { 180, 1.0, 0.6, 0.1 },
+    { 255, 1, 1, 1 } };
   tf.opacity = { { 0, 0 }, { 40, 0 }, { 120, 0.3, 0.4, 0.2 }, { 200, 0.05 }, { 255, 0.9 } };
   return tf;
 }
@@ -97,13 +95,9 @@ TEST(RayCaster, MatchesReferencePerspectiveAndParallel)
         const View view = orbitView(vol, az, parallel);
         RenderOptions opt;
         const Image fast = caster.render(table, view, opt);
-        const Image ref = reference::referenceRender(vol,
-          table,
-          view,
-          caster.defaultSampleDistance(),
-          caster.defaultOpacityUnitDistance(),
-          opt.sampleOffset,
-          opt.terminationOpacity);
+        const Image ref =
+          reference::referenceRender(vol, table, view, caster.defaultSampleDistance(),
+            caster.defaultOpacityUnitDistance(), opt.sampleOffset, opt.terminationOpacity);
         SCOPED_TRACE(::testing::Message()
           << "type " << scalarTypeName(type) << " parallel " << parallel << " az " << az);
         expectClose(fast, ref);
@@ -128,13 +122,8 @@ TEST(RayCaster, MatchesReferenceWith2DTable)
   const auto table = rasterize2D(prims, { 0, 255 }, { 0, 60 }, 64, 32);
   const View view = orbitView(vol, 30, false);
   const Image fast = caster.render(table, view);
-  const Image ref = reference::referenceRender2D(vol,
-    table,
-    view,
-    caster.defaultSampleDistance(),
-    caster.defaultOpacityUnitDistance(),
-    0.5,
-    1.0 - 1.0 / 255.0);
+  const Image ref = reference::referenceRender2D(vol, table, view, caster.defaultSampleDistance(),
+    caster.defaultOpacityUnitDistance(), 0.5, 1.0 - 1.0 / 255.0);
   expectClose(fast, ref);
   double alpha = 0;
   for (size_t i = 3; i < fast.pixels.size(); i += 4)
@@ -195,9 +184,7 @@ TEST(RayCaster, ProgressCanCancel)
   const auto table = caster.paraviewTable(testTF());
   const View view = orbitView(vol, 10, false, 128, 128);
   double last = -1;
-  caster.render(table,
-    view,
-    {},
+  caster.render(table, view, {},
     [&](double f)
     {
       EXPECT_GE(f, last);

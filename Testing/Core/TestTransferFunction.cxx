@@ -101,12 +101,9 @@ TEST(TransferTable, ParaViewWidthAndLookupConvention)
   EXPECT_EQ(paraviewTableWidth(tf, 0, 255), 1024);
   tf.opacity = { { 0, 0 }, { 0.1, 1 }, { 255, 1 } }; // gap 0.1 -> 2550 -> 4096
   EXPECT_EQ(paraviewTableWidth(tf, 0, 255), 4096);
-  const auto t = bakeTable(
-    TransferFunction1D{
-      "", ColorSpace::RGB, false, { { 0, 0, 0, 0 }, { 1, 1, 1, 1 } }, { { 0, 0 }, { 1, 1 } } },
-    0,
-    1,
-    5);
+  const auto t = bakeTable(TransferFunction1D{ "", ColorSpace::RGB, false,
+                             { { 0, 0, 0, 0 }, { 1, 1, 1, 1 } }, { { 0, 0 }, { 1, 1 } } },
+    0, 1, 5);
   // entries at 0, .25, .5, .75, 1; value 0.5 -> t = 0.5 * 5 - 0.5 = 2 -> entry 2 exactly
   EXPECT_NEAR(t.lookup(0.5)[3], 0.5, 1e-6);
   // value 0.1 -> t = 0 -> entry 0 (texel-centre clamp)
@@ -125,9 +122,7 @@ TEST(TransferTable, ControlPointsStayWithinTolerance)
   {
     const double x = i / 255.0;
     t.rgba.insert(t.rgba.end(),
-      { static_cast<float>(0.5 + 0.5 * std::sin(6 * x)),
-        static_cast<float>(x),
-        0.3f,
+      { static_cast<float>(0.5 + 0.5 * std::sin(6 * x)), static_cast<float>(x), 0.3f,
         static_cast<float>(std::exp(-40 * (x - 0.6) * (x - 0.6))) });
   }
   const double tol = 1.0 / 512.0;

@@ -1,0 +1,458 @@
+// DifferentiableRenderer.cxx: forward pass with ray records, and the replaying adjoint.
+#include "Render/DifferentiableRenderer.h"
+
+#include "Common/Parallel.h"
+#include "Render/Adjoint.h"
+#include "Render/RaySegment.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+namespace ddg
+{
+namespace
+{
+
+// Sampling of a float field (values or gradient magnitude) at index coordinates, clamped.
+template <typename S>
+struct FieldSampler
+{
+  const float* v = nullptr;
+  int nx = 0, ny = 0, nz = 0;
+
+  // Corner values and fractions of the cell holding p.
+  void cell(const S p[3], S c[8], S f[3]) const
+  {
+    const int n[3] = { nx, ny, nz };
+    int i[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const S x = std::clamp(p[a], S(0), static_cast<S>(n[a] - 1));
+      i[a] = std::min(static_cast<int>(x), n[a] - 2);
+      f[a] = x - static_cast<S>(i[a]);
+    }
+    const size_t sy = static_cast<size_t>(nx), sz = static_cast<size_t>(nx) * ny;
+    const float* q = v + static_cast<size_t>(i[0]) + sy * i[1] + sz * i[2];
+    c[0] = q[0];
+    c[1] = q[1];
+    c[2] = q[sy];
+    c[3] = q[sy + 1];
+    c[4] = q[sz];
+    c[5] = q[sz + 1];
+    c[6] = q[sz + sy];
+    c[7] = q[sz + sy + 1];
+  }
+
+  S sample(const S p[3]) const
+  {
+    S c[8], f[3];
+    cell(p, c, f);
+    return adjoint::trilinear(c, f[0], f[1], f[2]);
+  }
+};
+
+// A dense table prepared for rendering: rgb clamped to [0, 1], opacity corrected for the step
+// and clamped to kMaxOpacity. chain() turns gradients w.r.t. the prepared entries into
+// gradients w.r.t. the raw entries.
+template <typename S>
+struct PreparedTable
+{
+  std::vector<S> entries; // n * 4
+  const S* raw = nullptr;
+  S exponent = 1;
+
+  void prepare(const S* table, size_t n, S e)
+  {
+    raw = table;
+    exponent = e;
+    entries.resize(n * 4);
+    for (size_t i = 0; i < n; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        entries[4 * i + c] = std::clamp(table[4 * i + c], S(0), S(1));
+      }
+      const S a = std::clamp(table[4 * i + 3], S(0), S(1));
+      entries[4 * i + 3] = std::min(adjoint::correctOpacity(a, e), static_cast<S>(adjoint::kMaxOpacity));
+    }
+  }
+
+  // dL/d(raw) += dL/d(prepared) * d(prepared)/d(raw), entry by entry.
+  void chain(const std::vector<S>& dPrepared, std::vector<S>& dRaw) const
+  {
+    const size_t n = entries.size() / 4;
+    for (size_t i = 0; i < n; ++i)
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        const S r = raw[4 * i + c];
+        if (r >= S(0) && r <= S(1))
+        {
+          dRaw[4 * i + c] += dPrepared[4 * i + c];
+        }
+      }
+      const S a = raw[4 * i + 3];
+      if (a >= S(0) && a <= S(1) && entries[4 * i + 3] < static_cast<S>(adjoint::kMaxOpacity))
+      {
+        dRaw[4 * i + 3] += dPrepared[4 * i + 3] * adjoint::correctOpacityDerivative(a, exponent);
+      }
+    }
+  }
+};
+
+// Classification of a sample: 1D (value) or 2D (value, gradient magnitude) bilinear lookup.
+template <typename S, bool TwoD>
+struct Classifier
+{
+  PreparedTable<S> table;
+  int width = 0, height = 1;
+  S vScale = 1, vBias = 0, gScale = 1, gBias = 0;
+
+  struct Coord
+  {
+    int i = 0, j = 0;
+    S f = 0, g = 0;
+  };
+
+  void classify(S value, S grad, S rgba[4], Coord& k) const
+  {
+    adjoint::tableCoordinate(value, vScale, vBias, width, k.i, k.f);
+    const S* e = table.entries.data();
+    if constexpr (!TwoD)
+    {
+      adjoint::tableLookup<S, 4>(e, k.i, k.f, rgba);
+    }
+    else
+    {
+      adjoint::tableCoordinate(grad, gScale, gBias, height, k.j, k.g);
+      S lo[4], hi[4];
+      adjoint::tableLookup<S, 4>(e + 4 * static_cast<size_t>(k.j) * width, k.i, k.f, lo);
+      adjoint::tableLookup<S, 4>(e + 4 * static_cast<size_t>(k.j + 1) * width, k.i, k.f, hi);
+      for (int c = 0; c < 4; ++c)
+      {
+        rgba[c] = lo[c] + k.g * (hi[c] - lo[c]);
+      }
+    }
+  }
+
+  // Accumulates dL/d(prepared table) from dL/d(rgba) of a sample.
+  void classifyAdjoint(const Coord& k, const S dL_drgba[4], S* dTable) const
+  {
+    if constexpr (!TwoD)
+    {
+      adjoint::tableLookupAdjoint<S, 4>(k.i, k.f, dL_drgba, dTable);
+    }
+    else
+    {
+      S lo[4], hi[4];
+      for (int c = 0; c < 4; ++c)
+      {
+        lo[c] = (1 - k.g) * dL_drgba[c];
+        hi[c] = k.g * dL_drgba[c];
+      }
+      adjoint::tableLookupAdjoint<S, 4>(k.i, k.f, lo, dTable + 4 * static_cast<size_t>(k.j) * width);
+      adjoint::tableLookupAdjoint<S, 4>(k.i, k.f, hi, dTable + 4 * static_cast<size_t>(k.j + 1) * width);
+    }
+  }
+};
+
+} // namespace
+
+template <typename S>
+struct DifferentiableRendererT<S>::Internals
+{
+  RayCaster Caster;
+  FieldSampler<S> Values;
+  std::vector<float> GradientValues;
+  FieldSampler<S> Gradient;
+  std::once_flag GradientOnce;
+  double TextureScale = 1;
+
+  explicit Internals(const Volume& v)
+    : Caster(v)
+  {
+    const auto& vol = Caster.volume();
+    Values = { vol.values().data(), vol.dims()[0], vol.dims()[1], vol.dims()[2] };
+    TextureScale = RayCaster::textureScale(vol.originalType());
+  }
+
+  const FieldSampler<S>& gradient()
+  {
+    std::call_once(GradientOnce, [this] {
+      const auto& vol = Caster.volume();
+      GradientValues = vol.gradientMagnitude();
+      Gradient = { GradientValues.data(), vol.dims()[0], vol.dims()[1], vol.dims()[2] };
+    });
+    return Gradient;
+  }
+
+  // Geometry shared by every ray of a view.
+  struct Setup
+  {
+    Eigen::Vector3d boxMin, boxMax, origin, spacing;
+    double d = 1, unit = 1, offset = 0.5;
+    S termination = S(1) - S(1) / S(255);
+    bool jitter = false;
+  };
+
+  Setup setup(const View& view, const RenderOptions& opt) const
+  {
+    view.validate();
+    Setup s;
+    const Volume& vol = Caster.volume();
+    const auto b = vol.bounds();
+    for (int a = 0; a < 3; ++a)
+    {
+      s.boxMin[a] = b[2 * a];
+      s.boxMax[a] = b[2 * a + 1];
+      s.origin[a] = vol.origin()[a];
+      s.spacing[a] = vol.spacing()[a];
+    }
+    s.d = opt.sampleDistance > 0 ? opt.sampleDistance : Caster.defaultSampleDistance();
+    s.unit = view.opacityUnitDistance ? *view.opacityUnitDistance : Caster.defaultOpacityUnitDistance();
+    s.offset = opt.sampleOffset;
+    s.jitter = opt.jitter;
+    s.termination = static_cast<S>(opt.terminationOpacity);
+    if (!(s.offset >= 0 && s.offset <= 1) || !(s.d > 0) || !std::isfinite(s.d))
+    {
+      throw Error("sample distance must be positive and the sample offset in [0, 1]");
+    }
+    return s;
+  }
+
+  // Runs body(listIndex, pixelIndex, origin, direction, jitter, threadId) over the listed pixels.
+  template <typename Body>
+  void forPixels(const View& view, const Setup& s, const std::vector<int>& pixels, int threads,
+    Body&& body) const
+  {
+    const RayGenerator rays(view);
+    const std::int64_t n = pixels.empty() ? static_cast<std::int64_t>(view.width) * view.height
+                                          : static_cast<std::int64_t>(pixels.size());
+    constexpr std::int64_t chunk = 64;
+    parallelFor((n + chunk - 1) / chunk, threads, [&](std::int64_t c, int threadId) {
+      Eigen::Vector3d o, dir;
+      for (std::int64_t q = c * chunk; q < std::min(n, (c + 1) * chunk); ++q)
+      {
+        const int pixel = pixels.empty() ? static_cast<int>(q) : pixels[static_cast<size_t>(q)];
+        if (pixel < 0 || pixel >= view.width * view.height)
+        {
+          throw Error("pixel index out of range");
+        }
+        const int x = pixel % view.width, y = pixel / view.width;
+        rays.ray(x, y, o, dir);
+        const double j = s.jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : s.offset;
+        body(q, o, dir, j, threadId);
+      }
+    });
+  }
+
+  template <bool TwoD>
+  void forward(const Classifier<S, TwoD>& cls, const View& view, const RenderOptions& opt,
+    const std::vector<int>& pixels, std::vector<S>& rgba, std::vector<RayRecord>& records)
+  {
+    const Setup s = setup(view, opt);
+    const FieldSampler<S>* grad = TwoD ? &gradient() : nullptr;
+    const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
+    rgba.assign(4 * n, S(0));
+    records.assign(n, RayRecord{});
+    forPixels(view, s, pixels, opt.threads,
+      [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j, int) {
+        RaySegment seg;
+        if (!raySegment(o, dir, s.boxMin, s.boxMax, s.origin, s.spacing, s.d, j, seg))
+        {
+          return;
+        }
+        const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]), static_cast<S>(seg.e[2]) };
+        const S st[3] = { static_cast<S>(seg.s[0]), static_cast<S>(seg.s[1]), static_cast<S>(seg.s[2]) };
+        double C[3] = { 0, 0, 0 }, A = 0;
+        std::int64_t k = 0;
+        for (; k <= seg.kLast; ++k)
+        {
+          const S kk = static_cast<S>(j) + static_cast<S>(k);
+          const S p[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
+          S c[4];
+          typename Classifier<S, TwoD>::Coord coord;
+          cls.classify(Values.sample(p), TwoD ? grad->sample(p) : S(0), c, coord);
+          if (c[3] > S(0))
+          {
+            const double col[3] = { c[0], c[1], c[2] };
+            adjoint::blend(C, A, col, static_cast<double>(c[3]));
+            if (A > static_cast<double>(s.termination))
+            {
+              break;
+            }
+          }
+        }
+        S* out = &rgba[4 * static_cast<size_t>(q)];
+        out[0] = static_cast<S>(C[0]);
+        out[1] = static_cast<S>(C[1]);
+        out[2] = static_cast<S>(C[2]);
+        out[3] = static_cast<S>(A);
+        records[static_cast<size_t>(q)] = { static_cast<std::int32_t>(std::min(k, seg.kLast)), A };
+      });
+  }
+
+  template <bool TwoD>
+  void backward(const Classifier<S, TwoD>& cls, size_t tableSize, const View& view,
+    const RenderOptions& opt, const std::vector<int>& pixels, const std::vector<RayRecord>& records,
+    const std::vector<S>& dL_dRGBA, std::vector<S>& dL_dTable)
+  {
+    const Setup s = setup(view, opt);
+    const FieldSampler<S>* grad = TwoD ? &gradient() : nullptr;
+    const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
+    if (records.size() != n || dL_dRGBA.size() != 4 * n || dL_dTable.size() != 4 * tableSize)
+    {
+      throw Error("backward: sizes of records, dL_dRGBA or dL_dTable do not match the forward pass");
+    }
+    // Per-thread gradient buffers w.r.t. the prepared table, reduced at the end (no atomics).
+    const int threads = resolveThreadCount(opt.threads, static_cast<std::int64_t>((n + 63) / 64));
+    std::vector<std::vector<S>> local(static_cast<size_t>(threads), std::vector<S>(4 * tableSize, S(0)));
+    forPixels(view, s, pixels, threads,
+      [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j, int threadId) {
+        const RayRecord& rec = records[static_cast<size_t>(q)];
+        RaySegment seg;
+        if (rec.lastSample < 0 ||
+          !raySegment(o, dir, s.boxMin, s.boxMax, s.origin, s.spacing, s.d, j, seg))
+        {
+          return;
+        }
+        const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]), static_cast<S>(seg.e[2]) };
+        const S st[3] = { static_cast<S>(seg.s[0]), static_cast<S>(seg.s[1]), static_cast<S>(seg.s[2]) };
+        const S* g = &dL_dRGBA[4 * static_cast<size_t>(q)];
+        const double gC[3] = { g[0], g[1], g[2] };
+        double gA = g[3];
+        double A = rec.alpha;
+        S* dTable = local[static_cast<size_t>(threadId)].data();
+        for (std::int64_t k = std::min<std::int64_t>(rec.lastSample, seg.kLast); k >= 0; --k)
+        {
+          const S kk = static_cast<S>(j) + static_cast<S>(k);
+          const S p[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
+          S c[4];
+          typename Classifier<S, TwoD>::Coord coord;
+          cls.classify(Values.sample(p), TwoD ? grad->sample(p) : S(0), c, coord);
+          const double a = c[3] > S(0) ? static_cast<double>(c[3]) : 0.0;
+          // Inverse of the blend: the state before this sample.
+          const double before = a > 0 ? adjoint::blendInvertAlpha(A, a) : A;
+          const double col[3] = { c[0], c[1], c[2] };
+          double g_c[3] = { 0, 0, 0 }, g_a = 0;
+          adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
+          A = before;
+          const S dL_drgba[4] = { static_cast<S>(g_c[0]), static_cast<S>(g_c[1]),
+            static_cast<S>(g_c[2]), static_cast<S>(g_a) };
+          cls.classifyAdjoint(coord, dL_drgba, dTable);
+        }
+      });
+    std::vector<S> dPrepared(4 * tableSize, S(0));
+    for (const auto& buffer : local)
+    {
+      for (size_t i = 0; i < dPrepared.size(); ++i)
+      {
+        dPrepared[i] += buffer[i];
+      }
+    }
+    cls.table.chain(dPrepared, dL_dTable);
+  }
+};
+
+template <typename S>
+DifferentiableRendererT<S>::DifferentiableRendererT(const Volume& volume)
+  : In(std::make_unique<Internals>(volume))
+{
+}
+
+template <typename S>
+DifferentiableRendererT<S>::~DifferentiableRendererT() = default;
+
+template <typename S>
+const RayCaster& DifferentiableRendererT<S>::caster() const
+{
+  return In->Caster;
+}
+
+namespace
+{
+
+template <typename S>
+Classifier<S, false> make1D(const S* table, int width, double min, double max, double q, double exponent)
+{
+  if (width < 2 || !(max > min) || !table)
+  {
+    throw Error("transfer function table needs >= 2 entries and a non-empty range");
+  }
+  Classifier<S, false> c;
+  c.width = width;
+  c.table.prepare(table, static_cast<size_t>(width), static_cast<S>(exponent));
+  c.vScale = static_cast<S>(q * width / (max - min));
+  c.vBias = static_cast<S>(-min * width / (max - min) - 0.5);
+  return c;
+}
+
+template <typename S>
+Classifier<S, true> make2D(const S* table, int width, int height, std::array<double, 2> vr,
+  std::array<double, 2> gr, double exponent)
+{
+  if (width < 2 || height < 2 || !(vr[1] > vr[0]) || !(gr[1] > gr[0]) || !table)
+  {
+    throw Error("2D transfer function table needs >= 2 x 2 entries and non-empty ranges");
+  }
+  Classifier<S, true> c;
+  c.width = width;
+  c.height = height;
+  c.table.prepare(table, static_cast<size_t>(width) * height, static_cast<S>(exponent));
+  c.vScale = static_cast<S>(width / (vr[1] - vr[0]));
+  c.vBias = static_cast<S>(-vr[0] * width / (vr[1] - vr[0]) - 0.5);
+  c.gScale = static_cast<S>(height / (gr[1] - gr[0]));
+  c.gBias = static_cast<S>(-gr[0] * height / (gr[1] - gr[0]) - 0.5);
+  return c;
+}
+
+} // namespace
+
+template <typename S>
+void DifferentiableRendererT<S>::forward(const S* table, int width, double min, double max,
+  const View& view, const RenderOptions& options, const std::vector<int>& pixels,
+  std::vector<S>& rgba, std::vector<RayRecord>& records) const
+{
+  const auto s = In->setup(view, options);
+  In->forward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), view, options, pixels, rgba, records);
+}
+
+template <typename S>
+void DifferentiableRendererT<S>::backward(const S* table, int width, double min, double max,
+  const View& view, const RenderOptions& options, const std::vector<int>& pixels,
+  const std::vector<RayRecord>& records, const std::vector<S>& dL_dRGBA,
+  std::vector<S>& dL_dTable) const
+{
+  const auto s = In->setup(view, options);
+  In->backward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit),
+    static_cast<size_t>(width), view, options, pixels, records, dL_dRGBA, dL_dTable);
+}
+
+template <typename S>
+void DifferentiableRendererT<S>::forward2D(const S* table, int width, int height,
+  std::array<double, 2> valueRange, std::array<double, 2> gradientRange, const View& view,
+  const RenderOptions& options, const std::vector<int>& pixels, std::vector<S>& rgba,
+  std::vector<RayRecord>& records) const
+{
+  const auto s = In->setup(view, options);
+  In->forward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit), view, options,
+    pixels, rgba, records);
+}
+
+template <typename S>
+void DifferentiableRendererT<S>::backward2D(const S* table, int width, int height,
+  std::array<double, 2> valueRange, std::array<double, 2> gradientRange, const View& view,
+  const RenderOptions& options, const std::vector<int>& pixels,
+  const std::vector<RayRecord>& records, const std::vector<S>& dL_dRGBA,
+  std::vector<S>& dL_dTable) const
+{
+  const auto s = In->setup(view, options);
+  In->backward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit),
+    static_cast<size_t>(width) * height, view, options, pixels, records, dL_dRGBA, dL_dTable);
+}
+
+template class DifferentiableRendererT<float>;
+template class DifferentiableRendererT<double>;
+
+} // namespace ddg
