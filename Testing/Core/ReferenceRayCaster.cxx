@@ -114,3 +114,105 @@ Image referenceRender2D(const Volume& volume, const TransferTable2D& table, cons
 }
 
 } // namespace ddg::reference
+
+#include "Render/Adjoint.h"
+
+namespace ddg::reference
+{
+
+std::vector<double> referenceGradient(const Volume& volume, const std::vector<double>& table,
+  int width, double min, double max, const View& view, double d, double unit, double offset,
+  double termination, const std::vector<double>& dL_dRGBA)
+{
+  const double e = d / unit;
+  const double q = RayCaster::textureScale(volume.originalType());
+  // prepared table: rgb clamped, opacity corrected and clamped to the guard
+  std::vector<double> prepared(table.size());
+  for (int i = 0; i < width; ++i)
+  {
+    for (int c = 0; c < 3; ++c) prepared[4 * i + c] = std::clamp(table[4 * i + c], 0.0, 1.0);
+    prepared[4 * i + 3] = std::min(adjoint::correctOpacity(std::clamp(table[4 * i + 3], 0.0, 1.0), e), adjoint::kMaxOpacity);
+  }
+  std::vector<double> dPrepared(table.size(), 0.0);
+  RayGenerator rays(view);
+  const auto b = volume.bounds();
+  struct Sample
+  {
+    int i;
+    double f, c[3], a, Abefore;
+  };
+  for (int y = 0; y < view.height; ++y)
+  {
+    for (int x = 0; x < view.width; ++x)
+    {
+      Eigen::Vector3d o, dir;
+      rays.ray(x, y, o, dir);
+      double t0 = -1e300, t1 = 1e300;
+      bool miss = false;
+      for (int a = 0; a < 3; ++a)
+      {
+        if (dir[a] == 0)
+        {
+          miss = miss || o[a] < b[2 * a] || o[a] > b[2 * a + 1];
+          continue;
+        }
+        const double ta = (b[2 * a] - o[a]) / dir[a], tb = (b[2 * a + 1] - o[a]) / dir[a];
+        t0 = std::max(t0, std::min(ta, tb));
+        t1 = std::min(t1, std::max(ta, tb));
+      }
+      t0 = std::max(t0, 0.0);
+      if (miss || t1 < t0)
+      {
+        continue;
+      }
+      std::vector<Sample> samples;
+      double A = 0;
+      for (int k = 0;; ++k)
+      {
+        const double t = t0 + (offset + k) * d;
+        if (k > 0 && t > t1)
+        {
+          break;
+        }
+        const Eigen::Vector3d p = o + t * dir;
+        Sample s;
+        adjoint::tableCoordinate(q * volume.sampleWorld(p[0], p[1], p[2]),
+          q * width / (max - min), -min * width / (max - min) - 0.5, width, s.i, s.f);
+        double rgba[4];
+        adjoint::tableLookup<double, 4>(prepared.data(), s.i, s.f, rgba);
+        s.c[0] = rgba[0];
+        s.c[1] = rgba[1];
+        s.c[2] = rgba[2];
+        s.a = rgba[3];
+        s.Abefore = A;
+        samples.push_back(s);
+        A += (1 - A) * s.a;
+        if (A > termination)
+        {
+          break;
+        }
+      }
+      const double* g = &dL_dRGBA[4 * (static_cast<size_t>(y) * view.width + x)];
+      double gA = g[3];
+      for (auto it = samples.rbegin(); it != samples.rend(); ++it)
+      {
+        double g_c[3] = { 0, 0, 0 }, g_a = 0;
+        adjoint::blendAdjoint(g, gA, it->Abefore, it->c, it->a, g_c, g_a);
+        const double dl[4] = { g_c[0], g_c[1], g_c[2], g_a };
+        adjoint::tableLookupAdjoint<double, 4>(it->i, it->f, dl, dPrepared.data());
+      }
+    }
+  }
+  std::vector<double> dRaw(table.size(), 0.0);
+  for (int i = 0; i < width; ++i)
+  {
+    for (int c = 0; c < 3; ++c)
+      if (table[4 * i + c] >= 0 && table[4 * i + c] <= 1) dRaw[4 * i + c] = dPrepared[4 * i + c];
+    const double a = table[4 * i + 3];
+    if (a >= 0 && a <= 1 && prepared[4 * i + 3] < adjoint::kMaxOpacity)
+      dRaw[4 * i + 3] = dPrepared[4 * i + 3] * adjoint::correctOpacityDerivative(a, e);
+  }
+  return dRaw;
+}
+
+} // namespace ddg::reference

@@ -18,3 +18,15 @@ Image referenceRender2D(const Volume& volume, const TransferTable2D& table, cons
   double sampleDistance, double unitDistance, double offset, double terminationOpacity);
 
 } // namespace ddg::reference
+
+namespace ddg::reference
+{
+
+/// Reverse mode of the DifferentiableRenderer model the obvious way: every sample's state is
+/// stored, then walked backwards (no inversion). dL_dRGBA per pixel (all pixels, row-major);
+/// returns dL/d(raw table entries), width * 4. Double precision throughout.
+std::vector<double> referenceGradient(const Volume& volume, const std::vector<double>& table,
+  int width, double min, double max, const View& view, double sampleDistance, double unitDistance,
+  double offset, double terminationOpacity, const std::vector<double>& dL_dRGBA);
+
+} // namespace ddg::reference

@@ -1,0 +1,349 @@
+// TestAdjoint.cxx: gradient checks of the differentiable ray caster, all in double precision.
+//
+// Compared:
+//  1. each adjoint primitive (trilinear interpolation, table lookup, opacity correction, blend,
+//     blend inversion, Gaussian rasterization) against central finite differences
+//     (f(x + h v) - f(x - h v)) / 2h on unit and random directions;
+//  2. the whole renderer's backward pass (1D and 2D tables) against central finite
+//     differences of its forward pass, on a small analytic volume (early termination off, so
+//     the loss is smooth in the table);
+//  3. the backward pass (which inverts the compositing) against a naive reverse mode that
+//     stores every sample (early termination on, opacities near 1);
+//  4. the float forward pass against RayCaster::render.
+// Tolerances: kFdTol (relative, finite differences, h = 1e-6), kExactTol (relative, two exact
+// computations of the same gradient), kForwardTol (absolute, float images).
+#include "ReferenceRayCaster.h"
+
+#include "Render/Adjoint.h"
+#include "Render/DifferentiableRenderer.h"
+#include "TransferFunction/GaussianPrimitive.h"
+#include "TransferFunction/TransferFunction2D.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <random>
+
+using namespace ddg;
+
+namespace
+{
+constexpr double kFdTol = 1e-5;
+constexpr double kExactTol = 1e-8;
+constexpr double kForwardTol = 2e-5;
+constexpr double kH = 1e-6;
+
+// Checks grad . v against the central difference of f along v for unit and random v.
+void checkGradient(const std::function<double(const std::vector<double>&)>& f,
+  const std::vector<double>& x, const std::vector<double>& grad, int randomDirections,
+  const char* what, double tol = kFdTol)
+{
+  std::mt19937 rng(7);
+  std::normal_distribution<double> normal;
+  std::vector<std::vector<double>> dirs;
+  // unit directions: the 4 entries with the largest gradient and 2 arbitrary ones
+  std::vector<size_t> order(x.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::partial_sort(order.begin(), order.begin() + std::min<size_t>(4, order.size()), order.end(),
+    [&](size_t a, size_t b) { return std::abs(grad[a]) > std::abs(grad[b]); });
+  for (size_t q = 0; q < std::min<size_t>(4, x.size()); ++q)
+  {
+    std::vector<double> v(x.size(), 0.0);
+    v[order[q]] = 1.0;
+    dirs.push_back(v);
+  }
+  for (size_t idx : { x.size() / 3, x.size() / 2 })
+  {
+    std::vector<double> v(x.size(), 0.0);
+    v[idx] = 1.0;
+    dirs.push_back(v);
+  }
+  for (int r = 0; r < randomDirections; ++r)
+  {
+    std::vector<double> v(x.size());
+    for (double& e : v) e = normal(rng);
+    dirs.push_back(v);
+  }
+  double scale = 0;
+  for (double g : grad) scale = std::max(scale, std::abs(g));
+  for (const auto& v : dirs)
+  {
+    std::vector<double> xp = x, xm = x;
+    double analytic = 0;
+    for (size_t i = 0; i < x.size(); ++i)
+    {
+      xp[i] += kH * v[i];
+      xm[i] -= kH * v[i];
+      analytic += grad[i] * v[i];
+    }
+    const double numeric = (f(xp) - f(xm)) / (2 * kH);
+    double vnorm = 0;
+    for (double e : v) vnorm += std::abs(e);
+    EXPECT_NEAR(analytic, numeric, tol * std::max(1.0, scale * vnorm)) << what;
+  }
+}
+
+Volume testVolume()
+{
+  const std::array<int, 3> dims{ 10, 9, 11 };
+  std::vector<float> v;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+      {
+        const double x = (i - 4.5) / 4, y = (j - 4) / 3.5, z = (k - 5) / 4.5;
+        v.push_back(static_cast<float>(100 * std::exp(-(x * x + y * y + z * z)) + 20 * x));
+      }
+  return Volume(dims, { 1, -2, 0.5 }, { 1.0, 1.2, 0.9 }, v, ScalarType::Float32);
+}
+
+View testView(const Volume& vol, int w = 7, int h = 5)
+{
+  View v = defaultView(vol, w, h);
+  v.camera.position = v.camera.focalPoint + Eigen::Vector3d(14, 6, 25);
+  v.camera.viewAngle = 25;
+  return v;
+}
+
+std::vector<double> randomTable(int entries, double alphaLo, double alphaHi, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> colour(0.05, 0.95), alpha(alphaLo, alphaHi);
+  std::vector<double> t(static_cast<size_t>(entries) * 4);
+  for (int i = 0; i < entries; ++i)
+  {
+    t[4 * i] = colour(rng);
+    t[4 * i + 1] = colour(rng);
+    t[4 * i + 2] = colour(rng);
+    t[4 * i + 3] = alpha(rng);
+  }
+  return t;
+}
+
+std::vector<double> randomWeights(size_t n, unsigned seed)
+{
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<double> w(n);
+  for (double& e : w) e = u(rng);
+  return w;
+}
+
+} // namespace
+
+TEST(AdjointPrimitives, Trilinear)
+{
+  std::vector<double> x = { 0.3, -1.2, 2.5, 0.7, 1.1, -0.4, 0.9, 2.0, 0.37, 0.61, 0.18 };
+  auto f = [](const std::vector<double>& p) { return adjoint::trilinear(p.data(), p[8], p[9], p[10]); };
+  std::vector<double> g(11, 0.0);
+  adjoint::trilinearAdjoint(x.data(), x[8], x[9], x[10], 1.0, g.data(), g.data() + 8);
+  checkGradient(f, x, g, 4, "trilinear");
+}
+
+TEST(AdjointPrimitives, TableLookupAndCorrection)
+{
+  const std::vector<double> table = randomTable(6, 0.1, 0.9, 3);
+  const std::vector<double> w = { 0.3, -0.7, 1.1, 0.5 };
+  for (double value : { -3.0, 0.2, 2.71, 9.9 })
+  {
+    int i;
+    double fr;
+    adjoint::tableCoordinate(value, 0.5, 0.25, 6, i, fr);
+    auto f = [&](const std::vector<double>& t) {
+      double out[4];
+      adjoint::tableLookup<double, 4>(t.data(), i, fr, out);
+      return w[0] * out[0] + w[1] * out[1] + w[2] * out[2] + w[3] * out[3];
+    };
+    std::vector<double> g(table.size(), 0.0);
+    adjoint::tableLookupAdjoint<double, 4>(i, fr, w.data(), g.data());
+    checkGradient(f, table, g, 3, "table lookup");
+  }
+  for (double a : { 0.001, 0.3, 0.95 })
+  {
+    const double e = 0.37;
+    const double numeric =
+      (adjoint::correctOpacity(a + kH, e) - adjoint::correctOpacity(a - kH, e)) / (2 * kH);
+    EXPECT_NEAR(adjoint::correctOpacityDerivative(a, e), numeric, kFdTol);
+  }
+  EXPECT_EQ(adjoint::correctOpacityDerivative(5e-5, 0.37), 1.0); // below ParaView's threshold
+}
+
+TEST(AdjointPrimitives, BlendAndInversion)
+{
+  // x = (c0, c1, c2, a, A, C0, C1, C2); L = w . (C', A')
+  const std::vector<double> x = { 0.2, 0.7, 0.4, 0.35, 0.45, 0.1, 0.3, 0.2 };
+  const double w[4] = { 0.9, -0.4, 0.6, 1.3 };
+  auto f = [&](const std::vector<double>& p) {
+    double C[3] = { p[5], p[6], p[7] }, A = p[4];
+    adjoint::blend(C, A, p.data(), p[3]);
+    return w[0] * C[0] + w[1] * C[1] + w[2] * C[2] + w[3] * A;
+  };
+  double gA = w[3], g_c[3] = { 0, 0, 0 }, g_a = 0;
+  adjoint::blendAdjoint(w, gA, x[4], x.data(), x[3], g_c, g_a);
+  const std::vector<double> g = { g_c[0], g_c[1], g_c[2], g_a, gA, w[0], w[1], w[2] };
+  checkGradient(f, x, g, 4, "blend");
+  // inversion recovers the state before, also close to the guard
+  for (double a : { 0.1, 0.9, 0.999, adjoint::kMaxOpacity })
+  {
+    double C[3] = { 0, 0, 0 }, A = 0.37;
+    const double c[3] = { 1, 1, 1 };
+    adjoint::blend(C, A, c, a);
+    EXPECT_NEAR(adjoint::blendInvertAlpha(A, a), 0.37, 1e-15 / (1 - a) + 1e-12) << a;
+  }
+}
+
+TEST(AdjointPrimitives, GaussianRasterization)
+{
+  for (bool twoD : { false, true })
+  {
+    std::vector<GaussianPrimitive> prims(2);
+    prims[0] = { { 40, 10 }, { 12, 6 }, { 0.8, 0.3, 0.2 }, 0.3 };
+    prims[1] = { { 70, 25 }, { 9, 8 }, { 0.1, 0.6, 0.9 }, 0.25 };
+    const int w = 12, h = twoD ? 5 : 1;
+    const std::array<double, 2> vr{ 0, 100 }, gr{ 0, 40 };
+    const std::vector<double> weights = randomWeights(static_cast<size_t>(w) * h * 4, 11);
+    auto pack = [](const std::vector<GaussianPrimitive>& p) {
+      std::vector<double> x;
+      for (const auto& g : p)
+        x.insert(x.end(), { g.mean[0], g.mean[1], g.stddev[0], g.stddev[1], g.rgb[0], g.rgb[1], g.rgb[2], g.opacity });
+      return x;
+    };
+    auto unpack = [](const std::vector<double>& x) {
+      std::vector<GaussianPrimitive> p(x.size() / 8);
+      for (size_t i = 0; i < p.size(); ++i)
+      {
+        const double* q = &x[8 * i];
+        p[i] = { { q[0], q[1] }, { q[2], q[3] }, { q[4], q[5], q[6] }, q[7] };
+      }
+      return p;
+    };
+    auto f = [&](const std::vector<double>& x) {
+      std::vector<float> rgba;
+      if (twoD)
+        rgba = rasterize2D(unpack(x), vr, gr, w, h).rgba;
+      else
+        rgba = rasterize1D(unpack(x), vr[0], vr[1], w).rgba;
+      double L = 0;
+      for (size_t i = 0; i < rgba.size(); ++i) L += weights[i] * rgba[i];
+      return L;
+    };
+    std::vector<GaussianPrimitiveGradient> grads;
+    rasterizeAdjoint(prims, twoD, vr, gr, w, h, weights, grads);
+    std::vector<double> g;
+    for (const auto& q : grads)
+      g.insert(g.end(), { q.mean[0], twoD ? q.mean[1] : 0.0, q.stddev[0], twoD ? q.stddev[1] : 0.0,
+                          q.rgb[0], q.rgb[1], q.rgb[2], q.opacity });
+    // rasterize*D store float tables: finite differences need a larger step and tolerance
+    auto fd = [&](const std::vector<double>& x) { return f(x); };
+    std::vector<double> x = pack(prims);
+    for (size_t i = 0; i < x.size(); ++i)
+    {
+      if (!twoD && (i % 8 == 1 || i % 8 == 3)) continue;
+      std::vector<double> xp = x, xm = x;
+      const double h2 = 1e-3 * std::max(1.0, std::abs(x[i]));
+      xp[i] += h2;
+      xm[i] -= h2;
+      const double numeric = (fd(xp) - fd(xm)) / (2 * h2);
+      EXPECT_NEAR(g[i], numeric, 2e-3 * std::max(1.0, std::abs(numeric))) << "parameter " << i << " 2D " << twoD;
+    }
+  }
+}
+
+TEST(DifferentiableRenderer, BackwardMatchesFiniteDifferences1D)
+{
+  const Volume vol = testVolume();
+  const DifferentiableRendererT<double> renderer(vol);
+  const View view = testView(vol);
+  RenderOptions opt;
+  opt.terminationOpacity = 2.0; // off: the loss is smooth in the table
+  const int width = 16;
+  const auto range = vol.range();
+  const std::vector<double> table = randomTable(width, 0.01, 0.3, 5);
+  const std::vector<double> weights = randomWeights(static_cast<size_t>(view.width) * view.height * 4, 9);
+  auto loss = [&](const std::vector<double>& t) {
+    std::vector<double> rgba;
+    std::vector<RayRecord> rec;
+    renderer.forward(t.data(), width, range[0], range[1], view, opt, {}, rgba, rec);
+    double L = 0;
+    for (size_t i = 0; i < rgba.size(); ++i) L += weights[i] * rgba[i];
+    return L;
+  };
+  std::vector<double> rgba, grad(table.size(), 0.0);
+  std::vector<RayRecord> rec;
+  renderer.forward(table.data(), width, range[0], range[1], view, opt, {}, rgba, rec);
+  renderer.backward(table.data(), width, range[0], range[1], view, opt, {}, rec, weights, grad);
+  checkGradient(loss, table, grad, 6, "renderer 1D");
+}
+
+TEST(DifferentiableRenderer, BackwardMatchesFiniteDifferences2D)
+{
+  const Volume vol = testVolume();
+  const DifferentiableRendererT<double> renderer(vol);
+  const View view = testView(vol, 6, 5);
+  RenderOptions opt;
+  opt.terminationOpacity = 2.0;
+  const int w = 8, h = 6;
+  const std::array<double, 2> vr{ vol.range()[0], vol.range()[1] }, gr{ 0.0, 40.0 };
+  const std::vector<double> table = randomTable(w * h, 0.01, 0.3, 6);
+  const std::vector<double> weights = randomWeights(static_cast<size_t>(view.width) * view.height * 4, 10);
+  auto loss = [&](const std::vector<double>& t) {
+    std::vector<double> rgba;
+    std::vector<RayRecord> rec;
+    renderer.forward2D(t.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
+    double L = 0;
+    for (size_t i = 0; i < rgba.size(); ++i) L += weights[i] * rgba[i];
+    return L;
+  };
+  std::vector<double> rgba, grad(table.size(), 0.0);
+  std::vector<RayRecord> rec;
+  renderer.forward2D(table.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
+  renderer.backward2D(table.data(), w, h, vr, gr, view, opt, {}, rec, weights, grad);
+  checkGradient(loss, table, grad, 6, "renderer 2D");
+}
+
+TEST(DifferentiableRenderer, InvertedCompositingMatchesStoredReverseMode)
+{
+  // High opacities and early termination: the inversion runs close to its guard.
+  const Volume vol = testVolume();
+  const DifferentiableRendererT<double> renderer(vol);
+  const View view = testView(vol, 9, 7);
+  RenderOptions opt;
+  const int width = 12;
+  const auto range = vol.range();
+  const std::vector<double> table = randomTable(width, 0.5, 0.999, 8);
+  const std::vector<double> weights = randomWeights(static_cast<size_t>(view.width) * view.height * 4, 12);
+  std::vector<double> rgba, grad(table.size(), 0.0);
+  std::vector<RayRecord> rec;
+  renderer.forward(table.data(), width, range[0], range[1], view, opt, {}, rgba, rec);
+  renderer.backward(table.data(), width, range[0], range[1], view, opt, {}, rec, weights, grad);
+  const auto ref = reference::referenceGradient(vol, table, width, range[0], range[1], view,
+    renderer.caster().defaultSampleDistance(), renderer.caster().defaultOpacityUnitDistance(),
+    opt.sampleOffset, opt.terminationOpacity, weights);
+  double scale = 0;
+  for (double g : ref) scale = std::max(scale, std::abs(g));
+  ASSERT_GT(scale, 0.0);
+  for (size_t i = 0; i < grad.size(); ++i)
+  {
+    EXPECT_NEAR(grad[i], ref[i], kExactTol * scale) << "entry " << i / 4 << " channel " << i % 4;
+  }
+}
+
+TEST(DifferentiableRenderer, FloatForwardMatchesRayCaster)
+{
+  const Volume vol = testVolume();
+  const DifferentiableRenderer renderer(vol);
+  const View view = testView(vol, 32, 24);
+  TransferFunction1D tf;
+  tf.color = { { -10, 0.1, 0.2, 0.9 }, { 50, 0.9, 0.5, 0.1 }, { 120, 1, 1, 1 } };
+  tf.opacity = { { -10, 0 }, { 40, 0.05 }, { 90, 0.6 }, { 120, 0.9 } };
+  const TransferTable1D table = renderer.caster().paraviewTable(tf);
+  const Image fast = renderer.caster().render(table, view);
+  std::vector<float> rgba;
+  std::vector<RayRecord> rec;
+  renderer.forward(table.rgba.data(), table.width, table.min, table.max, view, {}, {}, rgba, rec);
+  for (size_t i = 0; i < rgba.size(); ++i)
+  {
+    ASSERT_NEAR(rgba[i], fast.pixels[i], kForwardTol) << i;
+  }
+}
