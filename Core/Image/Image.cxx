@@ -3,6 +3,8 @@
 
 #include "Common/FileUtil.h"
 
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -43,6 +45,11 @@ Image compositeOverBackground(const Image& in, const std::array<double, 3>& back
 
 Image readImage(const std::string& path)
 {
+  return readImage(path, nullptr);
+}
+
+Image readImage(const std::string& path, ImageFileInfo* info)
+{
   // Keep alpha as stored (straight for PNG); OpenImageIO would premultiply otherwise.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
@@ -57,6 +64,11 @@ Image readImage(const std::string& path)
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0 || spec.depth > 1)
   {
     throw Error("image '" + path + "' is empty or not a 2D image");
+  }
+  if (info)
+  {
+    info->format = spec.format.c_str();
+    info->channels = spec.nchannels;
   }
   Image img(spec.width, spec.height, spec.nchannels);
   if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
@@ -148,6 +160,25 @@ Image toChannels(const Image& in, int channels)
     }
   }
   return out;
+}
+
+Image resizeImage(const Image& image, int width, int height)
+{
+  if (image.empty() || width < 1 || height < 1)
+  {
+    throw Error("cannot resize an empty image or to an empty size");
+  }
+  OIIO::ImageSpec inSpec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf in(inSpec, const_cast<float*>(image.pixels.data()));
+  OIIO::ImageSpec outSpec(width, height, image.channels, OIIO::TypeDesc::FLOAT);
+  OIIO::ImageBuf out(outSpec);
+  if (!OIIO::ImageBufAlgo::resize(out, in))
+  {
+    throw Error("cannot resize the image: " + out.geterror());
+  }
+  Image result(width, height, image.channels);
+  out.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, result.pixels.data());
+  return result;
 }
 
 } // namespace ddg

@@ -49,6 +49,18 @@ Image compositeOverBackground(
 /// Throws ddg::Error with the path and OpenImageIO's reason.
 Image readImage(const std::string& path);
 
+/// What readImage found in the file: per-channel storage ("uint8", "uint16", "half", "float",
+/// ...) and the channel count.
+struct ImageFileInfo
+{
+  std::string format;
+  int channels = 0;
+};
+Image readImage(const std::string& path, ImageFileInfo* info);
+
+/// Resamples an image to width x height with OpenImageIO's filtered resize.
+Image resizeImage(const Image& image, int width, int height);
+
 /// Writes an image; the format follows the extension. 8-bit formats (PNG, JPEG, ...) get
 /// round(255 clamp(v, 0, 1)); EXR and TIFF ".tif(f)" keep float. 1, 3 or 4 channels.
 /// Values are written as given (an RGBA image is stored as is: pass straight alpha for PNG).

@@ -140,8 +140,8 @@ S blendInvertAlpha(S Aafter, S a)
 template <typename S>
 void blendAdjoint(const S gC[3], S& gA, S A, const S c[3], S a, S g_c[3], S& g_a)
 {
-  //C' = C + (1 - A) a c   ->  dC'/dc = (1 - A) a,  dC'/da = (1 - A) c,  dC'/dA = -a c
-  //A' = A + (1 - A) a     ->  dA'/da = 1 - A,      dA'/dA = 1 - a
+  // C' = C + (1 - A) a c   ->  dC'/dc = (1 - A) a,  dC'/da = (1 - A) c,  dC'/dA = -a c
+  // A' = A + (1 - A) a     ->  dA'/da = 1 - A,      dA'/dA = 1 - a
   S gCc = 0;
   for (int q = 0; q < 3; ++q)
   {

@@ -50,6 +50,35 @@ struct FieldSampler
     cell(p, c, f);
     return adjoint::trilinear(c, f[0], f[1], f[2]);
   }
+
+  // Values at kBatch consecutive samples e + (k0 + l) st (independent: vectorisable); the same
+  // arithmetic as sample().
+  static constexpr int kBatch = 8;
+  void sampleBatch(const S e[3], const S st[3], S k0, S* out) const
+  {
+    const int n[3] = { nx, ny, nz };
+    std::int64_t idx[kBatch];
+    S f[3][kBatch];
+    for (int l = 0; l < kBatch; ++l)
+    {
+      const S kk = k0 + static_cast<S>(l);
+      int i[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        const S x = std::min(std::max(e[a] + kk * st[a], S(0)), static_cast<S>(n[a] - 1));
+        i[a] = std::min(static_cast<int>(x), n[a] - 2);
+        f[a][l] = x - static_cast<S>(i[a]);
+      }
+      idx[l] = i[0] + static_cast<std::int64_t>(nx) * (i[1] + static_cast<std::int64_t>(ny) * i[2]);
+    }
+    const std::int64_t sy = nx, sz = static_cast<std::int64_t>(nx) * ny;
+    for (int l = 0; l < kBatch; ++l)
+    {
+      const float* q = v + idx[l];
+      const S c[8] = { q[0], q[1], q[sy], q[sy + 1], q[sz], q[sz + 1], q[sz + sy], q[sz + sy + 1] };
+      out[l] = adjoint::trilinear(c, f[0][l], f[1][l], f[2][l]);
+    }
+  }
 };
 
 // A dense table prepared for rendering: rgb clamped to [0, 1], opacity corrected for the step
@@ -74,7 +103,8 @@ struct PreparedTable
         entries[4 * i + c] = std::clamp(table[4 * i + c], S(0), S(1));
       }
       const S a = std::clamp(table[4 * i + 3], S(0), S(1));
-      entries[4 * i + 3] = std::min(adjoint::correctOpacity(a, e), static_cast<S>(adjoint::kMaxOpacity));
+      entries[4 * i + 3] =
+        std::min(adjoint::correctOpacity(a, e), static_cast<S>(adjoint::kMaxOpacity));
     }
   }
 
@@ -151,8 +181,10 @@ struct Classifier
         lo[c] = (1 - k.g) * dL_drgba[c];
         hi[c] = k.g * dL_drgba[c];
       }
-      adjoint::tableLookupAdjoint<S, 4>(k.i, k.f, lo, dTable + 4 * static_cast<size_t>(k.j) * width);
-      adjoint::tableLookupAdjoint<S, 4>(k.i, k.f, hi, dTable + 4 * static_cast<size_t>(k.j + 1) * width);
+      adjoint::tableLookupAdjoint<S, 4>(
+        k.i, k.f, lo, dTable + 4 * static_cast<size_t>(k.j) * width);
+      adjoint::tableLookupAdjoint<S, 4>(
+        k.i, k.f, hi, dTable + 4 * static_cast<size_t>(k.j + 1) * width);
     }
   }
 };
@@ -179,11 +211,13 @@ struct DifferentiableRendererT<S>::Internals
 
   const FieldSampler<S>& gradient()
   {
-    std::call_once(GradientOnce, [this] {
-      const auto& vol = Caster.volume();
-      GradientValues = vol.gradientMagnitude();
-      Gradient = { GradientValues.data(), vol.dims()[0], vol.dims()[1], vol.dims()[2] };
-    });
+    std::call_once(GradientOnce,
+      [this]
+      {
+        const auto& vol = Caster.volume();
+        GradientValues = vol.gradientMagnitude();
+        Gradient = { GradientValues.data(), vol.dims()[0], vol.dims()[1], vol.dims()[2] };
+      });
     return Gradient;
   }
 
@@ -210,7 +244,8 @@ struct DifferentiableRendererT<S>::Internals
       s.spacing[a] = vol.spacing()[a];
     }
     s.d = opt.sampleDistance > 0 ? opt.sampleDistance : Caster.defaultSampleDistance();
-    s.unit = view.opacityUnitDistance ? *view.opacityUnitDistance : Caster.defaultOpacityUnitDistance();
+    s.unit =
+      view.opacityUnitDistance ? *view.opacityUnitDistance : Caster.defaultOpacityUnitDistance();
     s.offset = opt.sampleOffset;
     s.jitter = opt.jitter;
     s.termination = static_cast<S>(opt.terminationOpacity);
@@ -230,21 +265,23 @@ struct DifferentiableRendererT<S>::Internals
     const std::int64_t n = pixels.empty() ? static_cast<std::int64_t>(view.width) * view.height
                                           : static_cast<std::int64_t>(pixels.size());
     constexpr std::int64_t chunk = 64;
-    parallelFor((n + chunk - 1) / chunk, threads, [&](std::int64_t c, int threadId) {
-      Eigen::Vector3d o, dir;
-      for (std::int64_t q = c * chunk; q < std::min(n, (c + 1) * chunk); ++q)
+    parallelFor((n + chunk - 1) / chunk, threads,
+      [&](std::int64_t c, int threadId)
       {
-        const int pixel = pixels.empty() ? static_cast<int>(q) : pixels[static_cast<size_t>(q)];
-        if (pixel < 0 || pixel >= view.width * view.height)
+        Eigen::Vector3d o, dir;
+        for (std::int64_t q = c * chunk; q < std::min(n, (c + 1) * chunk); ++q)
         {
-          throw Error("pixel index out of range");
+          const int pixel = pixels.empty() ? static_cast<int>(q) : pixels[static_cast<size_t>(q)];
+          if (pixel < 0 || pixel >= view.width * view.height)
+          {
+            throw Error("pixel index out of range");
+          }
+          const int x = pixel % view.width, y = pixel / view.width;
+          rays.ray(x, y, o, dir);
+          const double j = s.jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : s.offset;
+          body(q, o, dir, j, threadId);
         }
-        const int x = pixel % view.width, y = pixel / view.width;
-        rays.ray(x, y, o, dir);
-        const double j = s.jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : s.offset;
-        body(q, o, dir, j, threadId);
-      }
-    });
+      });
   }
 
   template <bool TwoD>
@@ -257,30 +294,46 @@ struct DifferentiableRendererT<S>::Internals
     rgba.assign(4 * n, S(0));
     records.assign(n, RayRecord{});
     forPixels(view, s, pixels, opt.threads,
-      [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j, int) {
+      [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j, int)
+      {
         RaySegment seg;
         if (!raySegment(o, dir, s.boxMin, s.boxMax, s.origin, s.spacing, s.d, j, seg))
         {
           return;
         }
-        const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]), static_cast<S>(seg.e[2]) };
-        const S st[3] = { static_cast<S>(seg.s[0]), static_cast<S>(seg.s[1]), static_cast<S>(seg.s[2]) };
+        const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]),
+          static_cast<S>(seg.e[2]) };
+        const S st[3] = { static_cast<S>(seg.s[0]), static_cast<S>(seg.s[1]),
+          static_cast<S>(seg.s[2]) };
         double C[3] = { 0, 0, 0 }, A = 0;
         std::int64_t k = 0;
-        for (; k <= seg.kLast; ++k)
+        bool done = false;
+        S value[FieldSampler<S>::kBatch], gradient[FieldSampler<S>::kBatch];
+        for (std::int64_t k0 = 0; k0 <= seg.kLast && !done; k0 += FieldSampler<S>::kBatch)
         {
-          const S kk = static_cast<S>(j) + static_cast<S>(k);
-          const S p[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
-          S c[4];
-          typename Classifier<S, TwoD>::Coord coord;
-          cls.classify(Values.sample(p), TwoD ? grad->sample(p) : S(0), c, coord);
-          if (c[3] > S(0))
+          const S kk0 = static_cast<S>(j) + static_cast<S>(k0);
+          Values.sampleBatch(e, st, kk0, value);
+          if constexpr (TwoD)
           {
-            const double col[3] = { c[0], c[1], c[2] };
-            adjoint::blend(C, A, col, static_cast<double>(c[3]));
-            if (A > static_cast<double>(s.termination))
+            grad->sampleBatch(e, st, kk0, gradient);
+          }
+          const int n =
+            static_cast<int>(std::min<std::int64_t>(FieldSampler<S>::kBatch, seg.kLast + 1 - k0));
+          for (int l = 0; l < n; ++l)
+          {
+            k = k0 + l;
+            S c[4];
+            typename Classifier<S, TwoD>::Coord coord;
+            cls.classify(value[l], TwoD ? gradient[l] : S(0), c, coord);
+            if (c[3] > S(0))
             {
-              break;
+              const double col[3] = { c[0], c[1], c[2] };
+              adjoint::blend(C, A, col, static_cast<double>(c[3]));
+              if (A > static_cast<double>(s.termination))
+              {
+                done = true;
+                break;
+              }
             }
           }
         }
@@ -289,7 +342,7 @@ struct DifferentiableRendererT<S>::Internals
         out[1] = static_cast<S>(C[1]);
         out[2] = static_cast<S>(C[2]);
         out[3] = static_cast<S>(A);
-        records[static_cast<size_t>(q)] = { static_cast<std::int32_t>(std::min(k, seg.kLast)), A };
+        records[static_cast<size_t>(q)] = { static_cast<std::int32_t>(k), A };
       });
   }
 
@@ -303,13 +356,17 @@ struct DifferentiableRendererT<S>::Internals
     const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
     if (records.size() != n || dL_dRGBA.size() != 4 * n || dL_dTable.size() != 4 * tableSize)
     {
-      throw Error("backward: sizes of records, dL_dRGBA or dL_dTable do not match the forward pass");
+      throw Error(
+        "backward: sizes of records, dL_dRGBA or dL_dTable do not match the forward pass");
     }
     // Per-thread gradient buffers w.r.t. the prepared table, reduced at the end (no atomics).
     const int threads = resolveThreadCount(opt.threads, static_cast<std::int64_t>((n + 63) / 64));
-    std::vector<std::vector<S>> local(static_cast<size_t>(threads), std::vector<S>(4 * tableSize, S(0)));
+    std::vector<std::vector<S>> local(
+      static_cast<size_t>(threads), std::vector<S>(4 * tableSize, S(0)));
     forPixels(view, s, pixels, threads,
-      [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j, int threadId) {
+      [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j,
+        int threadId)
+      {
         const RayRecord& rec = records[static_cast<size_t>(q)];
         RaySegment seg;
         if (rec.lastSample < 0 ||
@@ -317,30 +374,43 @@ struct DifferentiableRendererT<S>::Internals
         {
           return;
         }
-        const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]), static_cast<S>(seg.e[2]) };
-        const S st[3] = { static_cast<S>(seg.s[0]), static_cast<S>(seg.s[1]), static_cast<S>(seg.s[2]) };
+        const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]),
+          static_cast<S>(seg.e[2]) };
+        const S st[3] = { static_cast<S>(seg.s[0]), static_cast<S>(seg.s[1]),
+          static_cast<S>(seg.s[2]) };
         const S* g = &dL_dRGBA[4 * static_cast<size_t>(q)];
         const double gC[3] = { g[0], g[1], g[2] };
         double gA = g[3];
         double A = rec.alpha;
         S* dTable = local[static_cast<size_t>(threadId)].data();
-        for (std::int64_t k = std::min<std::int64_t>(rec.lastSample, seg.kLast); k >= 0; --k)
+        // Replay from the last sample to the first, a batch of values at a time.
+        constexpr int kB = FieldSampler<S>::kBatch;
+        S value[kB], gradient[kB];
+        const std::int64_t kStop = std::min<std::int64_t>(rec.lastSample, seg.kLast);
+        for (std::int64_t k0 = kStop - kStop % kB; k0 >= 0; k0 -= kB)
         {
-          const S kk = static_cast<S>(j) + static_cast<S>(k);
-          const S p[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
-          S c[4];
-          typename Classifier<S, TwoD>::Coord coord;
-          cls.classify(Values.sample(p), TwoD ? grad->sample(p) : S(0), c, coord);
-          const double a = c[3] > S(0) ? static_cast<double>(c[3]) : 0.0;
-          // Inverse of the blend: the state before this sample.
-          const double before = a > 0 ? adjoint::blendInvertAlpha(A, a) : A;
-          const double col[3] = { c[0], c[1], c[2] };
-          double g_c[3] = { 0, 0, 0 }, g_a = 0;
-          adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
-          A = before;
-          const S dL_drgba[4] = { static_cast<S>(g_c[0]), static_cast<S>(g_c[1]),
-            static_cast<S>(g_c[2]), static_cast<S>(g_a) };
-          cls.classifyAdjoint(coord, dL_drgba, dTable);
+          const S kk0 = static_cast<S>(j) + static_cast<S>(k0);
+          Values.sampleBatch(e, st, kk0, value);
+          if constexpr (TwoD)
+          {
+            grad->sampleBatch(e, st, kk0, gradient);
+          }
+          for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= 0; --l)
+          {
+            S c[4];
+            typename Classifier<S, TwoD>::Coord coord;
+            cls.classify(value[l], TwoD ? gradient[l] : S(0), c, coord);
+            const double a = c[3] > S(0) ? static_cast<double>(c[3]) : 0.0;
+            // Inverse of the blend: the state before this sample.
+            const double before = a > 0 ? adjoint::blendInvertAlpha(A, a) : A;
+            const double col[3] = { c[0], c[1], c[2] };
+            double g_c[3] = { 0, 0, 0 }, g_a = 0;
+            adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
+            A = before;
+            const S dL_drgba[4] = { static_cast<S>(g_c[0]), static_cast<S>(g_c[1]),
+              static_cast<S>(g_c[2]), static_cast<S>(g_a) };
+            cls.classifyAdjoint(coord, dL_drgba, dTable);
+          }
         }
       });
     std::vector<S> dPrepared(4 * tableSize, S(0));
@@ -374,7 +444,8 @@ namespace
 {
 
 template <typename S>
-Classifier<S, false> make1D(const S* table, int width, double min, double max, double q, double exponent)
+Classifier<S, false> make1D(
+  const S* table, int width, double min, double max, double q, double exponent)
 {
   if (width < 2 || !(max > min) || !table)
   {
@@ -415,7 +486,8 @@ void DifferentiableRendererT<S>::forward(const S* table, int width, double min, 
   std::vector<S>& rgba, std::vector<RayRecord>& records) const
 {
   const auto s = In->setup(view, options);
-  In->forward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), view, options, pixels, rgba, records);
+  In->forward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), view, options, pixels,
+    rgba, records);
 }
 
 template <typename S>

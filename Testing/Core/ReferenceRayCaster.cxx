@@ -130,8 +130,10 @@ std::vector<double> referenceGradient(const Volume& volume, const std::vector<do
   std::vector<double> prepared(table.size());
   for (int i = 0; i < width; ++i)
   {
-    for (int c = 0; c < 3; ++c) prepared[4 * i + c] = std::clamp(table[4 * i + c], 0.0, 1.0);
-    prepared[4 * i + 3] = std::min(adjoint::correctOpacity(std::clamp(table[4 * i + 3], 0.0, 1.0), e), adjoint::kMaxOpacity);
+    for (int c = 0; c < 3; ++c)
+      prepared[4 * i + c] = std::clamp(table[4 * i + c], 0.0, 1.0);
+    prepared[4 * i + 3] = std::min(
+      adjoint::correctOpacity(std::clamp(table[4 * i + 3], 0.0, 1.0), e), adjoint::kMaxOpacity);
   }
   std::vector<double> dPrepared(table.size(), 0.0);
   RayGenerator rays(view);
@@ -176,8 +178,8 @@ std::vector<double> referenceGradient(const Volume& volume, const std::vector<do
         }
         const Eigen::Vector3d p = o + t * dir;
         Sample s;
-        adjoint::tableCoordinate(q * volume.sampleWorld(p[0], p[1], p[2]),
-          q * width / (max - min), -min * width / (max - min) - 0.5, width, s.i, s.f);
+        adjoint::tableCoordinate(q * volume.sampleWorld(p[0], p[1], p[2]), q * width / (max - min),
+          -min * width / (max - min) - 0.5, width, s.i, s.f);
         double rgba[4];
         adjoint::tableLookup<double, 4>(prepared.data(), s.i, s.f, rgba);
         s.c[0] = rgba[0];
@@ -207,7 +209,8 @@ std::vector<double> referenceGradient(const Volume& volume, const std::vector<do
   for (int i = 0; i < width; ++i)
   {
     for (int c = 0; c < 3; ++c)
-      if (table[4 * i + c] >= 0 && table[4 * i + c] <= 1) dRaw[4 * i + c] = dPrepared[4 * i + c];
+      if (table[4 * i + c] >= 0 && table[4 * i + c] <= 1)
+        dRaw[4 * i + c] = dPrepared[4 * i + c];
     const double a = table[4 * i + 3];
     if (a >= 0 && a <= 1 && prepared[4 * i + 3] < adjoint::kMaxOpacity)
       dRaw[4 * i + 3] = dPrepared[4 * i + 3] * adjoint::correctOpacityDerivative(a, e);

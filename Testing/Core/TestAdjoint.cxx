@@ -44,7 +44,8 @@ void checkGradient(const std::function<double(const std::vector<double>&)>& f,
   std::vector<std::vector<double>> dirs;
   // unit directions: the 4 entries with the largest gradient and 2 arbitrary ones
   std::vector<size_t> order(x.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  for (size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
   std::partial_sort(order.begin(), order.begin() + std::min<size_t>(4, order.size()), order.end(),
     [&](size_t a, size_t b) { return std::abs(grad[a]) > std::abs(grad[b]); });
   for (size_t q = 0; q < std::min<size_t>(4, x.size()); ++q)
@@ -62,11 +63,13 @@ void checkGradient(const std::function<double(const std::vector<double>&)>& f,
   for (int r = 0; r < randomDirections; ++r)
   {
     std::vector<double> v(x.size());
-    for (double& e : v) e = normal(rng);
+    for (double& e : v)
+      e = normal(rng);
     dirs.push_back(v);
   }
   double scale = 0;
-  for (double g : grad) scale = std::max(scale, std::abs(g));
+  for (double g : grad)
+    scale = std::max(scale, std::abs(g));
   for (const auto& v : dirs)
   {
     std::vector<double> xp = x, xm = x;
@@ -79,7 +82,8 @@ void checkGradient(const std::function<double(const std::vector<double>&)>& f,
     }
     const double numeric = (f(xp) - f(xm)) / (2 * kH);
     double vnorm = 0;
-    for (double e : v) vnorm += std::abs(e);
+    for (double e : v)
+      vnorm += std::abs(e);
     EXPECT_NEAR(analytic, numeric, tol * std::max(1.0, scale * vnorm)) << what;
   }
 }
@@ -126,7 +130,8 @@ std::vector<double> randomWeights(size_t n, unsigned seed)
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<double> w(n);
-  for (double& e : w) e = u(rng);
+  for (double& e : w)
+    e = u(rng);
   return w;
 }
 
@@ -135,7 +140,8 @@ std::vector<double> randomWeights(size_t n, unsigned seed)
 TEST(AdjointPrimitives, Trilinear)
 {
   std::vector<double> x = { 0.3, -1.2, 2.5, 0.7, 1.1, -0.4, 0.9, 2.0, 0.37, 0.61, 0.18 };
-  auto f = [](const std::vector<double>& p) { return adjoint::trilinear(p.data(), p[8], p[9], p[10]); };
+  auto f = [](const std::vector<double>& p)
+  { return adjoint::trilinear(p.data(), p[8], p[9], p[10]); };
   std::vector<double> g(11, 0.0);
   adjoint::trilinearAdjoint(x.data(), x[8], x[9], x[10], 1.0, g.data(), g.data() + 8);
   checkGradient(f, x, g, 4, "trilinear");
@@ -150,7 +156,8 @@ TEST(AdjointPrimitives, TableLookupAndCorrection)
     int i;
     double fr;
     adjoint::tableCoordinate(value, 0.5, 0.25, 6, i, fr);
-    auto f = [&](const std::vector<double>& t) {
+    auto f = [&](const std::vector<double>& t)
+    {
       double out[4];
       adjoint::tableLookup<double, 4>(t.data(), i, fr, out);
       return w[0] * out[0] + w[1] * out[1] + w[2] * out[2] + w[3] * out[3];
@@ -174,7 +181,8 @@ TEST(AdjointPrimitives, BlendAndInversion)
   // x = (c0, c1, c2, a, A, C0, C1, C2); L = w . (C', A')
   const std::vector<double> x = { 0.2, 0.7, 0.4, 0.35, 0.45, 0.1, 0.3, 0.2 };
   const double w[4] = { 0.9, -0.4, 0.6, 1.3 };
-  auto f = [&](const std::vector<double>& p) {
+  auto f = [&](const std::vector<double>& p)
+  {
     double C[3] = { p[5], p[6], p[7] }, A = p[4];
     adjoint::blend(C, A, p.data(), p[3]);
     return w[0] * C[0] + w[1] * C[1] + w[2] * C[2] + w[3] * A;
@@ -203,13 +211,17 @@ TEST(AdjointPrimitives, GaussianRasterization)
     const int w = 12, h = twoD ? 5 : 1;
     const std::array<double, 2> vr{ 0, 100 }, gr{ 0, 40 };
     const std::vector<double> weights = randomWeights(static_cast<size_t>(w) * h * 4, 11);
-    auto pack = [](const std::vector<GaussianPrimitive>& p) {
+    auto pack = [](const std::vector<GaussianPrimitive>& p)
+    {
       std::vector<double> x;
       for (const auto& g : p)
-        x.insert(x.end(), { g.mean[0], g.mean[1], g.stddev[0], g.stddev[1], g.rgb[0], g.rgb[1], g.rgb[2], g.opacity });
+        x.insert(x.end(),
+          { g.mean[0], g.mean[1], g.stddev[0], g.stddev[1], g.rgb[0], g.rgb[1], g.rgb[2],
+            g.opacity });
       return x;
     };
-    auto unpack = [](const std::vector<double>& x) {
+    auto unpack = [](const std::vector<double>& x)
+    {
       std::vector<GaussianPrimitive> p(x.size() / 8);
       for (size_t i = 0; i < p.size(); ++i)
       {
@@ -218,34 +230,39 @@ TEST(AdjointPrimitives, GaussianRasterization)
       }
       return p;
     };
-    auto f = [&](const std::vector<double>& x) {
+    auto f = [&](const std::vector<double>& x)
+    {
       std::vector<float> rgba;
       if (twoD)
         rgba = rasterize2D(unpack(x), vr, gr, w, h).rgba;
       else
         rgba = rasterize1D(unpack(x), vr[0], vr[1], w).rgba;
       double L = 0;
-      for (size_t i = 0; i < rgba.size(); ++i) L += weights[i] * rgba[i];
+      for (size_t i = 0; i < rgba.size(); ++i)
+        L += weights[i] * rgba[i];
       return L;
     };
     std::vector<GaussianPrimitiveGradient> grads;
     rasterizeAdjoint(prims, twoD, vr, gr, w, h, weights, grads);
     std::vector<double> g;
     for (const auto& q : grads)
-      g.insert(g.end(), { q.mean[0], twoD ? q.mean[1] : 0.0, q.stddev[0], twoD ? q.stddev[1] : 0.0,
-                          q.rgb[0], q.rgb[1], q.rgb[2], q.opacity });
+      g.insert(g.end(),
+        { q.mean[0], twoD ? q.mean[1] : 0.0, q.stddev[0], twoD ? q.stddev[1] : 0.0, q.rgb[0],
+          q.rgb[1], q.rgb[2], q.opacity });
     // rasterize*D store float tables: finite differences need a larger step and tolerance
     auto fd = [&](const std::vector<double>& x) { return f(x); };
     std::vector<double> x = pack(prims);
     for (size_t i = 0; i < x.size(); ++i)
     {
-      if (!twoD && (i % 8 == 1 || i % 8 == 3)) continue;
+      if (!twoD && (i % 8 == 1 || i % 8 == 3))
+        continue;
       std::vector<double> xp = x, xm = x;
       const double h2 = 1e-3 * std::max(1.0, std::abs(x[i]));
       xp[i] += h2;
       xm[i] -= h2;
       const double numeric = (fd(xp) - fd(xm)) / (2 * h2);
-      EXPECT_NEAR(g[i], numeric, 2e-3 * std::max(1.0, std::abs(numeric))) << "parameter " << i << " 2D " << twoD;
+      EXPECT_NEAR(g[i], numeric, 2e-3 * std::max(1.0, std::abs(numeric)))
+        << "parameter " << i << " 2D " << twoD;
     }
   }
 }
@@ -260,13 +277,16 @@ TEST(DifferentiableRenderer, BackwardMatchesFiniteDifferences1D)
   const int width = 16;
   const auto range = vol.range();
   const std::vector<double> table = randomTable(width, 0.01, 0.3, 5);
-  const std::vector<double> weights = randomWeights(static_cast<size_t>(view.width) * view.height * 4, 9);
-  auto loss = [&](const std::vector<double>& t) {
+  const std::vector<double> weights =
+    randomWeights(static_cast<size_t>(view.width) * view.height * 4, 9);
+  auto loss = [&](const std::vector<double>& t)
+  {
     std::vector<double> rgba;
     std::vector<RayRecord> rec;
     renderer.forward(t.data(), width, range[0], range[1], view, opt, {}, rgba, rec);
     double L = 0;
-    for (size_t i = 0; i < rgba.size(); ++i) L += weights[i] * rgba[i];
+    for (size_t i = 0; i < rgba.size(); ++i)
+      L += weights[i] * rgba[i];
     return L;
   };
   std::vector<double> rgba, grad(table.size(), 0.0);
@@ -286,13 +306,16 @@ TEST(DifferentiableRenderer, BackwardMatchesFiniteDifferences2D)
   const int w = 8, h = 6;
   const std::array<double, 2> vr{ vol.range()[0], vol.range()[1] }, gr{ 0.0, 40.0 };
   const std::vector<double> table = randomTable(w * h, 0.01, 0.3, 6);
-  const std::vector<double> weights = randomWeights(static_cast<size_t>(view.width) * view.height * 4, 10);
-  auto loss = [&](const std::vector<double>& t) {
+  const std::vector<double> weights =
+    randomWeights(static_cast<size_t>(view.width) * view.height * 4, 10);
+  auto loss = [&](const std::vector<double>& t)
+  {
     std::vector<double> rgba;
     std::vector<RayRecord> rec;
     renderer.forward2D(t.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
     double L = 0;
-    for (size_t i = 0; i < rgba.size(); ++i) L += weights[i] * rgba[i];
+    for (size_t i = 0; i < rgba.size(); ++i)
+      L += weights[i] * rgba[i];
     return L;
   };
   std::vector<double> rgba, grad(table.size(), 0.0);
@@ -312,7 +335,8 @@ TEST(DifferentiableRenderer, InvertedCompositingMatchesStoredReverseMode)
   const int width = 12;
   const auto range = vol.range();
   const std::vector<double> table = randomTable(width, 0.5, 0.999, 8);
-  const std::vector<double> weights = randomWeights(static_cast<size_t>(view.width) * view.height * 4, 12);
+  const std::vector<double> weights =
+    randomWeights(static_cast<size_t>(view.width) * view.height * 4, 12);
   std::vector<double> rgba, grad(table.size(), 0.0);
   std::vector<RayRecord> rec;
   renderer.forward(table.data(), width, range[0], range[1], view, opt, {}, rgba, rec);
@@ -321,7 +345,8 @@ TEST(DifferentiableRenderer, InvertedCompositingMatchesStoredReverseMode)
     renderer.caster().defaultSampleDistance(), renderer.caster().defaultOpacityUnitDistance(),
     opt.sampleOffset, opt.terminationOpacity, weights);
   double scale = 0;
-  for (double g : ref) scale = std::max(scale, std::abs(g));
+  for (double g : ref)
+    scale = std::max(scale, std::abs(g));
   ASSERT_GT(scale, 0.0);
   for (size_t i = 0; i < grad.size(); ++i)
   {

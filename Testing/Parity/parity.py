@@ -16,17 +16,8 @@ import os
 import subprocess
 import sys
 
-from paraview.simple import (
-    ColorBy,
-    CreateView,
-    Delete,
-    GetColorTransferFunction,
-    GetOpacityTransferFunction,
-    Render,
-    SaveScreenshot,
-    Show,
-    XMLImageDataReader,
-)
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from pvrender import paraview_render  # noqa: E402
 
 DEFAULT_CASES = [
     ("tooth", "tooth_dentin_enamel"),
@@ -37,43 +28,6 @@ DEFAULT_CASES = [
     ("headsq", "headsq_bone"),
 ]
 DEFAULT_VIEWS = ["oblique", "side"]
-
-
-def paraview_render(volume_path, preset, view_json, out_png):
-    reader = XMLImageDataReader(FileName=[volume_path])
-    view = CreateView("RenderView")
-    view.OrientationAxesVisibility = 0
-    view.UseColorPaletteForBackground = 0
-    view.Background = view_json.get("background", [0.329, 0.349, 0.427])
-    size = view_json.get("size", [512, 512])
-    view.ViewSize = size
-    display = Show(reader, view)
-    array = reader.PointData.keys()[0]
-    ColorBy(display, ("POINTS", array))
-    display.SetRepresentationType("Volume")
-    display.Shade = 0
-    lut = GetColorTransferFunction(array)
-    pwf = GetOpacityTransferFunction(array)
-    lut.AutomaticRescaleRangeMode = "Never"
-    lut.ColorSpace = preset.get("ColorSpace", "RGB")
-    lut.HSVWrap = int(preset.get("HSVWrap", 0))
-    lut.RGBPoints = preset["RGBPoints"]
-    pwf.Points = preset["Points"]
-    if view_json.get("opacity_unit_distance"):
-        display.ScalarOpacityUnitDistance = view_json["opacity_unit_distance"]
-    Render(view)  # the first render resets the camera: set ours afterwards
-    cam = view_json["camera"]
-    view.CameraPosition = cam["position"]
-    view.CameraFocalPoint = cam["focal_point"]
-    view.CameraViewUp = cam["view_up"]
-    view.CameraViewAngle = cam.get("view_angle", 30.0)
-    view.CameraParallelProjection = int(cam.get("parallel_projection", False))
-    view.CameraParallelScale = cam.get("parallel_scale", 1.0)
-    Render(view)
-    SaveScreenshot(out_png, view, ImageResolution=size, TransparentBackground=0)
-    Delete(display)
-    Delete(view)
-    Delete(reader)
 
 
 def main():

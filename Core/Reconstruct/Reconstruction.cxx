@@ -1,0 +1,443 @@
+// Reconstruction.cxx: Adam on logit-parameterised TF bins, losses, prior, convergence.
+#include "Reconstruct/Reconstruction.h"
+
+#include "Common/Error.h"
+#include "Render/RayCaster.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <random>
+#include <sstream>
+
+namespace ddg
+{
+namespace
+{
+
+double sigmoid(double x)
+{
+  return 1.0 / (1.0 + std::exp(-x));
+}
+double logit(double p)
+{
+  p = std::clamp(p, 1e-6, 1.0 - 1e-6);
+  return std::log(p / (1.0 - p));
+}
+
+// A target prepared for the loss: what each pixel should be, in the render's terms.
+struct PreparedTarget
+{
+  const ReconstructionTarget* source = nullptr;
+  bool alpha = false;              // compare premultiplied RGBA, else RGB over the background
+  std::vector<float> value;        // 4 (alpha) or 3 values per pixel
+  std::vector<float> weight;       // per pixel (mask), empty = 1
+  std::vector<int> candidates;     // pixels with weight > 0
+  std::array<double, 3> background{ 0, 0, 0 };
+};
+
+PreparedTarget prepare(const ReconstructionTarget& t, size_t index)
+{
+  std::ostringstream where;
+  where << "target " << index;
+  const View& v = t.view;
+  v.validate();
+  if (t.image.empty())
+  {
+    throw Error(where.str() + ": the image is empty");
+  }
+  if (t.image.width != v.width || t.image.height != v.height)
+  {
+    std::ostringstream msg;
+    msg << where.str() << ": the image is " << t.image.width << " x " << t.image.height
+        << " but its view is " << v.width << " x " << v.height
+        << " (resample it, or set the view's size to the image's)";
+    throw Error(msg.str());
+  }
+  if (t.image.channels != 3 && t.image.channels != 4)
+  {
+    throw Error(where.str() + ": the image has " + std::to_string(t.image.channels) +
+      " channels; RGB or RGBA is needed");
+  }
+  PreparedTarget p;
+  p.source = &t;
+  p.alpha = t.image.channels == 4;
+  p.background = v.background;
+  const size_t n = static_cast<size_t>(v.width) * v.height;
+  if (!t.mask.empty())
+  {
+    if (t.mask.width != v.width || t.mask.height != v.height)
+    {
+      throw Error(where.str() + ": the mask's size differs from the image's");
+    }
+    p.weight.resize(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+      p.weight[i] = std::clamp(t.mask.pixels[i * t.mask.channels], 0.0f, 1.0f);
+    }
+  }
+  bool anything = false;
+  p.value.resize(n * (p.alpha ? 4 : 3));
+  for (size_t i = 0; i < n; ++i)
+  {
+    const float* px = &t.image.pixels[i * t.image.channels];
+    for (int c = 0; c < t.image.channels; ++c)
+    {
+      if (!std::isfinite(px[c]))
+      {
+        throw Error(where.str() + ": the image holds NaN or infinite values");
+      }
+    }
+    if (p.alpha)
+    {
+      const float a = std::clamp(px[3], 0.0f, 1.0f);
+      for (int c = 0; c < 3; ++c) p.value[4 * i + c] = std::clamp(px[c], 0.0f, 1.0f) * a;
+      p.value[4 * i + 3] = a;
+      anything = anything || a > 1.0f / 255.0f;
+    }
+    else
+    {
+      for (int c = 0; c < 3; ++c)
+      {
+        p.value[3 * i + c] = std::clamp(px[c], 0.0f, 1.0f);
+        anything = anything || std::abs(px[c] - p.background[c]) > 1.5 / 255.0;
+      }
+    }
+    if (p.weight.empty() || p.weight[i] > 0)
+    {
+      p.candidates.push_back(static_cast<int>(i));
+    }
+  }
+  if (!anything)
+  {
+    throw Error(where.str() + (p.alpha ? ": the image is fully transparent"
+                                      : ": the image shows nothing but the background colour") +
+      " — there is nothing to reconstruct from (is the background colour in the view right?)");
+  }
+  if (p.candidates.empty())
+  {
+    throw Error(where.str() + ": the mask excludes every pixel");
+  }
+  return p;
+}
+
+// Loss of one pixel and its gradient w.r.t. the rendered premultiplied RGBA (accumulated).
+double pixelLoss(const PreparedTarget& t, int pixel, const float* rgba, ReconstructionLoss kind,
+  double scale, float* dL_drgba)
+{
+  const double w = t.weight.empty() ? 1.0 : t.weight[static_cast<size_t>(pixel)];
+  auto term = [&](double r, double& d) {
+    if (kind == ReconstructionLoss::L2)
+    {
+      d = 2 * r;
+      return r * r;
+    }
+    constexpr double delta = 1e-3; // Huber: smooth |r|
+    if (std::abs(r) < delta)
+    {
+      d = r / delta;
+      return 0.5 * r * r / delta;
+    }
+    d = r > 0 ? 1.0 : -1.0;
+    return std::abs(r) - 0.5 * delta;
+  };
+  double L = 0;
+  if (t.alpha)
+  {
+    const float* target = &t.value[4 * static_cast<size_t>(pixel)];
+    for (int c = 0; c < 4; ++c)
+    {
+      double d;
+      L += term(rgba[c] - target[c], d);
+      dL_drgba[c] += static_cast<float>(w * scale * d);
+    }
+  }
+  else
+  {
+    // out = C + (1 - A) background
+    const float* target = &t.value[3 * static_cast<size_t>(pixel)];
+    for (int c = 0; c < 3; ++c)
+    {
+      const double out = rgba[c] + (1.0 - rgba[3]) * t.background[c];
+      double d;
+      L += term(out - target[c], d);
+      dL_drgba[c] += static_cast<float>(w * scale * d);
+      dL_drgba[3] -= static_cast<float>(w * scale * d * t.background[c]);
+    }
+  }
+  return w * scale * L;
+}
+
+// 1D: the render table (ParaView's width) as a linear function of the bins.
+struct BinsToTable
+{
+  int bins = 0, width = 0;
+  std::vector<int> index;
+  std::vector<double> frac;
+
+  void setup(int b, int w)
+  {
+    bins = b;
+    width = w;
+    index.resize(static_cast<size_t>(w));
+    frac.resize(static_cast<size_t>(w));
+    for (int i = 0; i < w; ++i)
+    {
+      const double pos = static_cast<double>(i) * (b - 1) / (w - 1);
+      index[i] = std::min(static_cast<int>(pos), b - 2);
+      frac[i] = pos - index[i];
+    }
+  }
+  void forward(const std::vector<double>& v, std::vector<float>& table) const
+  {
+    table.resize(static_cast<size_t>(width) * 4);
+    for (int i = 0; i < width; ++i)
+      for (int c = 0; c < 4; ++c)
+        table[4 * i + c] = static_cast<float>(
+          v[4 * index[i] + c] * (1 - frac[i]) + v[4 * (index[i] + 1) + c] * frac[i]);
+  }
+  void backward(const std::vector<float>& dTable, std::vector<double>& dv) const
+  {
+    for (int i = 0; i < width; ++i)
+      for (int c = 0; c < 4; ++c)
+      {
+        dv[4 * index[i] + c] += dTable[4 * i + c] * (1 - frac[i]);
+        dv[4 * (index[i] + 1) + c] += dTable[4 * i + c] * frac[i];
+      }
+  }
+};
+
+} // namespace
+
+ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& renderer,
+  const std::vector<ReconstructionTarget>& targets, const ReconstructionOptions& opt,
+  const ReconstructionProgress& progress)
+{
+  const auto start = std::chrono::steady_clock::now();
+  if (targets.empty())
+  {
+    throw Error("no target image");
+  }
+  if (opt.bins < 2 || opt.bins > 4096 || (opt.twoD && (opt.gradientBins < 2 || opt.gradientBins > 1024)))
+  {
+    throw Error("TF resolution must be 2..4096 bins (gradient bins 2..1024)");
+  }
+  if (!(opt.learningRate > 0) || opt.iterations < 1 || !(opt.smoothness >= 0) || opt.raysPerIteration < 0)
+  {
+    throw Error("learning rate and iterations must be positive, smoothness and rays non-negative");
+  }
+  std::vector<PreparedTarget> prepared;
+  for (size_t i = 0; i < targets.size(); ++i)
+  {
+    prepared.push_back(prepare(targets[i], i));
+  }
+
+  const Volume& vol = renderer.caster().volume();
+  const auto range = vol.range();
+  ReconstructionResult result;
+  result.twoD = opt.twoD;
+  const int B = opt.bins;
+  const int G = opt.twoD ? opt.gradientBins : 1;
+  const size_t nBins = static_cast<size_t>(B) * G;
+  std::array<double, 2> gradientRange{ 0, 1 };
+  if (opt.twoD)
+  {
+    const auto g = vol.gradientMagnitude();
+    gradientRange[1] = std::max(1e-6, static_cast<double>(*std::max_element(g.begin(), g.end())));
+  }
+
+  // Parameters: logits of rgb and opacity per bin.
+  std::vector<double> theta(4 * nBins);
+  for (size_t b = 0; b < nBins; ++b)
+  {
+    double init[4] = { 0.5, 0.5, 0.5, 0.02 };
+    if (opt.initial1D && !opt.twoD)
+    {
+      const double x = range[0] + (b % B) * (range[1] - range[0]) / (B - 1);
+      const auto v = opt.initial1D->lookup(x);
+      for (int c = 0; c < 4; ++c) init[c] = v[c];
+    }
+    for (int c = 0; c < 4; ++c) theta[4 * b + c] = logit(init[c]);
+  }
+  BinsToTable map;
+  TransferFunction1D spacingProbe;
+  if (!opt.twoD)
+  {
+    // ParaView's table width for nodes every (max - min) / (B - 1)
+    spacingProbe.color = { { range[0], 0, 0, 0 }, { range[0] + (range[1] - range[0]) / (B - 1), 0, 0, 0 } };
+    spacingProbe.opacity = { { range[0], 0 } };
+    map.setup(B, paraviewTableWidth(spacingProbe, range[0], range[1]));
+  }
+
+  // The current TF (sigmoid of the parameters) into result's tables.
+  auto fillTables = [&](ReconstructionResult& r) {
+    std::vector<float> current(theta.size());
+    for (size_t i = 0; i < theta.size(); ++i) current[i] = static_cast<float>(sigmoid(theta[i]));
+    if (opt.twoD)
+    {
+      r.table2D.valueRange = { range[0], range[1] };
+      r.table2D.gradientRange = gradientRange;
+      r.table2D.width = B;
+      r.table2D.height = G;
+      r.table2D.rgba = std::move(current);
+    }
+    else
+    {
+      r.table1D.min = range[0];
+      r.table1D.max = range[1];
+      r.table1D.width = B;
+      r.table1D.rgba = std::move(current);
+    }
+  };
+
+  std::vector<double> m(theta.size(), 0.0), v2(theta.size(), 0.0);
+  const double beta1 = 0.9, beta2 = 0.999, eps = 1e-8;
+  std::mt19937 rng(opt.seed);
+  RenderOptions ropt = opt.render;
+  ropt.jitter = false;
+
+  std::vector<double> values(theta.size());
+  std::vector<float> table, dTable;
+  std::vector<double> dValues(theta.size());
+  std::vector<int> pixels;
+  std::vector<float> rgba, dRGBA;
+  std::vector<RayRecord> records;
+  double ema = 0, bestEma = std::numeric_limits<double>::infinity();
+  int sinceImprovement = 0;
+
+  for (int step = 0; step < opt.iterations; ++step)
+  {
+    for (size_t i = 0; i < theta.size(); ++i) values[i] = sigmoid(theta[i]);
+    if (opt.twoD)
+    {
+      table.assign(values.begin(), values.end());
+    }
+    else
+    {
+      map.forward(values, table);
+    }
+    const size_t tableEntries = table.size() / 4;
+    dTable.assign(table.size(), 0.0f);
+    double loss = 0;
+    for (auto& t : prepared)
+    {
+      // random subset of the candidate pixels
+      const size_t want = opt.raysPerIteration > 0
+        ? std::min(t.candidates.size(), static_cast<size_t>(opt.raysPerIteration))
+        : t.candidates.size();
+      if (want < t.candidates.size())
+      {
+        for (size_t i = 0; i < want; ++i)
+        {
+          std::uniform_int_distribution<size_t> pick(i, t.candidates.size() - 1);
+          std::swap(t.candidates[i], t.candidates[pick(rng)]);
+        }
+      }
+      pixels.assign(t.candidates.begin(), t.candidates.begin() + static_cast<std::ptrdiff_t>(want));
+      const View& view = t.source->view;
+      if (opt.twoD)
+        renderer.forward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, pixels, rgba, records);
+      else
+        renderer.forward(table.data(), map.width, range[0], range[1], view, ropt, pixels, rgba, records);
+      dRGBA.assign(rgba.size(), 0.0f);
+      const double scale = 1.0 / (static_cast<double>(want) * (t.alpha ? 4 : 3) * prepared.size());
+      for (size_t q = 0; q < pixels.size(); ++q)
+      {
+        loss += pixelLoss(t, pixels[q], &rgba[4 * q], opt.loss, scale, &dRGBA[4 * q]);
+      }
+      if (opt.twoD)
+        renderer.backward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, pixels, records, dRGBA, dTable);
+      else
+        renderer.backward(table.data(), map.width, range[0], range[1], view, ropt, pixels, records, dRGBA, dTable);
+    }
+    (void)tableEntries;
+    std::fill(dValues.begin(), dValues.end(), 0.0);
+    if (opt.twoD)
+    {
+      for (size_t i = 0; i < dValues.size(); ++i) dValues[i] = dTable[i];
+    }
+    else
+    {
+      map.backward(dTable, dValues);
+    }
+    // Smoothness prior: lambda * mean over neighbour pairs of squared differences (all channels).
+    if (opt.smoothness > 0)
+    {
+      std::vector<std::pair<size_t, size_t>> pairs;
+      for (int g = 0; g < G; ++g)
+        for (int b = 0; b < B; ++b)
+        {
+          const size_t i = static_cast<size_t>(g) * B + b;
+          if (b + 1 < B) pairs.push_back({ i, i + 1 });
+          if (g + 1 < G) pairs.push_back({ i, i + B });
+        }
+      const double k = opt.smoothness / static_cast<double>(pairs.size());
+      for (const auto& [a, b] : pairs)
+        for (int c = 0; c < 4; ++c)
+        {
+          const double d = values[4 * b + c] - values[4 * a + c];
+          loss += k * d * d;
+          dValues[4 * b + c] += 2 * k * d;
+          dValues[4 * a + c] -= 2 * k * d;
+        }
+    }
+    if (!std::isfinite(loss))
+    {
+      throw Error("the loss became NaN or infinite at step " + std::to_string(step) +
+        " (try a smaller learning rate)");
+    }
+    // Adam in logit space.
+    const double c1 = 1.0 - std::pow(beta1, step + 1), c2 = 1.0 - std::pow(beta2, step + 1);
+    for (size_t i = 0; i < theta.size(); ++i)
+    {
+      const double g = dValues[i] * values[i] * (1.0 - values[i]);
+      m[i] = beta1 * m[i] + (1 - beta1) * g;
+      v2[i] = beta2 * v2[i] + (1 - beta2) * g * g;
+      theta[i] -= opt.learningRate * (m[i] / c1) / (std::sqrt(v2[i] / c2) + eps);
+    }
+    result.loss.push_back(loss);
+    result.iterations = step + 1;
+    if (progress)
+    {
+      const bool snapshot = opt.snapshotEvery > 0 && (step + 1) % opt.snapshotEvery == 0;
+      if (snapshot)
+      {
+        fillTables(result);
+      }
+      if (!progress(step, loss, snapshot ? &result : nullptr))
+      {
+        throw Cancelled();
+      }
+    }
+    // Convergence on the smoothed minibatch loss.
+    ema = step == 0 ? loss : 0.9 * ema + 0.1 * loss;
+    if (ema < bestEma * (1.0 - opt.tolerance))
+    {
+      bestEma = ema;
+      sinceImprovement = 0;
+    }
+    else if (++sinceImprovement >= opt.patience)
+    {
+      result.converged = true;
+      break;
+    }
+  }
+
+  fillTables(result);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+Image renderResult(const RayCaster& caster, const ReconstructionResult& result, const View& view,
+  const RenderOptions& options)
+{
+  if (result.twoD)
+  {
+    return caster.render(result.table2D, view, options);
+  }
+  // Exactly what ParaView will do with the preset: nodes at the bins, its own table.
+  return caster.render(caster.paraviewTable(tableToTransferFunction(result.table1D, 0.0)), view, options);
+}
+
+} // namespace ddg

@@ -1,0 +1,82 @@
+// Reconstruction.h: finds a transfer function whose rendering matches target images (Adam on
+// the differentiable ray caster, with a smoothness prior).
+#pragma once
+
+#include "Image/Image.h"
+#include "Render/DifferentiableRenderer.h"
+#include "Render/View.h"
+#include "TransferFunction/TransferFunction1D.h"
+#include "TransferFunction/TransferFunction2D.h"
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace ddg
+{
+
+/// One target image and the view it was taken from.
+/// image: RGB (an opaque screenshot over view.background) or RGBA (straight alpha, as PNG
+/// stores it: compared premultiplied with the render's RGBA), values in [0, 1], exactly the
+/// view's size. mask (optional): 1 channel, same size, per-pixel weight in [0, 1].
+struct ReconstructionTarget
+{
+  Image image;
+  View view;
+  Image mask;
+};
+
+enum class ReconstructionLoss
+{
+  L1, ///< mean |render - target| (smoothed: Huber with delta 1e-3)
+  L2  ///< mean (render - target)^2
+};
+
+/// Options (defaults in brackets).
+struct ReconstructionOptions
+{
+  bool twoD = false;          ///< 2D TF (value x gradient magnitude) instead of 1D [false]
+  int bins = 128;             ///< TF resolution along the value [128]
+  int gradientBins = 32;      ///< 2D: resolution along gradient magnitude [32]
+  ReconstructionLoss loss = ReconstructionLoss::L1;
+  double smoothness = 0.01;   ///< weight of the prior: mean squared difference of neighbour bins [0.01]
+  int iterations = 500;       ///< maximum Adam steps [500]
+  double learningRate = 0.1;  ///< Adam step in the unconstrained (logit) space [0.1]
+  int raysPerIteration = 4096; ///< random pixels per target and step; 0 = every pixel [4096]
+  double tolerance = 0.01;    ///< converged when the smoothed loss improved by less than this
+  int patience = 50;          ///<   (relative) over this many steps [0.01, 50]
+  int snapshotEvery = 0;      ///< pass the current TF to the progress callback every N steps [0: never]
+  std::optional<TransferTable1D> initial1D; ///< start from this TF (1D) [grey, opacity 0.02]
+  unsigned seed = 1;          ///< pixel sampling [1]
+  RenderOptions render;       ///< sample distance, offset, threads (jitter is ignored)
+};
+
+struct ReconstructionResult
+{
+  bool twoD = false;
+  TransferTable1D table1D;   ///< bins entries over the volume's data range (uncorrected opacity)
+  TransferTable2D table2D;   ///< 2D result: value range x [0, max gradient magnitude]
+  int iterations = 0;
+  bool converged = false;
+  std::vector<double> loss;  ///< per step (minibatch loss including the prior)
+  double seconds = 0;
+};
+
+/// Called after every step with (step, loss, snapshot); snapshot is the current TF every
+/// snapshotEvery steps and null otherwise. Return false to cancel (throws ddg::Cancelled).
+using ReconstructionProgress =
+  std::function<bool(int step, double loss, const struct ReconstructionResult* snapshot)>;
+
+/// Reconstructs a TF for `renderer`'s volume from one or more targets (multi-view: the loss is
+/// the mean over targets). Throws ddg::Error for unusable targets (size mismatch, wrong channel
+/// count, non-finite pixels, a mask of the wrong size, nothing but background) and when the
+/// loss becomes non-finite.
+ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& renderer,
+  const std::vector<ReconstructionTarget>& targets, const ReconstructionOptions& options,
+  const ReconstructionProgress& progress = {});
+
+/// Renders `result` with the RayCaster at `view` (RGBA premultiplied).
+Image renderResult(const RayCaster& caster, const ReconstructionResult& result, const View& view,
+  const RenderOptions& options = {});
+
+} // namespace ddg
