@@ -30,10 +30,10 @@ double logit(double p)
 struct PreparedTarget
 {
   const ReconstructionTarget* source = nullptr;
-  bool alpha = false;              // compare premultiplied RGBA, else RGB over the background
-  std::vector<float> value;        // 4 (alpha) or 3 values per pixel
-  std::vector<float> weight;       // per pixel (mask), empty = 1
-  std::vector<int> candidates;     // pixels with weight > 0
+  bool alpha = false;          // compare premultiplied RGBA, else RGB over the background
+  std::vector<float> value;    // 4 (alpha) or 3 values per pixel
+  std::vector<float> weight;   // per pixel (mask), empty = 1
+  std::vector<int> candidates; // pixels with weight > 0
   std::array<double, 3> background{ 0, 0, 0 };
 };
 
@@ -92,7 +92,8 @@ PreparedTarget prepare(const ReconstructionTarget& t, size_t index)
     if (p.alpha)
     {
       const float a = std::clamp(px[3], 0.0f, 1.0f);
-      for (int c = 0; c < 3; ++c) p.value[4 * i + c] = std::clamp(px[c], 0.0f, 1.0f) * a;
+      for (int c = 0; c < 3; ++c)
+        p.value[4 * i + c] = std::clamp(px[c], 0.0f, 1.0f) * a;
       p.value[4 * i + 3] = a;
       anything = anything || a > 1.0f / 255.0f;
     }
@@ -111,8 +112,9 @@ PreparedTarget prepare(const ReconstructionTarget& t, size_t index)
   }
   if (!anything)
   {
-    throw Error(where.str() + (p.alpha ? ": the image is fully transparent"
-                                      : ": the image shows nothing but the background colour") +
+    throw Error(where.str() +
+      (p.alpha ? ": the image is fully transparent"
+               : ": the image shows nothing but the background colour") +
       " — there is nothing to reconstruct from (is the background colour in the view right?)");
   }
   if (p.candidates.empty())
@@ -127,7 +129,8 @@ double pixelLoss(const PreparedTarget& t, int pixel, const float* rgba, Reconstr
   double scale, float* dL_drgba)
 {
   const double w = t.weight.empty() ? 1.0 : t.weight[static_cast<size_t>(pixel)];
-  auto term = [&](double r, double& d) {
+  auto term = [&](double r, double& d)
+  {
     if (kind == ReconstructionLoss::L2)
     {
       d = 2 * r;
@@ -219,11 +222,13 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   {
     throw Error("no target image");
   }
-  if (opt.bins < 2 || opt.bins > 4096 || (opt.twoD && (opt.gradientBins < 2 || opt.gradientBins > 1024)))
+  if (opt.bins < 2 || opt.bins > 4096 ||
+    (opt.twoD && (opt.gradientBins < 2 || opt.gradientBins > 1024)))
   {
     throw Error("TF resolution must be 2..4096 bins (gradient bins 2..1024)");
   }
-  if (!(opt.learningRate > 0) || opt.iterations < 1 || !(opt.smoothness >= 0) || opt.raysPerIteration < 0)
+  if (!(opt.learningRate > 0) || opt.iterations < 1 || !(opt.smoothness >= 0) ||
+    opt.raysPerIteration < 0)
   {
     throw Error("learning rate and iterations must be positive, smoothness and rays non-negative");
   }
@@ -256,24 +261,29 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
     {
       const double x = range[0] + (b % B) * (range[1] - range[0]) / (B - 1);
       const auto v = opt.initial1D->lookup(x);
-      for (int c = 0; c < 4; ++c) init[c] = v[c];
+      for (int c = 0; c < 4; ++c)
+        init[c] = v[c];
     }
-    for (int c = 0; c < 4; ++c) theta[4 * b + c] = logit(init[c]);
+    for (int c = 0; c < 4; ++c)
+      theta[4 * b + c] = logit(init[c]);
   }
   BinsToTable map;
   TransferFunction1D spacingProbe;
   if (!opt.twoD)
   {
     // ParaView's table width for nodes every (max - min) / (B - 1)
-    spacingProbe.color = { { range[0], 0, 0, 0 }, { range[0] + (range[1] - range[0]) / (B - 1), 0, 0, 0 } };
+    spacingProbe.color = { { range[0], 0, 0, 0 },
+      { range[0] + (range[1] - range[0]) / (B - 1), 0, 0, 0 } };
     spacingProbe.opacity = { { range[0], 0 } };
     map.setup(B, paraviewTableWidth(spacingProbe, range[0], range[1]));
   }
 
   // The current TF (sigmoid of the parameters) into result's tables.
-  auto fillTables = [&](ReconstructionResult& r) {
+  auto fillTables = [&](ReconstructionResult& r)
+  {
     std::vector<float> current(theta.size());
-    for (size_t i = 0; i < theta.size(); ++i) current[i] = static_cast<float>(sigmoid(theta[i]));
+    for (size_t i = 0; i < theta.size(); ++i)
+      current[i] = static_cast<float>(sigmoid(theta[i]));
     if (opt.twoD)
     {
       r.table2D.valueRange = { range[0], range[1] };
@@ -308,7 +318,8 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
 
   for (int step = 0; step < opt.iterations; ++step)
   {
-    for (size_t i = 0; i < theta.size(); ++i) values[i] = sigmoid(theta[i]);
+    for (size_t i = 0; i < theta.size(); ++i)
+      values[i] = sigmoid(theta[i]);
     if (opt.twoD)
     {
       table.assign(values.begin(), values.end());
@@ -337,9 +348,11 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
       pixels.assign(t.candidates.begin(), t.candidates.begin() + static_cast<std::ptrdiff_t>(want));
       const View& view = t.source->view;
       if (opt.twoD)
-        renderer.forward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, pixels, rgba, records);
+        renderer.forward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt,
+          pixels, rgba, records);
       else
-        renderer.forward(table.data(), map.width, range[0], range[1], view, ropt, pixels, rgba, records);
+        renderer.forward(
+          table.data(), map.width, range[0], range[1], view, ropt, pixels, rgba, records);
       dRGBA.assign(rgba.size(), 0.0f);
       const double scale = 1.0 / (static_cast<double>(want) * (t.alpha ? 4 : 3) * prepared.size());
       for (size_t q = 0; q < pixels.size(); ++q)
@@ -347,15 +360,18 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
         loss += pixelLoss(t, pixels[q], &rgba[4 * q], opt.loss, scale, &dRGBA[4 * q]);
       }
       if (opt.twoD)
-        renderer.backward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, pixels, records, dRGBA, dTable);
+        renderer.backward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt,
+          pixels, records, dRGBA, dTable);
       else
-        renderer.backward(table.data(), map.width, range[0], range[1], view, ropt, pixels, records, dRGBA, dTable);
+        renderer.backward(
+          table.data(), map.width, range[0], range[1], view, ropt, pixels, records, dRGBA, dTable);
     }
     (void)tableEntries;
     std::fill(dValues.begin(), dValues.end(), 0.0);
     if (opt.twoD)
     {
-      for (size_t i = 0; i < dValues.size(); ++i) dValues[i] = dTable[i];
+      for (size_t i = 0; i < dValues.size(); ++i)
+        dValues[i] = dTable[i];
     }
     else
     {
@@ -369,8 +385,10 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
         for (int b = 0; b < B; ++b)
         {
           const size_t i = static_cast<size_t>(g) * B + b;
-          if (b + 1 < B) pairs.push_back({ i, i + 1 });
-          if (g + 1 < G) pairs.push_back({ i, i + B });
+          if (b + 1 < B)
+            pairs.push_back({ i, i + 1 });
+          if (g + 1 < G)
+            pairs.push_back({ i, i + B });
         }
       const double k = opt.smoothness / static_cast<double>(pairs.size());
       for (const auto& [a, b] : pairs)
@@ -437,7 +455,8 @@ Image renderResult(const RayCaster& caster, const ReconstructionResult& result, 
     return caster.render(result.table2D, view, options);
   }
   // Exactly what ParaView will do with the preset: nodes at the bins, its own table.
-  return caster.render(caster.paraviewTable(tableToTransferFunction(result.table1D, 0.0)), view, options);
+  return caster.render(
+    caster.paraviewTable(tableToTransferFunction(result.table1D, 0.0)), view, options);
 }
 
 } // namespace ddg

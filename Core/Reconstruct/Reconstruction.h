@@ -35,30 +35,31 @@ enum class ReconstructionLoss
 /// Options (defaults in brackets).
 struct ReconstructionOptions
 {
-  bool twoD = false;          ///< 2D TF (value x gradient magnitude) instead of 1D [false]
-  int bins = 128;             ///< TF resolution along the value [128]
-  int gradientBins = 32;      ///< 2D: resolution along gradient magnitude [32]
+  bool twoD = false;     ///< 2D TF (value x gradient magnitude) instead of 1D [false]
+  int bins = 128;        ///< TF resolution along the value [128]
+  int gradientBins = 32; ///< 2D: resolution along gradient magnitude [32]
   ReconstructionLoss loss = ReconstructionLoss::L1;
-  double smoothness = 0.01;   ///< weight of the prior: mean squared difference of neighbour bins [0.01]
-  int iterations = 500;       ///< maximum Adam steps [500]
-  double learningRate = 0.1;  ///< Adam step in the unconstrained (logit) space [0.1]
+  double smoothness =
+    0.01;               ///< weight of the prior: mean squared difference of neighbour bins [0.01]
+  int iterations = 500; ///< maximum Adam steps [500]
+  double learningRate = 0.1;   ///< Adam step in the unconstrained (logit) space [0.1]
   int raysPerIteration = 4096; ///< random pixels per target and step; 0 = every pixel [4096]
-  double tolerance = 0.01;    ///< converged when the smoothed loss improved by less than this
-  int patience = 50;          ///<   (relative) over this many steps [0.01, 50]
-  int snapshotEvery = 0;      ///< pass the current TF to the progress callback every N steps [0: never]
+  double tolerance = 0.01;     ///< converged when the smoothed loss improved by less than this
+  int patience = 50;           ///<   (relative) over this many steps [0.01, 50]
+  int snapshotEvery = 0; ///< pass the current TF to the progress callback every N steps [0: never]
   std::optional<TransferTable1D> initial1D; ///< start from this TF (1D) [grey, opacity 0.02]
-  unsigned seed = 1;          ///< pixel sampling [1]
-  RenderOptions render;       ///< sample distance, offset, threads (jitter is ignored)
+  unsigned seed = 1;                        ///< pixel sampling [1]
+  RenderOptions render; ///< sample distance, offset, threads (jitter is ignored)
 };
 
 struct ReconstructionResult
 {
   bool twoD = false;
-  TransferTable1D table1D;   ///< bins entries over the volume's data range (uncorrected opacity)
-  TransferTable2D table2D;   ///< 2D result: value range x [0, max gradient magnitude]
+  TransferTable1D table1D; ///< bins entries over the volume's data range (uncorrected opacity)
+  TransferTable2D table2D; ///< 2D result: value range x [0, max gradient magnitude]
   int iterations = 0;
   bool converged = false;
-  std::vector<double> loss;  ///< per step (minibatch loss including the prior)
+  std::vector<double> loss; ///< per step (minibatch loss including the prior)
   double seconds = 0;
 };
 

@@ -1,8 +1,16 @@
 """ParaView renders of a volume with a preset and a view JSON, shared by the parity and
 round-trip tests (run with pvpython under a display)."""
-from paraview.simple import (ColorBy, CreateView, Delete, GetColorTransferFunction,
-                             GetOpacityTransferFunction, Render, SaveScreenshot, Show,
-                             XMLImageDataReader)
+from paraview.simple import (
+    ColorBy,
+    CreateView,
+    Delete,
+    GetColorTransferFunction,
+    GetOpacityTransferFunction,
+    Render,
+    SaveScreenshot,
+    Show,
+    XMLImageDataReader,
+)
 
 
 def paraview_render(volume_path, preset, view_json, out_png):

@@ -29,12 +29,16 @@ DEFAULT_CASES = [
 
 
 def compare(ddg, a, b):
-    out = subprocess.run([ddg, "compare", "--json", a, b], check=True, capture_output=True, text=True)
+    out = subprocess.run(
+        [ddg, "compare", "--json", a, b], check=True, capture_output=True, text=True
+    )
     return json.loads(out.stdout)
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--ddg", required=True)
     parser.add_argument("--data", required=True)
     parser.add_argument("--out", required=True)
@@ -43,7 +47,9 @@ def main():
     parser.add_argument("--case", action="append", help="volume:preset (repeatable)")
     parser.add_argument("--reference-view", default="oblique")
     parser.add_argument("--other-view", default="side")
-    parser.add_argument("--ddg-arg", action="append", default=[], help="extra argument for ddg reconstruct")
+    parser.add_argument(
+        "--ddg-arg", action="append", default=[], help="extra argument for ddg reconstruct"
+    )
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     cases = [tuple(c.split(":")) for c in args.case] if args.case else DEFAULT_CASES
@@ -63,33 +69,66 @@ def main():
         recovered = stem + "_reconstructed.json"
         ref_path = views[args.reference_view][0]
         start = time.time()
-        run = subprocess.run([args.ddg, "reconstruct", "--volume", volume_path,
-                              "--target", f"{stem}_{args.reference_view}_original.png",
-                              "--view", ref_path, "--out", recovered, "--quiet"] + args.ddg_arg,
-                             check=True, capture_output=True, text=True)
+        run = subprocess.run(
+            [
+                args.ddg,
+                "reconstruct",
+                "--volume",
+                volume_path,
+                "--target",
+                f"{stem}_{args.reference_view}_original.png",
+                "--view",
+                ref_path,
+                "--out",
+                recovered,
+                "--quiet",
+            ]
+            + args.ddg_arg,
+            check=True,
+            capture_output=True,
+            text=True,
+        )
         seconds = time.time() - start
         with open(recovered) as f:
             new_preset = json.load(f)[0]
         result = {}
         for which, (path, view_json) in views.items():
             paraview_render(volume_path, new_preset, view_json, f"{stem}_{which}_reconstructed.png")
-            result[which] = compare(args.ddg, f"{stem}_{which}_original.png", f"{stem}_{which}_reconstructed.png")
+            result[which] = compare(
+                args.ddg, f"{stem}_{which}_original.png", f"{stem}_{which}_reconstructed.png"
+            )
         ok_ref = result[args.reference_view]["psnr"] >= args.min_psnr_reference
         ok_other = result[args.other_view]["psnr"] >= args.min_psnr_other
         failed += 0 if (ok_ref and ok_other) else 1
         nodes = len(new_preset["RGBPoints"]) // 4, len(new_preset["Points"]) // 4
-        rows.append((volume, preset_name, result[args.reference_view], result[args.other_view], seconds, nodes))
-        print(f"{volume:7s} {preset_name:20s} reference view PSNR {result[args.reference_view]['psnr']:6.2f} dB "
-              f"SSIM {result[args.reference_view]['ssim']:.4f} | unseen view PSNR "
-              f"{result[args.other_view]['psnr']:6.2f} dB SSIM {result[args.other_view]['ssim']:.4f} | "
-              f"{seconds:.1f} s, {nodes[0]} colour + {nodes[1]} opacity nodes  "
-              f"{'ok' if ok_ref and ok_other else 'FAIL'}", flush=True)
+        rows.append(
+            (
+                volume,
+                preset_name,
+                result[args.reference_view],
+                result[args.other_view],
+                seconds,
+                nodes,
+            )
+        )
+        print(
+            f"{volume:7s} {preset_name:20s} reference view PSNR {result[args.reference_view]['psnr']:6.2f} dB "
+            f"SSIM {result[args.reference_view]['ssim']:.4f} | unseen view PSNR "
+            f"{result[args.other_view]['psnr']:6.2f} dB SSIM {result[args.other_view]['ssim']:.4f} | "
+            f"{seconds:.1f} s, {nodes[0]} colour + {nodes[1]} opacity nodes  "
+            f"{'ok' if ok_ref and ok_other else 'FAIL'}",
+            flush=True,
+        )
         print("   ", run.stdout.strip().splitlines()[0])
     with open(os.path.join(args.out, "roundtrip.md"), "w") as f:
-        f.write("| volume | preset | PSNR reference view (dB) | SSIM | PSNR unseen view (dB) | SSIM | ddg reconstruct (s) |\n")
+        f.write(
+            "| volume | preset | PSNR reference view (dB) | SSIM | PSNR unseen view (dB) | SSIM | ddg reconstruct (s) |\n"
+        )
         f.write("|---|---|---|---|---|---|---|\n")
         for v, p, r, o, t, _ in rows:
-            f.write(f"| {v} | {p} | {r['psnr']:.2f} | {r['ssim']:.4f} | {o['psnr']:.2f} | {o['ssim']:.4f} | {t:.1f} |\n")
+            f.write(
+                f"| {v} | {p} | {r['psnr']:.2f} | {r['ssim']:.4f} | {o['psnr']:.2f} | {o['ssim']:.4f} | {t:.1f} |\n"
+            )
     sys.exit(1 if failed else 0)
 
 
