@@ -346,6 +346,7 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
         }
       }
       pixels.assign(t.candidates.begin(), t.candidates.begin() + static_cast<std::ptrdiff_t>(want));
+      std::sort(pixels.begin(), pixels.end()); // neighbouring rays together: cache locality
       const View& view = t.source->view;
       if (opt.twoD)
         renderer.forward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt,

@@ -42,8 +42,8 @@ struct ReconstructionOptions
   double smoothness =
     0.01;               ///< weight of the prior: mean squared difference of neighbour bins [0.01]
   int iterations = 500; ///< maximum Adam steps [500]
-  double learningRate = 0.1;   ///< Adam step in the unconstrained (logit) space [0.1]
-  int raysPerIteration = 4096; ///< random pixels per target and step; 0 = every pixel [4096]
+  double learningRate = 0.2;   ///< Adam step in the unconstrained (logit) space [0.2]
+  int raysPerIteration = 2048; ///< random pixels per target and step; 0 = every pixel [2048]
   double tolerance = 0.01;     ///< converged when the smoothed loss improved by less than this
   int patience = 50;           ///<   (relative) over this many steps [0.01, 50]
   int snapshotEvery = 0; ///< pass the current TF to the progress callback every N steps [0: never]

@@ -169,8 +169,8 @@ struct ReconstructArgs
   std::vector<std::string> targets, views, masks;
   std::vector<double> background;
   bool twoD = false, resample = false, quiet = false;
-  int bins = 128, gradientBins = 32, iterations = 500, rays = 4096, threads = 0;
-  double smoothness = 0.01, learningRate = 0.1;
+  int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0;
+  double smoothness = 0.01, learningRate = 0.2;
   unsigned seed = 1;
 };
 
@@ -447,10 +447,10 @@ int main(int argc, char** argv)
   reconstruct->add_option("--iterations", rc.iterations, "Maximum Adam steps (default 500)")
     ->check(CLI::Range(1, 1000000));
   reconstruct
-    ->add_option("--lr", rc.learningRate, "Adam learning rate in logit space (default 0.1)")
+    ->add_option("--lr", rc.learningRate, "Adam learning rate in logit space (default 0.2)")
     ->check(CLI::PositiveNumber);
   reconstruct
-    ->add_option("--rays", rc.rays, "Random pixels per target and step, 0 = all (default 4096)")
+    ->add_option("--rays", rc.rays, "Random pixels per target and step, 0 = all (default 2048)")
     ->check(CLI::NonNegativeNumber);
   reconstruct->add_option("--init", rc.init, "Initial TF (ParaView preset JSON; 1D only)");
   reconstruct->add_flag("--resample", rc.resample,

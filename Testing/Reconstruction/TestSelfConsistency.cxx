@@ -30,7 +30,8 @@ constexpr int kSize = 160;
 std::vector<GaussianPrimitive> randomPrimitives(unsigned seed)
 {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> mean(110, 245), sd(6, 18), colour(0.1, 1.0), alpha(0.3, 0.9);
+  std::uniform_real_distribution<double> mean(110, 245), sd(6, 18), colour(0.1, 1.0),
+    alpha(0.3, 0.9);
   std::vector<GaussianPrimitive> p(3);
   for (auto& g : p)
   {
@@ -52,7 +53,9 @@ std::vector<View> orbitViews(const Volume& vol)
     const Eigen::Vector3d f = v.camera.focalPoint;
     const double dist = (v.camera.position - f).norm() * 0.85;
     const double az = (72.0 * i + 10) * M_PI / 180, el = elevation[i] * M_PI / 180;
-    v.camera.position = f + dist * Eigen::Vector3d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+    v.camera.position = f +
+      dist *
+        Eigen::Vector3d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
     v.camera.viewUp = { 0, 1, 0 };
     views.push_back(v);
   }
@@ -66,12 +69,14 @@ Image straightAlpha(const Image& premultiplied)
   for (size_t i = 0; i < out.pixels.size(); i += 4)
   {
     const float a = out.pixels[i + 3];
-    for (int c = 0; c < 3; ++c) out.pixels[i + c] = a > 0 ? std::min(1.0f, out.pixels[i + c] / a) : 0.0f;
+    for (int c = 0; c < 3; ++c)
+      out.pixels[i + c] = a > 0 ? std::min(1.0f, out.pixels[i + c] / a) : 0.0f;
   }
   return out;
 }
 
-double viewPsnr(const RayCaster& caster, const ReconstructionResult& r, const Image& truth, const View& v)
+double viewPsnr(
+  const RayCaster& caster, const ReconstructionResult& r, const Image& truth, const View& v)
 {
   return psnr(compositeOverBackground(renderResult(caster, r, v), v.background),
     compositeOverBackground(truth, v.background));
@@ -86,7 +91,8 @@ void selfConsistency(const char* name, unsigned seed)
   const TransferTable1D truthTable = rasterize1D(randomPrimitives(seed), range[0], range[1], 256);
   const auto views = orbitViews(vol);
   std::vector<Image> truth;
-  for (const auto& v : views) truth.push_back(caster.render(truthTable, v));
+  for (const auto& v : views)
+    truth.push_back(caster.render(truthTable, v));
 
   ReconstructionOptions opt;
   std::vector<ReconstructionTarget> single{ { straightAlpha(truth[0]), views[0], {} } };
@@ -101,7 +107,8 @@ void selfConsistency(const char* name, unsigned seed)
   }
 
   std::vector<ReconstructionTarget> four;
-  for (int i = 0; i < 4; ++i) four.push_back({ straightAlpha(truth[i]), views[i], {} });
+  for (int i = 0; i < 4; ++i)
+    four.push_back({ straightAlpha(truth[i]), views[i], {} });
   opt.raysPerIteration = 2048;
   const auto multi = reconstructTransferFunction(renderer, four, opt);
   const double unseen = viewPsnr(caster, multi, truth[4], views[4]);
