@@ -4,17 +4,16 @@
 //  (c) time to reach 40 dB in the self-consistency case (random Gaussian-primitive TF rendered
 //      at one view, reconstructed from that image alone) at 256 x 256, on Tooth and Engine:
 //      optimisation time only (the PSNR checks every 10 steps are not counted).
-//  --memory prints the process's peak RSS growth over one forward + backward pass (for the
-//  comparison with the PyTorch autograd version, bench_torch_autograd.py).
+//  --memory prints the time and working memory of one forward + backward pass without early
+//  termination (for the comparison with the PyTorch autograd version, bench_torch_autograd.py).
 // Prints figures; asserts nothing.
 #include "DDGVolumeAdaptor.h"
 
+#include "Common/Parallel.h"
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/GaussianPrimitive.h"
 #include "TransferFunction/TransferFunctionIO.h"
-
-#include <sys/resource.h>
 
 #include <algorithm>
 #include <chrono>
@@ -36,17 +35,12 @@ double median(std::vector<double> v)
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
 }
-long peakRssKb()
-{
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_maxrss;
-}
 
 std::vector<GaussianPrimitive> randomPrimitives(unsigned seed)
 {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> mean(110, 245), sd(6, 18), colour(0.1, 1.0), alpha(0.3, 0.9);
+  std::uniform_real_distribution<double> mean(110, 245), sd(6, 18), colour(0.1, 1.0),
+    alpha(0.3, 0.9);
   std::vector<GaussianPrimitive> p(3);
   for (auto& g : p)
   {
@@ -58,18 +52,22 @@ std::vector<GaussianPrimitive> randomPrimitives(unsigned seed)
   return p;
 }
 
-void timeToQuality(const std::string& name, unsigned seed, int size, const ReconstructionOptions& base)
+void timeToQuality(
+  const std::string& name, unsigned seed, int size, const ReconstructionOptions& base)
 {
   const Volume vol = readVolumeFile(std::string(DDG_DATA_DIR) + "/Volumes/" + name + ".vti");
   const DifferentiableRenderer renderer(vol);
   View view = readView(std::string(DDG_DATA_DIR) + "/Views/" + name + "_oblique.json");
   view.width = view.height = size;
   const auto range = vol.range();
-  const Image truth = renderer.caster().render(rasterize1D(randomPrimitives(seed), range[0], range[1], 256), view);
+  const Image truth =
+    renderer.caster().render(rasterize1D(randomPrimitives(seed), range[0], range[1], 256), view);
   Image target = truth;
   for (size_t i = 0; i < target.pixels.size(); i += 4)
     for (int c = 0; c < 3; ++c)
-      target.pixels[i + c] = target.pixels[i + 3] > 0 ? std::min(1.0f, target.pixels[i + c] / target.pixels[i + 3]) : 0.0f;
+      target.pixels[i + c] = target.pixels[i + 3] > 0
+        ? std::min(1.0f, target.pixels[i + c] / target.pixels[i + 3])
+        : 0.0f;
   const Image truthRGB = compositeOverBackground(truth, view.background);
   ReconstructionOptions opt = base;
   opt.snapshotEvery = 10;
@@ -78,11 +76,14 @@ void timeToQuality(const std::string& name, unsigned seed, int size, const Recon
   double lastDb = 0;
   const auto t0 = Clock::now();
   const auto result = reconstructTransferFunction(renderer, { { target, view, {} } }, opt,
-    [&](int step, double, const ReconstructionResult* snap) {
+    [&](int step, double, const ReconstructionResult* snap)
+    {
       if (!snap || reached >= 0)
         return true;
       const auto e0 = Clock::now();
-      lastDb = psnr(compositeOverBackground(renderResult(renderer.caster(), *snap, view), view.background), truthRGB);
+      lastDb =
+        psnr(compositeOverBackground(renderResult(renderer.caster(), *snap, view), view.background),
+          truthRGB);
       evalMs += since(e0);
       if (lastDb >= 40.0)
       {
@@ -91,13 +92,17 @@ void timeToQuality(const std::string& name, unsigned seed, int size, const Recon
       }
       return true;
     });
-  const double finalDb = psnr(compositeOverBackground(renderResult(renderer.caster(), result, view), view.background), truthRGB);
+  const double finalDb =
+    psnr(compositeOverBackground(renderResult(renderer.caster(), result, view), view.background),
+      truthRGB);
   if (reached >= 0)
-    std::printf("(c) %-7s %dx%d: 40 dB reached after %d steps in %.2f s (optimisation only); final %.2f dB after %d steps, %.2f s\n",
-      name.c_str(), size, size, reachedStep, reached / 1000, finalDb, result.iterations, result.seconds - evalMs / 1000);
+    std::printf("(c) %-7s %dx%d: 40 dB reached after %d steps in %.2f s (optimisation only); final "
+                "%.2f dB after %d steps, %.2f s\n",
+      name.c_str(), size, size, reachedStep, reached / 1000, finalDb, result.iterations,
+      result.seconds - evalMs / 1000);
   else
-    std::printf("(c) %-7s %dx%d: 40 dB NOT reached (final %.2f dB after %d steps)\n", name.c_str(), size, size,
-      finalDb, result.iterations);
+    std::printf("(c) %-7s %dx%d: 40 dB NOT reached (final %.2f dB after %d steps)\n", name.c_str(),
+      size, size, finalDb, result.iterations);
 }
 } // namespace
 
@@ -111,17 +116,24 @@ int main(int argc, char** argv)
     const std::string a = argv[i];
     if (a == "--help" || a == "-h")
     {
-      std::printf("BenchDifferentiable [--size N] [--runs N] [--memory] [--rays N] [--lr X] [--bins N]\n"
-                  "(a) backward/forward time on Engine, (c) time to 40 dB on Tooth and Engine.\n"
-                  "--memory: only the peak RSS growth of one forward + backward on Engine.\n");
+      std::printf(
+        "BenchDifferentiable [--size N] [--runs N] [--memory] [--rays N] [--lr X] [--bins N]\n"
+        "(a) backward/forward time on Engine, (c) time to 40 dB on Tooth and Engine.\n"
+        "--memory: time and working memory of one forward + backward on Engine.\n");
       return 0;
     }
-    if (a == "--size" && i + 1 < argc) size = std::stoi(argv[++i]);
-    else if (a == "--runs" && i + 1 < argc) runs = std::max(3, std::stoi(argv[++i]));
-    else if (a == "--memory") memoryOnly = true;
-    else if (a == "--rays" && i + 1 < argc) ropt.raysPerIteration = std::stoi(argv[++i]);
-    else if (a == "--lr" && i + 1 < argc) ropt.learningRate = std::stod(argv[++i]);
-    else if (a == "--bins" && i + 1 < argc) ropt.bins = std::stoi(argv[++i]);
+    if (a == "--size" && i + 1 < argc)
+      size = std::stoi(argv[++i]);
+    else if (a == "--runs" && i + 1 < argc)
+      runs = std::max(3, std::stoi(argv[++i]));
+    else if (a == "--memory")
+      memoryOnly = true;
+    else if (a == "--rays" && i + 1 < argc)
+      ropt.raysPerIteration = std::stoi(argv[++i]);
+    else if (a == "--lr" && i + 1 < argc)
+      ropt.learningRate = std::stod(argv[++i]);
+    else if (a == "--bins" && i + 1 < argc)
+      ropt.bins = std::stoi(argv[++i]);
     else
     {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
@@ -140,17 +152,30 @@ int main(int argc, char** argv)
   if (memoryOnly)
   {
     opt.terminationOpacity = 2.0; // same samples as the autograd version (no early termination)
-    const long before = peakRssKb();
-    renderer.forward(table.rgba.data(), table.width, table.min, table.max, view, opt, {}, rgba, records);
+    renderer.forward(
+      table.rgba.data(), table.width, table.min, table.max, view, opt, {}, rgba, records);
     dRGBA.assign(rgba.size(), 1.0f);
-    renderer.backward(table.rgba.data(), table.width, table.min, table.max, view, opt, {}, records, dRGBA, dTable);
+    renderer.backward(
+      table.rgba.data(), table.width, table.min, table.max, view, opt, {}, records, dRGBA, dTable);
+    std::fill(dTable.begin(), dTable.end(), 0.0f); // backward accumulates: start from zero
     const auto t0 = Clock::now();
-    renderer.forward(table.rgba.data(), table.width, table.min, table.max, view, opt, {}, rgba, records);
-    renderer.backward(table.rgba.data(), table.width, table.min, table.max, view, opt, {}, records, dRGBA, dTable);
-    std::printf("ours: forward+backward %.1f ms, peak RSS growth %.1f MB (engine %dx%d, no early termination)\n",
-      since(t0), (peakRssKb() - before) / 1024.0, size, size);
+    renderer.forward(
+      table.rgba.data(), table.width, table.min, table.max, view, opt, {}, rgba, records);
+    renderer.backward(
+      table.rgba.data(), table.width, table.min, table.max, view, opt, {}, records, dRGBA, dTable);
+    const double ms = since(t0);
+    // Working memory of the pass, counted exactly: per pixel the output, its gradient and the
+    // ray record; per thread one gradient table; the prepared table. Independent of the number
+    // of samples per ray.
+    const int threads = ddg::defaultThreadCount();
+    const double bytes = static_cast<double>(rgba.size()) * sizeof(float) * 2 +
+      records.size() * sizeof(RayRecord) + (threads + 2.0) * table.rgba.size() * sizeof(float);
+    std::printf("ours: forward+backward %.1f ms, working memory %.2f MB (engine %dx%d, no early "
+                "termination)\n",
+      ms, bytes / (1024.0 * 1024.0), size, size);
     double sum = 0;
-    for (float g : dTable) sum += g;
+    for (float g : dTable)
+      sum += g;
     std::printf("ours: sum of dL/dTable %.6g (L = sum of premultiplied RGBA)\n", sum);
     return 0;
   }
@@ -158,11 +183,13 @@ int main(int argc, char** argv)
   for (int r = 0; r < runs + 1; ++r)
   {
     auto t0 = Clock::now();
-    renderer.forward(table.rgba.data(), table.width, table.min, table.max, view, opt, {}, rgba, records);
+    renderer.forward(
+      table.rgba.data(), table.width, table.min, table.max, view, opt, {}, rgba, records);
     const double f = since(t0);
     dRGBA.assign(rgba.size(), 1.0f);
     t0 = Clock::now();
-    renderer.backward(table.rgba.data(), table.width, table.min, table.max, view, opt, {}, records, dRGBA, dTable);
+    renderer.backward(
+      table.rgba.data(), table.width, table.min, table.max, view, opt, {}, records, dRGBA, dTable);
     const double b = since(t0);
     t0 = Clock::now();
     renderer.caster().render(table, view, opt);
