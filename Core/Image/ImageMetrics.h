@@ -17,4 +17,12 @@ double psnr(const Image& a, const Image& b);
 /// odd window that fits.
 double ssim(const Image& a, const Image& b);
 
+/// Colour-histogram earth mover's distance (Berger et al. 2019): CIELAB histograms of the RGB
+/// pixels (sRGB, D65; vtkMath's conversion) with 8 x 12 x 12 bins over L in [0, 100],
+/// a in [-86.185, 98.254], b in [-107.863, 94.482] (values outside clamp to the edge bins),
+/// normalised by the pixel count; ground distance = Euclidean distance between bin centres in
+/// Lab units; exact EMD (min-cost flow). 0 for identical colour distributions. Images may
+/// differ in size.
+double colorHistogramEMD(const Image& a, const Image& b);
+
 } // namespace ddg

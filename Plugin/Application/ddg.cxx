@@ -99,13 +99,15 @@ int runCompare(const CompareArgs& c)
   const ddg::Image b = ddg::readImage(c.b);
   const double p = ddg::psnr(a, b);
   const double s = ddg::ssim(a, b);
+  const double emd = ddg::colorHistogramEMD(a, b);
   if (c.json)
   {
-    std::printf("{\"psnr\": %.4f, \"ssim\": %.6f}\n", std::isinf(p) ? 999.0 : p, s);
+    std::printf(
+      "{\"psnr\": %.4f, \"ssim\": %.6f, \"emd\": %.6f}\n", std::isinf(p) ? 999.0 : p, s, emd);
   }
   else
   {
-    std::printf("PSNR %.2f dB  SSIM %.5f\n", std::isinf(p) ? 999.0 : p, s);
+    std::printf("PSNR %.2f dB  SSIM %.5f  EMD %.4f\n", std::isinf(p) ? 999.0 : p, s, emd);
   }
   if (c.minPsnr >= 0 && p < c.minPsnr)
   {
@@ -300,8 +302,8 @@ int runReconstruct(const ReconstructArgs& a)
       target = t.image;
     }
     ours = ddg::compositeOverBackground(render, t.view.background);
-    std::printf("target %zu (%s): PSNR %.2f dB  SSIM %.4f\n", i, a.targets[i].c_str(),
-      ddg::psnr(ours, target), ddg::ssim(ours, target));
+    std::printf("target %zu (%s): PSNR %.2f dB  SSIM %.4f  EMD %.3f\n", i, a.targets[i].c_str(),
+      ddg::psnr(ours, target), ddg::ssim(ours, target), ddg::colorHistogramEMD(ours, target));
     if (i == 0 && !a.outImage.empty())
     {
       ddg::writeImage(ours, a.outImage);
@@ -391,12 +393,13 @@ int main(int argc, char** argv)
     ->check(CLI::Range(0, 256));
 
   CompareArgs ca;
-  auto* compare =
-    app.add_subcommand("compare", "Print PSNR (dB) and SSIM between two images of the same size.");
+  auto* compare = app.add_subcommand("compare",
+    "Print PSNR (dB), SSIM and colour-histogram EMD (CIELAB, Berger et al.) of two images of the "
+    "same size.");
   compare->add_option("a", ca.a, "First image")->required();
   compare->add_option("b", ca.b, "Second image")->required();
   compare->add_option("--min-psnr", ca.minPsnr, "Exit with status 3 when PSNR is below this (dB)");
-  compare->add_flag("--json", ca.json, "Print {\"psnr\": ..., \"ssim\": ...}");
+  compare->add_flag("--json", ca.json, "Print {\"psnr\": ..., \"ssim\": ..., \"emd\": ...}");
 
   ViewArgs va;
   auto* viewCmd = app.add_subcommand("view",

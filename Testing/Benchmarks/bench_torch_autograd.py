@@ -54,7 +54,9 @@ def paraview_table(preset, vmin, vmax, width=1024):
 
 def rays(view, size):
     cam = view["camera"]
-    pos, focal, up = (np.array(cam[k], dtype=np.float64) for k in ("position", "focal_point", "view_up"))
+    pos, focal, up = (
+        np.array(cam[k], dtype=np.float64) for k in ("position", "focal_point", "view_up")
+    )
     fwd = (focal - pos) / np.linalg.norm(focal - pos)
     right = np.cross(fwd, up)
     right /= np.linalg.norm(right)
@@ -69,7 +71,9 @@ def rays(view, size):
 
 
 def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     parser.add_argument("--bench", required=True, help="path of BenchDifferentiable")
     parser.add_argument("--size", type=int, default=256)
     parser.add_argument("--threads", type=int, default=os.cpu_count())
@@ -113,7 +117,10 @@ def main():
     t_start = time.time()
     table = torch.tensor(table0, dtype=torch.float32, requires_grad=True)
     kk = torch.arange(K, dtype=torch.float32) + 0.5
-    pos = torch.from_numpy(e.astype(np.float32))[:, None, :] + kk[None, :, None] * torch.from_numpy(s.astype(np.float32))[:, None, :]
+    pos = (
+        torch.from_numpy(e.astype(np.float32))[:, None, :]
+        + kk[None, :, None] * torch.from_numpy(s.astype(np.float32))[:, None, :]
+    )
     mask = (torch.arange(K)[None, :] <= torch.from_numpy(k_last)[:, None]).float()
     maxs = torch.tensor([nx - 1, ny - 1, nz - 1], dtype=torch.float32)
     pos = torch.minimum(torch.maximum(pos, torch.zeros(3)), maxs)
@@ -121,14 +128,18 @@ def main():
     f = pos - i0.float()
     fx, fy, fz = f[..., 0], f[..., 1], f[..., 2]
     base = i0[..., 0] + nx * (i0[..., 1] + ny * i0[..., 2])
+
     def corner(dx, dy, dz):
         return vol[base + dx + nx * (dy + ny * dz)]
+
     c00 = corner(0, 0, 0) + fx * (corner(1, 0, 0) - corner(0, 0, 0))
     c10 = corner(0, 1, 0) + fx * (corner(1, 1, 0) - corner(0, 1, 0))
     c01 = corner(0, 0, 1) + fx * (corner(1, 0, 1) - corner(0, 0, 1))
     c11 = corner(0, 1, 1) + fx * (corner(1, 1, 1) - corner(0, 1, 1))
     v = (c00 + fy * (c10 - c00)) * (1 - fz) + (c01 + fy * (c11 - c01)) * fz
-    t = torch.clamp(v * (q * width / (vmax - vmin)) - vmin * width / (vmax - vmin) - 0.5, 0, width - 1)
+    t = torch.clamp(
+        v * (q * width / (vmax - vmin)) - vmin * width / (vmax - vmin) - 0.5, 0, width - 1
+    )
     ti = torch.clamp(t.floor().long(), max=width - 2)
     tf = (t - ti.float())[..., None]
     alpha = table[:, 3].clamp(0, 1)
@@ -145,19 +156,32 @@ def main():
     torch_s = time.time() - t_start
     torch_mb = peak_rss_mb() - start_rss
     torch_grad = float(table.grad.sum())
-    print(f"PyTorch autograd: forward+backward {torch_s * 1000:.0f} ms, peak RSS growth {torch_mb:.0f} MB, "
-          f"sum dL/dTable {torch_grad:.6g}")
+    print(
+        f"PyTorch autograd: forward+backward {torch_s * 1000:.0f} ms, peak RSS growth {torch_mb:.0f} MB, "
+        f"sum dL/dTable {torch_grad:.6g}"
+    )
 
-    out = subprocess.run([args.bench, "--memory", "--size", str(args.size)], check=True, capture_output=True, text=True).stdout
+    out = subprocess.run(
+        [args.bench, "--memory", "--size", str(args.size)],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
     print(out.strip())
     ours_ms = float(out.split("forward+backward ")[1].split(" ms")[0])
     ours_mb = float(out.split("working memory ")[1].split(" MB")[0])
     ours_grad = float(out.split("sum of dL/dTable ")[1].split()[0])
-    print(f"(b) time: ours {ours_ms:.0f} ms vs autograd {torch_s * 1000:.0f} ms -> {torch_s * 1000 / ours_ms:.1f}x faster")
-    print(f"(b) memory: ours {ours_mb:.2f} MB working memory (counted) vs autograd {torch_mb:.0f} MB "
-          f"peak RSS growth -> {torch_mb / ours_mb:.0f}x less")
-    print(f"    gradient agreement: sum dL/dTable ours {ours_grad:.6g}, autograd {torch_grad:.6g} "
-          f"(relative difference {abs(ours_grad - torch_grad) / max(abs(torch_grad), 1e-12):.2e})")
+    print(
+        f"(b) time: ours {ours_ms:.0f} ms vs autograd {torch_s * 1000:.0f} ms -> {torch_s * 1000 / ours_ms:.1f}x faster"
+    )
+    print(
+        f"(b) memory: ours {ours_mb:.2f} MB working memory (counted) vs autograd {torch_mb:.0f} MB "
+        f"peak RSS growth -> {torch_mb / ours_mb:.0f}x less"
+    )
+    print(
+        f"    gradient agreement: sum dL/dTable ours {ours_grad:.6g}, autograd {torch_grad:.6g} "
+        f"(relative difference {abs(ours_grad - torch_grad) / max(abs(torch_grad), 1e-12):.2e})"
+    )
 
 
 if __name__ == "__main__":
