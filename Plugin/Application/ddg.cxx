@@ -6,6 +6,7 @@
 #include "Image/Image.h"
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/Reconstruction.h"
+#include "Reconstruct/ViewEstimation.h"
 #include "Render/DifferentiableRenderer.h"
 #include "Render/RayCaster.h"
 #include "Render/View.h"
@@ -170,7 +171,8 @@ struct ReconstructArgs
   std::string volume, out, outImage, init, array, loss = "l1";
   std::vector<std::string> targets, views, masks;
   std::vector<double> background;
-  bool twoD = false, resample = false, quiet = false;
+  bool twoD = false, resample = false, quiet = false, estimateView = false;
+  std::string outView;
   int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0;
   double smoothness = 0.01, learningRate = 0.2;
   unsigned seed = 1;
@@ -256,6 +258,25 @@ int runReconstruct(const ReconstructArgs& a)
   {
     const ddg::TransferFunction1D init = ddg::readPreset(a.init);
     opt.initial1D = ddg::bakeTable(init, volume.range()[0], volume.range()[1], 1024);
+  }
+  if (a.estimateView)
+  {
+    for (size_t i = 0; i < targets.size(); ++i)
+    {
+      ddg::ViewEstimationOptions vopt;
+      vopt.render.threads = a.threads;
+      ddg::ViewEstimationReport report;
+      targets[i].view = ddg::estimateView(renderer, targets[i], vopt, &report);
+      std::printf(
+        "estimated view of target %zu: azimuth %.1f, elevation %.1f, zoom %.3f from the given view "
+        "(%d short fits, %.1f s)\n",
+        i, report.azimuth, report.elevation, report.zoom, report.evaluations, report.seconds);
+      if (!a.outView.empty())
+      {
+        ddg::writeView(targets[i].view,
+          targets.size() == 1 ? a.outView : a.outView + "." + std::to_string(i) + ".json");
+      }
+    }
   }
   const double tLoad = msSince(t0);
   const auto result = ddg::reconstructTransferFunction(renderer, targets, opt,
@@ -465,6 +486,12 @@ int main(int argc, char** argv)
     ->check(CLI::Range(0, 256));
   reconstruct->add_option("--array", rc.array, "Point array (default: the active scalars)");
   reconstruct->add_flag("--quiet", rc.quiet, "Do not print progress");
+  reconstruct->add_flag("--estimate-view", rc.estimateView,
+    "The views are only approximate (size, background, view angle, up vector, distance): search "
+    "the camera "
+    "(orbit azimuth/elevation/zoom about the focal point) before reconstructing");
+  reconstruct->add_option(
+    "--out-view", rc.outView, "With --estimate-view: write the estimated view JSON");
 
   std::string infoVolume, infoArray;
   auto* info = app.add_subcommand(
