@@ -108,6 +108,68 @@ double ssim(const Image& a0, const Image& b0)
   return count > 0 ? total / count : 1.0;
 }
 
+double ssimWithGradient(const float* x, const float* y, int w, int h, double* dS_dx)
+{
+  int win = 11;
+  while (win > 1 && (win > w || win > h))
+  {
+    win -= 2;
+  }
+  const int r = win / 2;
+  std::vector<double> g(static_cast<size_t>(win) * win);
+  double gsum = 0;
+  for (int j = 0; j < win; ++j)
+    for (int i = 0; i < win; ++i)
+    {
+      g[j * win + i] = std::exp(-0.5 * ((i - r) * (i - r) + (j - r) * (j - r)) / (1.5 * 1.5));
+      gsum += g[j * win + i];
+    }
+  for (double& v : g)
+    v /= gsum;
+  const double c1 = 0.01 * 0.01, c2 = 0.03 * 0.03;
+  std::fill(dS_dx, dS_dx + static_cast<size_t>(w) * h * 3, 0.0);
+  const long windows = static_cast<long>(w - 2 * r) * (h - 2 * r) * 3;
+  double total = 0;
+  for (int c = 0; c < 3; ++c)
+  {
+    for (int cy = r; cy < h - r; ++cy)
+    {
+      for (int cx = r; cx < w - r; ++cx)
+      {
+        double mx = 0, my = 0, exx = 0, eyy = 0, exy = 0;
+        for (int j = -r; j <= r; ++j)
+          for (int i = -r; i <= r; ++i)
+          {
+            const size_t p = (static_cast<size_t>(cy + j) * w + cx + i) * 3 + c;
+            const double gw = g[(j + r) * win + i + r];
+            mx += gw * x[p];
+            my += gw * y[p];
+            exx += gw * x[p] * x[p];
+            eyy += gw * y[p] * y[p];
+            exy += gw * x[p] * y[p];
+          }
+        const double a1 = 2 * mx * my + c1, a2 = 2 * (exy - mx * my) + c2;
+        const double b1 = mx * mx + my * my + c1, b2 = (exx - mx * mx) + (eyy - my * my) + c2;
+        const double sVal = a1 * a2 / (b1 * b2);
+        total += sVal;
+        // S(mx, exx, exy): d/dmx, d/dexx, d/dexy
+        const double dmx =
+          (2 * my * a2 - 2 * my * a1) / (b1 * b2) - sVal * (2 * mx / b1 - 2 * mx / b2);
+        const double dexy = 2 * a1 / (b1 * b2);
+        const double dexx = -sVal / b2;
+        for (int j = -r; j <= r; ++j)
+          for (int i = -r; i <= r; ++i)
+          {
+            const size_t p = (static_cast<size_t>(cy + j) * w + cx + i) * 3 + c;
+            const double gw = g[(j + r) * win + i + r];
+            dS_dx[p] += gw * (dmx + 2 * x[p] * dexx + y[p] * dexy) / windows;
+          }
+      }
+    }
+  }
+  return windows > 0 ? total / windows : 1.0;
+}
+
 // --- colour-histogram EMD ----------------------------------------------------------------
 
 namespace

@@ -17,6 +17,11 @@ double psnr(const Image& a, const Image& b);
 /// odd window that fits.
 double ssim(const Image& a, const Image& b);
 
+/// SSIM of two RGB images given as raw arrays (w * h * 3, interleaved) with its gradient with
+/// respect to the first: the same definition as ssim() (mean over channels and valid windows).
+/// OVERWRITES dS_dx (w * h * 3). Used as a loss term (1 - SSIM) by the reconstruction.
+double ssimWithGradient(const float* x, const float* y, int width, int height, double* dS_dx);
+
 /// Colour-histogram earth mover's distance (Berger et al. 2019): CIELAB histograms of the RGB
 /// pixels (sRGB, D65; vtkMath's conversion) with 8 x 12 x 12 bins over L in [0, 100],
 /// a in [-86.185, 98.254], b in [-107.863, 94.482] (values outside clamp to the edge bins),

@@ -2,6 +2,7 @@
 #include "Reconstruct/Reconstruction.h"
 
 #include "Common/Error.h"
+#include "Image/ImageMetrics.h"
 #include "Render/RayCaster.h"
 
 #include <algorithm>
@@ -227,6 +228,10 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   {
     throw Error("TF resolution must be 2..4096 bins (gradient bins 2..1024)");
   }
+  if (!(opt.ssimWeight >= 0) || opt.ssimPatch < 3)
+  {
+    throw Error("the SSIM weight must be non-negative and the SSIM patch at least 3 pixels");
+  }
   if (!(opt.learningRate > 0) || opt.iterations < 1 || !(opt.smoothness >= 0) ||
     opt.raysPerIteration < 0)
   {
@@ -316,6 +321,55 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   double ema = 0, bestEma = std::numeric_limits<double>::infinity();
   int sinceImprovement = 0;
 
+  // (1 - SSIM) on a random patch of a target, rendered in full; adds its gradient to dTable.
+  auto ssimPatchTerm = [&](const PreparedTarget& t, std::mt19937& gen)
+  {
+    const View& view = t.source->view;
+    const int pw = std::min(opt.ssimPatch, view.width), ph = std::min(opt.ssimPatch, view.height);
+    std::uniform_int_distribution<int> px(0, view.width - pw), py(0, view.height - ph);
+    const int x0 = px(gen), y0 = py(gen);
+    std::vector<int> patch;
+    for (int y = y0; y < y0 + ph; ++y)
+      for (int x = x0; x < x0 + pw; ++x)
+        patch.push_back(y * view.width + x);
+    std::vector<float> prgba, pd;
+    std::vector<RayRecord> prec;
+    if (opt.twoD)
+      renderer.forward2D(
+        table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, patch, prgba, prec);
+    else
+      renderer.forward(table.data(), map.width, range[0], range[1], view, ropt, patch, prgba, prec);
+    // the images SSIM compares: over the background (opaque targets) or premultiplied rgb
+    std::vector<float> ours(patch.size() * 3), theirs(patch.size() * 3);
+    for (size_t q = 0; q < patch.size(); ++q)
+      for (int c = 0; c < 3; ++c)
+      {
+        ours[3 * q + c] = t.alpha
+          ? prgba[4 * q + c]
+          : static_cast<float>(prgba[4 * q + c] + (1 - prgba[4 * q + 3]) * t.background[c]);
+        theirs[3 * q + c] = t.value[(t.alpha ? 4 : 3) * static_cast<size_t>(patch[q]) + c];
+      }
+    std::vector<double> dS(ours.size());
+    const double sVal = ssimWithGradient(ours.data(), theirs.data(), pw, ph, dS.data());
+    const double k = opt.ssimWeight / static_cast<double>(prepared.size());
+    pd.assign(prgba.size(), 0.0f);
+    for (size_t q = 0; q < patch.size(); ++q)
+      for (int c = 0; c < 3; ++c)
+      {
+        const double g = -k * dS[3 * q + c]; // d(k (1 - S)) / d(image)
+        pd[4 * q + c] += static_cast<float>(g);
+        if (!t.alpha)
+          pd[4 * q + 3] -= static_cast<float>(g * t.background[c]);
+      }
+    if (opt.twoD)
+      renderer.backward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt,
+        patch, prec, pd, dTable);
+    else
+      renderer.backward(
+        table.data(), map.width, range[0], range[1], view, ropt, patch, prec, pd, dTable);
+    return k * (1.0 - sVal);
+  };
+
   for (int step = 0; step < opt.iterations; ++step)
   {
     for (size_t i = 0; i < theta.size(); ++i)
@@ -328,7 +382,6 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
     {
       map.forward(values, table);
     }
-    const size_t tableEntries = table.size() / 4;
     dTable.assign(table.size(), 0.0f);
     double loss = 0;
     for (auto& t : prepared)
@@ -366,8 +419,11 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
       else
         renderer.backward(
           table.data(), map.width, range[0], range[1], view, ropt, pixels, records, dRGBA, dTable);
+      if (opt.ssimWeight > 0)
+      {
+        loss += ssimPatchTerm(t, rng);
+      }
     }
-    (void)tableEntries;
     std::fill(dValues.begin(), dValues.end(), 0.0);
     if (opt.twoD)
     {

@@ -35,21 +35,38 @@ enum class ReconstructionLoss
 /// Options (defaults in brackets).
 struct ReconstructionOptions
 {
-  bool twoD = false;     ///< 2D TF (value x gradient magnitude) instead of 1D [false]
-  int bins = 128;        ///< TF resolution along the value [128]
-  int gradientBins = 32; ///< 2D: resolution along gradient magnitude [32]
+  /// 2D TF (value x gradient magnitude) instead of 1D [false].
+  bool twoD = false;
+  /// TF resolution along the value [128].
+  int bins = 128;
+  /// 2D: resolution along gradient magnitude [32].
+  int gradientBins = 32;
+  /// Image loss [L1].
   ReconstructionLoss loss = ReconstructionLoss::L1;
-  double smoothness =
-    0.01;               ///< weight of the prior: mean squared difference of neighbour bins [0.01]
-  int iterations = 500; ///< maximum Adam steps [500]
-  double learningRate = 0.2;   ///< Adam step in the unconstrained (logit) space [0.2]
-  int raysPerIteration = 2048; ///< random pixels per target and step; 0 = every pixel [2048]
-  double tolerance = 0.01;     ///< converged when the smoothed loss improved by less than this
-  int patience = 50;           ///<   (relative) over this many steps [0.01, 50]
-  int snapshotEvery = 0; ///< pass the current TF to the progress callback every N steps [0: never]
-  std::optional<TransferTable1D> initial1D; ///< start from this TF (1D) [grey, opacity 0.02]
-  unsigned seed = 1;                        ///< pixel sampling [1]
-  RenderOptions render; ///< sample distance, offset, threads (jitter is ignored)
+  /// Weight of the prior: mean squared difference of neighbouring bins [0.01].
+  double smoothness = 0.01;
+  /// Weight of a (1 - SSIM) term on a random square patch per target and step [0: off].
+  double ssimWeight = 0.0;
+  /// Side of that patch in pixels [32].
+  int ssimPatch = 32;
+  /// Maximum Adam steps [500].
+  int iterations = 500;
+  /// Adam step in the unconstrained (logit) space [0.2].
+  double learningRate = 0.2;
+  /// Random pixels per target and step; 0 = every pixel [2048].
+  int raysPerIteration = 2048;
+  /// Converged when the smoothed loss improved by less than `tolerance` (relative) over
+  /// `patience` steps [0.01, 50].
+  double tolerance = 0.01;
+  int patience = 50;
+  /// Pass the current TF to the progress callback every N steps [0: never].
+  int snapshotEvery = 0;
+  /// Start from this TF (1D) [grey, opacity 0.02].
+  std::optional<TransferTable1D> initial1D;
+  /// Seed of the pixel sampling [1].
+  unsigned seed = 1;
+  /// Sample distance, offset, threads (jitter is ignored).
+  RenderOptions render;
 };
 
 struct ReconstructionResult

@@ -69,7 +69,8 @@ View estimateView(const DifferentiableRenderer& renderer, const ReconstructionTa
   // Small scoring images with the target's aspect.
   const double aspect = static_cast<double>(base.width) / base.height;
   const int sw = std::max(8, static_cast<int>(std::lround(opt.scoreSize * std::min(1.0, aspect))));
-  const int sh = std::max(8, static_cast<int>(std::lround(opt.scoreSize * std::min(1.0, 1.0 / aspect))));
+  const int sh =
+    std::max(8, static_cast<int>(std::lround(opt.scoreSize * std::min(1.0, 1.0 / aspect))));
   View small = base;
   small.width = sw;
   small.height = sh;
@@ -84,10 +85,12 @@ View estimateView(const DifferentiableRenderer& renderer, const ReconstructionTa
     TransferFunction1D tf;
     const double x = range[0] + q * (range[1] - range[0]);
     tf.color = { { range[0], 1, 1, 1 } };
-    tf.opacity = { { range[0], 0 }, { x, 0 }, { x + 1e-3 * (range[1] - range[0]), 1 }, { range[1], 1 } };
+    tf.opacity = { { range[0], 0 }, { x, 0 }, { x + 1e-3 * (range[1] - range[0]), 1 },
+      { range[1], 1 } };
     occupancy.push_back(bakeTable(tf, range[0], range[1], 1024));
   }
-  auto maskScore = [&](const View& v) {
+  auto maskScore = [&](const View& v)
+  {
     double best = 0;
     for (const auto& table : occupancy)
     {
@@ -113,7 +116,8 @@ View estimateView(const DifferentiableRenderer& renderer, const ReconstructionTa
     for (double az = 0; az < 360 - 1e-9; az += opt.azimuthStep)
       for (double z : opt.zooms)
         grid.push_back({ az, el, z, maskScore(orbitView(small, az, el, z)) });
-  std::sort(grid.begin(), grid.end(), [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+  std::sort(grid.begin(), grid.end(),
+    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
 
   // Short reconstruction at a view: its final loss is the score (lower is better).
   ReconstructionOptions ropt;
@@ -123,13 +127,15 @@ View estimateView(const DifferentiableRenderer& renderer, const ReconstructionTa
   ropt.patience = opt.scoreSteps;
   ropt.render = opt.render;
   int evaluations = 0;
-  auto fitLoss = [&](double az, double el, double zoom) {
+  auto fitLoss = [&](double az, double el, double zoom)
+  {
     ++evaluations;
     ReconstructionTarget t{ smallTarget, orbitView(small, az, el, zoom), {} };
     const auto r = reconstructTransferFunction(renderer, { t }, ropt);
     const size_t tail = std::min<size_t>(10, r.loss.size());
     double mean = 0;
-    for (size_t i = r.loss.size() - tail; i < r.loss.size(); ++i) mean += r.loss[i] / tail;
+    for (size_t i = r.loss.size() - tail; i < r.loss.size(); ++i)
+      mean += r.loss[i] / tail;
     return mean;
   };
   Candidate best{ 0, 0, 1, 1e300 };
@@ -149,9 +155,12 @@ View estimateView(const DifferentiableRenderer& renderer, const ReconstructionTa
     for (int pass = 0; pass < 2 && improved; ++pass) // at most two passes per step size
     {
       improved = false;
-      const Candidate moves[6] = { { best.az + step, best.el, best.zoom, 0 }, { best.az - step, best.el, best.zoom, 0 },
-        { best.az, std::min(89.0, best.el + step), best.zoom, 0 }, { best.az, std::max(-89.0, best.el - step), best.zoom, 0 },
-        { best.az, best.el, best.zoom * (1 + zoomStep), 0 }, { best.az, best.el, best.zoom / (1 + zoomStep), 0 } };
+      const Candidate moves[6] = { { best.az + step, best.el, best.zoom, 0 },
+        { best.az - step, best.el, best.zoom, 0 },
+        { best.az, std::min(89.0, best.el + step), best.zoom, 0 },
+        { best.az, std::max(-89.0, best.el - step), best.zoom, 0 },
+        { best.az, best.el, best.zoom * (1 + zoomStep), 0 },
+        { best.az, best.el, best.zoom / (1 + zoomStep), 0 } };
       for (const auto& m : moves)
       {
         const double loss = fitLoss(m.az, m.el, m.zoom);
@@ -172,7 +181,8 @@ View estimateView(const DifferentiableRenderer& renderer, const ReconstructionTa
     report->zoom = best.zoom;
     report->loss = best.score;
     report->evaluations = evaluations;
-    report->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    report->seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return orbitView(base, best.az, best.el, best.zoom);
 }

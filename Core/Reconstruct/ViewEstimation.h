@@ -15,18 +15,18 @@ struct ViewEstimationOptions
   double azimuthStep = 30;   ///< coarse grid: azimuth 0..360 in these steps [30 degrees]
   double elevationStep = 30; ///< elevation -60..60 in these steps [30 degrees]
   std::vector<double> zooms{ 0.8, 1.0, 1.25 }; ///< distance factors tried [0.8, 1, 1.25]
-  int candidates = 4;        ///< best coarse views scored by a short reconstruction [4]
-  int refineRounds = 3;      ///< local refinement rounds, halving the steps [3]
-  int scoreSize = 64;        ///< image side of the scoring renders [64]
-  int scoreSteps = 60;       ///< Adam steps of the short reconstructions [60]
+  int candidates = 4;   ///< best coarse views scored by a short reconstruction [4]
+  int refineRounds = 3; ///< local refinement rounds, halving the steps [3]
+  int scoreSize = 64;   ///< image side of the scoring renders [64]
+  int scoreSteps = 60;  ///< Adam steps of the short reconstructions [60]
   RenderOptions render;
 };
 
 struct ViewEstimationReport
 {
   double azimuth = 0, elevation = 0, zoom = 1; ///< of the estimate, relative to the initial view
-  double loss = 0;                              ///< short-reconstruction loss at the estimate
-  int evaluations = 0;                          ///< short reconstructions run
+  double loss = 0;                             ///< short-reconstruction loss at the estimate
+  int evaluations = 0;                         ///< short reconstructions run
   double seconds = 0;
 };
 

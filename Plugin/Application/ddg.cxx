@@ -174,7 +174,7 @@ struct ReconstructArgs
   bool twoD = false, resample = false, quiet = false, estimateView = false;
   std::string outView;
   int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0;
-  double smoothness = 0.01, learningRate = 0.2;
+  double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
   unsigned seed = 1;
 };
 
@@ -249,6 +249,7 @@ int runReconstruct(const ReconstructArgs& a)
   opt.gradientBins = a.gradientBins;
   opt.loss = a.loss == "l2" ? ddg::ReconstructionLoss::L2 : ddg::ReconstructionLoss::L1;
   opt.smoothness = a.smoothness;
+  opt.ssimWeight = a.ssimWeight;
   opt.iterations = a.iterations;
   opt.learningRate = a.learningRate;
   opt.raysPerIteration = a.rays;
@@ -486,6 +487,11 @@ int main(int argc, char** argv)
     ->check(CLI::Range(0, 256));
   reconstruct->add_option("--array", rc.array, "Point array (default: the active scalars)");
   reconstruct->add_flag("--quiet", rc.quiet, "Do not print progress");
+  reconstruct
+    ->add_option("--ssim-weight", rc.ssimWeight,
+      "Weight of an extra (1 - SSIM) loss on a random 32x32 patch per view and step (default 0: "
+      "off)")
+    ->check(CLI::NonNegativeNumber);
   reconstruct->add_flag("--estimate-view", rc.estimateView,
     "The views are only approximate (size, background, view angle, up vector, distance): search "
     "the camera "

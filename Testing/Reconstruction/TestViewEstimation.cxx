@@ -30,17 +30,22 @@ TEST(ViewEstimation, RecoversAnOrbitedToothView)
   const DifferentiableRenderer renderer(vol);
   const View base = readView(data + "/Views/tooth_oblique.json");
   const View truthView = orbitView(base, 75, 20, 1.0);
-  const auto table = renderer.caster().paraviewTable(readPreset(data + "/TransferFunctions/tooth_dentin_enamel.json"));
-  const Image truth = compositeOverBackground(renderer.caster().render(table, truthView), base.background);
+  const auto table = renderer.caster().paraviewTable(
+    readPreset(data + "/TransferFunctions/tooth_dentin_enamel.json"));
+  const Image truth =
+    compositeOverBackground(renderer.caster().render(table, truthView), base.background);
   ViewEstimationReport report;
   const View estimate = estimateView(renderer, { truth, base, {} }, {}, &report);
-  std::printf("estimated azimuth %.1f (75), elevation %.1f (20), zoom %.3f (1) with %d fits in %.1f s\n",
+  std::printf(
+    "estimated azimuth %.1f (75), elevation %.1f (20), zoom %.3f (1) with %d fits in %.1f s\n",
     report.azimuth, report.elevation, report.zoom, report.evaluations, report.seconds);
   EXPECT_NEAR(report.azimuth, 75.0, kAngleTol);
   EXPECT_NEAR(report.elevation, 20.0, kAngleTol);
   EXPECT_NEAR(report.zoom, 1.0, kZoomTol);
   const auto result = reconstructTransferFunction(renderer, { { truth, estimate, {} } }, {});
-  const double db = psnr(compositeOverBackground(renderResult(renderer.caster(), result, estimate), base.background), truth);
+  const double db = psnr(
+    compositeOverBackground(renderResult(renderer.caster(), result, estimate), base.background),
+    truth);
   std::printf("PSNR at the estimated view %.2f dB\n", db);
   EXPECT_GE(db, kPsnrDb);
 }
