@@ -8,6 +8,7 @@
 //  termination (for the comparison with the PyTorch autograd version, bench_torch_autograd.py).
 // Prints figures; asserts nothing.
 #include "DDGVolumeAdaptor.h"
+#include "SelfConsistencyCase.h"
 
 #include "Common/Parallel.h"
 #include "Image/ImageMetrics.h"
@@ -36,22 +37,6 @@ double median(std::vector<double> v)
   return v[v.size() / 2];
 }
 
-std::vector<GaussianPrimitive> randomPrimitives(unsigned seed)
-{
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> mean(110, 245), sd(6, 18), colour(0.1, 1.0),
-    alpha(0.3, 0.9);
-  std::vector<GaussianPrimitive> p(3);
-  for (auto& g : p)
-  {
-    g.mean = { mean(rng), 0 };
-    g.stddev = { sd(rng), 1 };
-    g.rgb = { colour(rng), colour(rng), colour(rng) };
-    g.opacity = alpha(rng);
-  }
-  return p;
-}
-
 void timeToQuality(
   const std::string& name, unsigned seed, int size, const ReconstructionOptions& base)
 {
@@ -60,14 +45,9 @@ void timeToQuality(
   View view = readView(std::string(DDG_DATA_DIR) + "/Views/" + name + "_oblique.json");
   view.width = view.height = size;
   const auto range = vol.range();
-  const Image truth =
-    renderer.caster().render(rasterize1D(randomPrimitives(seed), range[0], range[1], 256), view);
-  Image target = truth;
-  for (size_t i = 0; i < target.pixels.size(); i += 4)
-    for (int c = 0; c < 3; ++c)
-      target.pixels[i + c] = target.pixels[i + 3] > 0
-        ? std::min(1.0f, target.pixels[i + c] / target.pixels[i + 3])
-        : 0.0f;
+  const Image truth = renderer.caster().render(
+    rasterize1D(testcase::randomPrimitives(seed), range[0], range[1], 256), view);
+  const Image target = testcase::straightAlpha(truth);
   const Image truthRGB = compositeOverBackground(truth, view.background);
   ReconstructionOptions opt = base;
   opt.snapshotEvery = 10;

@@ -9,6 +9,28 @@ namespace ddg::reference
 namespace
 {
 
+// Entry and exit distances of a ray through the point bounds b; false when it misses.
+bool clipToBox(const std::array<double, 6>& b, const Eigen::Vector3d& o, const Eigen::Vector3d& dir,
+  double& t0, double& t1)
+{
+  t0 = -1e300;
+  t1 = 1e300;
+  for (int a = 0; a < 3; ++a)
+  {
+    if (dir[a] == 0)
+    {
+      if (o[a] < b[2 * a] || o[a] > b[2 * a + 1])
+        return false;
+      continue;
+    }
+    const double ta = (b[2 * a] - o[a]) / dir[a], tb = (b[2 * a + 1] - o[a]) / dir[a];
+    t0 = std::max(t0, std::min(ta, tb));
+    t1 = std::min(t1, std::max(ta, tb));
+  }
+  t0 = std::max(t0, 0.0);
+  return t1 >= t0;
+}
+
 double corrected(double a, double exponent)
 {
   return a > 0.0001 ? 1.0 - std::pow(1.0 - a, exponent) : a;
@@ -26,21 +48,8 @@ Image march(const Volume& volume, const View& view, double d, double offset, dou
     {
       Eigen::Vector3d o, dir;
       rays.ray(x, y, o, dir);
-      double t0 = -1e300, t1 = 1e300;
-      bool miss = false;
-      for (int a = 0; a < 3; ++a)
-      {
-        if (dir[a] == 0)
-        {
-          miss = miss || o[a] < b[2 * a] || o[a] > b[2 * a + 1];
-          continue;
-        }
-        double ta = (b[2 * a] - o[a]) / dir[a], tb = (b[2 * a + 1] - o[a]) / dir[a];
-        t0 = std::max(t0, std::min(ta, tb));
-        t1 = std::min(t1, std::max(ta, tb));
-      }
-      t0 = std::max(t0, 0.0);
-      if (miss || t1 < t0)
+      double t0, t1;
+      if (!clipToBox(b, o, dir, t0, t1))
       {
         continue;
       }
@@ -149,21 +158,8 @@ std::vector<double> referenceGradient(const Volume& volume, const std::vector<do
     {
       Eigen::Vector3d o, dir;
       rays.ray(x, y, o, dir);
-      double t0 = -1e300, t1 = 1e300;
-      bool miss = false;
-      for (int a = 0; a < 3; ++a)
-      {
-        if (dir[a] == 0)
-        {
-          miss = miss || o[a] < b[2 * a] || o[a] > b[2 * a + 1];
-          continue;
-        }
-        const double ta = (b[2 * a] - o[a]) / dir[a], tb = (b[2 * a + 1] - o[a]) / dir[a];
-        t0 = std::max(t0, std::min(ta, tb));
-        t1 = std::min(t1, std::max(ta, tb));
-      }
-      t0 = std::max(t0, 0.0);
-      if (miss || t1 < t0)
+      double t0, t1;
+      if (!clipToBox(b, o, dir, t0, t1))
       {
         continue;
       }

@@ -22,7 +22,8 @@ Volume sphereVolume()
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
       {
-        const double r = std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
+        const double r =
+          std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
         v.push_back(static_cast<float>(std::clamp(255.0 - 18.0 * r, 0.0, 255.0)));
       }
   return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
@@ -37,7 +38,8 @@ TEST(ReconstructionApi, RecoversProgressesCancelsAndRefuses)
   TransferFunction1D tf;
   tf.color = { { 0, 0.2, 0.3, 0.9 }, { 120, 0.9, 0.6, 0.2 }, { 255, 1, 1, 1 } };
   tf.opacity = { { 0, 0 }, { 60, 0 }, { 130, 0.15 }, { 200, 0.7 }, { 255, 0.9 } };
-  const Image truth = compositeOverBackground(renderer.caster().render(renderer.caster().paraviewTable(tf), view), view.background);
+  const Image truth = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(tf), view), view.background);
 
   int calls = 0;
   ReconstructionOptions opt;
@@ -46,7 +48,8 @@ TEST(ReconstructionApi, RecoversProgressesCancelsAndRefuses)
     [&](int, double, const ReconstructionResult*) { return ++calls > 0; });
   EXPECT_EQ(calls, result.iterations);
   EXPECT_LT(result.loss.back(), 0.1 * result.loss.front());
-  const double db = psnr(compositeOverBackground(renderResult(renderer.caster(), result, view), view.background), truth);
+  const double db = psnr(
+    compositeOverBackground(renderResult(renderer.caster(), result, view), view.background), truth);
   EXPECT_GE(db, kRecoveredDb);
 
   EXPECT_THROW(reconstructTransferFunction(renderer, { { truth, view, {} } }, opt,
@@ -56,9 +59,11 @@ TEST(ReconstructionApi, RecoversProgressesCancelsAndRefuses)
   View other = view;
   other.width = 50;
   EXPECT_THROW(reconstructTransferFunction(renderer, { { truth, other, {} } }, opt), Error); // size
-  EXPECT_THROW(reconstructTransferFunction(renderer, { { toChannels(truth, 1), view, {} } }, opt), Error);
+  EXPECT_THROW(
+    reconstructTransferFunction(renderer, { { toChannels(truth, 1), view, {} } }, opt), Error);
   Image background(48, 40, 3);
-  for (size_t i = 0; i < background.pixels.size(); ++i) background.pixels[i] = static_cast<float>(view.background[i % 3]);
+  for (size_t i = 0; i < background.pixels.size(); ++i)
+    background.pixels[i] = static_cast<float>(view.background[i % 3]);
   EXPECT_THROW(reconstructTransferFunction(renderer, { { background, view, {} } }, opt), Error);
   Image nanImage = truth;
   nanImage.pixels[5] = std::nanf("");

@@ -7,6 +7,7 @@
 // Bars (named below): single-view reconstruction >= kSeenDb at its view and >= kOtherDb at the
 // four others; 4-view reconstruction >= kUnseenMultiDb at the fifth, unseen view.
 #include "DDGVolumeAdaptor.h"
+#include "SelfConsistencyCase.h"
 
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/Reconstruction.h"
@@ -27,22 +28,6 @@ constexpr double kOtherDb = 33.0;
 constexpr double kUnseenMultiDb = 38.0;
 constexpr int kSize = 160;
 
-std::vector<GaussianPrimitive> randomPrimitives(unsigned seed)
-{
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> mean(110, 245), sd(6, 18), colour(0.1, 1.0),
-    alpha(0.3, 0.9);
-  std::vector<GaussianPrimitive> p(3);
-  for (auto& g : p)
-  {
-    g.mean = { mean(rng), 0 };
-    g.stddev = { sd(rng), 1 };
-    g.rgb = { colour(rng), colour(rng), colour(rng) };
-    g.opacity = alpha(rng);
-  }
-  return p;
-}
-
 std::vector<View> orbitViews(const Volume& vol)
 {
   std::vector<View> views;
@@ -62,19 +47,6 @@ std::vector<View> orbitViews(const Volume& vol)
   return views;
 }
 
-// Straight-alpha RGBA target (as a PNG would hold it) from a premultiplied render.
-Image straightAlpha(const Image& premultiplied)
-{
-  Image out = premultiplied;
-  for (size_t i = 0; i < out.pixels.size(); i += 4)
-  {
-    const float a = out.pixels[i + 3];
-    for (int c = 0; c < 3; ++c)
-      out.pixels[i + c] = a > 0 ? std::min(1.0f, out.pixels[i + c] / a) : 0.0f;
-  }
-  return out;
-}
-
 double viewPsnr(
   const RayCaster& caster, const ReconstructionResult& r, const Image& truth, const View& v)
 {
@@ -88,14 +60,15 @@ void selfConsistency(const char* name, unsigned seed)
   const DifferentiableRenderer renderer(vol);
   const RayCaster& caster = renderer.caster();
   const auto range = vol.range();
-  const TransferTable1D truthTable = rasterize1D(randomPrimitives(seed), range[0], range[1], 256);
+  const TransferTable1D truthTable =
+    rasterize1D(testcase::randomPrimitives(seed), range[0], range[1], 256);
   const auto views = orbitViews(vol);
   std::vector<Image> truth;
   for (const auto& v : views)
     truth.push_back(caster.render(truthTable, v));
 
   ReconstructionOptions opt;
-  std::vector<ReconstructionTarget> single{ { straightAlpha(truth[0]), views[0], {} } };
+  std::vector<ReconstructionTarget> single{ { testcase::straightAlpha(truth[0]), views[0], {} } };
   const auto one = reconstructTransferFunction(renderer, single, opt);
   std::printf("%s single view: %d steps, %.2f s%s\n", name, one.iterations, one.seconds,
     one.converged ? "" : " (not converged)");
@@ -108,7 +81,7 @@ void selfConsistency(const char* name, unsigned seed)
 
   std::vector<ReconstructionTarget> four;
   for (int i = 0; i < 4; ++i)
-    four.push_back({ straightAlpha(truth[i]), views[i], {} });
+    four.push_back({ testcase::straightAlpha(truth[i]), views[i], {} });
   opt.raysPerIteration = 2048;
   const auto multi = reconstructTransferFunction(renderer, four, opt);
   const double unseen = viewPsnr(caster, multi, truth[4], views[4]);
