@@ -17,7 +17,8 @@ namespace ddg::testcase
 inline std::vector<GaussianPrimitive> randomPrimitives(unsigned seed)
 {
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> mean(110, 245), sd(6, 18), colour(0.1, 1.0), alpha(0.3, 0.9);
+  std::uniform_real_distribution<double> mean(110, 245), sd(6, 18), colour(0.1, 1.0),
+    alpha(0.3, 0.9);
   std::vector<GaussianPrimitive> p(3);
   for (auto& g : p)
   {

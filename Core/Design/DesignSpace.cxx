@@ -1,0 +1,332 @@
+// DesignSpace.cxx: feature regions from the histogram, the spec, exemplar sampling.
+#include "Design/DesignSpace.h"
+
+#include "Common/Error.h"
+#include "Common/FileUtil.h"
+
+#include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <random>
+#include <sstream>
+
+namespace ddg
+{
+
+std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegions)
+{
+  constexpr int kBins = 256;
+  const auto range = volume.range();
+  if (!(range[1] > range[0]))
+  {
+    throw Error("feature regions: the volume is constant");
+  }
+  const double width = (range[1] - range[0]) / kBins;
+  std::vector<double> hist(kBins, 0.0);
+  for (float v : volume.values())
+  {
+    hist[std::clamp(static_cast<int>((v - range[0]) / width), 0, kBins - 1)] += 1.0;
+  }
+  const double total = static_cast<double>(volume.voxelCount());
+  // log scale (small features matter), noise floor, smoothing
+  std::vector<double> h(kBins), smooth(kBins, 0.0);
+  for (int i = 0; i < kBins; ++i)
+  {
+    const double f = hist[i] / total;
+    h[i] = f < 1e-4 ? 0.0 : std::log10(f / 1e-4);
+  }
+  for (int i = 0; i < kBins; ++i)
+  {
+    double s = 0, w = 0;
+    for (int k = -6; k <= 6; ++k)
+    {
+      const int j = i + k;
+      if (j < 0 || j >= kBins) continue;
+      const double g = std::exp(-0.5 * k * k / 4.0);
+      s += g * h[j];
+      w += g;
+    }
+    smooth[i] = s / w;
+  }
+  // air: the most frequent value in the lowest 40 % -> exclude it and everything below, up to
+  // the first valley above it
+  const int mode = static_cast<int>(std::max_element(hist.begin(), hist.end()) - hist.begin());
+  int start = 0;
+  if (mode < 0.4 * kBins)
+  {
+    start = mode;
+    while (start + 1 < kBins && smooth[start + 1] <= smooth[start]) ++start;
+  }
+  // peaks and their valleys
+  struct Peak
+  {
+    int at, lo, hi;
+    double prominence;
+  };
+  std::vector<Peak> peaks;
+  for (int i = start; i < kBins; ++i)
+  {
+    const bool left = i == start || smooth[i] > smooth[i - 1];
+    const bool right = i == kBins - 1 || smooth[i] >= smooth[i + 1];
+    if (!left || !right || smooth[i] <= 0) continue;
+    int lo = i, hi = i;
+    while (lo > start && smooth[lo - 1] <= smooth[lo]) --lo;
+    while (hi < kBins - 1 && smooth[hi + 1] <= smooth[hi]) ++hi;
+    const double prom = smooth[i] - std::max(smooth[lo], smooth[hi]);
+    peaks.push_back({ i, lo, hi, prom + 1e-6 * smooth[i] });
+  }
+  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.prominence > b.prominence; });
+  double nonAir = 0;
+  for (int i = start; i < kBins; ++i) nonAir += hist[i];
+  std::vector<FeatureRegion> regions;
+  for (const auto& p : peaks)
+  {
+    if (static_cast<int>(regions.size()) >= maxRegions) break;
+    double regionMass = 0;
+    for (int i = p.lo; i <= p.hi; ++i) regionMass += hist[i];
+    if (nonAir > 0 && regionMass / nonAir < 0.005) continue; // noise
+    FeatureRegion r;
+    r.lo = range[0] + p.lo * width;
+    r.hi = range[0] + (p.hi + 1) * width;
+    r.peak = range[0] + (p.at + 0.5) * width;
+    double mass = 0;
+    for (int i = p.lo; i <= p.hi; ++i) mass += hist[i];
+    r.mass = nonAir > 0 ? mass / nonAir : 0;
+    regions.push_back(r);
+  }
+  if (regions.empty())
+  {
+    throw Error("feature regions: no histogram peak above the air and noise level");
+  }
+  std::sort(regions.begin(), regions.end(), [](const FeatureRegion& a, const FeatureRegion& b) { return a.peak < b.peak; });
+  return regions;
+}
+
+GaussianPrimitive basePrimitive(const FeatureRegion& r)
+{
+  GaussianPrimitive g;
+  g.mean = { r.peak, 0 };
+  g.stddev = { std::max(1e-6, (r.hi - r.lo) / 4.0), 1 };
+  g.rgb = { 0.8, 0.8, 0.8 };
+  g.opacity = 0.5;
+  return g;
+}
+
+// --- spec -------------------------------------------------------------------------------------
+
+void DesignSpaceSpec::validate() const
+{
+  auto unitRange = [](const std::array<double, 2>& r, const char* key) {
+    if (!(r[0] >= 0 && r[0] <= r[1] && r[1] <= 1))
+      throw Error(std::string("design space spec: \"") + key + "\" must be [lo, hi] with 0 <= lo <= hi <= 1");
+  };
+  unitRange(saturation, "saturation");
+  unitRange(lightness, "lightness");
+  unitRange(opacity, "opacity");
+  if (maxRegions < 1 || maxRegions > 16) throw Error("design space spec: \"max_regions\" must be 1..16");
+  if (minActive < 1 || minActive > maxRegions) throw Error("design space spec: \"min_active\" must be 1..max_regions");
+  if (!(meanShift >= 0 && meanShift <= 2)) throw Error("design space spec: \"mean_shift\" must be in [0, 2]");
+  if (!(stddevScale[0] > 0 && stddevScale[0] <= stddevScale[1])) throw Error("design space spec: \"stddev_scale\" must be [lo, hi] with 0 < lo <= hi");
+  if (!(elevation[0] >= -89 && elevation[0] <= elevation[1] && elevation[1] <= 89)) throw Error("design space spec: \"elevation\" must be within [-89, 89] degrees");
+  if (!(zoom[0] > 0 && zoom[0] <= zoom[1])) throw Error("design space spec: \"zoom\" must be [lo, hi] with 0 < lo <= hi");
+  if (!(viewportOpacity > 0 && viewportOpacity <= 1)) throw Error("design space spec: \"viewport_opacity\" must be in (0, 1]");
+  for (const auto& r : regions)
+    if (!(r.lo < r.hi) || !std::isfinite(r.lo) || !std::isfinite(r.hi) || r.peak < r.lo || r.peak > r.hi)
+      throw Error("design space spec: every region needs lo < hi and lo <= peak <= hi");
+}
+
+DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string& origin)
+{
+  using nlohmann::json;
+  json j;
+  try
+  {
+    j = json::parse(text);
+  }
+  catch (const json::parse_error& e)
+  {
+    throw Error(origin + " is not valid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw Error(origin + ": expected a JSON object");
+  DesignSpaceSpec s;
+  static const char* known[] = { "regions", "max_regions", "min_active", "saturation", "lightness", "opacity",
+    "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity" };
+  for (auto it = j.begin(); it != j.end(); ++it)
+  {
+    if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known))
+      throw Error(origin + ": unknown key \"" + it.key() + "\"");
+  }
+  try
+  {
+    auto pair = [&](const char* key, std::array<double, 2>& out) {
+      if (!j.contains(key)) return;
+      const auto v = j[key].get<std::vector<double>>();
+      if (v.size() != 2) throw Error(origin + ": \"" + key + "\" must be [lo, hi]");
+      out = { v[0], v[1] };
+    };
+    pair("saturation", s.saturation);
+    pair("lightness", s.lightness);
+    pair("opacity", s.opacity);
+    pair("stddev_scale", s.stddevScale);
+    pair("elevation", s.elevation);
+    pair("zoom", s.zoom);
+    s.maxRegions = j.value("max_regions", s.maxRegions);
+    s.minActive = j.value("min_active", s.minActive);
+    s.meanShift = j.value("mean_shift", s.meanShift);
+    s.viewportOpacity = j.value("viewport_opacity", s.viewportOpacity);
+    if (j.contains("regions"))
+    {
+      for (const auto& r : j["regions"])
+      {
+        FeatureRegion fr;
+        fr.lo = r.at("lo").get<double>();
+        fr.hi = r.at("hi").get<double>();
+        fr.peak = r.value("peak", 0.5 * (fr.lo + fr.hi));
+        s.regions.push_back(fr);
+      }
+    }
+  }
+  catch (const json::exception& e)
+  {
+    throw Error(origin + ": " + e.what());
+  }
+  try
+  {
+    s.validate();
+  }
+  catch (const Error& e)
+  {
+    throw Error(origin + ": " + e.what());
+  }
+  return s;
+}
+
+DesignSpaceSpec readDesignSpaceSpec(const std::string& path)
+{
+  return parseDesignSpaceSpec(readTextFile(path, "design space spec"), "design space spec '" + path + "'");
+}
+
+std::string designSpaceSpecToJson(const DesignSpaceSpec& s)
+{
+  nlohmann::json j;
+  j["max_regions"] = s.maxRegions;
+  j["min_active"] = s.minActive;
+  j["saturation"] = s.saturation;
+  j["lightness"] = s.lightness;
+  j["opacity"] = s.opacity;
+  j["mean_shift"] = s.meanShift;
+  j["stddev_scale"] = s.stddevScale;
+  j["elevation"] = s.elevation;
+  j["zoom"] = s.zoom;
+  j["viewport_opacity"] = s.viewportOpacity;
+  if (!s.regions.empty())
+  {
+    j["regions"] = nlohmann::json::array();
+    for (const auto& r : s.regions) j["regions"].push_back({ { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak } });
+  }
+  return j.dump(2) + "\n";
+}
+
+// --- exemplars --------------------------------------------------------------------------------
+
+namespace
+{
+
+std::array<double, 3> hslToRgb(double h, double s, double l)
+{
+  auto f = [&](double n) {
+    const double k = std::fmod(n + h * 12.0, 12.0);
+    const double a = s * std::min(l, 1 - l);
+    return l - a * std::max(-1.0, std::min({ k - 3, 9 - k, 1.0 }));
+  };
+  return { f(0), f(8), f(4) };
+}
+
+View orbit(const Volume& volume, int size, double azimuthDeg, double elevationDeg, double zoom)
+{
+  View v = defaultView(volume, size, size);
+  const Eigen::Vector3d f = v.camera.focalPoint;
+  const double dist = (v.camera.position - f).norm() / zoom;
+  const double az = azimuthDeg * M_PI / 180, el = elevationDeg * M_PI / 180;
+  v.camera.position = f + dist * Eigen::Vector3d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  v.camera.viewUp = { 0, 1, 0 };
+  v.camera.parallelScale /= zoom;
+  return v;
+}
+
+} // namespace
+
+Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
+  const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size)
+{
+  Exemplar e;
+  e.seed = seed * 0x9E3779B97F4A7C15ull + index;
+  std::mt19937_64 rng(e.seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  auto in = [&](const std::array<double, 2>& r) { return r[0] + (r[1] - r[0]) * u(rng); };
+  const int n = static_cast<int>(regions.size());
+  // a random subset of at least minActive regions
+  std::vector<int> order(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) order[i] = i;
+  std::shuffle(order.begin(), order.end(), rng);
+  const int lo = std::min(spec.minActive, n);
+  const int count = lo + static_cast<int>(u(rng) * (n - lo + 1) * 0.999999);
+  e.active.assign(order.begin(), order.begin() + count);
+  std::sort(e.active.begin(), e.active.end());
+  for (int r : e.active)
+  {
+    GaussianPrimitive g = basePrimitive(regions[r]);
+    const double w = regions[r].hi - regions[r].lo;
+    g.mean[0] += (2 * u(rng) - 1) * spec.meanShift * w;
+    g.stddev[0] *= in(spec.stddevScale);
+    g.rgb = hslToRgb(u(rng), in(spec.saturation), in(spec.lightness));
+    for (double& c : g.rgb) c = std::clamp(c, 0.0, 1.0);
+    g.opacity = in(spec.opacity);
+    e.primitives.push_back(g);
+  }
+  e.viewExp = orbit(volume, size, 360 * u(rng), in(spec.elevation), in(spec.zoom));
+  e.viewView = orbit(volume, size, 360 * u(rng), in(spec.elevation), in(spec.zoom));
+  e.background = u(rng) < 0.5 ? 0 : 1;
+  e.viewExp.background = { static_cast<double>(e.background), static_cast<double>(e.background),
+    static_cast<double>(e.background) };
+  return e;
+}
+
+std::vector<GaussianPrimitive> auxiliaryPrimitives(const DesignSpaceSpec& spec, const std::vector<FeatureRegion>& regions)
+{
+  std::vector<GaussianPrimitive> out;
+  for (const auto& r : regions)
+  {
+    GaussianPrimitive g = basePrimitive(r);
+    g.opacity = spec.viewportOpacity;
+    out.push_back(g);
+  }
+  return out;
+}
+
+std::string volumeFingerprint(const Volume& volume)
+{
+  std::uint64_t h = 1469598103934665603ull;
+  for (float v : volume.values())
+  {
+    std::uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    for (int b = 0; b < 4; ++b)
+    {
+      h ^= (bits >> (8 * b)) & 0xFF;
+      h *= 1099511628211ull;
+    }
+  }
+  const auto& d = volume.dims();
+  const auto& s = volume.spacing();
+  char buf[256];
+  std::snprintf(buf, sizeof(buf), "%dx%dx%d spacing %.6g,%.6g,%.6g range %.6g..%.6g fnv1a %016llx", d[0], d[1], d[2],
+    s[0], s[1], s[2], volume.range()[0], volume.range()[1], static_cast<unsigned long long>(h));
+  return buf;
+}
+
+} // namespace ddg

@@ -1,0 +1,250 @@
+// ExemplarGenerator.cxx: parallel rendering of exemplars, shard files, the dataset index.
+#include "Design/ExemplarGenerator.h"
+
+#include "Common/Error.h"
+#include "Common/FileUtil.h"
+#include "Common/Parallel.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+namespace ddg
+{
+namespace
+{
+namespace fs = std::filesystem;
+using nlohmann::json;
+constexpr char kMagic[8] = { 'D', 'D', 'G', 'X', 'S', 'H', 'R', 'D' };
+
+std::string shardName(int shard)
+{
+  char buf[32];
+  std::snprintf(buf, sizeof(buf), "shard-%05d.bin", shard);
+  return buf;
+}
+
+size_t recordBytes(int size)
+{
+  return static_cast<size_t>(size) * size * (3 + 4 + 4);
+}
+
+void toBytes(const Image& img, std::uint8_t* out)
+{
+  for (size_t i = 0; i < img.pixels.size(); ++i)
+  {
+    out[i] = static_cast<std::uint8_t>(std::lround(std::clamp(img.pixels[i], 0.0f, 1.0f) * 255.0f));
+  }
+}
+
+json viewJson(const View& v)
+{
+  return json::parse(viewToJson(v));
+}
+
+json primitiveJson(const GaussianPrimitive& g)
+{
+  return { { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb }, { "opacity", g.opacity } };
+}
+
+} // namespace
+
+GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& spec,
+  const std::string& dir, const GenerateOptions& opt, const std::function<bool(double)>& progress)
+{
+  const auto start = std::chrono::steady_clock::now();
+  spec.validate();
+  if (opt.count < 1 || opt.size < 8 || opt.size > 1024 || opt.shardSize < 1)
+  {
+    throw Error("generate: count must be >= 1, size 8..1024 and shard size >= 1");
+  }
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+  {
+    throw Error("cannot create dataset directory '" + dir + "': " + ec.message());
+  }
+  GenerateReport report;
+  report.regions = spec.regions.empty() ? findFeatureRegions(volume, spec.maxRegions) : spec.regions;
+  const RayCaster caster(volume);
+  const auto range = volume.range();
+  const auto auxTable = rasterize1D(auxiliaryPrimitives(spec, report.regions), range[0], range[1], 256);
+  RenderOptions ropt;
+  ropt.threads = 1;
+
+  std::vector<Exemplar> items(static_cast<size_t>(opt.count));
+  const size_t rec = recordBytes(opt.size);
+  const int shards = (opt.count + opt.shardSize - 1) / opt.shardSize;
+  std::vector<std::string> written;
+  auto cleanup = [&] {
+    for (const auto& f : written) fs::remove(f, ec);
+  };
+  try
+  {
+    for (int shard = 0; shard < shards; ++shard)
+    {
+      const int first = shard * opt.shardSize;
+      const int n = std::min(opt.shardSize, opt.count - first);
+      std::vector<std::uint8_t> data(rec * n);
+      parallelFor(n, opt.threads, [&](std::int64_t q, int) {
+        const int i = first + static_cast<int>(q);
+        Exemplar e = sampleExemplar(volume, spec, report.regions, opt.seed, opt.firstIndex + i, opt.size);
+        const auto table = rasterize1D(e.primitives, range[0], range[1], 256);
+        std::uint8_t* out = data.data() + rec * q;
+        const size_t px = static_cast<size_t>(opt.size) * opt.size;
+        toBytes(compositeOverBackground(caster.render(table, e.viewExp, ropt), e.viewExp.background), out);
+        toBytes(caster.render(auxTable, e.viewView, ropt), out + 3 * px);
+        toBytes(caster.render(table, e.viewView, ropt), out + 7 * px);
+        items[static_cast<size_t>(i)] = std::move(e);
+      });
+      std::string bytes(kMagic, kMagic + 8);
+      const std::uint32_t header[4] = { 1, static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(opt.size), 0 };
+      bytes.append(reinterpret_cast<const char*>(header), sizeof(header));
+      bytes.append(reinterpret_cast<const char*>(data.data()), data.size());
+      const std::string path = (fs::path(dir) / shardName(shard)).string();
+      writeFileAtomic(path, bytes, "exemplar shard");
+      written.push_back(path);
+      if (progress && !progress(static_cast<double>(first + n) / opt.count))
+      {
+        throw Cancelled();
+      }
+    }
+    json j;
+    j["format"] = "ddg-exemplars";
+    j["version"] = 1;
+    j["volume"] = volumeFingerprint(volume);
+    j["size"] = opt.size;
+    j["count"] = opt.count;
+    j["seed"] = opt.seed;
+    j["first_index"] = opt.firstIndex;
+    j["shard_size"] = opt.shardSize;
+    j["spec"] = json::parse(designSpaceSpecToJson(spec));
+    j["regions"] = json::array();
+    for (const auto& r : report.regions)
+      j["regions"].push_back({ { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak }, { "mass", r.mass } });
+    j["exemplars"] = json::array();
+    for (const auto& e : items)
+    {
+      json p = json::array();
+      for (const auto& g : e.primitives) p.push_back(primitiveJson(g));
+      j["exemplars"].push_back({ { "seed", e.seed }, { "active", e.active }, { "primitives", p },
+        { "view_exp", viewJson(e.viewExp) }, { "view_view", viewJson(e.viewView) }, { "background", e.background } });
+    }
+    writeFileAtomic((fs::path(dir) / "dataset.json").string(), j.dump() + "\n", "dataset index");
+  }
+  catch (...)
+  {
+    cleanup();
+    throw;
+  }
+  report.count = opt.count;
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return report;
+}
+
+ExemplarDataset::ExemplarDataset(const std::string& dir)
+  : Dir(dir)
+{
+  const std::string indexPath = (fs::path(dir) / "dataset.json").string();
+  json j;
+  try
+  {
+    j = json::parse(readTextFile(indexPath, "dataset index"));
+  }
+  catch (const json::parse_error& e)
+  {
+    throw Error("dataset index '" + indexPath + "' is corrupt: " + e.what());
+  }
+  try
+  {
+    if (j.value("format", std::string()) != "ddg-exemplars" || j.value("version", 0) != 1)
+      throw Error("'" + indexPath + "' is not a version-1 ddg exemplar dataset");
+    Fingerprint = j.at("volume").get<std::string>();
+    Size = j.at("size").get<int>();
+    Count = j.at("count").get<int>();
+    ShardSize = j.at("shard_size").get<int>();
+    Spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
+    for (const auto& r : j.at("regions"))
+      Regions.push_back({ r.at("lo").get<double>(), r.at("hi").get<double>(), r.at("peak").get<double>(), r.value("mass", 0.0) });
+    for (const auto& e : j.at("exemplars"))
+    {
+      Exemplar x;
+      x.seed = e.at("seed").get<std::uint64_t>();
+      x.active = e.at("active").get<std::vector<int>>();
+      for (const auto& p : e.at("primitives"))
+      {
+        GaussianPrimitive g;
+        g.mean = { p.at("mean").get<double>(), 0 };
+        g.stddev = { p.at("stddev").get<double>(), 1 };
+        const auto rgb = p.at("rgb").get<std::vector<double>>();
+        g.rgb = { rgb.at(0), rgb.at(1), rgb.at(2) };
+        g.opacity = p.at("opacity").get<double>();
+        x.primitives.push_back(g);
+      }
+      x.viewExp = parseView(e.at("view_exp").dump(), indexPath);
+      x.viewView = parseView(e.at("view_view").dump(), indexPath);
+      x.background = e.at("background").get<int>();
+      Items.push_back(std::move(x));
+    }
+  }
+  catch (const json::exception& e)
+  {
+    throw Error("dataset index '" + indexPath + "' is corrupt: " + e.what());
+  }
+  if (static_cast<int>(Items.size()) != Count || Size < 8 || ShardSize < 1)
+  {
+    throw Error("dataset index '" + indexPath + "' is inconsistent (count, size or shard size)");
+  }
+  const int shards = (Count + ShardSize - 1) / ShardSize;
+  for (int s = 0; s < shards; ++s)
+  {
+    const std::string path = (fs::path(dir) / shardName(s)).string();
+    const int n = std::min(ShardSize, Count - s * ShardSize);
+    std::error_code ec;
+    const auto bytes = fs::file_size(path, ec);
+    if (ec || bytes != 24 + recordBytes(Size) * n)
+    {
+      throw Error("dataset shard '" + path + "' is missing or truncated");
+    }
+    std::ifstream in(path, std::ios::binary);
+    char magic[8];
+    std::uint32_t header[4];
+    in.read(magic, 8);
+    in.read(reinterpret_cast<char*>(header), sizeof(header));
+    if (!in || std::memcmp(magic, kMagic, 8) != 0 || header[0] != 1 || header[1] != static_cast<std::uint32_t>(n) ||
+      header[2] != static_cast<std::uint32_t>(Size))
+    {
+      throw Error("dataset shard '" + path + "' has a wrong header");
+    }
+  }
+}
+
+void ExemplarDataset::load(int i, std::vector<std::uint8_t>& rgbExp, std::vector<std::uint8_t>& viewport,
+  std::vector<std::uint8_t>& truth) const
+{
+  if (i < 0 || i >= Count)
+  {
+    throw Error("exemplar index out of range");
+  }
+  const int shard = i / ShardSize, q = i % ShardSize;
+  const size_t px = static_cast<size_t>(Size) * Size;
+  std::ifstream in((fs::path(Dir) / shardName(shard)).string(), std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(24 + recordBytes(Size) * q));
+  rgbExp.resize(3 * px);
+  viewport.resize(4 * px);
+  truth.resize(4 * px);
+  in.read(reinterpret_cast<char*>(rgbExp.data()), static_cast<std::streamsize>(rgbExp.size()));
+  in.read(reinterpret_cast<char*>(viewport.data()), static_cast<std::streamsize>(viewport.size()));
+  in.read(reinterpret_cast<char*>(truth.data()), static_cast<std::streamsize>(truth.size()));
+  if (!in)
+  {
+    throw Error("cannot read exemplar " + std::to_string(i) + " from '" + Dir + "'");
+  }
+}
+
+} // namespace ddg

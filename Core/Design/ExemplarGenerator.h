@@ -1,0 +1,75 @@
+// ExemplarGenerator.h: renders design exemplars into compact binary shards plus a JSON index.
+#pragma once
+
+#include "Design/DesignSpace.h"
+#include "Render/RayCaster.h"
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace ddg
+{
+
+/// Options (defaults in brackets).
+struct GenerateOptions
+{
+  int count = 1000;          ///< exemplars [1000]
+  int size = 64;             ///< square image side [64]
+  std::uint64_t seed = 1;    ///< the dataset is a deterministic function of (volume, spec, seed) [1]
+  std::uint64_t firstIndex = 0; ///< index of the first exemplar (held-out sets use another range) [0]
+  int shardSize = 256;       ///< exemplars per shard file [256]
+  int threads = 0;           ///< 0 = all cores
+};
+
+struct GenerateReport
+{
+  int count = 0;
+  double seconds = 0;
+  std::vector<FeatureRegion> regions;
+};
+
+/// Writes `dir` (created if needed; existing dataset files are replaced only when the new ones
+/// are complete):
+///   shard-NNNNN.bin  "DDGXSHRD", uint32 version 1, count, size, 0; then per exemplar, uint8:
+///                    RGB at V_exp over its black/white background (size*size*3), the viewport
+///                    image (auxiliary TF at V_view, premultiplied RGBA, size*size*4) and the
+///                    ground truth (TF_exp at V_view, premultiplied RGBA, size*size*4)
+///   dataset.json     format, version, volume fingerprint, size, count, seed, spec, regions,
+///                    and per exemplar its seed, active regions, primitives and both views;
+///                    written last, so a dataset without it is incomplete.
+/// Each exemplar is rendered on one thread, exemplars in parallel. Progress gets the fraction
+/// done and may cancel (throws ddg::Cancelled; the files of the cancelled run are removed).
+GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& spec,
+  const std::string& dir, const GenerateOptions& options,
+  const std::function<bool(double)>& progress = {});
+
+/// A generated dataset opened for reading (training, evaluation).
+class ExemplarDataset
+{
+public:
+  /// Reads dataset.json and checks every shard's header and size; throws ddg::Error naming the
+  /// file for a missing, truncated or corrupt dataset.
+  explicit ExemplarDataset(const std::string& dir);
+
+  int count() const { return Count; }
+  int size() const { return Size; }
+  const std::string& fingerprint() const { return Fingerprint; }
+  const std::vector<Exemplar>& exemplars() const { return Items; }
+  const std::vector<FeatureRegion>& regions() const { return Regions; }
+  const DesignSpaceSpec& spec() const { return Spec; }
+
+  /// The three images of exemplar i as uint8 (rgbExp: size*size*3; viewport, truth: *4).
+  void load(int i, std::vector<std::uint8_t>& rgbExp, std::vector<std::uint8_t>& viewport,
+    std::vector<std::uint8_t>& truth) const;
+
+private:
+  std::string Dir, Fingerprint;
+  int Count = 0, Size = 0, ShardSize = 0;
+  std::vector<Exemplar> Items;
+  std::vector<FeatureRegion> Regions;
+  DesignSpaceSpec Spec;
+};
+
+} // namespace ddg
