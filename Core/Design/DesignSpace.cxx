@@ -45,7 +45,8 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
     for (int k = -6; k <= 6; ++k)
     {
       const int j = i + k;
-      if (j < 0 || j >= kBins) continue;
+      if (j < 0 || j >= kBins)
+        continue;
       const double g = std::exp(-0.5 * k * k / 4.0);
       s += g * h[j];
       w += g;
@@ -59,7 +60,10 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
   if (mode < 0.4 * kBins)
   {
     start = mode;
-    while (start + 1 < kBins && smooth[start + 1] <= smooth[start]) ++start;
+    while (start + 1 < kBins && smooth[start + 1] >= smooth[start])
+      ++start; // top of the smoothed air peak
+    while (start + 1 < kBins && smooth[start + 1] <= smooth[start])
+      ++start; // down to the valley
   }
   // peaks and their valleys
   struct Peak
@@ -72,29 +76,38 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
   {
     const bool left = i == start || smooth[i] > smooth[i - 1];
     const bool right = i == kBins - 1 || smooth[i] >= smooth[i + 1];
-    if (!left || !right || smooth[i] <= 0) continue;
+    if (!left || !right || smooth[i] <= 0)
+      continue;
     int lo = i, hi = i;
-    while (lo > start && smooth[lo - 1] <= smooth[lo]) --lo;
-    while (hi < kBins - 1 && smooth[hi + 1] <= smooth[hi]) ++hi;
+    while (lo > start && smooth[lo - 1] <= smooth[lo])
+      --lo;
+    while (hi < kBins - 1 && smooth[hi + 1] <= smooth[hi])
+      ++hi;
     const double prom = smooth[i] - std::max(smooth[lo], smooth[hi]);
     peaks.push_back({ i, lo, hi, prom + 1e-6 * smooth[i] });
   }
-  std::sort(peaks.begin(), peaks.end(), [](const Peak& a, const Peak& b) { return a.prominence > b.prominence; });
+  std::sort(peaks.begin(), peaks.end(),
+    [](const Peak& a, const Peak& b) { return a.prominence > b.prominence; });
   double nonAir = 0;
-  for (int i = start; i < kBins; ++i) nonAir += hist[i];
+  for (int i = start; i < kBins; ++i)
+    nonAir += hist[i];
   std::vector<FeatureRegion> regions;
   for (const auto& p : peaks)
   {
-    if (static_cast<int>(regions.size()) >= maxRegions) break;
+    if (static_cast<int>(regions.size()) >= maxRegions)
+      break;
     double regionMass = 0;
-    for (int i = p.lo; i <= p.hi; ++i) regionMass += hist[i];
-    if (nonAir > 0 && regionMass / nonAir < 0.005) continue; // noise
+    for (int i = p.lo; i <= p.hi; ++i)
+      regionMass += hist[i];
+    if (nonAir > 0 && regionMass / nonAir < 0.005)
+      continue; // noise
     FeatureRegion r;
     r.lo = range[0] + p.lo * width;
     r.hi = range[0] + (p.hi + 1) * width;
     r.peak = range[0] + (p.at + 0.5) * width;
     double mass = 0;
-    for (int i = p.lo; i <= p.hi; ++i) mass += hist[i];
+    for (int i = p.lo; i <= p.hi; ++i)
+      mass += hist[i];
     r.mass = nonAir > 0 ? mass / nonAir : 0;
     regions.push_back(r);
   }
@@ -102,7 +115,8 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
   {
     throw Error("feature regions: no histogram peak above the air and noise level");
   }
-  std::sort(regions.begin(), regions.end(), [](const FeatureRegion& a, const FeatureRegion& b) { return a.peak < b.peak; });
+  std::sort(regions.begin(), regions.end(),
+    [](const FeatureRegion& a, const FeatureRegion& b) { return a.peak < b.peak; });
   return regions;
 }
 
@@ -120,22 +134,32 @@ GaussianPrimitive basePrimitive(const FeatureRegion& r)
 
 void DesignSpaceSpec::validate() const
 {
-  auto unitRange = [](const std::array<double, 2>& r, const char* key) {
+  auto unitRange = [](const std::array<double, 2>& r, const char* key)
+  {
     if (!(r[0] >= 0 && r[0] <= r[1] && r[1] <= 1))
-      throw Error(std::string("design space spec: \"") + key + "\" must be [lo, hi] with 0 <= lo <= hi <= 1");
+      throw Error(
+        std::string("design space spec: \"") + key + "\" must be [lo, hi] with 0 <= lo <= hi <= 1");
   };
   unitRange(saturation, "saturation");
   unitRange(lightness, "lightness");
   unitRange(opacity, "opacity");
-  if (maxRegions < 1 || maxRegions > 16) throw Error("design space spec: \"max_regions\" must be 1..16");
-  if (minActive < 1 || minActive > maxRegions) throw Error("design space spec: \"min_active\" must be 1..max_regions");
-  if (!(meanShift >= 0 && meanShift <= 2)) throw Error("design space spec: \"mean_shift\" must be in [0, 2]");
-  if (!(stddevScale[0] > 0 && stddevScale[0] <= stddevScale[1])) throw Error("design space spec: \"stddev_scale\" must be [lo, hi] with 0 < lo <= hi");
-  if (!(elevation[0] >= -89 && elevation[0] <= elevation[1] && elevation[1] <= 89)) throw Error("design space spec: \"elevation\" must be within [-89, 89] degrees");
-  if (!(zoom[0] > 0 && zoom[0] <= zoom[1])) throw Error("design space spec: \"zoom\" must be [lo, hi] with 0 < lo <= hi");
-  if (!(viewportOpacity > 0 && viewportOpacity <= 1)) throw Error("design space spec: \"viewport_opacity\" must be in (0, 1]");
+  if (maxRegions < 1 || maxRegions > 16)
+    throw Error("design space spec: \"max_regions\" must be 1..16");
+  if (minActive < 1 || minActive > maxRegions)
+    throw Error("design space spec: \"min_active\" must be 1..max_regions");
+  if (!(meanShift >= 0 && meanShift <= 2))
+    throw Error("design space spec: \"mean_shift\" must be in [0, 2]");
+  if (!(stddevScale[0] > 0 && stddevScale[0] <= stddevScale[1]))
+    throw Error("design space spec: \"stddev_scale\" must be [lo, hi] with 0 < lo <= hi");
+  if (!(elevation[0] >= -89 && elevation[0] <= elevation[1] && elevation[1] <= 89))
+    throw Error("design space spec: \"elevation\" must be within [-89, 89] degrees");
+  if (!(zoom[0] > 0 && zoom[0] <= zoom[1]))
+    throw Error("design space spec: \"zoom\" must be [lo, hi] with 0 < lo <= hi");
+  if (!(viewportOpacity > 0 && viewportOpacity <= 1))
+    throw Error("design space spec: \"viewport_opacity\" must be in (0, 1]");
   for (const auto& r : regions)
-    if (!(r.lo < r.hi) || !std::isfinite(r.lo) || !std::isfinite(r.hi) || r.peak < r.lo || r.peak > r.hi)
+    if (!(r.lo < r.hi) || !std::isfinite(r.lo) || !std::isfinite(r.hi) || r.peak < r.lo ||
+      r.peak > r.hi)
       throw Error("design space spec: every region needs lo < hi and lo <= peak <= hi");
 }
 
@@ -151,21 +175,26 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
   {
     throw Error(origin + " is not valid JSON: " + e.what());
   }
-  if (!j.is_object()) throw Error(origin + ": expected a JSON object");
+  if (!j.is_object())
+    throw Error(origin + ": expected a JSON object");
   DesignSpaceSpec s;
-  static const char* known[] = { "regions", "max_regions", "min_active", "saturation", "lightness", "opacity",
-    "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity" };
+  static const char* known[] = { "regions", "max_regions", "min_active", "saturation", "lightness",
+    "opacity", "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity" };
   for (auto it = j.begin(); it != j.end(); ++it)
   {
-    if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return it.key() == k; }) == std::end(known))
+    if (std::find_if(std::begin(known), std::end(known),
+          [&](const char* k) { return it.key() == k; }) == std::end(known))
       throw Error(origin + ": unknown key \"" + it.key() + "\"");
   }
   try
   {
-    auto pair = [&](const char* key, std::array<double, 2>& out) {
-      if (!j.contains(key)) return;
+    auto pair = [&](const char* key, std::array<double, 2>& out)
+    {
+      if (!j.contains(key))
+        return;
       const auto v = j[key].get<std::vector<double>>();
-      if (v.size() != 2) throw Error(origin + ": \"" + key + "\" must be [lo, hi]");
+      if (v.size() != 2)
+        throw Error(origin + ": \"" + key + "\" must be [lo, hi]");
       out = { v[0], v[1] };
     };
     pair("saturation", s.saturation);
@@ -207,7 +236,8 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
 
 DesignSpaceSpec readDesignSpaceSpec(const std::string& path)
 {
-  return parseDesignSpaceSpec(readTextFile(path, "design space spec"), "design space spec '" + path + "'");
+  return parseDesignSpaceSpec(
+    readTextFile(path, "design space spec"), "design space spec '" + path + "'");
 }
 
 std::string designSpaceSpecToJson(const DesignSpaceSpec& s)
@@ -226,7 +256,8 @@ std::string designSpaceSpecToJson(const DesignSpaceSpec& s)
   if (!s.regions.empty())
   {
     j["regions"] = nlohmann::json::array();
-    for (const auto& r : s.regions) j["regions"].push_back({ { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak } });
+    for (const auto& r : s.regions)
+      j["regions"].push_back({ { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak } });
   }
   return j.dump(2) + "\n";
 }
@@ -238,7 +269,8 @@ namespace
 
 std::array<double, 3> hslToRgb(double h, double s, double l)
 {
-  auto f = [&](double n) {
+  auto f = [&](double n)
+  {
     const double k = std::fmod(n + h * 12.0, 12.0);
     const double a = s * std::min(l, 1 - l);
     return l - a * std::max(-1.0, std::min({ k - 3, 9 - k, 1.0 }));
@@ -252,7 +284,8 @@ View orbit(const Volume& volume, int size, double azimuthDeg, double elevationDe
   const Eigen::Vector3d f = v.camera.focalPoint;
   const double dist = (v.camera.position - f).norm() / zoom;
   const double az = azimuthDeg * M_PI / 180, el = elevationDeg * M_PI / 180;
-  v.camera.position = f + dist * Eigen::Vector3d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  v.camera.position = f +
+    dist * Eigen::Vector3d(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
   v.camera.viewUp = { 0, 1, 0 };
   v.camera.parallelScale /= zoom;
   return v;
@@ -271,7 +304,8 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const int n = static_cast<int>(regions.size());
   // a random subset of at least minActive regions
   std::vector<int> order(static_cast<size_t>(n));
-  for (int i = 0; i < n; ++i) order[i] = i;
+  for (int i = 0; i < n; ++i)
+    order[i] = i;
   std::shuffle(order.begin(), order.end(), rng);
   const int lo = std::min(spec.minActive, n);
   const int count = lo + static_cast<int>(u(rng) * (n - lo + 1) * 0.999999);
@@ -284,7 +318,8 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
     g.mean[0] += (2 * u(rng) - 1) * spec.meanShift * w;
     g.stddev[0] *= in(spec.stddevScale);
     g.rgb = hslToRgb(u(rng), in(spec.saturation), in(spec.lightness));
-    for (double& c : g.rgb) c = std::clamp(c, 0.0, 1.0);
+    for (double& c : g.rgb)
+      c = std::clamp(c, 0.0, 1.0);
     g.opacity = in(spec.opacity);
     e.primitives.push_back(g);
   }
@@ -296,7 +331,8 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   return e;
 }
 
-std::vector<GaussianPrimitive> auxiliaryPrimitives(const DesignSpaceSpec& spec, const std::vector<FeatureRegion>& regions)
+std::vector<GaussianPrimitive> auxiliaryPrimitives(
+  const DesignSpaceSpec& spec, const std::vector<FeatureRegion>& regions)
 {
   std::vector<GaussianPrimitive> out;
   for (const auto& r : regions)
@@ -324,8 +360,9 @@ std::string volumeFingerprint(const Volume& volume)
   const auto& d = volume.dims();
   const auto& s = volume.spacing();
   char buf[256];
-  std::snprintf(buf, sizeof(buf), "%dx%dx%d spacing %.6g,%.6g,%.6g range %.6g..%.6g fnv1a %016llx", d[0], d[1], d[2],
-    s[0], s[1], s[2], volume.range()[0], volume.range()[1], static_cast<unsigned long long>(h));
+  std::snprintf(buf, sizeof(buf), "%dx%dx%d spacing %.6g,%.6g,%.6g range %.6g..%.6g fnv1a %016llx",
+    d[0], d[1], d[2], s[0], s[1], s[2], volume.range()[0], volume.range()[1],
+    static_cast<unsigned long long>(h));
   return buf;
 }
 

@@ -49,7 +49,8 @@ json viewJson(const View& v)
 
 json primitiveJson(const GaussianPrimitive& g)
 {
-  return { { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb }, { "opacity", g.opacity } };
+  return { { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb },
+    { "opacity", g.opacity } };
 }
 
 } // namespace
@@ -70,10 +71,12 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
     throw Error("cannot create dataset directory '" + dir + "': " + ec.message());
   }
   GenerateReport report;
-  report.regions = spec.regions.empty() ? findFeatureRegions(volume, spec.maxRegions) : spec.regions;
+  report.regions =
+    spec.regions.empty() ? findFeatureRegions(volume, spec.maxRegions) : spec.regions;
   const RayCaster caster(volume);
   const auto range = volume.range();
-  const auto auxTable = rasterize1D(auxiliaryPrimitives(spec, report.regions), range[0], range[1], 256);
+  const auto auxTable =
+    rasterize1D(auxiliaryPrimitives(spec, report.regions), range[0], range[1], 256);
   RenderOptions ropt;
   ropt.threads = 1;
 
@@ -81,8 +84,10 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
   const size_t rec = recordBytes(opt.size);
   const int shards = (opt.count + opt.shardSize - 1) / opt.shardSize;
   std::vector<std::string> written;
-  auto cleanup = [&] {
-    for (const auto& f : written) fs::remove(f, ec);
+  auto cleanup = [&]
+  {
+    for (const auto& f : written)
+      fs::remove(f, ec);
   };
   try
   {
@@ -91,19 +96,25 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
       const int first = shard * opt.shardSize;
       const int n = std::min(opt.shardSize, opt.count - first);
       std::vector<std::uint8_t> data(rec * n);
-      parallelFor(n, opt.threads, [&](std::int64_t q, int) {
-        const int i = first + static_cast<int>(q);
-        Exemplar e = sampleExemplar(volume, spec, report.regions, opt.seed, opt.firstIndex + i, opt.size);
-        const auto table = rasterize1D(e.primitives, range[0], range[1], 256);
-        std::uint8_t* out = data.data() + rec * q;
-        const size_t px = static_cast<size_t>(opt.size) * opt.size;
-        toBytes(compositeOverBackground(caster.render(table, e.viewExp, ropt), e.viewExp.background), out);
-        toBytes(caster.render(auxTable, e.viewView, ropt), out + 3 * px);
-        toBytes(caster.render(table, e.viewView, ropt), out + 7 * px);
-        items[static_cast<size_t>(i)] = std::move(e);
-      });
+      parallelFor(n, opt.threads,
+        [&](std::int64_t q, int)
+        {
+          const int i = first + static_cast<int>(q);
+          Exemplar e =
+            sampleExemplar(volume, spec, report.regions, opt.seed, opt.firstIndex + i, opt.size);
+          const auto table = rasterize1D(e.primitives, range[0], range[1], 256);
+          std::uint8_t* out = data.data() + rec * q;
+          const size_t px = static_cast<size_t>(opt.size) * opt.size;
+          toBytes(
+            compositeOverBackground(caster.render(table, e.viewExp, ropt), e.viewExp.background),
+            out);
+          toBytes(caster.render(auxTable, e.viewView, ropt), out + 3 * px);
+          toBytes(caster.render(table, e.viewView, ropt), out + 7 * px);
+          items[static_cast<size_t>(i)] = std::move(e);
+        });
       std::string bytes(kMagic, kMagic + 8);
-      const std::uint32_t header[4] = { 1, static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(opt.size), 0 };
+      const std::uint32_t header[4] = { 1, static_cast<std::uint32_t>(n),
+        static_cast<std::uint32_t>(opt.size), 0 };
       bytes.append(reinterpret_cast<const char*>(header), sizeof(header));
       bytes.append(reinterpret_cast<const char*>(data.data()), data.size());
       const std::string path = (fs::path(dir) / shardName(shard)).string();
@@ -126,14 +137,17 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
     j["spec"] = json::parse(designSpaceSpecToJson(spec));
     j["regions"] = json::array();
     for (const auto& r : report.regions)
-      j["regions"].push_back({ { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak }, { "mass", r.mass } });
+      j["regions"].push_back(
+        { { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak }, { "mass", r.mass } });
     j["exemplars"] = json::array();
     for (const auto& e : items)
     {
       json p = json::array();
-      for (const auto& g : e.primitives) p.push_back(primitiveJson(g));
+      for (const auto& g : e.primitives)
+        p.push_back(primitiveJson(g));
       j["exemplars"].push_back({ { "seed", e.seed }, { "active", e.active }, { "primitives", p },
-        { "view_exp", viewJson(e.viewExp) }, { "view_view", viewJson(e.viewView) }, { "background", e.background } });
+        { "view_exp", viewJson(e.viewExp) }, { "view_view", viewJson(e.viewView) },
+        { "background", e.background } });
     }
     writeFileAtomic((fs::path(dir) / "dataset.json").string(), j.dump() + "\n", "dataset index");
   }
@@ -170,7 +184,8 @@ ExemplarDataset::ExemplarDataset(const std::string& dir)
     ShardSize = j.at("shard_size").get<int>();
     Spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
     for (const auto& r : j.at("regions"))
-      Regions.push_back({ r.at("lo").get<double>(), r.at("hi").get<double>(), r.at("peak").get<double>(), r.value("mass", 0.0) });
+      Regions.push_back({ r.at("lo").get<double>(), r.at("hi").get<double>(),
+        r.at("peak").get<double>(), r.value("mass", 0.0) });
     for (const auto& e : j.at("exemplars"))
     {
       Exemplar x;
@@ -216,16 +231,16 @@ ExemplarDataset::ExemplarDataset(const std::string& dir)
     std::uint32_t header[4];
     in.read(magic, 8);
     in.read(reinterpret_cast<char*>(header), sizeof(header));
-    if (!in || std::memcmp(magic, kMagic, 8) != 0 || header[0] != 1 || header[1] != static_cast<std::uint32_t>(n) ||
-      header[2] != static_cast<std::uint32_t>(Size))
+    if (!in || std::memcmp(magic, kMagic, 8) != 0 || header[0] != 1 ||
+      header[1] != static_cast<std::uint32_t>(n) || header[2] != static_cast<std::uint32_t>(Size))
     {
       throw Error("dataset shard '" + path + "' has a wrong header");
     }
   }
 }
 
-void ExemplarDataset::load(int i, std::vector<std::uint8_t>& rgbExp, std::vector<std::uint8_t>& viewport,
-  std::vector<std::uint8_t>& truth) const
+void ExemplarDataset::load(int i, std::vector<std::uint8_t>& rgbExp,
+  std::vector<std::uint8_t>& viewport, std::vector<std::uint8_t>& truth) const
 {
   if (i < 0 || i >= Count)
   {

@@ -15,12 +15,13 @@ namespace ddg
 /// Options (defaults in brackets).
 struct GenerateOptions
 {
-  int count = 1000;          ///< exemplars [1000]
-  int size = 64;             ///< square image side [64]
-  std::uint64_t seed = 1;    ///< the dataset is a deterministic function of (volume, spec, seed) [1]
-  std::uint64_t firstIndex = 0; ///< index of the first exemplar (held-out sets use another range) [0]
-  int shardSize = 256;       ///< exemplars per shard file [256]
-  int threads = 0;           ///< 0 = all cores
+  int count = 1000;       ///< exemplars [1000]
+  int size = 64;          ///< square image side [64]
+  std::uint64_t seed = 1; ///< the dataset is a deterministic function of (volume, spec, seed) [1]
+  std::uint64_t firstIndex =
+    0;                 ///< index of the first exemplar (held-out sets use another range) [0]
+  int shardSize = 256; ///< exemplars per shard file [256]
+  int threads = 0;     ///< 0 = all cores
 };
 
 struct GenerateReport
