@@ -1,0 +1,607 @@
+// NeuralModel.cxx: the only file that includes libtorch — networks, training, evaluation,
+// bundles.
+#include "Neural/NeuralModel.h"
+
+#include "Common/Error.h"
+#include "Common/FileUtil.h"
+#include "Common/Parallel.h"
+#include "Image/ImageMetrics.h"
+
+#include <nlohmann/json.hpp>
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+
+namespace ddg
+{
+namespace
+{
+namespace nn = torch::nn;
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+int blocksFor(int size)
+{
+  int b = 0;
+  while ((size >> (b + 1)) >= 4) ++b;
+  return b; // size / 2^b == 4
+}
+
+int channels(const NetworkConfig& c, int block)
+{
+  return c.width * std::min(8, 1 << block);
+}
+
+// Appends a 4x4 stride-2 conv block (InstanceNorm optional, LeakyReLU 0.2) to s.
+void addDown(nn::Sequential& s, int in, int out, bool norm)
+{
+  s->push_back(nn::Conv2d(nn::Conv2dOptions(in, out, 4).stride(2).padding(1).bias(!norm)));
+  if (norm)
+    s->push_back(nn::InstanceNorm2d(nn::InstanceNorm2dOptions(out).affine(true)));
+  s->push_back(nn::LeakyReLU(nn::LeakyReLUOptions().negative_slope(0.2)));
+}
+
+nn::Sequential down(int in, int out, bool norm)
+{
+  nn::Sequential s;
+  addDown(s, in, out, norm);
+  return s;
+}
+
+nn::Sequential up(int in, int out, double dropout)
+{
+  nn::Sequential s;
+  s->push_back(nn::ConvTranspose2d(nn::ConvTranspose2dOptions(in, out, 4).stride(2).padding(1).bias(false)));
+  s->push_back(nn::InstanceNorm2d(nn::InstanceNorm2dOptions(out).affine(true)));
+  s->push_back(nn::ReLU());
+  if (dropout > 0)
+    s->push_back(nn::Dropout(dropout));
+  return s;
+}
+
+// Analyzer: RGB image -> latent TF (4x4 stride-2 blocks, InstanceNorm on all but first/last).
+struct AnalyzerImpl : nn::Module
+{
+  nn::Sequential body;
+  nn::Conv2d head{ nullptr };
+  explicit AnalyzerImpl(const NetworkConfig& c)
+  {
+    int in = 3;
+    for (int b = 0; b < blocksFor(c.imageSize); ++b)
+    {
+      addDown(body, in, channels(c, b), b > 0);
+      in = channels(c, b);
+    }
+    head = nn::Conv2d(nn::Conv2dOptions(in, c.latent, 4)); // 4x4 -> 1x1
+    register_module("body", body);
+    register_module("head", head);
+  }
+  torch::Tensor forward(const torch::Tensor& x) { return head(body->forward(x)).flatten(1); }
+};
+TORCH_MODULE(Analyzer);
+
+// Renderer: U-Net on the viewport image, the latent concatenated at the 4x4 bottleneck.
+struct RendererImpl : nn::Module
+{
+  std::vector<nn::Sequential> downs, ups;
+  nn::Sequential bottleneck;
+  nn::ConvTranspose2d last{ nullptr };
+  int latent = 64;
+  explicit RendererImpl(const NetworkConfig& c)
+    : latent(c.latent)
+  {
+    const int blocks = blocksFor(c.imageSize);
+    int in = 4;
+    for (int b = 0; b < blocks; ++b)
+    {
+      downs.push_back(register_module("down" + std::to_string(b), down(in, channels(c, b), b > 0)));
+      in = channels(c, b);
+    }
+    const int top = channels(c, blocks - 1);
+    bottleneck = register_module("bottleneck",
+      nn::Sequential(nn::Conv2d(nn::Conv2dOptions(top + c.latent, top, 3).padding(1).bias(false)),
+        nn::InstanceNorm2d(nn::InstanceNorm2dOptions(top).affine(true)), nn::ReLU()));
+    for (int b = blocks - 1; b >= 1; --b)
+    {
+      const double drop = (blocks - 1 - b) < 3 ? c.dropout : 0.0; // dropout in the first up blocks
+      ups.push_back(register_module("up" + std::to_string(b), up(2 * channels(c, b), channels(c, b - 1), drop)));
+    }
+    last = register_module("last", nn::ConvTranspose2d(nn::ConvTranspose2dOptions(2 * channels(c, 0), 4, 4).stride(2).padding(1)));
+  }
+  torch::Tensor forward(const torch::Tensor& z, const torch::Tensor& viewport)
+  {
+    std::vector<torch::Tensor> skips;
+    torch::Tensor h = viewport;
+    for (auto& d : downs)
+    {
+      h = d->forward(h);
+      skips.push_back(h);
+    }
+    const auto zz = z.view({ z.size(0), latent, 1, 1 }).expand({ -1, -1, h.size(2), h.size(3) });
+    h = bottleneck->forward(torch::cat({ h, zz }, 1));
+    for (size_t i = 0; i < ups.size(); ++i)
+    {
+      h = ups[i]->forward(torch::cat({ h, skips[skips.size() - 1 - i] }, 1));
+    }
+    return torch::sigmoid(last(torch::cat({ h, skips[0] }, 1)));
+  }
+};
+TORCH_MODULE(Renderer);
+
+// PatchGAN discriminator on (image, viewport): sigmoid per patch.
+struct DiscriminatorImpl : nn::Module
+{
+  nn::Sequential body;
+  explicit DiscriminatorImpl(const NetworkConfig& c)
+  {
+    int in = 8;
+    const int blocks = std::min(3, blocksFor(c.imageSize));
+    for (int b = 0; b < blocks; ++b)
+    {
+      addDown(body, in, channels(c, b), b > 0);
+      in = channels(c, b);
+    }
+    body->push_back(nn::Conv2d(nn::Conv2dOptions(in, 1, 4).padding(1)));
+    register_module("body", body);
+  }
+  torch::Tensor forward(const torch::Tensor& image, const torch::Tensor& viewport)
+  {
+    return torch::sigmoid(body->forward(torch::cat({ image, viewport }, 1)));
+  }
+};
+TORCH_MODULE(Discriminator);
+
+void xavier(nn::Module& m)
+{
+  for (auto& p : m.named_parameters())
+  {
+    if (p.key().find("weight") != std::string::npos && p.value().dim() == 4)
+      nn::init::xavier_normal_(p.value());
+    else if (p.key().find("bias") != std::string::npos)
+      nn::init::zeros_(p.value());
+  }
+}
+
+void setThreads(int threads)
+{
+  at::set_num_threads(threads > 0 ? threads : defaultThreadCount());
+}
+
+// uint8 interleaved HWC -> float CHW tensor in [0, 1]
+torch::Tensor toTensor(const std::uint8_t* data, int size, int channels)
+{
+  return torch::from_blob(const_cast<std::uint8_t*>(data), { size, size, channels }, torch::kUInt8)
+    .permute({ 2, 0, 1 })
+    .to(torch::kFloat32)
+    .div(255.0);
+}
+
+torch::Tensor imageToTensor(const Image& img, int channels)
+{
+  const Image c = toChannels(img, channels);
+  return torch::from_blob(const_cast<float*>(c.pixels.data()), { img.height, img.width, channels }, torch::kFloat32)
+    .permute({ 2, 0, 1 })
+    .clone();
+}
+
+Image tensorToImage(const torch::Tensor& t) // CHW
+{
+  const auto hwc = t.detach().permute({ 1, 2, 0 }).contiguous();
+  Image img(static_cast<int>(hwc.size(1)), static_cast<int>(hwc.size(0)), static_cast<int>(hwc.size(2)));
+  std::memcpy(img.pixels.data(), hwc.data_ptr<float>(), img.pixels.size() * sizeof(float));
+  return img;
+}
+
+// Ground-truth and neural RGBA over mid-grey, as the user would look at them.
+Image overGrey(const Image& premultipliedRGBA)
+{
+  return compositeOverBackground(premultipliedRGBA, { 0.5, 0.5, 0.5 });
+}
+
+} // namespace
+
+void NetworkConfig::validate() const
+{
+  if (imageSize < 16 || imageSize > 512 || (imageSize & (imageSize - 1)) != 0)
+    throw Error("network image size must be a power of two in 16..512");
+  if (width < 2 || width > 256 || latent < 2 || latent > 1024 || !(dropout >= 0 && dropout < 1))
+    throw Error("network width 2..256, latent 2..1024 and dropout in [0, 1) are required");
+}
+
+struct NeuralDesignModel::Internals
+{
+  NetworkConfig Config;
+  Analyzer A{ nullptr };
+  Renderer R{ nullptr };
+  Discriminator D{ nullptr };
+};
+
+NeuralDesignModel::NeuralDesignModel(const NetworkConfig& config, std::uint64_t seed)
+  : In(std::make_unique<Internals>())
+{
+  config.validate();
+  In->Config = config;
+  torch::manual_seed(seed);
+  In->A = Analyzer(config);
+  In->R = Renderer(config);
+  In->D = Discriminator(config);
+  xavier(*In->A);
+  xavier(*In->R);
+  xavier(*In->D);
+}
+
+NeuralDesignModel::~NeuralDesignModel() = default;
+NeuralDesignModel::NeuralDesignModel(NeuralDesignModel&&) noexcept = default;
+NeuralDesignModel& NeuralDesignModel::operator=(NeuralDesignModel&&) noexcept = default;
+
+const NetworkConfig& NeuralDesignModel::config() const
+{
+  return In->Config;
+}
+
+std::int64_t NeuralDesignModel::parameterCount() const
+{
+  std::int64_t n = 0;
+  for (const auto& p : In->A->parameters()) n += p.numel();
+  for (const auto& p : In->R->parameters()) n += p.numel();
+  return n;
+}
+
+std::vector<float> NeuralDesignModel::analyze(const Image& image) const
+{
+  torch::NoGradGuard guard;
+  In->A->eval();
+  const int s = In->Config.imageSize;
+  const Image resized = image.width == s && image.height == s ? image : resizeImage(image, s, s);
+  const auto x = imageToTensor(resized, 3).unsqueeze(0).mul(2.0).sub(1.0);
+  const auto z = In->A->forward(x).contiguous();
+  return std::vector<float>(z.data_ptr<float>(), z.data_ptr<float>() + z.numel());
+}
+
+Image NeuralDesignModel::render(const std::vector<float>& latent, const Image& viewport) const
+{
+  torch::NoGradGuard guard;
+  In->R->eval();
+  const int s = In->Config.imageSize;
+  if (static_cast<int>(latent.size()) != In->Config.latent)
+    throw Error("latent has " + std::to_string(latent.size()) + " values, the model expects " + std::to_string(In->Config.latent));
+  if (viewport.width != s || viewport.height != s || viewport.channels != 4)
+    throw Error("the viewport image must be RGBA at the model's size " + std::to_string(s));
+  const auto z = torch::from_blob(const_cast<float*>(latent.data()), { 1, In->Config.latent }, torch::kFloat32).clone();
+  return tensorToImage(In->R->forward(z, imageToTensor(viewport, 4).unsqueeze(0))[0]);
+}
+
+TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOptions& opt,
+  const std::function<bool(const TrainProgress&)>& progress)
+{
+  const int s = In->Config.imageSize;
+  if (data.size() != s)
+    throw Error("the dataset's images are " + std::to_string(data.size()) + " pixels, the model's " + std::to_string(s));
+  if (opt.batch < 1 || !(opt.learningRate > 0) || !(opt.minutes > 0) || !(opt.lambdaL1 >= 0))
+    throw Error("training needs batch >= 1, a positive learning rate and time budget, lambda >= 0");
+  setThreads(opt.threads);
+  torch::manual_seed(opt.seed);
+  // Whole dataset in memory as uint8 tensors (N x C x S x S).
+  const int n = data.count();
+  auto rgb = torch::empty({ n, 3, s, s }, torch::kUInt8), vp = torch::empty({ n, 4, s, s }, torch::kUInt8),
+       gt = torch::empty({ n, 4, s, s }, torch::kUInt8);
+  {
+    std::vector<std::uint8_t> a, b, c;
+    for (int i = 0; i < n; ++i)
+    {
+      data.load(i, a, b, c);
+      rgb[i].copy_(torch::from_blob(a.data(), { s, s, 3 }, torch::kUInt8).permute({ 2, 0, 1 }));
+      vp[i].copy_(torch::from_blob(b.data(), { s, s, 4 }, torch::kUInt8).permute({ 2, 0, 1 }));
+      gt[i].copy_(torch::from_blob(c.data(), { s, s, 4 }, torch::kUInt8).permute({ 2, 0, 1 }));
+    }
+  }
+  std::vector<torch::Tensor> gParams;
+  for (const auto& p : In->A->parameters()) gParams.push_back(p);
+  for (const auto& p : In->R->parameters()) gParams.push_back(p);
+  torch::optim::Adam optG(gParams, torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
+  torch::optim::Adam optD(In->D->parameters(), torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
+  int iteration = 0;
+  if (opt.resume && !opt.checkpoint.empty() && fs::exists(opt.checkpoint))
+  {
+    try
+    {
+      torch::serialize::InputArchive ar;
+      ar.load_from(opt.checkpoint);
+      torch::serialize::InputArchive a, r, d, og, od;
+      ar.read("analyzer", a);
+      ar.read("renderer", r);
+      ar.read("discriminator", d);
+      ar.read("optG", og);
+      ar.read("optD", od);
+      In->A->load(a);
+      In->R->load(r);
+      In->D->load(d);
+      optG.load(og);
+      optD.load(od);
+      torch::Tensor it;
+      ar.read("iteration", it);
+      iteration = static_cast<int>(it.item<std::int64_t>());
+    }
+    catch (const c10::Error& e)
+    {
+      throw Error("cannot resume from checkpoint '" + opt.checkpoint + "': it is corrupt or of another architecture");
+    }
+  }
+  auto saveCheckpoint = [&] {
+    torch::serialize::OutputArchive ar, a, r, d, og, od;
+    In->A->save(a);
+    In->R->save(r);
+    In->D->save(d);
+    optG.save(og);
+    optD.save(od);
+    ar.write("analyzer", a);
+    ar.write("renderer", r);
+    ar.write("discriminator", d);
+    ar.write("optG", og);
+    ar.write("optD", od);
+    ar.write("iteration", torch::tensor(static_cast<std::int64_t>(iteration)));
+    const std::string tmp = opt.checkpoint + ".tmp";
+    ar.save_to(tmp);
+    if (std::rename(tmp.c_str(), opt.checkpoint.c_str()) != 0)
+      throw Error("cannot write checkpoint '" + opt.checkpoint + "'");
+  };
+  std::mt19937_64 rng(opt.seed + static_cast<std::uint64_t>(iteration));
+  std::vector<std::int64_t> order(static_cast<size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  size_t cursor = order.size();
+  const auto start = Clock::now();
+  TrainReport report;
+  In->A->train();
+  In->R->train();
+  In->D->train();
+  const int startIteration = iteration;
+  while (true)
+  {
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    if (elapsed > opt.minutes * 60 || (opt.maxIterations > 0 && iteration >= opt.maxIterations))
+      break;
+    std::vector<std::int64_t> idx;
+    for (int b = 0; b < opt.batch; ++b)
+    {
+      if (cursor >= order.size())
+      {
+        std::shuffle(order.begin(), order.end(), rng);
+        cursor = 0;
+      }
+      idx.push_back(order[cursor++]);
+    }
+    const auto sel = torch::tensor(idx, torch::kInt64);
+    const auto x = rgb.index_select(0, sel).to(torch::kFloat32).div(127.5).sub(1.0);
+    const auto v = vp.index_select(0, sel).to(torch::kFloat32).div(255.0);
+    const auto t = gt.index_select(0, sel).to(torch::kFloat32).div(255.0);
+    const auto fake = In->R->forward(In->A->forward(x), v);
+    // discriminator
+    optD.zero_grad();
+    const auto dReal = In->D->forward(t, v);
+    const auto dFake = In->D->forward(fake.detach(), v);
+    const auto lossD = 0.5 * (torch::binary_cross_entropy(dReal, torch::ones_like(dReal)) +
+                               torch::binary_cross_entropy(dFake, torch::zeros_like(dFake)));
+    lossD.backward();
+    optD.step();
+    // generator (analyzer + renderer)
+    optG.zero_grad();
+    const auto dG = In->D->forward(fake, v);
+    const auto l1 = torch::l1_loss(fake, t);
+    const auto lossG = torch::binary_cross_entropy(dG, torch::ones_like(dG)) + opt.lambdaL1 * l1;
+    lossG.backward();
+    optG.step();
+    ++iteration;
+    if (!opt.checkpoint.empty() && iteration % opt.checkpointEvery == 0)
+      saveCheckpoint();
+    if (progress && (iteration % 10 == 0))
+    {
+      TrainProgress p;
+      p.iteration = iteration;
+      p.lossG = lossG.item<double>();
+      p.lossD = lossD.item<double>();
+      p.l1 = l1.item<double>();
+      p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+      const double rate = (iteration - startIteration) / std::max(1e-9, p.seconds);
+      p.eta = opt.maxIterations > 0 ? std::min(opt.minutes * 60 - p.seconds, (opt.maxIterations - iteration) / rate)
+                                    : opt.minutes * 60 - p.seconds;
+      if (!std::isfinite(p.lossG) || !std::isfinite(p.lossD))
+        throw Error("training diverged (loss is NaN) at iteration " + std::to_string(iteration));
+      if (!progress(p))
+      {
+        report.cancelled = true;
+        if (!opt.checkpoint.empty())
+          saveCheckpoint();
+        break;
+      }
+    }
+  }
+  if (!opt.checkpoint.empty() && !report.cancelled)
+    saveCheckpoint();
+  report.iterations = iteration;
+  report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  report.exemplarsPerSecond = (iteration - startIteration) * static_cast<double>(opt.batch) / std::max(1e-9, report.seconds);
+  In->A->eval();
+  In->R->eval();
+  return report;
+}
+
+EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int maxExemplars) const
+{
+  const int s = In->Config.imageSize;
+  if (data.size() != s)
+    throw Error("the dataset's images are " + std::to_string(data.size()) + " pixels, the model's " + std::to_string(s));
+  EvaluationReport r;
+  r.count = std::min(maxExemplars, data.count());
+  std::vector<std::uint8_t> a, b, c;
+  std::vector<std::vector<float>> latExp, latView;
+  for (int i = 0; i < r.count; ++i)
+  {
+    data.load(i, a, b, c);
+    Image rgbExp(s, s, 3), viewport(s, s, 4), truth(s, s, 4);
+    for (size_t k = 0; k < a.size(); ++k) rgbExp.pixels[k] = a[k] / 255.0f;
+    for (size_t k = 0; k < b.size(); ++k) viewport.pixels[k] = b[k] / 255.0f;
+    for (size_t k = 0; k < c.size(); ++k) truth.pixels[k] = c[k] / 255.0f;
+    const auto z = analyze(rgbExp);
+    const Image pred = overGrey(render(z, viewport)), gt = overGrey(truth);
+    r.psnr += std::min(psnr(pred, gt), 99.0) / r.count;
+    r.ssim += ssim(pred, gt) / r.count;
+    r.emd += colorHistogramEMD(pred, gt) / r.count;
+    // the same TF seen from V_view, over the exemplar's own background
+    const double bg = data.exemplars()[static_cast<size_t>(i)].background;
+    latExp.push_back(z);
+    latView.push_back(analyze(compositeOverBackground(truth, { bg, bg, bg })));
+  }
+  auto dist = [](const std::vector<float>& p, const std::vector<float>& q) {
+    double d = 0;
+    for (size_t k = 0; k < p.size(); ++k) d += (p[k] - q[k]) * (p[k] - q[k]);
+    return d;
+  };
+  int holds = 0, triplets = 0;
+  for (int i = 0; i < r.count; ++i)
+    for (int j : { (i + 1) % r.count, (i + 7) % r.count })
+    {
+      if (j == i) continue;
+      ++triplets;
+      holds += dist(latExp[i], latView[i]) < dist(latExp[i], latExp[j]);
+    }
+  r.invariance = triplets ? static_cast<double>(holds) / triplets : 0;
+  // latency, batch 1, median of 21
+  data.load(0, a, b, c);
+  Image rgbExp(s, s, 3), viewport(s, s, 4);
+  for (size_t k = 0; k < a.size(); ++k) rgbExp.pixels[k] = a[k] / 255.0f;
+  for (size_t k = 0; k < b.size(); ++k) viewport.pixels[k] = b[k] / 255.0f;
+  std::vector<double> ta, tr;
+  std::vector<float> z;
+  for (int k = 0; k < 21; ++k)
+  {
+    auto t0 = Clock::now();
+    z = analyze(rgbExp);
+    ta.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    t0 = Clock::now();
+    render(z, viewport);
+    tr.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+  }
+  std::sort(ta.begin(), ta.end());
+  std::sort(tr.begin(), tr.end());
+  r.analyzerMs = ta[10];
+  r.rendererMs = tr[10];
+  return r;
+}
+
+void NeuralDesignModel::saveBundle(const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const
+{
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec)
+    throw Error("cannot create bundle directory '" + dir + "': " + ec.message());
+  // weights
+  {
+    torch::serialize::OutputArchive ar, a, r;
+    In->A->save(a);
+    In->R->save(r);
+    ar.write("analyzer", a);
+    ar.write("renderer", r);
+    const std::string path = (fs::path(dir) / "model.pt").string(), tmp = path + ".tmp";
+    try
+    {
+      ar.save_to(tmp);
+    }
+    catch (const c10::Error&)
+    {
+      fs::remove(tmp, ec);
+      throw Error("cannot write '" + path + "' (disk full?)");
+    }
+    fs::rename(tmp, path, ec);
+    if (ec)
+      throw Error("cannot write '" + path + "': " + ec.message());
+  }
+  // latents of the training exemplars and their TF parameters (for the gallery)
+  std::string latents;
+  std::vector<std::uint8_t> a, b, c;
+  const int s = In->Config.imageSize;
+  nlohmann::json ex = nlohmann::json::array();
+  for (int i = 0; i < training.count(); ++i)
+  {
+    training.load(i, a, b, c);
+    Image rgbExp(s, s, 3);
+    for (size_t k = 0; k < a.size(); ++k) rgbExp.pixels[k] = a[k] / 255.0f;
+    const auto z = analyze(rgbExp);
+    latents.append(reinterpret_cast<const char*>(z.data()), z.size() * sizeof(float));
+    nlohmann::json p = nlohmann::json::array();
+    for (const auto& g : training.exemplars()[static_cast<size_t>(i)].primitives)
+      p.push_back({ { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb }, { "opacity", g.opacity } });
+    ex.push_back(p);
+  }
+  writeFileAtomic((fs::path(dir) / "latents.bin").string(), latents, "bundle latents");
+  writeFileAtomic((fs::path(dir) / "exemplars.json").string(), ex.dump() + "\n", "bundle exemplars");
+  nlohmann::json j;
+  j["format"] = "ddg-model-bundle";
+  j["version"] = 1;
+  j["architecture"] = { { "kind", "unet" }, { "image_size", In->Config.imageSize }, { "width", In->Config.width },
+    { "latent", In->Config.latent }, { "dropout", In->Config.dropout } };
+  j["parameters"] = parameterCount();
+  j["volume"] = training.fingerprint();
+  j["spec"] = nlohmann::json::parse(designSpaceSpecToJson(training.spec()));
+  j["regions"] = nlohmann::json::array();
+  for (const auto& r : training.regions())
+    j["regions"].push_back({ { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak }, { "mass", r.mass } });
+  j["training_exemplars"] = training.count();
+  j["metrics"] = metricsJson.empty() ? nlohmann::json::object() : nlohmann::json::parse(metricsJson);
+  writeFileAtomic((fs::path(dir) / "bundle.json").string(), j.dump(2) + "\n", "bundle index");
+}
+
+NeuralDesignModel NeuralDesignModel::loadBundle(const std::string& dir, const std::string& expectedFingerprint)
+{
+  const std::string indexPath = (fs::path(dir) / "bundle.json").string();
+  nlohmann::json j;
+  try
+  {
+    j = nlohmann::json::parse(readTextFile(indexPath, "model bundle"));
+  }
+  catch (const nlohmann::json::parse_error& e)
+  {
+    throw Error("model bundle '" + indexPath + "' is corrupt: " + e.what());
+  }
+  NetworkConfig c;
+  try
+  {
+    if (j.value("format", std::string()) != "ddg-model-bundle" || j.value("version", 0) != 1)
+      throw Error("'" + indexPath + "' is not a version-1 ddg model bundle");
+    const auto& a = j.at("architecture");
+    if (a.value("kind", std::string()) != "unet")
+      throw Error("model bundle '" + dir + "' has an unknown architecture '" + a.value("kind", std::string()) + "'");
+    c.imageSize = a.at("image_size").get<int>();
+    c.width = a.at("width").get<int>();
+    c.latent = a.at("latent").get<int>();
+    c.dropout = a.at("dropout").get<double>();
+    if (!expectedFingerprint.empty() && j.at("volume").get<std::string>() != expectedFingerprint)
+      throw Error("model bundle '" + dir + "' was trained on another volume (" + j.at("volume").get<std::string>() +
+        "), not this one (" + expectedFingerprint + ")");
+  }
+  catch (const nlohmann::json::exception& e)
+  {
+    throw Error("model bundle '" + indexPath + "' is corrupt: " + e.what());
+  }
+  NeuralDesignModel m(c);
+  try
+  {
+    torch::serialize::InputArchive ar, a, r;
+    ar.load_from((fs::path(dir) / "model.pt").string());
+    ar.read("analyzer", a);
+    ar.read("renderer", r);
+    m.In->A->load(a);
+    m.In->R->load(r);
+  }
+  catch (const c10::Error&)
+  {
+    throw Error("model bundle '" + dir + "': model.pt is missing, truncated or does not match the architecture in bundle.json");
+  }
+  return m;
+}
+
+} // namespace ddg

@@ -1,0 +1,107 @@
+// NeuralModel.h: the paper's Neural DVR Analyzer, Renderer (U-Net) and PatchGAN Discriminator,
+// their training on design exemplars, and model bundles. libtorch stays inside NeuralModel.cxx.
+#pragma once
+
+#include "Design/ExemplarGenerator.h"
+#include "Image/Image.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ddg
+{
+
+/// Architecture (defaults in brackets). Images are size x size; every block halves the side
+/// with a 4x4 stride-2 convolution down to 4 x 4.
+struct NetworkConfig
+{
+  int imageSize = 64;  ///< [64] power of two, 16..512
+  int width = 16;      ///< channels of the first block, doubled per block up to 8x [16]
+  int latent = 64;     ///< latent TF size [64]
+  double dropout = 0.5; ///< in the renderer's up blocks [0.5]
+
+  void validate() const;
+};
+
+/// Training options (defaults in brackets; the paper's where it gives them).
+struct TrainOptions
+{
+  int batch = 16;            ///< [16]
+  double learningRate = 2e-4; ///< Adam, beta1 0.5, beta2 0.999 [2e-4]
+  double lambdaL1 = 1000;    ///< L = L_adv + lambda L1 [1000]
+  double minutes = 10;       ///< wall-clock budget [10]
+  int maxIterations = 0;     ///< 0 = until the budget
+  std::uint64_t seed = 1;    ///< initialisation and batch order [1]
+  int threads = 0;           ///< libtorch intra-op threads, 0 = all cores
+  std::string checkpoint;    ///< file to write every checkpointEvery iterations ("" = none)
+  int checkpointEvery = 500;
+  bool resume = false;       ///< continue from `checkpoint` if it exists
+};
+
+struct TrainProgress
+{
+  int iteration = 0;
+  double lossG = 0, lossD = 0, l1 = 0; ///< generator (adv + lambda L1), discriminator, mean L1
+  double seconds = 0, eta = 0;
+};
+
+struct TrainReport
+{
+  int iterations = 0;
+  double seconds = 0;
+  double exemplarsPerSecond = 0;
+  bool cancelled = false;
+};
+
+/// Image-quality figures of a model on held-out exemplars (neural render vs. ground truth,
+/// both over a mid-grey background, 8 bit) and of its analyzer's viewpoint invariance.
+struct EvaluationReport
+{
+  int count = 0;
+  double psnr = 0, ssim = 0, emd = 0;
+  double invariance = 0; ///< fraction of triplets where the same TF from two views is closer
+  double analyzerMs = 0, rendererMs = 0; ///< one image, batch 1
+};
+
+/// Analyzer + renderer + discriminator.
+class NeuralDesignModel
+{
+public:
+  explicit NeuralDesignModel(const NetworkConfig& config, std::uint64_t seed = 1);
+  ~NeuralDesignModel();
+  NeuralDesignModel(NeuralDesignModel&&) noexcept;
+  NeuralDesignModel& operator=(NeuralDesignModel&&) noexcept;
+
+  const NetworkConfig& config() const;
+  /// Parameters of analyzer + renderer (the discriminator is not shipped).
+  std::int64_t parameterCount() const;
+
+  /// Latent of an RGB (or RGBA: alpha dropped) image of any size (resized to the model's).
+  std::vector<float> analyze(const Image& image) const;
+  /// Neural render of `latent` with the viewport image (premultiplied RGBA at the model's size):
+  /// premultiplied RGBA.
+  Image render(const std::vector<float>& latent, const Image& viewport) const;
+
+  /// Trains on `data` (its images must be config().imageSize). progress may cancel.
+  TrainReport train(const ExemplarDataset& data, const TrainOptions& options,
+    const std::function<bool(const TrainProgress&)>& progress = {});
+
+  EvaluationReport evaluate(const ExemplarDataset& data, int maxExemplars = 1000) const;
+
+  /// Writes a bundle directory: weights (model.pt), bundle.json (config, the volume's
+  /// fingerprint, spec, regions, metrics json), latents.bin (float32, training latents) and
+  /// exemplars.json (their TF parameters). Atomic per file; bundle.json last.
+  void saveBundle(const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const;
+  /// Loads a bundle; throws ddg::Error for a missing/corrupt/truncated bundle, a wrong
+  /// architecture, or (when expectedFingerprint is not empty) a bundle of another volume.
+  static NeuralDesignModel loadBundle(const std::string& dir, const std::string& expectedFingerprint = "");
+
+private:
+  struct Internals;
+  std::unique_ptr<Internals> In;
+};
+
+} // namespace ddg
