@@ -28,7 +28,8 @@ using Clock = std::chrono::steady_clock;
 int blocksFor(int size)
 {
   int b = 0;
-  while ((size >> (b + 1)) >= 4) ++b;
+  while ((size >> (b + 1)) >= 4)
+    ++b;
   return b; // size / 2^b == 4
 }
 
@@ -56,7 +57,8 @@ nn::Sequential down(int in, int out, bool norm)
 nn::Sequential up(int in, int out, double dropout)
 {
   nn::Sequential s;
-  s->push_back(nn::ConvTranspose2d(nn::ConvTranspose2dOptions(in, out, 4).stride(2).padding(1).bias(false)));
+  s->push_back(
+    nn::ConvTranspose2d(nn::ConvTranspose2dOptions(in, out, 4).stride(2).padding(1).bias(false)));
   s->push_back(nn::InstanceNorm2d(nn::InstanceNorm2dOptions(out).affine(true)));
   s->push_back(nn::ReLU());
   if (dropout > 0)
@@ -109,9 +111,12 @@ struct RendererImpl : nn::Module
     for (int b = blocks - 1; b >= 1; --b)
     {
       const double drop = (blocks - 1 - b) < 3 ? c.dropout : 0.0; // dropout in the first up blocks
-      ups.push_back(register_module("up" + std::to_string(b), up(2 * channels(c, b), channels(c, b - 1), drop)));
+      ups.push_back(register_module(
+        "up" + std::to_string(b), up(2 * channels(c, b), channels(c, b - 1), drop)));
     }
-    last = register_module("last", nn::ConvTranspose2d(nn::ConvTranspose2dOptions(2 * channels(c, 0), 4, 4).stride(2).padding(1)));
+    last = register_module("last",
+      nn::ConvTranspose2d(
+        nn::ConvTranspose2dOptions(2 * channels(c, 0), 4, 4).stride(2).padding(1)));
   }
   torch::Tensor forward(const torch::Tensor& z, const torch::Tensor& viewport)
   {
@@ -167,6 +172,17 @@ void xavier(nn::Module& m)
   }
 }
 
+// Shapes of every parameter and buffer (Module::load does not check them).
+std::vector<std::vector<std::int64_t>> shapes(nn::Module& mod)
+{
+  std::vector<std::vector<std::int64_t>> out;
+  for (const auto& p : mod.named_parameters())
+    out.push_back(p.value().sizes().vec());
+  for (const auto& b : mod.named_buffers())
+    out.push_back(b.value().sizes().vec());
+  return out;
+}
+
 void setThreads(int threads)
 {
   at::set_num_threads(threads > 0 ? threads : defaultThreadCount());
@@ -184,7 +200,8 @@ torch::Tensor toTensor(const std::uint8_t* data, int size, int channels)
 torch::Tensor imageToTensor(const Image& img, int channels)
 {
   const Image c = toChannels(img, channels);
-  return torch::from_blob(const_cast<float*>(c.pixels.data()), { img.height, img.width, channels }, torch::kFloat32)
+  return torch::from_blob(
+    const_cast<float*>(c.pixels.data()), { img.height, img.width, channels }, torch::kFloat32)
     .permute({ 2, 0, 1 })
     .clone();
 }
@@ -192,7 +209,8 @@ torch::Tensor imageToTensor(const Image& img, int channels)
 Image tensorToImage(const torch::Tensor& t) // CHW
 {
   const auto hwc = t.detach().permute({ 1, 2, 0 }).contiguous();
-  Image img(static_cast<int>(hwc.size(1)), static_cast<int>(hwc.size(0)), static_cast<int>(hwc.size(2)));
+  Image img(
+    static_cast<int>(hwc.size(1)), static_cast<int>(hwc.size(0)), static_cast<int>(hwc.size(2)));
   std::memcpy(img.pixels.data(), hwc.data_ptr<float>(), img.pixels.size() * sizeof(float));
   return img;
 }
@@ -247,8 +265,10 @@ const NetworkConfig& NeuralDesignModel::config() const
 std::int64_t NeuralDesignModel::parameterCount() const
 {
   std::int64_t n = 0;
-  for (const auto& p : In->A->parameters()) n += p.numel();
-  for (const auto& p : In->R->parameters()) n += p.numel();
+  for (const auto& p : In->A->parameters())
+    n += p.numel();
+  for (const auto& p : In->R->parameters())
+    n += p.numel();
   return n;
 }
 
@@ -269,10 +289,13 @@ Image NeuralDesignModel::render(const std::vector<float>& latent, const Image& v
   In->R->eval();
   const int s = In->Config.imageSize;
   if (static_cast<int>(latent.size()) != In->Config.latent)
-    throw Error("latent has " + std::to_string(latent.size()) + " values, the model expects " + std::to_string(In->Config.latent));
+    throw Error("latent has " + std::to_string(latent.size()) + " values, the model expects " +
+      std::to_string(In->Config.latent));
   if (viewport.width != s || viewport.height != s || viewport.channels != 4)
     throw Error("the viewport image must be RGBA at the model's size " + std::to_string(s));
-  const auto z = torch::from_blob(const_cast<float*>(latent.data()), { 1, In->Config.latent }, torch::kFloat32).clone();
+  const auto z =
+    torch::from_blob(const_cast<float*>(latent.data()), { 1, In->Config.latent }, torch::kFloat32)
+      .clone();
   return tensorToImage(In->R->forward(z, imageToTensor(viewport, 4).unsqueeze(0))[0]);
 }
 
@@ -281,14 +304,16 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
 {
   const int s = In->Config.imageSize;
   if (data.size() != s)
-    throw Error("the dataset's images are " + std::to_string(data.size()) + " pixels, the model's " + std::to_string(s));
+    throw Error("the dataset's images are " + std::to_string(data.size()) +
+      " pixels, the model's " + std::to_string(s));
   if (opt.batch < 1 || !(opt.learningRate > 0) || !(opt.minutes > 0) || !(opt.lambdaL1 >= 0))
     throw Error("training needs batch >= 1, a positive learning rate and time budget, lambda >= 0");
   setThreads(opt.threads);
   torch::manual_seed(opt.seed);
   // Whole dataset in memory as uint8 tensors (N x C x S x S).
   const int n = data.count();
-  auto rgb = torch::empty({ n, 3, s, s }, torch::kUInt8), vp = torch::empty({ n, 4, s, s }, torch::kUInt8),
+  auto rgb = torch::empty({ n, 3, s, s }, torch::kUInt8),
+       vp = torch::empty({ n, 4, s, s }, torch::kUInt8),
        gt = torch::empty({ n, 4, s, s }, torch::kUInt8);
   {
     std::vector<std::uint8_t> a, b, c;
@@ -301,10 +326,14 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     }
   }
   std::vector<torch::Tensor> gParams;
-  for (const auto& p : In->A->parameters()) gParams.push_back(p);
-  for (const auto& p : In->R->parameters()) gParams.push_back(p);
-  torch::optim::Adam optG(gParams, torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
-  torch::optim::Adam optD(In->D->parameters(), torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
+  for (const auto& p : In->A->parameters())
+    gParams.push_back(p);
+  for (const auto& p : In->R->parameters())
+    gParams.push_back(p);
+  torch::optim::Adam optG(
+    gParams, torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
+  torch::optim::Adam optD(
+    In->D->parameters(), torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
   int iteration = 0;
   if (opt.resume && !opt.checkpoint.empty() && fs::exists(opt.checkpoint))
   {
@@ -318,9 +347,13 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       ar.read("discriminator", d);
       ar.read("optG", og);
       ar.read("optD", od);
+      const auto sa = shapes(*In->A), sr = shapes(*In->R), sd = shapes(*In->D);
       In->A->load(a);
       In->R->load(r);
       In->D->load(d);
+      if (shapes(*In->A) != sa || shapes(*In->R) != sr || shapes(*In->D) != sd)
+        throw Error("cannot resume from checkpoint '" + opt.checkpoint +
+          "': it belongs to another architecture");
       optG.load(og);
       optD.load(od);
       torch::Tensor it;
@@ -329,10 +362,12 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     }
     catch (const c10::Error& e)
     {
-      throw Error("cannot resume from checkpoint '" + opt.checkpoint + "': it is corrupt or of another architecture");
+      throw Error("cannot resume from checkpoint '" + opt.checkpoint +
+        "': it is corrupt or of another architecture");
     }
   }
-  auto saveCheckpoint = [&] {
+  auto saveCheckpoint = [&]
+  {
     torch::serialize::OutputArchive ar, a, r, d, og, od;
     In->A->save(a);
     In->R->save(r);
@@ -384,8 +419,9 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     optD.zero_grad();
     const auto dReal = In->D->forward(t, v);
     const auto dFake = In->D->forward(fake.detach(), v);
-    const auto lossD = 0.5 * (torch::binary_cross_entropy(dReal, torch::ones_like(dReal)) +
-                               torch::binary_cross_entropy(dFake, torch::zeros_like(dFake)));
+    const auto lossD = 0.5 *
+      (torch::binary_cross_entropy(dReal, torch::ones_like(dReal)) +
+        torch::binary_cross_entropy(dFake, torch::zeros_like(dFake)));
     lossD.backward();
     optD.step();
     // generator (analyzer + renderer)
@@ -407,8 +443,9 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       p.l1 = l1.item<double>();
       p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
       const double rate = (iteration - startIteration) / std::max(1e-9, p.seconds);
-      p.eta = opt.maxIterations > 0 ? std::min(opt.minutes * 60 - p.seconds, (opt.maxIterations - iteration) / rate)
-                                    : opt.minutes * 60 - p.seconds;
+      p.eta = opt.maxIterations > 0
+        ? std::min(opt.minutes * 60 - p.seconds, (opt.maxIterations - iteration) / rate)
+        : opt.minutes * 60 - p.seconds;
       if (!std::isfinite(p.lossG) || !std::isfinite(p.lossD))
         throw Error("training diverged (loss is NaN) at iteration " + std::to_string(iteration));
       if (!progress(p))
@@ -424,7 +461,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     saveCheckpoint();
   report.iterations = iteration;
   report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
-  report.exemplarsPerSecond = (iteration - startIteration) * static_cast<double>(opt.batch) / std::max(1e-9, report.seconds);
+  report.exemplarsPerSecond =
+    (iteration - startIteration) * static_cast<double>(opt.batch) / std::max(1e-9, report.seconds);
   In->A->eval();
   In->R->eval();
   return report;
@@ -434,7 +472,8 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
 {
   const int s = In->Config.imageSize;
   if (data.size() != s)
-    throw Error("the dataset's images are " + std::to_string(data.size()) + " pixels, the model's " + std::to_string(s));
+    throw Error("the dataset's images are " + std::to_string(data.size()) +
+      " pixels, the model's " + std::to_string(s));
   EvaluationReport r;
   r.count = std::min(maxExemplars, data.count());
   std::vector<std::uint8_t> a, b, c;
@@ -443,9 +482,12 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
   {
     data.load(i, a, b, c);
     Image rgbExp(s, s, 3), viewport(s, s, 4), truth(s, s, 4);
-    for (size_t k = 0; k < a.size(); ++k) rgbExp.pixels[k] = a[k] / 255.0f;
-    for (size_t k = 0; k < b.size(); ++k) viewport.pixels[k] = b[k] / 255.0f;
-    for (size_t k = 0; k < c.size(); ++k) truth.pixels[k] = c[k] / 255.0f;
+    for (size_t k = 0; k < a.size(); ++k)
+      rgbExp.pixels[k] = a[k] / 255.0f;
+    for (size_t k = 0; k < b.size(); ++k)
+      viewport.pixels[k] = b[k] / 255.0f;
+    for (size_t k = 0; k < c.size(); ++k)
+      truth.pixels[k] = c[k] / 255.0f;
     const auto z = analyze(rgbExp);
     const Image pred = overGrey(render(z, viewport)), gt = overGrey(truth);
     r.psnr += std::min(psnr(pred, gt), 99.0) / r.count;
@@ -456,16 +498,19 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
     latExp.push_back(z);
     latView.push_back(analyze(compositeOverBackground(truth, { bg, bg, bg })));
   }
-  auto dist = [](const std::vector<float>& p, const std::vector<float>& q) {
+  auto dist = [](const std::vector<float>& p, const std::vector<float>& q)
+  {
     double d = 0;
-    for (size_t k = 0; k < p.size(); ++k) d += (p[k] - q[k]) * (p[k] - q[k]);
+    for (size_t k = 0; k < p.size(); ++k)
+      d += (p[k] - q[k]) * (p[k] - q[k]);
     return d;
   };
   int holds = 0, triplets = 0;
   for (int i = 0; i < r.count; ++i)
     for (int j : { (i + 1) % r.count, (i + 7) % r.count })
     {
-      if (j == i) continue;
+      if (j == i)
+        continue;
       ++triplets;
       holds += dist(latExp[i], latView[i]) < dist(latExp[i], latExp[j]);
     }
@@ -473,8 +518,10 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
   // latency, batch 1, median of 21
   data.load(0, a, b, c);
   Image rgbExp(s, s, 3), viewport(s, s, 4);
-  for (size_t k = 0; k < a.size(); ++k) rgbExp.pixels[k] = a[k] / 255.0f;
-  for (size_t k = 0; k < b.size(); ++k) viewport.pixels[k] = b[k] / 255.0f;
+  for (size_t k = 0; k < a.size(); ++k)
+    rgbExp.pixels[k] = a[k] / 255.0f;
+  for (size_t k = 0; k < b.size(); ++k)
+    viewport.pixels[k] = b[k] / 255.0f;
   std::vector<double> ta, tr;
   std::vector<float> z;
   for (int k = 0; k < 21; ++k)
@@ -493,7 +540,8 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
   return r;
 }
 
-void NeuralDesignModel::saveBundle(const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const
+void NeuralDesignModel::saveBundle(
+  const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const
 {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -529,33 +577,40 @@ void NeuralDesignModel::saveBundle(const std::string& dir, const ExemplarDataset
   {
     training.load(i, a, b, c);
     Image rgbExp(s, s, 3);
-    for (size_t k = 0; k < a.size(); ++k) rgbExp.pixels[k] = a[k] / 255.0f;
+    for (size_t k = 0; k < a.size(); ++k)
+      rgbExp.pixels[k] = a[k] / 255.0f;
     const auto z = analyze(rgbExp);
     latents.append(reinterpret_cast<const char*>(z.data()), z.size() * sizeof(float));
     nlohmann::json p = nlohmann::json::array();
     for (const auto& g : training.exemplars()[static_cast<size_t>(i)].primitives)
-      p.push_back({ { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb }, { "opacity", g.opacity } });
+      p.push_back({ { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb },
+        { "opacity", g.opacity } });
     ex.push_back(p);
   }
   writeFileAtomic((fs::path(dir) / "latents.bin").string(), latents, "bundle latents");
-  writeFileAtomic((fs::path(dir) / "exemplars.json").string(), ex.dump() + "\n", "bundle exemplars");
+  writeFileAtomic(
+    (fs::path(dir) / "exemplars.json").string(), ex.dump() + "\n", "bundle exemplars");
   nlohmann::json j;
   j["format"] = "ddg-model-bundle";
   j["version"] = 1;
-  j["architecture"] = { { "kind", "unet" }, { "image_size", In->Config.imageSize }, { "width", In->Config.width },
-    { "latent", In->Config.latent }, { "dropout", In->Config.dropout } };
+  j["architecture"] = { { "kind", "unet" }, { "image_size", In->Config.imageSize },
+    { "width", In->Config.width }, { "latent", In->Config.latent },
+    { "dropout", In->Config.dropout } };
   j["parameters"] = parameterCount();
   j["volume"] = training.fingerprint();
   j["spec"] = nlohmann::json::parse(designSpaceSpecToJson(training.spec()));
   j["regions"] = nlohmann::json::array();
   for (const auto& r : training.regions())
-    j["regions"].push_back({ { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak }, { "mass", r.mass } });
+    j["regions"].push_back(
+      { { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak }, { "mass", r.mass } });
   j["training_exemplars"] = training.count();
-  j["metrics"] = metricsJson.empty() ? nlohmann::json::object() : nlohmann::json::parse(metricsJson);
+  j["metrics"] =
+    metricsJson.empty() ? nlohmann::json::object() : nlohmann::json::parse(metricsJson);
   writeFileAtomic((fs::path(dir) / "bundle.json").string(), j.dump(2) + "\n", "bundle index");
 }
 
-NeuralDesignModel NeuralDesignModel::loadBundle(const std::string& dir, const std::string& expectedFingerprint)
+NeuralDesignModel NeuralDesignModel::loadBundle(
+  const std::string& dir, const std::string& expectedFingerprint)
 {
   const std::string indexPath = (fs::path(dir) / "bundle.json").string();
   nlohmann::json j;
@@ -574,20 +629,25 @@ NeuralDesignModel NeuralDesignModel::loadBundle(const std::string& dir, const st
       throw Error("'" + indexPath + "' is not a version-1 ddg model bundle");
     const auto& a = j.at("architecture");
     if (a.value("kind", std::string()) != "unet")
-      throw Error("model bundle '" + dir + "' has an unknown architecture '" + a.value("kind", std::string()) + "'");
+      throw Error("model bundle '" + dir + "' has an unknown architecture '" +
+        a.value("kind", std::string()) + "'");
     c.imageSize = a.at("image_size").get<int>();
     c.width = a.at("width").get<int>();
     c.latent = a.at("latent").get<int>();
     c.dropout = a.at("dropout").get<double>();
     if (!expectedFingerprint.empty() && j.at("volume").get<std::string>() != expectedFingerprint)
-      throw Error("model bundle '" + dir + "' was trained on another volume (" + j.at("volume").get<std::string>() +
-        "), not this one (" + expectedFingerprint + ")");
+      throw Error("model bundle '" + dir + "' was trained on another volume (" +
+        j.at("volume").get<std::string>() + "), not this one (" + expectedFingerprint + ")");
   }
   catch (const nlohmann::json::exception& e)
   {
     throw Error("model bundle '" + indexPath + "' is corrupt: " + e.what());
   }
   NeuralDesignModel m(c);
+  // Module::load replaces tensors whatever their shape: compare them with the architecture's.
+  const auto expectA = shapes(*m.In->A), expectR = shapes(*m.In->R);
+  const std::string broken = "model bundle '" + dir +
+    "': model.pt is missing, truncated or does not match the architecture in bundle.json";
   try
   {
     torch::serialize::InputArchive ar, a, r;
@@ -599,7 +659,11 @@ NeuralDesignModel NeuralDesignModel::loadBundle(const std::string& dir, const st
   }
   catch (const c10::Error&)
   {
-    throw Error("model bundle '" + dir + "': model.pt is missing, truncated or does not match the architecture in bundle.json");
+    throw Error(broken);
+  }
+  if (shapes(*m.In->A) != expectA || shapes(*m.In->R) != expectR)
+  {
+    throw Error(broken);
   }
   return m;
 }

@@ -18,9 +18,9 @@ namespace ddg
 /// with a 4x4 stride-2 convolution down to 4 x 4.
 struct NetworkConfig
 {
-  int imageSize = 64;  ///< [64] power of two, 16..512
-  int width = 16;      ///< channels of the first block, doubled per block up to 8x [16]
-  int latent = 64;     ///< latent TF size [64]
+  int imageSize = 64;   ///< [64] power of two, 16..512
+  int width = 16;       ///< channels of the first block, doubled per block up to 8x [16]
+  int latent = 64;      ///< latent TF size [64]
   double dropout = 0.5; ///< in the renderer's up blocks [0.5]
 
   void validate() const;
@@ -29,16 +29,16 @@ struct NetworkConfig
 /// Training options (defaults in brackets; the paper's where it gives them).
 struct TrainOptions
 {
-  int batch = 16;            ///< [16]
+  int batch = 16;             ///< [16]
   double learningRate = 2e-4; ///< Adam, beta1 0.5, beta2 0.999 [2e-4]
-  double lambdaL1 = 1000;    ///< L = L_adv + lambda L1 [1000]
-  double minutes = 10;       ///< wall-clock budget [10]
-  int maxIterations = 0;     ///< 0 = until the budget
-  std::uint64_t seed = 1;    ///< initialisation and batch order [1]
-  int threads = 0;           ///< libtorch intra-op threads, 0 = all cores
-  std::string checkpoint;    ///< file to write every checkpointEvery iterations ("" = none)
+  double lambdaL1 = 1000;     ///< L = L_adv + lambda L1 [1000]
+  double minutes = 10;        ///< wall-clock budget [10]
+  int maxIterations = 0;      ///< 0 = until the budget
+  std::uint64_t seed = 1;     ///< initialisation and batch order [1]
+  int threads = 0;            ///< libtorch intra-op threads, 0 = all cores
+  std::string checkpoint;     ///< file to write every checkpointEvery iterations ("" = none)
   int checkpointEvery = 500;
-  bool resume = false;       ///< continue from `checkpoint` if it exists
+  bool resume = false; ///< continue from `checkpoint` if it exists
 };
 
 struct TrainProgress
@@ -94,10 +94,12 @@ public:
   /// Writes a bundle directory: weights (model.pt), bundle.json (config, the volume's
   /// fingerprint, spec, regions, metrics json), latents.bin (float32, training latents) and
   /// exemplars.json (their TF parameters). Atomic per file; bundle.json last.
-  void saveBundle(const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const;
+  void saveBundle(
+    const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const;
   /// Loads a bundle; throws ddg::Error for a missing/corrupt/truncated bundle, a wrong
   /// architecture, or (when expectedFingerprint is not empty) a bundle of another volume.
-  static NeuralDesignModel loadBundle(const std::string& dir, const std::string& expectedFingerprint = "");
+  static NeuralDesignModel loadBundle(
+    const std::string& dir, const std::string& expectedFingerprint = "");
 
 private:
   struct Internals;

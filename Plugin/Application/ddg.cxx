@@ -419,21 +419,24 @@ struct TrainArgs
   bool resume = false, quiet = false;
 };
 
-std::string metricsJson(const ddg::EvaluationReport& e, const ddg::TrainReport* t, std::int64_t parameters)
+std::string metricsJson(
+  const ddg::EvaluationReport& e, const ddg::TrainReport* t, std::int64_t parameters)
 {
   char buf[512];
   std::snprintf(buf, sizeof(buf),
     "{\"heldout_count\": %d, \"psnr\": %.4f, \"ssim\": %.5f, \"emd\": %.5f, \"invariance\": %.4f, "
     "\"analyzer_ms\": %.3f, \"renderer_ms\": %.3f, \"parameters\": %lld, \"train_iterations\": %d, "
     "\"train_seconds\": %.1f, \"train_exemplars_per_second\": %.2f}",
-    e.count, e.psnr, e.ssim, e.emd, e.invariance, e.analyzerMs, e.rendererMs, static_cast<long long>(parameters),
-    t ? t->iterations : 0, t ? t->seconds : 0.0, t ? t->exemplarsPerSecond : 0.0);
+    e.count, e.psnr, e.ssim, e.emd, e.invariance, e.analyzerMs, e.rendererMs,
+    static_cast<long long>(parameters), t ? t->iterations : 0, t ? t->seconds : 0.0,
+    t ? t->exemplarsPerSecond : 0.0);
   return buf;
 }
 
 void printEvaluation(const ddg::EvaluationReport& e)
 {
-  std::printf("held-out %d exemplars: PSNR %.2f dB  SSIM %.4f  EMD %.3f  invariance %.3f  analyzer %.2f ms  renderer %.2f ms\n",
+  std::printf("held-out %d exemplars: PSNR %.2f dB  SSIM %.4f  EMD %.3f  invariance %.3f  analyzer "
+              "%.2f ms  renderer %.2f ms\n",
     e.count, e.psnr, e.ssim, e.emd, e.invariance, e.analyzerMs, e.rendererMs);
 }
 
@@ -451,7 +454,8 @@ int runTrain(const TrainArgs& a)
   {
     heldout = std::make_unique<ddg::ExemplarDataset>(a.evalData);
     if (heldout->fingerprint() != data.fingerprint())
-      throw ddg::Error("the held-out data '" + a.evalData + "' belongs to another volume than the training data");
+      throw ddg::Error(
+        "the held-out data '" + a.evalData + "' belongs to another volume than the training data");
   }
   ddg::TrainOptions opt;
   opt.batch = a.batch;
@@ -464,20 +468,23 @@ int runTrain(const TrainArgs& a)
   opt.checkpoint = a.checkpoint;
   opt.resume = a.resume;
   std::printf("training %lld parameters on %d exemplars of %d x %d for up to %.1f min\n",
-    static_cast<long long>(model.parameterCount()), data.count(), data.size(), data.size(), a.minutes);
+    static_cast<long long>(model.parameterCount()), data.count(), data.size(), data.size(),
+    a.minutes);
   int lastPrint = -1000;
-  const auto report = model.train(data, opt, [&](const ddg::TrainProgress& p) {
-    if (!a.quiet && p.iteration - lastPrint >= 200)
+  const auto report = model.train(data, opt,
+    [&](const ddg::TrainProgress& p)
     {
-      std::printf("iteration %6d  G %.3f  D %.3f  L1 %.4f  %.0f s, ETA %.0f s\n", p.iteration, p.lossG, p.lossD, p.l1,
-        p.seconds, p.eta);
-      std::fflush(stdout);
-      lastPrint = p.iteration;
-    }
-    return true;
-  });
-  std::printf("trained %d iterations in %.1f s (%.1f exemplars/s)\n", report.iterations, report.seconds,
-    report.exemplarsPerSecond);
+      if (!a.quiet && p.iteration - lastPrint >= 200)
+      {
+        std::printf("iteration %6d  G %.3f  D %.3f  L1 %.4f  %.0f s, ETA %.0f s\n", p.iteration,
+          p.lossG, p.lossD, p.l1, p.seconds, p.eta);
+        std::fflush(stdout);
+        lastPrint = p.iteration;
+      }
+      return true;
+    });
+  std::printf("trained %d iterations in %.1f s (%.1f exemplars/s)\n", report.iterations,
+    report.seconds, report.exemplarsPerSecond);
   ddg::EvaluationReport e;
   if (heldout)
   {
@@ -693,29 +700,37 @@ int main(int argc, char** argv)
 #ifdef DDG_WITH_TORCH
   TrainArgs ta;
   auto* train = app.add_subcommand("train",
-    "Train the Neural DVR Analyzer + Renderer (U-Net) with a PatchGAN discriminator on generated exemplars "
+    "Train the Neural DVR Analyzer + Renderer (U-Net) with a PatchGAN discriminator on generated "
+    "exemplars "
     "(L = L_adv + lambda L1, Adam 2e-4, beta 0.5/0.999) and write a model bundle.");
   train->add_option("--data", ta.data, "Exemplar directory from ddg generate")->required();
   train->add_option("--out", ta.out, "Output model bundle directory")->required();
-  train->add_option("--minutes", ta.minutes, "Wall-clock budget (default 10)")->check(CLI::PositiveNumber);
-  train->add_option("--max-iterations", ta.maxIterations, "Stop after this many iterations (default 0: budget only)");
-  train->add_option("--eval-data", ta.evalData, "Held-out exemplars to evaluate on and record in the bundle");
+  train->add_option("--minutes", ta.minutes, "Wall-clock budget (default 10)")
+    ->check(CLI::PositiveNumber);
+  train->add_option("--max-iterations", ta.maxIterations,
+    "Stop after this many iterations (default 0: budget only)");
+  train->add_option(
+    "--eval-data", ta.evalData, "Held-out exemplars to evaluate on and record in the bundle");
   train->add_option("--eval-count", ta.evalCount, "Held-out exemplars used (default 1000)");
-  train->add_option("--width", ta.width, "Channels of the first block (default 16)")->check(CLI::Range(2, 256));
-  train->add_option("--latent", ta.latent, "Latent TF size (default 64)")->check(CLI::Range(2, 1024));
+  train->add_option("--width", ta.width, "Channels of the first block (default 16)")
+    ->check(CLI::Range(2, 256));
+  train->add_option("--latent", ta.latent, "Latent TF size (default 64)")
+    ->check(CLI::Range(2, 1024));
   train->add_option("--dropout", ta.dropout, "Dropout in the renderer's up blocks (default 0.5)");
   train->add_option("--batch", ta.batch, "Batch size (default 16)")->check(CLI::Range(1, 4096));
   train->add_option("--lr", ta.lr, "Adam learning rate (default 2e-4)")->check(CLI::PositiveNumber);
   train->add_option("--lambda", ta.lambda, "Weight of the L1 term (default 1000)");
   train->add_option("--seed", ta.seed, "Seed of initialisation and batch order (default 1)");
   train->add_option("--threads", ta.threads, "libtorch threads (default 0: all cores)");
-  train->add_option("--checkpoint", ta.checkpoint, "Checkpoint file, written every 500 iterations and at the end");
+  train->add_option(
+    "--checkpoint", ta.checkpoint, "Checkpoint file, written every 500 iterations and at the end");
   train->add_flag("--resume", ta.resume, "Continue from --checkpoint");
   train->add_flag("--quiet", ta.quiet, "Do not print progress");
 
   std::string evalModel, evalData;
   int evalCount = 1000;
-  auto* evalCmd = app.add_subcommand("eval", "Evaluate a model bundle on held-out exemplars: PSNR, SSIM, EMD, invariance, latency.");
+  auto* evalCmd = app.add_subcommand(
+    "eval", "Evaluate a model bundle on held-out exemplars: PSNR, SSIM, EMD, invariance, latency.");
   evalCmd->add_option("--model", evalModel, "Model bundle directory")->required();
   evalCmd->add_option("--data", evalData, "Held-out exemplar directory (same volume)")->required();
   evalCmd->add_option("--count", evalCount, "Exemplars used (default 1000)");

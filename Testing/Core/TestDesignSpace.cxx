@@ -25,7 +25,8 @@ Volume materials()
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
       {
-        const double r = std::sqrt((i - 15.5) * (i - 15.5) + (j - 15.5) * (j - 15.5) + (k - 15.5) * (k - 15.5));
+        const double r =
+          std::sqrt((i - 15.5) * (i - 15.5) + (j - 15.5) * (j - 15.5) + (k - 15.5) * (k - 15.5));
         const float base = r < 6 ? 200.0f : (r < 11 ? 100.0f : 10.0f);
         v.push_back(std::clamp(base + noise(rng), 0.0f, 255.0f));
       }
@@ -76,7 +77,8 @@ TEST(ExemplarGenerator, DeterministicReadableAndGuarded)
   for (const char* f : { "shard-00000.bin", "shard-00002.bin", "dataset.json" })
   {
     std::ifstream fa(a + "/" + f, std::ios::binary), fb(b + "/" + f, std::ios::binary);
-    const std::string ca((std::istreambuf_iterator<char>(fa)), {}), cb((std::istreambuf_iterator<char>(fb)), {});
+    const std::string ca((std::istreambuf_iterator<char>(fa)), {}),
+      cb((std::istreambuf_iterator<char>(fb)), {});
     EXPECT_FALSE(ca.empty());
     EXPECT_EQ(ca, cb) << f << " differs between runs (threads 0 vs 1)";
   }
@@ -86,18 +88,22 @@ TEST(ExemplarGenerator, DeterministicReadableAndGuarded)
   data.load(9, rgb, vp, gt);
   EXPECT_EQ(gt.size(), 16u * 16u * 4u);
   int visible = 0;
-  for (size_t i = 3; i < gt.size(); i += 4) visible += gt[i] > 0;
+  for (size_t i = 3; i < gt.size(); i += 4)
+    visible += gt[i] > 0;
   EXPECT_GT(visible, 0);
 
   // truncated shard, corrupt index, missing index (an incomplete dataset)
   fs::resize_file(a + "/shard-00001.bin", 100);
   EXPECT_THROW(ExemplarDataset{ a }, Error);
-  { std::ofstream(b + "/dataset.json") << "{\"format\": \"ddg-exem"; }
+  {
+    std::ofstream(b + "/dataset.json") << "{\"format\": \"ddg-exem";
+  }
   EXPECT_THROW(ExemplarDataset{ b }, Error);
 
   // cancelled: nothing left that looks like a dataset
   const std::string c = tempDir("gen_c");
-  EXPECT_THROW(generateExemplars(vol, DesignSpaceSpec{}, c, opt, [](double) { return false; }), Cancelled);
+  EXPECT_THROW(
+    generateExemplars(vol, DesignSpaceSpec{}, c, opt, [](double) { return false; }), Cancelled);
   EXPECT_FALSE(fs::exists(c + "/dataset.json"));
   EXPECT_FALSE(fs::exists(c + "/shard-00000.bin"));
   // an unwritable place

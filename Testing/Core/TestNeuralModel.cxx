@@ -1,0 +1,150 @@
+// TestNeuralModel.cxx: the libtorch networks on a tiny synthetic dataset — output shapes and
+// ranges, training lowers the imitation error, bundles round-trip exactly, and bad bundles,
+// another volume's bundle, a wrong architecture and a cancelled-then-resumed training are
+// handled. Tolerances: exact equality for round trips; "lower" for training.
+#include "Neural/NeuralModel.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
+
+using namespace ddg;
+namespace fs = std::filesystem;
+
+namespace
+{
+Volume blobs()
+{
+  const int n = 24;
+  std::vector<float> v;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const double r = std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
+        v.push_back(r < 5 ? 200.0f : (r < 9 ? 100.0f : 10.0f));
+      }
+  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::Float32);
+}
+
+const ExemplarDataset& dataset()
+{
+  static const std::string dir = [] {
+    const std::string d = ::testing::TempDir() + "/ddg_neural_data";
+    fs::remove_all(d);
+    GenerateOptions opt;
+    opt.count = 24;
+    opt.size = 16;
+    generateExemplars(blobs(), DesignSpaceSpec{}, d, opt);
+    return d;
+  }();
+  static const ExemplarDataset data(dir);
+  return data;
+}
+
+NetworkConfig tiny()
+{
+  NetworkConfig c;
+  c.imageSize = 16;
+  c.width = 4;
+  c.latent = 8;
+  return c;
+}
+
+TrainOptions quick(int iterations)
+{
+  TrainOptions t;
+  t.batch = 4;
+  t.maxIterations = iterations;
+  t.minutes = 5;
+  t.threads = 1;
+  t.learningRate = 1e-3;
+  return t;
+}
+} // namespace
+
+TEST(NeuralModel, ShapesAndRanges)
+{
+  const NeuralDesignModel m(tiny());
+  Image rgb(40, 30, 3, 0.3f); // any size: resized
+  const auto z = m.analyze(rgb);
+  EXPECT_EQ(z.size(), 8u);
+  Image viewport(16, 16, 4, 0.5f);
+  const Image out = m.render(z, viewport);
+  ASSERT_EQ(out.channels, 4);
+  ASSERT_EQ(out.width, 16);
+  for (float v : out.pixels) ASSERT_TRUE(v >= 0.0f && v <= 1.0f);
+  EXPECT_THROW(m.render(std::vector<float>(3), viewport), Error);
+  EXPECT_THROW(m.render(z, Image(8, 8, 4)), Error);
+  NetworkConfig bad = tiny();
+  bad.imageSize = 24;
+  EXPECT_THROW(NeuralDesignModel{ bad }, Error);
+}
+
+TEST(NeuralModel, TrainingLowersTheError)
+{
+  NeuralDesignModel m(tiny(), 3);
+  const double before = m.evaluate(dataset(), 24).psnr;
+  m.train(dataset(), quick(150));
+  const double after = m.evaluate(dataset(), 24).psnr;
+  EXPECT_GT(after, before + 1.0) << "PSNR before " << before << " after " << after;
+}
+
+TEST(NeuralModel, BundlesRoundTripAndRefuseBadOnes)
+{
+  NeuralDesignModel m(tiny(), 5);
+  m.train(dataset(), quick(5));
+  const std::string dir = ::testing::TempDir() + "/ddg_bundle";
+  fs::remove_all(dir);
+  m.saveBundle(dir, dataset(), "{\"psnr\": 1}");
+  const auto loaded = NeuralDesignModel::loadBundle(dir, dataset().fingerprint());
+  Image rgb(16, 16, 3, 0.25f);
+  EXPECT_EQ(m.analyze(rgb), loaded.analyze(rgb));
+  EXPECT_EQ(fs::file_size(dir + "/latents.bin"), 24u * 8u * sizeof(float));
+
+  // another volume
+  EXPECT_THROW(NeuralDesignModel::loadBundle(dir, "64x64x64 spacing 1,1,1 range 0..1 fnv1a 0"), Error);
+  // wrong architecture in bundle.json
+  const std::string wrong = ::testing::TempDir() + "/ddg_bundle_wrong";
+  fs::remove_all(wrong);
+  fs::copy(dir, wrong);
+  {
+    std::ifstream in(wrong + "/bundle.json");
+    std::string text((std::istreambuf_iterator<char>(in)), {});
+    text.replace(text.find("\"width\": 4"), 10, "\"width\": 6");
+    std::ofstream(wrong + "/bundle.json") << text;
+  }
+  EXPECT_THROW(NeuralDesignModel::loadBundle(wrong), Error);
+  // truncated weights
+  fs::resize_file(wrong + "/model.pt", 100);
+  EXPECT_THROW(NeuralDesignModel::loadBundle(wrong), Error);
+  // corrupt index, missing bundle
+  std::ofstream(wrong + "/bundle.json") << "{\"format\": ";
+  EXPECT_THROW(NeuralDesignModel::loadBundle(wrong), Error);
+  EXPECT_THROW(NeuralDesignModel::loadBundle(::testing::TempDir() + "/ddg_no_bundle"), Error);
+}
+
+TEST(NeuralModel, CancelThenResumeContinuesFromTheCheckpoint)
+{
+  const std::string ckpt = ::testing::TempDir() + "/ddg_ckpt.pt";
+  fs::remove(ckpt);
+  NeuralDesignModel m(tiny(), 7);
+  TrainOptions t = quick(40);
+  t.checkpoint = ckpt;
+  const auto first = m.train(dataset(), t, [](const TrainProgress& p) { return p.iteration < 20; });
+  EXPECT_TRUE(first.cancelled);
+  EXPECT_EQ(first.iterations, 20);
+  ASSERT_TRUE(fs::exists(ckpt));
+  NeuralDesignModel resumed(tiny(), 99); // different initialisation: the checkpoint must win
+  t.resume = true;
+  const auto second = resumed.train(dataset(), t);
+  EXPECT_FALSE(second.cancelled);
+  EXPECT_EQ(second.iterations, 40);
+  // a corrupt checkpoint is refused
+  std::ofstream(ckpt) << "garbage";
+  NeuralDesignModel other(tiny());
+  EXPECT_THROW(other.train(dataset(), t), Error);
+}
