@@ -416,6 +416,7 @@ struct TrainArgs
   double minutes = 10, lr = 2e-4, lambda = 1000, dropout = 0.5;
   int width = 16, latent = 64, batch = 16, threads = 0, maxIterations = 0, evalCount = 1000;
   std::uint64_t seed = 1;
+  int checkCount = 100;
   bool resume = false, quiet = false;
 };
 
@@ -486,21 +487,31 @@ int runTrain(const TrainArgs& a)
   std::printf("trained %d iterations in %.1f s (%.1f exemplars/s)\n", report.iterations,
     report.seconds, report.exemplarsPerSecond);
   ddg::EvaluationReport e;
+  std::string metrics = metricsJson(e, &report, model.parameterCount());
   if (heldout)
   {
     e = model.evaluate(*heldout, a.evalCount);
     printEvaluation(e);
+    // the first checkCount held-out exemplars again: what a quick test can reproduce
+    const auto check = model.evaluate(*heldout, a.checkCount);
+    metrics = metricsJson(e, &report, model.parameterCount());
+    metrics.pop_back();
+    metrics += ", \"check\": " + metricsJson(check, nullptr, model.parameterCount()) + "}";
   }
-  model.saveBundle(a.out, data, metricsJson(e, &report, model.parameterCount()));
+  model.saveBundle(a.out, data, metrics);
   std::printf("wrote model bundle %s\n", a.out.c_str());
   return 0;
 }
 
-int runEval(const std::string& modelDir, const std::string& dataDir, int count)
+int runEval(const std::string& modelDir, const std::string& dataDir, int count, bool json)
 {
   const ddg::ExemplarDataset data(dataDir);
   const auto model = ddg::NeuralDesignModel::loadBundle(modelDir, data.fingerprint());
-  printEvaluation(model.evaluate(data, count));
+  const auto e = model.evaluate(data, count);
+  if (json)
+    std::printf("%s\n", metricsJson(e, nullptr, model.parameterCount()).c_str());
+  else
+    printEvaluation(e);
   return 0;
 }
 #endif
@@ -712,6 +723,9 @@ int main(int argc, char** argv)
   train->add_option(
     "--eval-data", ta.evalData, "Held-out exemplars to evaluate on and record in the bundle");
   train->add_option("--eval-count", ta.evalCount, "Held-out exemplars used (default 1000)");
+  train->add_option("--check-count", ta.checkCount,
+    "Also record the figures of the first N held-out exemplars, for quick reproduction tests "
+    "(default 100)");
   train->add_option("--width", ta.width, "Channels of the first block (default 16)")
     ->check(CLI::Range(2, 256));
   train->add_option("--latent", ta.latent, "Latent TF size (default 64)")
@@ -729,11 +743,13 @@ int main(int argc, char** argv)
 
   std::string evalModel, evalData;
   int evalCount = 1000;
+  bool evalJson = false;
   auto* evalCmd = app.add_subcommand(
     "eval", "Evaluate a model bundle on held-out exemplars: PSNR, SSIM, EMD, invariance, latency.");
   evalCmd->add_option("--model", evalModel, "Model bundle directory")->required();
   evalCmd->add_option("--data", evalData, "Held-out exemplar directory (same volume)")->required();
   evalCmd->add_option("--count", evalCount, "Exemplars used (default 1000)");
+  evalCmd->add_flag("--json", evalJson, "Print the figures as JSON");
 #endif
 
   std::string infoVolume, infoArray;
@@ -770,7 +786,7 @@ int main(int argc, char** argv)
     if (*train)
       return runTrain(ta);
     if (*evalCmd)
-      return runEval(evalModel, evalData, evalCount);
+      return runEval(evalModel, evalData, evalCount, evalJson);
 #endif
   }
   catch (const std::exception& e)

@@ -24,7 +24,8 @@ Volume blobs()
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
       {
-        const double r = std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
+        const double r =
+          std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
         v.push_back(r < 5 ? 200.0f : (r < 9 ? 100.0f : 10.0f));
       }
   return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::Float32);
@@ -32,7 +33,8 @@ Volume blobs()
 
 const ExemplarDataset& dataset()
 {
-  static const std::string dir = [] {
+  static const std::string dir = []
+  {
     const std::string d = ::testing::TempDir() + "/ddg_neural_data";
     fs::remove_all(d);
     GenerateOptions opt;
@@ -76,7 +78,8 @@ TEST(NeuralModel, ShapesAndRanges)
   const Image out = m.render(z, viewport);
   ASSERT_EQ(out.channels, 4);
   ASSERT_EQ(out.width, 16);
-  for (float v : out.pixels) ASSERT_TRUE(v >= 0.0f && v <= 1.0f);
+  for (float v : out.pixels)
+    ASSERT_TRUE(v >= 0.0f && v <= 1.0f);
   EXPECT_THROW(m.render(std::vector<float>(3), viewport), Error);
   EXPECT_THROW(m.render(z, Image(8, 8, 4)), Error);
   NetworkConfig bad = tiny();
@@ -106,7 +109,8 @@ TEST(NeuralModel, BundlesRoundTripAndRefuseBadOnes)
   EXPECT_EQ(fs::file_size(dir + "/latents.bin"), 24u * 8u * sizeof(float));
 
   // another volume
-  EXPECT_THROW(NeuralDesignModel::loadBundle(dir, "64x64x64 spacing 1,1,1 range 0..1 fnv1a 0"), Error);
+  EXPECT_THROW(
+    NeuralDesignModel::loadBundle(dir, "64x64x64 spacing 1,1,1 range 0..1 fnv1a 0"), Error);
   // wrong architecture in bundle.json
   const std::string wrong = ::testing::TempDir() + "/ddg_bundle_wrong";
   fs::remove_all(wrong);

@@ -1,0 +1,38 @@
+# CheckBundle.cmake: a shipped model bundle loads and reproduces its recorded check figures.
+# Regenerates the bundle's first CHECK held-out exemplars (seed 1, indices from 1 000 000, the
+# bundle's image size), evaluates the bundle on them and compares PSNR and SSIM with
+# bundle.json's metrics.check within PSNR_TOL dB and SSIM_TOL.
+#   cmake -DDDG=... -DVOLUME=... -DBUNDLE=... -DWORK=... -P CheckBundle.cmake
+set(PSNR_TOL 0.1)
+set(SSIM_TOL 0.002)
+file(READ "${BUNDLE}/bundle.json" bundle)
+string(JSON size GET "${bundle}" architecture image_size)
+string(JSON count GET "${bundle}" metrics check heldout_count)
+string(JSON psnr GET "${bundle}" metrics check psnr)
+string(JSON ssim GET "${bundle}" metrics check ssim)
+execute_process(COMMAND "${DDG}" generate --volume "${VOLUME}" --count ${count} --size ${size} --seed 1
+    --first-index 1000000 --out "${WORK}" --quiet
+  RESULT_VARIABLE code OUTPUT_QUIET ERROR_VARIABLE err)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "ddg generate failed: ${err}")
+endif()
+execute_process(COMMAND "${DDG}" eval --model "${BUNDLE}" --data "${WORK}" --count ${count} --json
+  RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "ddg eval failed: ${err}")
+endif()
+string(JSON gotPsnr GET "${out}" psnr)
+string(JSON gotSsim GET "${out}" ssim)
+foreach(pair "psnr;${psnr};${gotPsnr};${PSNR_TOL}" "ssim;${ssim};${gotSsim};${SSIM_TOL}")
+  list(GET pair 0 name)
+  list(GET pair 1 want)
+  list(GET pair 2 got)
+  list(GET pair 3 tol)
+  # CMake has no float arithmetic: awk (in every Debian) checks |got - want| <= tol.
+  execute_process(COMMAND awk "BEGIN { d = ${got} - ${want}; if (d < 0) d = -d; exit (d <= ${tol}) ? 0 : 1 }"
+    RESULT_VARIABLE within)
+  if(NOT within EQUAL 0)
+    message(FATAL_ERROR "${name}: recorded ${want}, reproduced ${got} (tolerance ${tol})")
+  endif()
+  message(STATUS "${name}: recorded ${want}, reproduced ${got}")
+endforeach()
