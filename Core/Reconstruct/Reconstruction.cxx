@@ -321,6 +321,27 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   double ema = 0, bestEma = std::numeric_limits<double>::infinity();
   int sinceImprovement = 0;
 
+  // Forward and backward passes of the current table (1D through the bins map, or 2D).
+  auto renderOn = [&](const View& view, const std::vector<int>& px, std::vector<float>& out,
+                    std::vector<RayRecord>& rec)
+  {
+    if (opt.twoD)
+      renderer.forward2D(
+        table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, px, out, rec);
+    else
+      renderer.forward(table.data(), map.width, range[0], range[1], view, ropt, px, out, rec);
+  };
+  auto backpropagate = [&](const View& view, const std::vector<int>& px,
+                         const std::vector<RayRecord>& rec, const std::vector<float>& dOut)
+  {
+    if (opt.twoD)
+      renderer.backward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, px,
+        rec, dOut, dTable);
+    else
+      renderer.backward(
+        table.data(), map.width, range[0], range[1], view, ropt, px, rec, dOut, dTable);
+  };
+
   // (1 - SSIM) on a random patch of a target, rendered in full; adds its gradient to dTable.
   auto ssimPatchTerm = [&](const PreparedTarget& t, std::mt19937& gen)
   {
@@ -334,11 +355,7 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
         patch.push_back(y * view.width + x);
     std::vector<float> prgba, pd;
     std::vector<RayRecord> prec;
-    if (opt.twoD)
-      renderer.forward2D(
-        table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, patch, prgba, prec);
-    else
-      renderer.forward(table.data(), map.width, range[0], range[1], view, ropt, patch, prgba, prec);
+    renderOn(view, patch, prgba, prec);
     // the images SSIM compares: over the background (opaque targets) or premultiplied rgb
     std::vector<float> ours(patch.size() * 3), theirs(patch.size() * 3);
     for (size_t q = 0; q < patch.size(); ++q)
@@ -361,12 +378,7 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
         if (!t.alpha)
           pd[4 * q + 3] -= static_cast<float>(g * t.background[c]);
       }
-    if (opt.twoD)
-      renderer.backward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt,
-        patch, prec, pd, dTable);
-    else
-      renderer.backward(
-        table.data(), map.width, range[0], range[1], view, ropt, patch, prec, pd, dTable);
+    backpropagate(view, patch, prec, pd);
     return k * (1.0 - sVal);
   };
 
@@ -401,24 +413,14 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
       pixels.assign(t.candidates.begin(), t.candidates.begin() + static_cast<std::ptrdiff_t>(want));
       std::sort(pixels.begin(), pixels.end()); // neighbouring rays together: cache locality
       const View& view = t.source->view;
-      if (opt.twoD)
-        renderer.forward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt,
-          pixels, rgba, records);
-      else
-        renderer.forward(
-          table.data(), map.width, range[0], range[1], view, ropt, pixels, rgba, records);
+      renderOn(view, pixels, rgba, records);
       dRGBA.assign(rgba.size(), 0.0f);
       const double scale = 1.0 / (static_cast<double>(want) * (t.alpha ? 4 : 3) * prepared.size());
       for (size_t q = 0; q < pixels.size(); ++q)
       {
         loss += pixelLoss(t, pixels[q], &rgba[4 * q], opt.loss, scale, &dRGBA[4 * q]);
       }
-      if (opt.twoD)
-        renderer.backward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt,
-          pixels, records, dRGBA, dTable);
-      else
-        renderer.backward(
-          table.data(), map.width, range[0], range[1], view, ropt, pixels, records, dRGBA, dTable);
+      backpropagate(view, pixels, records, dRGBA);
       if (opt.ssimWeight > 0)
       {
         loss += ssimPatchTerm(t, rng);
