@@ -3,8 +3,9 @@
 file(REMOVE "${MARKER}")
 set(ENV{DDG_GUI_MARKER} "${MARKER}")
 set(ENV{DDG_DATA_DIR} "${DATA}")
+string(REPLACE "|" ";" XVFB "${XVFB}")
 execute_process(
-  COMMAND xvfb-run -a paraview --dr "--plugin-search-paths=${PLUGIN_DIR}" --plugins=DesignGallery
+  COMMAND ${XVFB} paraview --dr "--plugin-search-paths=${PLUGIN_DIR}" --plugins=DesignGallery
     "--script=${SCRIPT}" "--test-script=${EVENTS}" --exit
   RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err TIMEOUT 240)
 if(NOT EXISTS "${MARKER}")
