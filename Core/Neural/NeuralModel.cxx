@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
 #include <random>
 
 namespace ddg
@@ -161,6 +162,31 @@ struct DiscriminatorImpl : nn::Module
 };
 TORCH_MODULE(Discriminator);
 
+// Decoder (lean variant): latent -> 7 numbers per feature region
+// (active logit, mean shift, stddev scale, r, g, b, opacity; all but the logit squashed later).
+struct DecoderImpl : nn::Module
+{
+  nn::Sequential body;
+  DecoderImpl(int latent, int regions)
+  {
+    body = register_module("body",
+      nn::Sequential(nn::Linear(latent, 128), nn::ReLU(), nn::Linear(128, 128), nn::ReLU(),
+        nn::Linear(128, 7 * regions)));
+  }
+  torch::Tensor forward(const torch::Tensor& z)
+  {
+    return body->forward(z).view({ z.size(0), -1, 7 });
+  }
+};
+TORCH_MODULE(Decoder);
+
+// Decoder outputs in [0, 1] (or [-1, 1] for the mean shift) from raw values.
+torch::Tensor squash(const torch::Tensor& raw)
+{
+  return torch::cat(
+    { raw.slice(2, 0, 1), torch::tanh(raw.slice(2, 1, 2)), torch::sigmoid(raw.slice(2, 2, 7)) }, 2);
+}
+
 void xavier(nn::Module& m)
 {
   for (auto& p : m.named_parameters())
@@ -229,6 +255,10 @@ void NetworkConfig::validate() const
     throw Error("network image size must be a power of two in 16..512");
   if (width < 2 || width > 256 || latent < 2 || latent > 1024 || !(dropout >= 0 && dropout < 1))
     throw Error("network width 2..256, latent 2..1024 and dropout in [0, 1) are required");
+  if (kind != "unet" && kind != "decoder")
+    throw Error("network kind must be \"unet\" or \"decoder\", not \"" + kind + "\"");
+  if (kind == "decoder" && (regions < 1 || regions > 16))
+    throw Error("the decoder needs 1..16 feature regions");
 }
 
 struct NeuralDesignModel::Internals
@@ -237,6 +267,56 @@ struct NeuralDesignModel::Internals
   Analyzer A{ nullptr };
   Renderer R{ nullptr };
   Discriminator D{ nullptr };
+  Decoder Dec{ nullptr };
+  // decoder: what its outputs mean, and the volume it is shown on
+  std::vector<FeatureRegion> Regions;
+  DesignSpaceSpec Spec;
+  std::string Fingerprint;
+  std::shared_ptr<RayCaster> Caster;
+
+  bool decoder() const { return Config.kind == "decoder"; }
+  nn::Module& generator()
+  {
+    return decoder() ? static_cast<nn::Module&>(*Dec) : static_cast<nn::Module&>(*R);
+  }
+
+  // Decoder output row (7 squashed values) <-> primitive of region r.
+  GaussianPrimitive toPrimitive(int r, const float* o) const
+  {
+    const auto& reg = Regions[static_cast<size_t>(r)];
+    GaussianPrimitive g = basePrimitive(reg);
+    g.mean[0] = reg.peak + o[1] * Spec.meanShift * (reg.hi - reg.lo);
+    g.stddev[0] *= Spec.stddevScale[0] + o[2] * (Spec.stddevScale[1] - Spec.stddevScale[0]);
+    g.rgb = { o[3], o[4], o[5] };
+    g.opacity = Spec.opacity[0] + o[6] * (Spec.opacity[1] - Spec.opacity[0]);
+    return g;
+  }
+  // Targets (active, then the 6 squashed values) of an exemplar, regions x 7.
+  std::vector<float> targets(const Exemplar& e) const
+  {
+    std::vector<float> t(Regions.size() * 7, 0.0f);
+    for (size_t q = 0; q < e.active.size(); ++q)
+    {
+      const int r = e.active[q];
+      const auto& reg = Regions[static_cast<size_t>(r)];
+      const auto base = basePrimitive(reg);
+      const auto& g = e.primitives[q];
+      float* o = &t[7 * static_cast<size_t>(r)];
+      o[0] = 1.0f;
+      const double w = Spec.meanShift * (reg.hi - reg.lo);
+      o[1] = static_cast<float>(w > 0 ? std::clamp((g.mean[0] - reg.peak) / w, -1.0, 1.0) : 0.0);
+      const double ds = Spec.stddevScale[1] - Spec.stddevScale[0];
+      o[2] = static_cast<float>(ds > 0
+          ? std::clamp((g.stddev[0] / base.stddev[0] - Spec.stddevScale[0]) / ds, 0.0, 1.0)
+          : 0.5);
+      for (int c = 0; c < 3; ++c)
+        o[3 + c] = static_cast<float>(g.rgb[c]);
+      const double dop = Spec.opacity[1] - Spec.opacity[0];
+      o[6] = static_cast<float>(
+        dop > 0 ? std::clamp((g.opacity - Spec.opacity[0]) / dop, 0.0, 1.0) : 0.5);
+    }
+    return t;
+  }
 };
 
 NeuralDesignModel::NeuralDesignModel(const NetworkConfig& config, std::uint64_t seed)
@@ -246,11 +326,18 @@ NeuralDesignModel::NeuralDesignModel(const NetworkConfig& config, std::uint64_t 
   In->Config = config;
   torch::manual_seed(seed);
   In->A = Analyzer(config);
-  In->R = Renderer(config);
-  In->D = Discriminator(config);
+  if (config.kind == "decoder")
+  {
+    In->Dec = Decoder(config.latent, config.regions);
+  }
+  else
+  {
+    In->R = Renderer(config);
+    In->D = Discriminator(config);
+    xavier(*In->R);
+    xavier(*In->D);
+  }
   xavier(*In->A);
-  xavier(*In->R);
-  xavier(*In->D);
 }
 
 NeuralDesignModel::~NeuralDesignModel() = default;
@@ -267,7 +354,7 @@ std::int64_t NeuralDesignModel::parameterCount() const
   std::int64_t n = 0;
   for (const auto& p : In->A->parameters())
     n += p.numel();
-  for (const auto& p : In->R->parameters())
+  for (const auto& p : In->generator().parameters())
     n += p.numel();
   return n;
 }
@@ -285,6 +372,8 @@ std::vector<float> NeuralDesignModel::analyze(const Image& image) const
 
 Image NeuralDesignModel::render(const std::vector<float>& latent, const Image& viewport) const
 {
+  if (In->decoder())
+    throw Error("the decoder model renders with a view: use renderAt");
   torch::NoGradGuard guard;
   In->R->eval();
   const int s = In->Config.imageSize;
@@ -299,6 +388,68 @@ Image NeuralDesignModel::render(const std::vector<float>& latent, const Image& v
   return tensorToImage(In->R->forward(z, imageToTensor(viewport, 4).unsqueeze(0))[0]);
 }
 
+std::vector<GaussianPrimitive> NeuralDesignModel::decode(const std::vector<float>& latent) const
+{
+  if (!In->decoder())
+    throw Error("only the decoder model has an explicit TF");
+  if (static_cast<int>(latent.size()) != In->Config.latent)
+    throw Error("latent has the wrong size");
+  torch::NoGradGuard guard;
+  In->Dec->eval();
+  const auto z =
+    torch::from_blob(const_cast<float*>(latent.data()), { 1, In->Config.latent }, torch::kFloat32)
+      .clone();
+  const auto o = squash(In->Dec->forward(z))[0].contiguous();
+  std::vector<GaussianPrimitive> prims;
+  for (int r = 0; r < In->Config.regions; ++r)
+  {
+    const float* row = o[r].data_ptr<float>();
+    if (row[0] > 0.0f) // logit > 0: active
+      prims.push_back(In->toPrimitive(r, row));
+  }
+  return prims;
+}
+
+void NeuralDesignModel::attachVolume(const Volume& volume)
+{
+  const std::string fp = volumeFingerprint(volume);
+  if (!In->Fingerprint.empty() && fp != In->Fingerprint)
+    throw Error("this model was trained on another volume (" + In->Fingerprint + "), not " + fp);
+  In->Caster = std::make_shared<RayCaster>(volume);
+}
+
+Image NeuralDesignModel::renderAt(
+  const std::vector<float>& latent, const Image& viewport, const View& view) const
+{
+  if (!In->decoder())
+  {
+    const int s = In->Config.imageSize;
+    const Image vp =
+      viewport.width == s && viewport.height == s ? viewport : resizeImage(viewport, s, s);
+    const Image out = render(latent, vp);
+    return out.width == view.width && out.height == view.height
+      ? out
+      : resizeImage(out, view.width, view.height);
+  }
+  if (!In->Caster)
+    throw Error("the decoder model needs its volume (attachVolume) to render");
+  const auto range = In->Caster->volume().range();
+  const auto prims = decode(latent);
+  TransferTable1D table;
+  if (prims.empty())
+  {
+    table.min = range[0];
+    table.max = range[1];
+    table.width = 2;
+    table.rgba.assign(8, 0.0f);
+  }
+  else
+  {
+    table = rasterize1D(prims, range[0], range[1], 256);
+  }
+  return In->Caster->render(table, view);
+}
+
 TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOptions& opt,
   const std::function<bool(const TrainProgress&)>& progress)
 {
@@ -308,32 +459,64 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       " pixels, the model's " + std::to_string(s));
   if (opt.batch < 1 || !(opt.learningRate > 0) || !(opt.minutes > 0) || !(opt.lambdaL1 >= 0))
     throw Error("training needs batch >= 1, a positive learning rate and time budget, lambda >= 0");
+  const bool decoder = In->decoder();
+  if (decoder)
+  {
+    if (static_cast<int>(data.regions().size()) != In->Config.regions)
+      throw Error("the decoder was built for " + std::to_string(In->Config.regions) +
+        " regions, the data has " + std::to_string(data.regions().size()));
+    In->Regions = data.regions();
+    In->Spec = data.spec();
+    In->Fingerprint = data.fingerprint();
+  }
   setThreads(opt.threads);
   torch::manual_seed(opt.seed);
-  // Whole dataset in memory as uint8 tensors (N x C x S x S).
+  // Whole dataset in memory (N x C x S x S, uint8); the decoder needs only the analyzer's input
+  // and the exemplars' TF parameters.
   const int n = data.count();
-  auto rgb = torch::empty({ n, 3, s, s }, torch::kUInt8),
-       vp = torch::empty({ n, 4, s, s }, torch::kUInt8),
-       gt = torch::empty({ n, 4, s, s }, torch::kUInt8);
+  auto rgb = torch::empty({ n, 3, s, s }, torch::kUInt8);
+  auto vp = decoder ? torch::Tensor() : torch::empty({ n, 4, s, s }, torch::kUInt8);
+  auto gt = decoder ? torch::Tensor() : torch::empty({ n, 4, s, s }, torch::kUInt8);
+  auto params =
+    decoder ? torch::empty({ n, In->Config.regions, 7 }, torch::kFloat32) : torch::Tensor();
   {
     std::vector<std::uint8_t> a, b, c;
     for (int i = 0; i < n; ++i)
     {
       data.load(i, a, b, c);
       rgb[i].copy_(torch::from_blob(a.data(), { s, s, 3 }, torch::kUInt8).permute({ 2, 0, 1 }));
-      vp[i].copy_(torch::from_blob(b.data(), { s, s, 4 }, torch::kUInt8).permute({ 2, 0, 1 }));
-      gt[i].copy_(torch::from_blob(c.data(), { s, s, 4 }, torch::kUInt8).permute({ 2, 0, 1 }));
+      if (decoder)
+      {
+        auto t = In->targets(data.exemplars()[static_cast<size_t>(i)]);
+        params[i].copy_(torch::from_blob(t.data(), { In->Config.regions, 7 }, torch::kFloat32));
+      }
+      else
+      {
+        vp[i].copy_(torch::from_blob(b.data(), { s, s, 4 }, torch::kUInt8).permute({ 2, 0, 1 }));
+        gt[i].copy_(torch::from_blob(c.data(), { s, s, 4 }, torch::kUInt8).permute({ 2, 0, 1 }));
+      }
     }
+  }
+  // Modules by name (checkpoints), the generator's optimizer, the discriminator's (U-Net only).
+  std::vector<std::pair<std::string, nn::Module*>> modules{ { "analyzer", In->A.get() } };
+  if (decoder)
+    modules.push_back({ "decoder", In->Dec.get() });
+  else
+  {
+    modules.push_back({ "renderer", In->R.get() });
+    modules.push_back({ "discriminator", In->D.get() });
   }
   std::vector<torch::Tensor> gParams;
   for (const auto& p : In->A->parameters())
     gParams.push_back(p);
-  for (const auto& p : In->R->parameters())
+  for (const auto& p : In->generator().parameters())
     gParams.push_back(p);
   torch::optim::Adam optG(
     gParams, torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
-  torch::optim::Adam optD(
-    In->D->parameters(), torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
+  std::unique_ptr<torch::optim::Adam> optD;
+  if (!decoder)
+    optD = std::make_unique<torch::optim::Adam>(
+      In->D->parameters(), torch::optim::AdamOptions(opt.learningRate).betas({ 0.5, 0.999 }));
   int iteration = 0;
   if (opt.resume && !opt.checkpoint.empty() && fs::exists(opt.checkpoint))
   {
@@ -341,26 +524,30 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     {
       torch::serialize::InputArchive ar;
       ar.load_from(opt.checkpoint);
-      torch::serialize::InputArchive a, r, d, og, od;
-      ar.read("analyzer", a);
-      ar.read("renderer", r);
-      ar.read("discriminator", d);
+      for (auto& [name, module] : modules)
+      {
+        torch::serialize::InputArchive sub;
+        ar.read(name, sub);
+        const auto expected = shapes(*module);
+        module->load(sub);
+        if (shapes(*module) != expected)
+          throw Error("cannot resume from checkpoint '" + opt.checkpoint +
+            "': it belongs to another architecture");
+      }
+      torch::serialize::InputArchive og;
       ar.read("optG", og);
-      ar.read("optD", od);
-      const auto sa = shapes(*In->A), sr = shapes(*In->R), sd = shapes(*In->D);
-      In->A->load(a);
-      In->R->load(r);
-      In->D->load(d);
-      if (shapes(*In->A) != sa || shapes(*In->R) != sr || shapes(*In->D) != sd)
-        throw Error("cannot resume from checkpoint '" + opt.checkpoint +
-          "': it belongs to another architecture");
       optG.load(og);
-      optD.load(od);
+      if (optD)
+      {
+        torch::serialize::InputArchive od;
+        ar.read("optD", od);
+        optD->load(od);
+      }
       torch::Tensor it;
       ar.read("iteration", it);
       iteration = static_cast<int>(it.item<std::int64_t>());
     }
-    catch (const c10::Error& e)
+    catch (const c10::Error&)
     {
       throw Error("cannot resume from checkpoint '" + opt.checkpoint +
         "': it is corrupt or of another architecture");
@@ -368,17 +555,22 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   }
   auto saveCheckpoint = [&]
   {
-    torch::serialize::OutputArchive ar, a, r, d, og, od;
-    In->A->save(a);
-    In->R->save(r);
-    In->D->save(d);
+    torch::serialize::OutputArchive ar;
+    for (auto& [name, module] : modules)
+    {
+      torch::serialize::OutputArchive sub;
+      module->save(sub);
+      ar.write(name, sub);
+    }
+    torch::serialize::OutputArchive og;
     optG.save(og);
-    optD.save(od);
-    ar.write("analyzer", a);
-    ar.write("renderer", r);
-    ar.write("discriminator", d);
     ar.write("optG", og);
-    ar.write("optD", od);
+    if (optD)
+    {
+      torch::serialize::OutputArchive od;
+      optD->save(od);
+      ar.write("optD", od);
+    }
     ar.write("iteration", torch::tensor(static_cast<std::int64_t>(iteration)));
     const std::string tmp = opt.checkpoint + ".tmp";
     ar.save_to(tmp);
@@ -391,9 +583,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   size_t cursor = order.size();
   const auto start = Clock::now();
   TrainReport report;
-  In->A->train();
-  In->R->train();
-  In->D->train();
+  for (auto& m : modules)
+    m.second->train();
   const int startIteration = iteration;
   while (true)
   {
@@ -412,25 +603,42 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     }
     const auto sel = torch::tensor(idx, torch::kInt64);
     const auto x = rgb.index_select(0, sel).to(torch::kFloat32).div(127.5).sub(1.0);
-    const auto v = vp.index_select(0, sel).to(torch::kFloat32).div(255.0);
-    const auto t = gt.index_select(0, sel).to(torch::kFloat32).div(255.0);
-    const auto fake = In->R->forward(In->A->forward(x), v);
-    // discriminator
-    optD.zero_grad();
-    const auto dReal = In->D->forward(t, v);
-    const auto dFake = In->D->forward(fake.detach(), v);
-    const auto lossD = 0.5 *
-      (torch::binary_cross_entropy(dReal, torch::ones_like(dReal)) +
-        torch::binary_cross_entropy(dFake, torch::zeros_like(dFake)));
-    lossD.backward();
-    optD.step();
-    // generator (analyzer + renderer)
-    optG.zero_grad();
-    const auto dG = In->D->forward(fake, v);
-    const auto l1 = torch::l1_loss(fake, t);
-    const auto lossG = torch::binary_cross_entropy(dG, torch::ones_like(dG)) + opt.lambdaL1 * l1;
-    lossG.backward();
-    optG.step();
+    torch::Tensor lossG, lossD, l1;
+    if (decoder)
+    {
+      // TF-parameter regression: which regions are active, and their squashed parameters.
+      const auto target = params.index_select(0, sel);
+      const auto raw = In->Dec->forward(In->A->forward(x));
+      const auto active = target.slice(2, 0, 1);
+      const auto bce = torch::binary_cross_entropy_with_logits(raw.slice(2, 0, 1), active);
+      const auto err = (squash(raw).slice(2, 1, 7) - target.slice(2, 1, 7)).abs() * active;
+      l1 = err.sum() / (active.sum() * 6 + 1e-6);
+      lossG = bce + l1;
+      lossD = torch::zeros({});
+      optG.zero_grad();
+      lossG.backward();
+      optG.step();
+    }
+    else
+    {
+      const auto v = vp.index_select(0, sel).to(torch::kFloat32).div(255.0);
+      const auto t = gt.index_select(0, sel).to(torch::kFloat32).div(255.0);
+      const auto fake = In->R->forward(In->A->forward(x), v);
+      optD->zero_grad();
+      const auto dReal = In->D->forward(t, v);
+      const auto dFake = In->D->forward(fake.detach(), v);
+      lossD = 0.5 *
+        (torch::binary_cross_entropy(dReal, torch::ones_like(dReal)) +
+          torch::binary_cross_entropy(dFake, torch::zeros_like(dFake)));
+      lossD.backward();
+      optD->step();
+      optG.zero_grad();
+      const auto dG = In->D->forward(fake, v);
+      l1 = torch::l1_loss(fake, t);
+      lossG = torch::binary_cross_entropy(dG, torch::ones_like(dG)) + opt.lambdaL1 * l1;
+      lossG.backward();
+      optG.step();
+    }
     ++iteration;
     if (!opt.checkpoint.empty() && iteration % opt.checkpointEvery == 0)
       saveCheckpoint();
@@ -463,8 +671,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   report.exemplarsPerSecond =
     (iteration - startIteration) * static_cast<double>(opt.batch) / std::max(1e-9, report.seconds);
-  In->A->eval();
-  In->R->eval();
+  for (auto& m : modules)
+    m.second->eval();
   return report;
 }
 
@@ -489,7 +697,9 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
     for (size_t k = 0; k < c.size(); ++k)
       truth.pixels[k] = c[k] / 255.0f;
     const auto z = analyze(rgbExp);
-    const Image pred = overGrey(render(z, viewport)), gt = overGrey(truth);
+    const Image pred =
+      overGrey(renderAt(z, viewport, data.exemplars()[static_cast<size_t>(i)].viewView));
+    const Image gt = overGrey(truth);
     r.psnr += std::min(psnr(pred, gt), 99.0) / r.count;
     r.ssim += ssim(pred, gt) / r.count;
     r.emd += colorHistogramEMD(pred, gt) / r.count;
@@ -530,7 +740,7 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
     z = analyze(rgbExp);
     ta.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
     t0 = Clock::now();
-    render(z, viewport);
+    renderAt(z, viewport, data.exemplars()[0].viewView);
     tr.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
   }
   std::sort(ta.begin(), ta.end());
@@ -551,9 +761,9 @@ void NeuralDesignModel::saveBundle(
   {
     torch::serialize::OutputArchive ar, a, r;
     In->A->save(a);
-    In->R->save(r);
+    In->generator().save(r);
     ar.write("analyzer", a);
-    ar.write("renderer", r);
+    ar.write(In->decoder() ? "decoder" : "renderer", r);
     const std::string path = (fs::path(dir) / "model.pt").string(), tmp = path + ".tmp";
     try
     {
@@ -593,9 +803,9 @@ void NeuralDesignModel::saveBundle(
   nlohmann::json j;
   j["format"] = "ddg-model-bundle";
   j["version"] = 1;
-  j["architecture"] = { { "kind", "unet" }, { "image_size", In->Config.imageSize },
-    { "width", In->Config.width }, { "latent", In->Config.latent },
-    { "dropout", In->Config.dropout } };
+  j["architecture"] = { { "kind", In->Config.kind }, { "regions", In->Config.regions },
+    { "image_size", In->Config.imageSize }, { "width", In->Config.width },
+    { "latent", In->Config.latent }, { "dropout", In->Config.dropout } };
   j["parameters"] = parameterCount();
   j["volume"] = training.fingerprint();
   j["spec"] = nlohmann::json::parse(designSpaceSpecToJson(training.spec()));
@@ -628,9 +838,10 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
     if (j.value("format", std::string()) != "ddg-model-bundle" || j.value("version", 0) != 1)
       throw Error("'" + indexPath + "' is not a version-1 ddg model bundle");
     const auto& a = j.at("architecture");
-    if (a.value("kind", std::string()) != "unet")
-      throw Error("model bundle '" + dir + "' has an unknown architecture '" +
-        a.value("kind", std::string()) + "'");
+    c.kind = a.value("kind", std::string());
+    if (c.kind != "unet" && c.kind != "decoder")
+      throw Error("model bundle '" + dir + "' has an unknown architecture '" + c.kind + "'");
+    c.regions = a.value("regions", 0);
     c.imageSize = a.at("image_size").get<int>();
     c.width = a.at("width").get<int>();
     c.latent = a.at("latent").get<int>();
@@ -644,8 +855,23 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
     throw Error("model bundle '" + indexPath + "' is corrupt: " + e.what());
   }
   NeuralDesignModel m(c);
+  try
+  {
+    m.In->Fingerprint = j.at("volume").get<std::string>();
+    m.In->Spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
+    for (const auto& r : j.at("regions"))
+      m.In->Regions.push_back({ r.at("lo").get<double>(), r.at("hi").get<double>(),
+        r.at("peak").get<double>(), r.value("mass", 0.0) });
+  }
+  catch (const nlohmann::json::exception& e)
+  {
+    throw Error("model bundle '" + indexPath + "' is corrupt: " + e.what());
+  }
+  if (c.kind == "decoder" && static_cast<int>(m.In->Regions.size()) != c.regions)
+    throw Error("model bundle '" + indexPath + "' is inconsistent: " + std::to_string(c.regions) +
+      " regions in the architecture, " + std::to_string(m.In->Regions.size()) + " listed");
   // Module::load replaces tensors whatever their shape: compare them with the architecture's.
-  const auto expectA = shapes(*m.In->A), expectR = shapes(*m.In->R);
+  const auto expectA = shapes(*m.In->A), expectR = shapes(m.In->generator());
   const std::string broken = "model bundle '" + dir +
     "': model.pt is missing, truncated or does not match the architecture in bundle.json";
   try
@@ -653,15 +879,15 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
     torch::serialize::InputArchive ar, a, r;
     ar.load_from((fs::path(dir) / "model.pt").string());
     ar.read("analyzer", a);
-    ar.read("renderer", r);
+    ar.read(c.kind == "decoder" ? "decoder" : "renderer", r);
     m.In->A->load(a);
-    m.In->R->load(r);
+    m.In->generator().load(r);
   }
   catch (const c10::Error&)
   {
     throw Error(broken);
   }
-  if (shapes(*m.In->A) != expectA || shapes(*m.In->R) != expectR)
+  if (shapes(*m.In->A) != expectA || shapes(m.In->generator()) != expectR)
   {
     throw Error(broken);
   }

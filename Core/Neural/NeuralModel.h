@@ -18,10 +18,15 @@ namespace ddg
 /// with a 4x4 stride-2 convolution down to 4 x 4.
 struct NetworkConfig
 {
+  /// "unet": the paper's renderer (U-Net on the viewport image); "decoder": the lean variant,
+  /// a small MLP from the latent to explicit Gaussian-primitive parameters per feature region,
+  /// shown by the real ray caster (exact images, an explicit TF, viewport invariant) ["unet"].
+  std::string kind = "unet";
   int imageSize = 64;   ///< [64] power of two, 16..512
   int width = 16;       ///< channels of the first block, doubled per block up to 8x [16]
   int latent = 64;      ///< latent TF size [64]
   double dropout = 0.5; ///< in the renderer's up blocks [0.5]
+  int regions = 0;      ///< decoder: feature regions (set from the training data)
 
   void validate() const;
 };
@@ -84,6 +89,17 @@ public:
   /// Neural render of `latent` with the viewport image (premultiplied RGBA at the model's size):
   /// premultiplied RGBA.
   Image render(const std::vector<float>& latent, const Image& viewport) const;
+
+  /// The image of `latent` at `view` (premultiplied RGBA, the view's size): the U-Net's render
+  /// of the viewport image (resized to the model's size) or, for the decoder, the ray cast of
+  /// the decoded TF (needs attachVolume).
+  Image renderAt(const std::vector<float>& latent, const Image& viewport, const View& view) const;
+
+  /// Decoder: the explicit TF of a latent, one primitive per region predicted active.
+  std::vector<GaussianPrimitive> decode(const std::vector<float>& latent) const;
+
+  /// Decoder: the volume to ray cast (its fingerprint must match the bundle's when loaded).
+  void attachVolume(const Volume& volume);
 
   /// Trains on `data` (its images must be config().imageSize). progress may cancel.
   TrainReport train(const ExemplarDataset& data, const TrainOptions& options,

@@ -412,12 +412,13 @@ int runGenerate(const GenerateArgs& a)
 
 struct TrainArgs
 {
-  std::string data, out, evalData, checkpoint;
+  std::string data, out, evalData, checkpoint, kind = "unet";
   double minutes = 10, lr = 2e-4, lambda = 1000, dropout = 0.5;
   int width = 16, latent = 64, batch = 16, threads = 0, maxIterations = 0, evalCount = 1000;
   std::uint64_t seed = 1;
   int checkCount = 100;
   bool resume = false, quiet = false;
+  std::string volume;
 };
 
 std::string metricsJson(
@@ -449,6 +450,8 @@ int runTrain(const TrainArgs& a)
   cfg.width = a.width;
   cfg.latent = a.latent;
   cfg.dropout = a.dropout;
+  cfg.kind = a.kind;
+  cfg.regions = static_cast<int>(data.regions().size());
   ddg::NeuralDesignModel model(cfg, a.seed);
   std::unique_ptr<ddg::ExemplarDataset> heldout;
   if (!a.evalData.empty())
@@ -486,6 +489,8 @@ int runTrain(const TrainArgs& a)
     });
   std::printf("trained %d iterations in %.1f s (%.1f exemplars/s)\n", report.iterations,
     report.seconds, report.exemplarsPerSecond);
+  if (!a.volume.empty())
+    model.attachVolume(ddg::readVolumeFile(a.volume));
   ddg::EvaluationReport e;
   std::string metrics = metricsJson(e, &report, model.parameterCount());
   if (heldout)
@@ -503,10 +508,13 @@ int runTrain(const TrainArgs& a)
   return 0;
 }
 
-int runEval(const std::string& modelDir, const std::string& dataDir, int count, bool json)
+int runEval(const std::string& modelDir, const std::string& dataDir, int count, bool json,
+  const std::string& volume)
 {
   const ddg::ExemplarDataset data(dataDir);
-  const auto model = ddg::NeuralDesignModel::loadBundle(modelDir, data.fingerprint());
+  auto model = ddg::NeuralDesignModel::loadBundle(modelDir, data.fingerprint());
+  if (!volume.empty())
+    model.attachVolume(ddg::readVolumeFile(volume));
   const auto e = model.evaluate(data, count);
   if (json)
     std::printf("%s\n", metricsJson(e, nullptr, model.parameterCount()).c_str());
@@ -726,6 +734,13 @@ int main(int argc, char** argv)
   train->add_option("--check-count", ta.checkCount,
     "Also record the figures of the first N held-out exemplars, for quick reproduction tests "
     "(default 100)");
+  train
+    ->add_option("--kind", ta.kind,
+      "unet: the paper's U-Net renderer (default); decoder: latent -> explicit Gaussian-primitive "
+      "TF, ray cast")
+    ->check(CLI::IsMember({ "unet", "decoder" }));
+  train->add_option(
+    "--volume", ta.volume, "The volume (needed to evaluate the decoder, which ray casts its TFs)");
   train->add_option("--width", ta.width, "Channels of the first block (default 16)")
     ->check(CLI::Range(2, 256));
   train->add_option("--latent", ta.latent, "Latent TF size (default 64)")
@@ -744,12 +759,15 @@ int main(int argc, char** argv)
   std::string evalModel, evalData;
   int evalCount = 1000;
   bool evalJson = false;
+  std::string evalVolume;
   auto* evalCmd = app.add_subcommand(
     "eval", "Evaluate a model bundle on held-out exemplars: PSNR, SSIM, EMD, invariance, latency.");
   evalCmd->add_option("--model", evalModel, "Model bundle directory")->required();
   evalCmd->add_option("--data", evalData, "Held-out exemplar directory (same volume)")->required();
   evalCmd->add_option("--count", evalCount, "Exemplars used (default 1000)");
   evalCmd->add_flag("--json", evalJson, "Print the figures as JSON");
+  evalCmd->add_option(
+    "--volume", evalVolume, "The volume (needed for decoder bundles, which ray cast their TFs)");
 #endif
 
   std::string infoVolume, infoArray;
@@ -786,7 +804,7 @@ int main(int argc, char** argv)
     if (*train)
       return runTrain(ta);
     if (*evalCmd)
-      return runEval(evalModel, evalData, evalCount, evalJson);
+      return runEval(evalModel, evalData, evalCount, evalJson, evalVolume);
 #endif
   }
   catch (const std::exception& e)
