@@ -394,6 +394,8 @@ std::vector<GaussianPrimitive> NeuralDesignModel::decode(const std::vector<float
     throw Error("only the decoder model has an explicit TF");
   if (static_cast<int>(latent.size()) != In->Config.latent)
     throw Error("latent has the wrong size");
+  if (static_cast<int>(In->Regions.size()) != In->Config.regions)
+    throw Error("the decoder has no feature regions yet: train it or load a bundle");
   torch::NoGradGuard guard;
   In->Dec->eval();
   const auto z =

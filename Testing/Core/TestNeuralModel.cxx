@@ -152,3 +152,40 @@ TEST(NeuralModel, CancelThenResumeContinuesFromTheCheckpoint)
   NeuralDesignModel other(tiny());
   EXPECT_THROW(other.train(dataset(), t), Error);
 }
+
+TEST(NeuralModel, DecoderVariantDecodesRendersAndRoundTrips)
+{
+  NetworkConfig c = tiny();
+  c.kind = "decoder";
+  c.regions = static_cast<int>(dataset().regions().size());
+  NeuralDesignModel m(c, 11);
+  Image rgb(16, 16, 3, 0.3f), viewport(16, 16, 4, 0.0f);
+  const auto z = m.analyze(rgb);
+  EXPECT_THROW(m.renderAt(z, viewport, dataset().exemplars()[0].viewView), Error); // no volume yet
+  EXPECT_THROW(m.decode(z), Error); // no regions before training
+  m.attachVolume(blobs());
+  m.train(dataset(), quick(1));
+  const double before = m.evaluate(dataset(), 24).psnr;
+  m.train(dataset(), quick(300));
+  const double after = m.evaluate(dataset(), 24).psnr;
+  EXPECT_GT(after, before) << "PSNR before " << before << " after " << after;
+  for (const auto& g : m.decode(z))
+  {
+    EXPECT_GE(g.opacity, 0.0);
+    EXPECT_LE(g.opacity, 1.0);
+  }
+  const Image out = m.renderAt(z, viewport, dataset().exemplars()[0].viewView);
+  EXPECT_EQ(out.channels, 4);
+  EXPECT_THROW(m.render(z, viewport), Error); // the decoder needs a view
+
+  const std::string dir = ::testing::TempDir() + "/ddg_bundle_decoder";
+  fs::remove_all(dir);
+  m.saveBundle(dir, dataset(), "");
+  auto loaded = NeuralDesignModel::loadBundle(dir, dataset().fingerprint());
+  EXPECT_EQ(loaded.config().kind, "decoder");
+  EXPECT_EQ(m.decode(z).size(), loaded.decode(z).size());
+  // a volume other than the training one is refused
+  std::vector<float> other(8 * 8 * 8, 1.0f);
+  other[0] = 0.0f;
+  EXPECT_THROW(loaded.attachVolume(Volume({ 8, 8, 8 }, { 0, 0, 0 }, { 1, 1, 1 }, other)), Error);
+}
