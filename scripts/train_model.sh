@@ -5,7 +5,8 @@
 #      1 000 000, never seen in training), from the shipped volume, default design space
 #   2. ddg train:    fixed iterations, seed 1, 2 threads; evaluated on the held-out set
 #   3. ddg eval:     the first 100 held-out exemplars again, recorded as the bundle's check
-# Usage: scripts/train_model.sh VOLUME [ITERATIONS] [COUNT] [SIZE] [WIDTH]
+# Usage: scripts/train_model.sh VOLUME [ITERATIONS] [COUNT] [SIZE] [WIDTH] [KIND]
+#   KIND: unet (the paper's renderer) or decoder (explicit TF, ray cast) [decoder]
 #   e.g. scripts/train_model.sh tooth        -> Data/Models/tooth/
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,6 +15,9 @@ ITERATIONS=${2:-4000}
 COUNT=${3:-4000}
 SIZE=${4:-64}
 WIDTH=${5:-16}
+KIND=${6:-decoder}
+LR=2e-4
+[ "$KIND" = decoder ] && LR=1e-3
 DDG=build/bin/ddg
 WORK=build/models/$VOLUME
 OUT=Data/Models/$VOLUME
@@ -22,7 +26,8 @@ $DDG generate --volume "Data/Volumes/$VOLUME.vti" --count "$COUNT" --size "$SIZE
   --out "$WORK/train" --quiet
 $DDG generate --volume "Data/Volumes/$VOLUME.vti" --count 1000 --size "$SIZE" --seed 1 \
   --first-index 1000000 --out "$WORK/heldout" --quiet
-$DDG train --data "$WORK/train" --eval-data "$WORK/heldout" --eval-count 1000 --out "$WORK/bundle" \
+$DDG train --kind "$KIND" --volume "Data/Volumes/$VOLUME.vti" --data "$WORK/train" \
+  --eval-data "$WORK/heldout" --eval-count 1000 --out "$WORK/bundle" --lr "$LR" \
   --max-iterations "$ITERATIONS" --minutes 30 --width "$WIDTH" --seed 1 --threads 2 \
   --checkpoint "$WORK/checkpoint.pt"
 rm -rf "$OUT.tmp" && cp -r "$WORK/bundle" "$OUT.tmp" && rm -rf "$OUT" && mv "$OUT.tmp" "$OUT"

@@ -16,7 +16,7 @@ execute_process(COMMAND "${DDG}" generate --volume "${VOLUME}" --count ${count} 
 if(NOT code EQUAL 0)
   message(FATAL_ERROR "ddg generate failed: ${err}")
 endif()
-execute_process(COMMAND "${DDG}" eval --model "${BUNDLE}" --data "${WORK}" --count ${count} --json
+execute_process(COMMAND "${DDG}" eval --model "${BUNDLE}" --data "${WORK}" --count ${count} --json --volume "${VOLUME}"
   RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT code EQUAL 0)
   message(FATAL_ERROR "ddg eval failed: ${err}")
