@@ -349,10 +349,10 @@ struct DifferentiableRendererT<S>::Internals
   }
 
   template <bool TwoD>
-  void forward(const Classifier<S, TwoD>& cls, const View& view, const RenderOptions& opt,
-    const std::vector<int>& pixels, std::vector<S>& rgba, std::vector<RayRecord>& records)
+  void forward(const Classifier<S, TwoD>& cls, const Setup& s, const View& view,
+    const RenderOptions& opt, const std::vector<int>& pixels, std::vector<S>& rgba,
+    std::vector<RayRecord>& records)
   {
-    const Setup s = setup(view, opt);
     const FieldSampler<S>* grad = TwoD ? &gradient() : nullptr;
     const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
     rgba.assign(4 * n, S(0));
@@ -415,11 +415,10 @@ struct DifferentiableRendererT<S>::Internals
   }
 
   template <bool TwoD>
-  void backward(const Classifier<S, TwoD>& cls, size_t tableSize, const View& view,
+  void backward(const Classifier<S, TwoD>& cls, const Setup& s, size_t tableSize, const View& view,
     const RenderOptions& opt, const std::vector<int>& pixels, const std::vector<RayRecord>& records,
     const std::vector<S>& dL_dRGBA, std::vector<S>& dL_dTable)
   {
-    const Setup s = setup(view, opt);
     const FieldSampler<S>* grad = TwoD ? &gradient() : nullptr;
     const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
     if (records.size() != n || dL_dRGBA.size() != 4 * n || dL_dTable.size() != 4 * tableSize)
@@ -559,8 +558,8 @@ void DifferentiableRendererT<S>::forward(const S* table, int width, double min, 
   std::vector<S>& rgba, std::vector<RayRecord>& records) const
 {
   const auto s = In->setup(view, options);
-  In->forward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), view, options, pixels,
-    rgba, records);
+  In->forward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), s, view, options,
+    pixels, rgba, records);
 }
 
 template <typename S>
@@ -570,7 +569,7 @@ void DifferentiableRendererT<S>::backward(const S* table, int width, double min,
   std::vector<S>& dL_dTable) const
 {
   const auto s = In->setup(view, options);
-  In->backward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit),
+  In->backward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), s,
     static_cast<size_t>(width), view, options, pixels, records, dL_dRGBA, dL_dTable);
 }
 
@@ -581,8 +580,8 @@ void DifferentiableRendererT<S>::forward2D(const S* table, int width, int height
   std::vector<RayRecord>& records) const
 {
   const auto s = In->setup(view, options);
-  In->forward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit), view, options,
-    pixels, rgba, records);
+  In->forward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit), s, view,
+    options, pixels, rgba, records);
 }
 
 template <typename S>
@@ -593,7 +592,7 @@ void DifferentiableRendererT<S>::backward2D(const S* table, int width, int heigh
   std::vector<S>& dL_dTable) const
 {
   const auto s = In->setup(view, options);
-  In->backward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit),
+  In->backward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit), s,
     static_cast<size_t>(width) * height, view, options, pixels, records, dL_dRGBA, dL_dTable);
 }
 

@@ -218,18 +218,30 @@ struct RayCaster::Internals
   template <typename F>
   decltype(auto) withField(F&& f) const
   {
-    switch (Kind)
+    return dispatch(*this, std::forward<F>(f));
+  }
+  template <typename F>
+  decltype(auto) withField(F&& f)
+  {
+    return dispatch(*this, std::forward<F>(f));
+  }
+
+  // Calls f with the field of the volume's storage type (const or not, as self).
+  template <typename Self, typename F>
+  static decltype(auto) dispatch(Self& self, F&& f)
+  {
+    switch (self.Kind)
     {
       case Storage::U8:
-        return f(U8);
+        return f(self.U8);
       case Storage::I8:
-        return f(I8);
+        return f(self.I8);
       case Storage::U16:
-        return f(U16);
+        return f(self.U16);
       case Storage::I16:
-        return f(I16);
+        return f(self.I16);
       default:
-        return f(F32);
+        return f(self.F32);
     }
   }
 };
@@ -259,24 +271,7 @@ RayCaster::RayCaster(const Volume& volume)
   In->Vol = volume;
   In->TextureScale = textureScale(volume.originalType());
   In->Kind = storageFor(volume.originalType());
-  switch (In->Kind)
-  {
-    case Storage::U8:
-      In->U8.build(d[0], d[1], d[2], volume.values());
-      break;
-    case Storage::I8:
-      In->I8.build(d[0], d[1], d[2], volume.values());
-      break;
-    case Storage::U16:
-      In->U16.build(d[0], d[1], d[2], volume.values());
-      break;
-    case Storage::I16:
-      In->I16.build(d[0], d[1], d[2], volume.values());
-      break;
-    case Storage::F32:
-      In->F32.build(d[0], d[1], d[2], volume.values());
-      break;
-  }
+  In->withField([&](auto& field) { field.build(d[0], d[1], d[2], volume.values()); });
 }
 
 RayCaster::~RayCaster() = default;
