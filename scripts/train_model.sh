@@ -5,21 +5,29 @@
 #      1 000 000, never seen in training), from the shipped volume, default design space
 #   2. ddg train:    fixed iterations, seed 1, 2 threads; evaluated on the held-out set
 #   3. ddg eval:     the first 100 held-out exemplars again, recorded as the bundle's check
-# Usage: scripts/train_model.sh VOLUME [ITERATIONS] [COUNT] [SIZE] [WIDTH] [KIND]
+# Usage: scripts/train_model.sh VOLUME [ITERATIONS] [COUNT] [SIZE] [WIDTH] [KIND] [IMAGE_WEIGHT]
 #   KIND: unet (the paper's renderer) or decoder (explicit TF, ray cast) [decoder]
+#   IMAGE_WEIGHT: decoder's image loss through the differentiable ray caster [10]
+#   DDG (the ddg program) [build/bin/ddg] and WORK (scratch folder) [build/models/VOLUME] may be
+#   set in the environment.
 #   e.g. scripts/train_model.sh tooth        -> Data/Models/tooth/
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VOLUME=${1:?volume name, e.g. tooth}
-ITERATIONS=${2:-4000}
-COUNT=${3:-4000}
+ITERATIONS=${2:-36000}
+COUNT=${3:-10000}
 SIZE=${4:-64}
 WIDTH=${5:-16}
 KIND=${6:-decoder}
+IMAGE_WEIGHT=${7:-10}
 LR=2e-4
-[ "$KIND" = decoder ] && LR=1e-3
-DDG=build/bin/ddg
-WORK=build/models/$VOLUME
+EXTRA=()
+if [ "$KIND" = decoder ]; then
+  LR=1e-3
+  EXTRA=(--image-weight "$IMAGE_WEIGHT")
+fi
+DDG=${DDG:-build/bin/ddg}
+WORK=${WORK:-build/models/$VOLUME}
 OUT=Data/Models/$VOLUME
 mkdir -p "$WORK"
 $DDG generate --volume "Data/Volumes/$VOLUME.vti" --count "$COUNT" --size "$SIZE" --seed 1 \
@@ -29,6 +37,6 @@ $DDG generate --volume "Data/Volumes/$VOLUME.vti" --count 1000 --size "$SIZE" --
 $DDG train --kind "$KIND" --volume "Data/Volumes/$VOLUME.vti" --data "$WORK/train" \
   --eval-data "$WORK/heldout" --eval-count 1000 --out "$WORK/bundle" --lr "$LR" \
   --max-iterations "$ITERATIONS" --minutes 30 --width "$WIDTH" --seed 1 --threads 2 \
-  --checkpoint "$WORK/checkpoint.pt"
+  --checkpoint "$WORK/checkpoint.pt" "${EXTRA[@]}"
 rm -rf "$OUT.tmp" && cp -r "$WORK/bundle" "$OUT.tmp" && rm -rf "$OUT" && mv "$OUT.tmp" "$OUT"
 echo "train_model: wrote $OUT ($(du -sh "$OUT" | cut -f1))"

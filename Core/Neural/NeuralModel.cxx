@@ -5,7 +5,9 @@
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
 #include "Common/Parallel.h"
+#include "Design/DecoderLayout.h"
 #include "Image/ImageMetrics.h"
+#include "Render/DifferentiableRenderer.h"
 
 #include <nlohmann/json.hpp>
 #include <torch/torch.h>
@@ -269,10 +271,9 @@ struct NeuralDesignModel::Internals
   Discriminator D{ nullptr };
   Decoder Dec{ nullptr };
   // decoder: what its outputs mean, and the volume it is shown on
-  std::vector<FeatureRegion> Regions;
-  DesignSpaceSpec Spec;
+  DecoderLayout Layout; // regions and spec
   std::string Fingerprint;
-  std::shared_ptr<RayCaster> Caster;
+  std::shared_ptr<DifferentiableRenderer> Diff; // its caster() renders the decoded TFs
 
   bool decoder() const { return Config.kind == "decoder"; }
   nn::Module& generator()
@@ -280,43 +281,6 @@ struct NeuralDesignModel::Internals
     return decoder() ? static_cast<nn::Module&>(*Dec) : static_cast<nn::Module&>(*R);
   }
 
-  // Decoder output row (7 squashed values) <-> primitive of region r.
-  GaussianPrimitive toPrimitive(int r, const float* o) const
-  {
-    const auto& reg = Regions[static_cast<size_t>(r)];
-    GaussianPrimitive g = basePrimitive(reg);
-    g.mean[0] = reg.peak + o[1] * Spec.meanShift * (reg.hi - reg.lo);
-    g.stddev[0] *= Spec.stddevScale[0] + o[2] * (Spec.stddevScale[1] - Spec.stddevScale[0]);
-    g.rgb = { o[3], o[4], o[5] };
-    g.opacity = Spec.opacity[0] + o[6] * (Spec.opacity[1] - Spec.opacity[0]);
-    return g;
-  }
-  // Targets (active, then the 6 squashed values) of an exemplar, regions x 7.
-  std::vector<float> targets(const Exemplar& e) const
-  {
-    std::vector<float> t(Regions.size() * 7, 0.0f);
-    for (size_t q = 0; q < e.active.size(); ++q)
-    {
-      const int r = e.active[q];
-      const auto& reg = Regions[static_cast<size_t>(r)];
-      const auto base = basePrimitive(reg);
-      const auto& g = e.primitives[q];
-      float* o = &t[7 * static_cast<size_t>(r)];
-      o[0] = 1.0f;
-      const double w = Spec.meanShift * (reg.hi - reg.lo);
-      o[1] = static_cast<float>(w > 0 ? std::clamp((g.mean[0] - reg.peak) / w, -1.0, 1.0) : 0.0);
-      const double ds = Spec.stddevScale[1] - Spec.stddevScale[0];
-      o[2] = static_cast<float>(ds > 0
-          ? std::clamp((g.stddev[0] / base.stddev[0] - Spec.stddevScale[0]) / ds, 0.0, 1.0)
-          : 0.5);
-      for (int c = 0; c < 3; ++c)
-        o[3 + c] = static_cast<float>(g.rgb[c]);
-      const double dop = Spec.opacity[1] - Spec.opacity[0];
-      o[6] = static_cast<float>(
-        dop > 0 ? std::clamp((g.opacity - Spec.opacity[0]) / dop, 0.0, 1.0) : 0.5);
-    }
-    return t;
-  }
 };
 
 NeuralDesignModel::NeuralDesignModel(const NetworkConfig& config, std::uint64_t seed)
@@ -394,7 +358,7 @@ std::vector<GaussianPrimitive> NeuralDesignModel::decode(const std::vector<float
     throw Error("only the decoder model has an explicit TF");
   if (static_cast<int>(latent.size()) != In->Config.latent)
     throw Error("latent has the wrong size");
-  if (static_cast<int>(In->Regions.size()) != In->Config.regions)
+  if (static_cast<int>(In->Layout.regions.size()) != In->Config.regions)
     throw Error("the decoder has no feature regions yet: train it or load a bundle");
   torch::NoGradGuard guard;
   In->Dec->eval();
@@ -402,14 +366,7 @@ std::vector<GaussianPrimitive> NeuralDesignModel::decode(const std::vector<float
     torch::from_blob(const_cast<float*>(latent.data()), { 1, In->Config.latent }, torch::kFloat32)
       .clone();
   const auto o = squash(In->Dec->forward(z))[0].contiguous();
-  std::vector<GaussianPrimitive> prims;
-  for (int r = 0; r < In->Config.regions; ++r)
-  {
-    const float* row = o[r].data_ptr<float>();
-    if (row[0] > 0.0f) // logit > 0: active
-      prims.push_back(In->toPrimitive(r, row));
-  }
-  return prims;
+  return In->Layout.decode(o.data_ptr<float>());
 }
 
 void NeuralDesignModel::attachVolume(const Volume& volume)
@@ -417,7 +374,8 @@ void NeuralDesignModel::attachVolume(const Volume& volume)
   const std::string fp = volumeFingerprint(volume);
   if (!In->Fingerprint.empty() && fp != In->Fingerprint)
     throw Error("this model was trained on another volume (" + In->Fingerprint + "), not " + fp);
-  In->Caster = std::make_shared<RayCaster>(volume);
+  In->Diff = std::make_shared<DifferentiableRenderer>(volume);
+  In->Fingerprint = fp;
 }
 
 Image NeuralDesignModel::renderAt(
@@ -433,9 +391,9 @@ Image NeuralDesignModel::renderAt(
       ? out
       : resizeImage(out, view.width, view.height);
   }
-  if (!In->Caster)
+  if (!In->Diff)
     throw Error("the decoder model needs its volume (attachVolume) to render");
-  const auto range = In->Caster->volume().range();
+  const auto range = In->Diff->caster().volume().range();
   const auto prims = decode(latent);
   TransferTable1D table;
   if (prims.empty())
@@ -449,7 +407,7 @@ Image NeuralDesignModel::renderAt(
   {
     table = rasterize1D(prims, range[0], range[1], 256);
   }
-  return In->Caster->render(table, view);
+  return In->Diff->caster().render(table, view);
 }
 
 TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOptions& opt,
@@ -467,10 +425,17 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     if (static_cast<int>(data.regions().size()) != In->Config.regions)
       throw Error("the decoder was built for " + std::to_string(In->Config.regions) +
         " regions, the data has " + std::to_string(data.regions().size()));
-    In->Regions = data.regions();
-    In->Spec = data.spec();
+    In->Layout.regions = data.regions();
+    In->Layout.spec = data.spec();
+    if (opt.imageWeight > 0 && !In->Diff)
+      throw Error("the decoder's image loss needs the volume: attach it before training");
+    if (opt.imageWeight > 0 && data.fingerprint() != In->Fingerprint)
+      throw Error("the training data belongs to another volume than the attached one");
     In->Fingerprint = data.fingerprint();
   }
+  if (opt.imageWeight < 0 || opt.imageRays < 1)
+    throw Error("training needs an image weight >= 0 and at least one ray per exemplar");
+  const bool imageLoss = decoder && opt.imageWeight > 0;
   setThreads(opt.threads);
   torch::manual_seed(opt.seed);
   // Whole dataset in memory (N x C x S x S, uint8); the decoder needs only the analyzer's input
@@ -481,6 +446,9 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   auto gt = decoder ? torch::Tensor() : torch::empty({ n, 4, s, s }, torch::kUInt8);
   auto params =
     decoder ? torch::empty({ n, In->Config.regions, 7 }, torch::kFloat32) : torch::Tensor();
+  std::vector<std::uint8_t> truth; // decoder with image loss: ground truths, n x S x S x 4
+  if (imageLoss)
+    truth.resize(static_cast<size_t>(n) * s * s * 4);
   {
     std::vector<std::uint8_t> a, b, c;
     for (int i = 0; i < n; ++i)
@@ -489,8 +457,10 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       rgb[i].copy_(torch::from_blob(a.data(), { s, s, 3 }, torch::kUInt8).permute({ 2, 0, 1 }));
       if (decoder)
       {
-        auto t = In->targets(data.exemplars()[static_cast<size_t>(i)]);
+        auto t = In->Layout.targets(data.exemplars()[static_cast<size_t>(i)]);
         params[i].copy_(torch::from_blob(t.data(), { In->Config.regions, 7 }, torch::kFloat32));
+        if (imageLoss)
+          std::copy(c.begin(), c.end(), truth.begin() + static_cast<std::ptrdiff_t>(i) * s * s * 4);
       }
       else
       {
@@ -606,16 +576,42 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     const auto sel = torch::tensor(idx, torch::kInt64);
     const auto x = rgb.index_select(0, sel).to(torch::kFloat32).div(127.5).sub(1.0);
     torch::Tensor lossG, lossD, l1;
+    double imageL1 = 0;
     if (decoder)
     {
       // TF-parameter regression: which regions are active, and their squashed parameters.
       const auto target = params.index_select(0, sel);
       const auto raw = In->Dec->forward(In->A->forward(x));
+      const auto sq = squash(raw);
       const auto active = target.slice(2, 0, 1);
       const auto bce = torch::binary_cross_entropy_with_logits(raw.slice(2, 0, 1), active);
-      const auto err = (squash(raw).slice(2, 1, 7) - target.slice(2, 1, 7)).abs() * active;
+      const auto err = (sq.slice(2, 1, 7) - target.slice(2, 1, 7)).abs() * active;
       l1 = err.sum() / (active.sum() * 6 + 1e-6);
       lossG = bce + l1;
+      if (imageLoss)
+      {
+        // What the user sees: the decoded TF ray cast at V_view against the ground truth. The
+        // adjoint's gradient enters autograd through the surrogate sum(sq * grad).
+        const auto out = sq.detach().contiguous();
+        auto grad = torch::zeros_like(out);
+        std::vector<double> losses(idx.size());
+        const int regions = In->Config.regions;
+        parallelFor(static_cast<std::int64_t>(idx.size()), opt.threads,
+          [&](std::int64_t b, int)
+          {
+            const auto i = static_cast<size_t>(idx[static_cast<size_t>(b)]);
+            std::mt19937_64 pick(opt.seed * 0x9E3779B97F4A7C15ull +
+              static_cast<std::uint64_t>(iteration) * 4096 + static_cast<std::uint64_t>(b));
+            std::vector<int> pixels(static_cast<size_t>(opt.imageRays));
+            for (int& p : pixels)
+              p = static_cast<int>(pick() % static_cast<std::uint64_t>(s * s));
+            losses[static_cast<size_t>(b)] = In->Layout.imageLoss(*In->Diff,
+              out.data_ptr<float>() + b * regions * 7, data.exemplars()[i].viewView,
+              truth.data() + i * s * s * 4, pixels, grad.data_ptr<float>() + b * regions * 7);
+          });
+        imageL1 = std::accumulate(losses.begin(), losses.end(), 0.0) / losses.size();
+        lossG = lossG + (opt.imageWeight / static_cast<double>(idx.size())) * (sq * grad).sum();
+      }
       lossD = torch::zeros({});
       optG.zero_grad();
       lossG.backward();
@@ -651,6 +647,7 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       p.lossG = lossG.item<double>();
       p.lossD = lossD.item<double>();
       p.l1 = l1.item<double>();
+      p.image = imageL1;
       p.seconds = std::chrono::duration<double>(Clock::now() - start).count();
       const double rate = (iteration - startIteration) / std::max(1e-9, p.seconds);
       p.eta = opt.maxIterations > 0
@@ -860,18 +857,18 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
   try
   {
     m.In->Fingerprint = j.at("volume").get<std::string>();
-    m.In->Spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
+    m.In->Layout.spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
     for (const auto& r : j.at("regions"))
-      m.In->Regions.push_back({ r.at("lo").get<double>(), r.at("hi").get<double>(),
+      m.In->Layout.regions.push_back({ r.at("lo").get<double>(), r.at("hi").get<double>(),
         r.at("peak").get<double>(), r.value("mass", 0.0) });
   }
   catch (const nlohmann::json::exception& e)
   {
     throw Error("model bundle '" + indexPath + "' is corrupt: " + e.what());
   }
-  if (c.kind == "decoder" && static_cast<int>(m.In->Regions.size()) != c.regions)
+  if (c.kind == "decoder" && static_cast<int>(m.In->Layout.regions.size()) != c.regions)
     throw Error("model bundle '" + indexPath + "' is inconsistent: " + std::to_string(c.regions) +
-      " regions in the architecture, " + std::to_string(m.In->Regions.size()) + " listed");
+      " regions in the architecture, " + std::to_string(m.In->Layout.regions.size()) + " listed");
   // Module::load replaces tensors whatever their shape: compare them with the architecture's.
   const auto expectA = shapes(*m.In->A), expectR = shapes(m.In->generator());
   const std::string broken = "model bundle '" + dir +

@@ -44,12 +44,19 @@ struct TrainOptions
   std::string checkpoint;     ///< file to write every checkpointEvery iterations ("" = none)
   int checkpointEvery = 500;
   bool resume = false; ///< continue from `checkpoint` if it exists
+  /// Decoder only: weight of the image loss through the real ray caster (L1 of premultiplied
+  /// RGBA at V_view against the ground truth, on `imageRays` random pixels per exemplar; the
+  /// renderer's adjoint and the rasterization adjoint carry its gradient into decoder and
+  /// analyzer). 0 = TF-parameter regression only. Needs attachVolume() first [0].
+  double imageWeight = 0;
+  int imageRays = 512; ///< [512]
 };
 
 struct TrainProgress
 {
   int iteration = 0;
   double lossG = 0, lossD = 0, l1 = 0; ///< generator (adv + lambda L1), discriminator, mean L1
+  double image = 0; ///< decoder: mean image L1 through the ray caster (0 when not used)
   double seconds = 0, eta = 0;
 };
 

@@ -413,8 +413,9 @@ int runGenerate(const GenerateArgs& a)
 struct TrainArgs
 {
   std::string data, out, evalData, checkpoint, kind = "unet";
-  double minutes = 10, lr = 2e-4, lambda = 1000, dropout = 0.5;
+  double minutes = 10, lr = 2e-4, lambda = 1000, dropout = 0.5, imageWeight = 0;
   int width = 16, latent = 64, batch = 16, threads = 0, maxIterations = 0, evalCount = 1000;
+  int imageRays = 512;
   std::uint64_t seed = 1;
   int checkCount = 100;
   bool resume = false, quiet = false;
@@ -471,6 +472,12 @@ int runTrain(const TrainArgs& a)
   opt.threads = a.threads;
   opt.checkpoint = a.checkpoint;
   opt.resume = a.resume;
+  opt.imageWeight = a.imageWeight;
+  opt.imageRays = a.imageRays;
+  if (!a.volume.empty())
+    model.attachVolume(ddg::readVolumeFile(a.volume));
+  else if (a.imageWeight > 0)
+    throw ddg::Error("--image-weight needs --volume (the decoder's TFs are ray cast in training)");
   std::printf("training %lld parameters on %d exemplars of %d x %d for up to %.1f min\n",
     static_cast<long long>(model.parameterCount()), data.count(), data.size(), data.size(),
     a.minutes);
@@ -480,8 +487,12 @@ int runTrain(const TrainArgs& a)
     {
       if (!a.quiet && p.iteration - lastPrint >= 200)
       {
-        std::printf("iteration %6d  G %.3f  D %.3f  L1 %.4f  %.0f s, ETA %.0f s\n", p.iteration,
-          p.lossG, p.lossD, p.l1, p.seconds, p.eta);
+        if (a.kind == "decoder")
+          std::printf("iteration %6d  parameter L1 %.4f  image L1 %.4f  %.0f s, ETA %.0f s\n",
+            p.iteration, p.l1, p.image, p.seconds, p.eta);
+        else
+          std::printf("iteration %6d  G %.3f  D %.3f  L1 %.4f  %.0f s, ETA %.0f s\n", p.iteration,
+            p.lossG, p.lossD, p.l1, p.seconds, p.eta);
         std::fflush(stdout);
         lastPrint = p.iteration;
       }
@@ -489,8 +500,6 @@ int runTrain(const TrainArgs& a)
     });
   std::printf("trained %d iterations in %.1f s (%.1f exemplars/s)\n", report.iterations,
     report.seconds, report.exemplarsPerSecond);
-  if (!a.volume.empty())
-    model.attachVolume(ddg::readVolumeFile(a.volume));
   ddg::EvaluationReport e;
   std::string metrics = metricsJson(e, &report, model.parameterCount());
   if (heldout)
@@ -741,6 +750,12 @@ int main(int argc, char** argv)
     ->check(CLI::IsMember({ "unet", "decoder" }));
   train->add_option(
     "--volume", ta.volume, "The volume (needed to evaluate the decoder, which ray casts its TFs)");
+  train->add_option("--image-weight", ta.imageWeight,
+    "Decoder: weight of the image L1 through the differentiable ray caster, added to the "
+    "TF-parameter loss (default 0: parameters only; needs --volume)");
+  train->add_option("--image-rays", ta.imageRays, "Decoder: random pixels per exemplar in the "
+                                                  "image loss (default 512)")
+    ->check(CLI::Range(1, 1 << 20));
   train->add_option("--width", ta.width, "Channels of the first block (default 16)")
     ->check(CLI::Range(2, 256));
   train->add_option("--latent", ta.latent, "Latent TF size (default 64)")

@@ -1,0 +1,125 @@
+// DecoderLayout.cxx: decoder outputs <-> Gaussian primitives, and their image loss and gradient.
+#include "Design/DecoderLayout.h"
+
+#include "Common/Error.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ddg
+{
+
+GaussianPrimitive DecoderLayout::primitive(int r, const float* o) const
+{
+  const auto& reg = regions[static_cast<size_t>(r)];
+  GaussianPrimitive g = basePrimitive(reg);
+  g.mean[0] = reg.peak + o[1] * spec.meanShift * (reg.hi - reg.lo);
+  g.stddev[0] *= spec.stddevScale[0] + o[2] * (spec.stddevScale[1] - spec.stddevScale[0]);
+  g.rgb = { o[3], o[4], o[5] };
+  g.opacity = spec.opacity[0] + o[6] * (spec.opacity[1] - spec.opacity[0]);
+  return g;
+}
+
+std::vector<GaussianPrimitive> DecoderLayout::decode(const float* o) const
+{
+  std::vector<GaussianPrimitive> prims;
+  for (int r = 0; r < static_cast<int>(regions.size()); ++r)
+    if (o[kOutputs * r] > 0.0f)
+      prims.push_back(primitive(r, o + kOutputs * r));
+  return prims;
+}
+
+std::vector<float> DecoderLayout::targets(const Exemplar& e) const
+{
+  std::vector<float> t(static_cast<size_t>(size()), 0.0f);
+  for (size_t q = 0; q < e.active.size(); ++q)
+  {
+    const int r = e.active[q];
+    if (r < 0 || r >= static_cast<int>(regions.size()) || q >= e.primitives.size())
+      throw Error("an exemplar uses region " + std::to_string(r) + " of " +
+        std::to_string(regions.size()));
+    const auto& reg = regions[static_cast<size_t>(r)];
+    const auto base = basePrimitive(reg);
+    const auto& g = e.primitives[q];
+    float* o = &t[static_cast<size_t>(kOutputs) * r];
+    o[0] = 1.0f;
+    const double w = spec.meanShift * (reg.hi - reg.lo);
+    o[1] = static_cast<float>(w > 0 ? std::clamp((g.mean[0] - reg.peak) / w, -1.0, 1.0) : 0.0);
+    const double ds = spec.stddevScale[1] - spec.stddevScale[0];
+    o[2] = static_cast<float>(ds > 0
+        ? std::clamp((g.stddev[0] / base.stddev[0] - spec.stddevScale[0]) / ds, 0.0, 1.0)
+        : 0.5);
+    for (int c = 0; c < 3; ++c)
+      o[3 + c] = static_cast<float>(g.rgb[c]);
+    const double dop = spec.opacity[1] - spec.opacity[0];
+    o[6] =
+      static_cast<float>(dop > 0 ? std::clamp((g.opacity - spec.opacity[0]) / dop, 0.0, 1.0) : 0.5);
+  }
+  return t;
+}
+
+template <typename S>
+double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, const float* o,
+  const View& view, const std::uint8_t* truth, const std::vector<int>& pixels, float* grad) const
+{
+  if (pixels.empty())
+    throw Error("the image loss needs at least one pixel");
+  const int n = static_cast<int>(regions.size());
+  const auto range = renderer.caster().volume().range();
+  constexpr int kWidth = 256;
+  std::vector<GaussianPrimitive> prims;
+  std::vector<double> activity, opacity;
+  for (int r = 0; r < n; ++r)
+  {
+    GaussianPrimitive g = primitive(r, o + kOutputs * r);
+    const double act = 1.0 / (1.0 + std::exp(-static_cast<double>(o[kOutputs * r])));
+    opacity.push_back(g.opacity);
+    activity.push_back(act);
+    g.opacity *= act;
+    prims.push_back(g);
+  }
+  const auto rasterized = rasterize1D(prims, range[0], range[1], kWidth);
+  const std::vector<S> table(rasterized.rgba.begin(), rasterized.rgba.end());
+  RenderOptions ropt;
+  ropt.threads = 1; // callers parallelize over exemplars
+  std::vector<S> rgba, dRGBA(4 * pixels.size()), dTable(4 * kWidth, S(0));
+  std::vector<RayRecord> records;
+  renderer.forward(table.data(), kWidth, range[0], range[1], view, ropt, pixels, rgba, records);
+  double loss = 0;
+  const double norm = 1.0 / (4.0 * static_cast<double>(pixels.size()));
+  for (size_t q = 0; q < pixels.size(); ++q)
+    for (int c = 0; c < 4; ++c)
+    {
+      const double d =
+        static_cast<double>(rgba[4 * q + c]) - truth[4 * static_cast<size_t>(pixels[q]) + c] / 255.0;
+      loss += std::abs(d) * norm;
+      dRGBA[4 * q + c] = static_cast<S>(d > 0 ? norm : (d < 0 ? -norm : 0.0));
+    }
+  renderer.backward(
+    table.data(), kWidth, range[0], range[1], view, ropt, pixels, records, dRGBA, dTable);
+  std::vector<GaussianPrimitiveGradient> g;
+  rasterizeAdjoint(prims, false, range, { 0, 0 }, kWidth, 1,
+    std::vector<double>(dTable.begin(), dTable.end()), g);
+  for (int r = 0; r < n; ++r)
+  {
+    const auto& reg = regions[static_cast<size_t>(r)];
+    const auto& gr = g[static_cast<size_t>(r)];
+    const double act = activity[static_cast<size_t>(r)];
+    float* d = grad + kOutputs * r;
+    d[0] = static_cast<float>(gr.opacity * opacity[static_cast<size_t>(r)] * act * (1 - act));
+    d[1] = static_cast<float>(gr.mean[0] * spec.meanShift * (reg.hi - reg.lo));
+    d[2] = static_cast<float>(gr.stddev[0] * basePrimitive(reg).stddev[0] *
+      (spec.stddevScale[1] - spec.stddevScale[0]));
+    for (int c = 0; c < 3; ++c)
+      d[3 + c] = static_cast<float>(gr.rgb[c]);
+    d[6] = static_cast<float>(gr.opacity * act * (spec.opacity[1] - spec.opacity[0]));
+  }
+  return loss;
+}
+
+template double DecoderLayout::imageLoss<float>(const DifferentiableRendererT<float>&,
+  const float*, const View&, const std::uint8_t*, const std::vector<int>&, float*) const;
+template double DecoderLayout::imageLoss<double>(const DifferentiableRendererT<double>&,
+  const float*, const View&, const std::uint8_t*, const std::vector<int>&, float*) const;
+
+} // namespace ddg

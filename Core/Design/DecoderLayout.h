@@ -1,0 +1,48 @@
+// DecoderLayout.h: what the lean variant's decoder outputs mean — 7 numbers per feature region —
+// their targets for an exemplar, and the image loss of a decoded TF through the differentiable
+// ray caster with its gradient with respect to those numbers. Plain C++ (no libtorch), so the
+// chain rule from image to decoder output is tested on its own.
+#pragma once
+
+#include "Design/DesignSpace.h"
+#include "Render/DifferentiableRenderer.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace ddg
+{
+
+/// Per region r, the decoder's outputs o[7r .. 7r+6] after squashing:
+///   0 activity logit (raw; the region is used when > 0),
+///   1 mean shift in [-1, 1] (x spec.meanShift x region width, around the region's peak),
+///   2 stddev in [0, 1] (spec.stddevScale lo..hi x the base stddev),
+///   3-5 colour rgb in [0, 1], 6 peak opacity in [0, 1] (spec.opacity lo..hi).
+struct DecoderLayout
+{
+  static constexpr int kOutputs = 7;
+  std::vector<FeatureRegion> regions;
+  DesignSpaceSpec spec;
+
+  int size() const { return kOutputs * static_cast<int>(regions.size()); }
+
+  /// The primitive of region r from its 7 outputs (activity not applied).
+  GaussianPrimitive primitive(int r, const float* o) const;
+  /// The explicit TF: the primitives of the regions whose activity logit is > 0.
+  std::vector<GaussianPrimitive> decode(const float* o) const;
+  /// The outputs that reproduce an exemplar's TF (logit 1 for active regions, 0 and zeros for
+  /// the others); values outside the spec's ranges are clamped.
+  std::vector<float> targets(const Exemplar& e) const;
+
+  /// Image loss of outputs `o` against `truth` (premultiplied RGBA bytes of view.width x
+  /// view.height, e.g. an exemplar's ground truth at V_view): the primitives with their opacity
+  /// scaled by the soft activity sigmoid(logit), rasterized to a 256-entry table, ray cast at
+  /// `view` for the listed pixels; loss = mean |rendered - truth| over pixels x 4 channels.
+  /// Writes d(loss)/d(o) into grad (size() values) through the renderer's adjoint and the
+  /// rasterization adjoint.
+  template <typename S>
+  double imageLoss(const DifferentiableRendererT<S>& renderer, const float* o, const View& view,
+    const std::uint8_t* truth, const std::vector<int>& pixels, float* grad) const;
+};
+
+} // namespace ddg
