@@ -70,6 +70,9 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
   {
     throw Error("cannot create dataset directory '" + dir + "': " + ec.message());
   }
+  // A previous dataset here is replaced: its index goes first, so a failed run never leaves an
+  // index that describes shards of another run.
+  fs::remove(fs::path(dir) / "dataset.json", ec);
   GenerateReport report;
   report.regions =
     spec.regions.empty() ? findFeatureRegions(volume, spec.maxRegions) : spec.regions;
@@ -260,6 +263,20 @@ void ExemplarDataset::load(int i, std::vector<std::uint8_t>& rgbExp,
   {
     throw Error("cannot read exemplar " + std::to_string(i) + " from '" + Dir + "'");
   }
+}
+
+ExemplarDataset::Images ExemplarDataset::images(int i) const
+{
+  std::vector<std::uint8_t> a, b, c;
+  load(i, a, b, c);
+  auto toImage = [this](const std::vector<std::uint8_t>& bytes, int channels)
+  {
+    Image img(Size, Size, channels);
+    for (size_t k = 0; k < bytes.size(); ++k)
+      img.pixels[k] = bytes[k] / 255.0f;
+    return img;
+  };
+  return { toImage(a, 3), toImage(b, 4), toImage(c, 4) };
 }
 
 } // namespace ddg

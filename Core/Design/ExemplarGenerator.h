@@ -2,6 +2,7 @@
 #pragma once
 
 #include "Design/DesignSpace.h"
+#include "Image/Image.h"
 #include "Render/RayCaster.h"
 
 #include <cstdint>
@@ -64,6 +65,13 @@ public:
   /// The three images of exemplar i as uint8 (rgbExp: size*size*3; viewport, truth: *4).
   void load(int i, std::vector<std::uint8_t>& rgbExp, std::vector<std::uint8_t>& viewport,
     std::vector<std::uint8_t>& truth) const;
+
+  /// The same as float images in [0, 1]: RGB at V_exp; premultiplied RGBA viewport and truth.
+  struct Images
+  {
+    Image rgbExp, viewport, truth;
+  };
+  Images images(int i) const;
 
 private:
   std::string Dir, Fingerprint;

@@ -181,4 +181,30 @@ Image resizeImage(const Image& image, int width, int height)
   return result;
 }
 
+Image tileImages(const std::vector<Image>& images, int columns, int gap, float background)
+{
+  if (images.empty() || columns < 1 || gap < 0)
+    throw Error("a contact sheet needs images, at least one column and a gap >= 0");
+  int cw = 0, ch = 0;
+  for (const auto& img : images)
+  {
+    cw = std::max(cw, img.width);
+    ch = std::max(ch, img.height);
+  }
+  const int cols = std::min(columns, static_cast<int>(images.size()));
+  const int rows = (static_cast<int>(images.size()) + cols - 1) / cols;
+  Image sheet(cols * (cw + gap) + gap, rows * (ch + gap) + gap, 3, background);
+  for (size_t k = 0; k < images.size(); ++k)
+  {
+    const Image rgb = toChannels(images[k], 3);
+    const int x0 = gap + static_cast<int>(k % cols) * (cw + gap);
+    const int y0 = gap + static_cast<int>(k / cols) * (ch + gap);
+    for (int y = 0; y < rgb.height; ++y)
+      for (int x = 0; x < rgb.width; ++x)
+        for (int c = 0; c < 3; ++c)
+          sheet.at(x0 + x, y0 + y, c) = rgb.at(x, y, c);
+  }
+  return sheet;
+}
+
 } // namespace ddg

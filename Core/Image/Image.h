@@ -70,4 +70,9 @@ void writeImage(const Image& image, const std::string& path);
 /// Drops or adds channels: RGBA -> RGB (alpha dropped), gray -> RGB, RGB -> RGBA (alpha 1).
 Image toChannels(const Image& image, int channels);
 
+/// A contact sheet: RGB images (RGBA: alpha dropped; gray: spread) row by row, `columns` per
+/// row, cells the size of the largest image, `gap` pixels of `background` between and around
+/// them. Throws ddg::Error for no images or columns < 1.
+Image tileImages(const std::vector<Image>& images, int columns, int gap = 2, float background = 1.0f);
+
 } // namespace ddg

@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <numeric>
 #include <random>
+#include <sstream>
 
 namespace ddg
 {
@@ -211,18 +212,18 @@ std::vector<std::vector<std::int64_t>> shapes(nn::Module& mod)
   return out;
 }
 
+// An archive's bytes. libtorch's save_to(path) throws from a destructor when the disk is full
+// (std::terminate); serializing to memory and writing with writeFileAtomic reports it instead.
+std::string serialized(torch::serialize::OutputArchive& ar)
+{
+  std::ostringstream out(std::ios::binary);
+  ar.save_to(out);
+  return out.str();
+}
+
 void setThreads(int threads)
 {
   at::set_num_threads(threads > 0 ? threads : defaultThreadCount());
-}
-
-// uint8 interleaved HWC -> float CHW tensor in [0, 1]
-torch::Tensor toTensor(const std::uint8_t* data, int size, int channels)
-{
-  return torch::from_blob(const_cast<std::uint8_t*>(data), { size, size, channels }, torch::kUInt8)
-    .permute({ 2, 0, 1 })
-    .to(torch::kFloat32)
-    .div(255.0);
 }
 
 torch::Tensor imageToTensor(const Image& img, int channels)
@@ -272,6 +273,7 @@ struct NeuralDesignModel::Internals
   Decoder Dec{ nullptr };
   // decoder: what its outputs mean, and the volume it is shown on
   DecoderLayout Layout; // regions and spec
+  TrainingDesigns Designs;
   std::string Fingerprint;
   std::shared_ptr<DifferentiableRenderer> Diff; // its caster() renders the decoded TFs
 
@@ -420,6 +422,11 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   if (opt.batch < 1 || !(opt.learningRate > 0) || !(opt.minutes > 0) || !(opt.lambdaL1 >= 0))
     throw Error("training needs batch >= 1, a positive learning rate and time budget, lambda >= 0");
   const bool decoder = In->decoder();
+  if (!decoder)
+  {
+    In->Layout.regions = data.regions();
+    In->Layout.spec = data.spec();
+  }
   if (decoder)
   {
     if (static_cast<int>(data.regions().size()) != In->Config.regions)
@@ -544,10 +551,7 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       ar.write("optD", od);
     }
     ar.write("iteration", torch::tensor(static_cast<std::int64_t>(iteration)));
-    const std::string tmp = opt.checkpoint + ".tmp";
-    ar.save_to(tmp);
-    if (std::rename(tmp.c_str(), opt.checkpoint.c_str()) != 0)
-      throw Error("cannot write checkpoint '" + opt.checkpoint + "'");
+    writeFileAtomic(opt.checkpoint, serialized(ar), "checkpoint");
   };
   std::mt19937_64 rng(opt.seed + static_cast<std::uint64_t>(iteration));
   std::vector<std::int64_t> order(static_cast<size_t>(n));
@@ -683,18 +687,10 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
       " pixels, the model's " + std::to_string(s));
   EvaluationReport r;
   r.count = std::min(maxExemplars, data.count());
-  std::vector<std::uint8_t> a, b, c;
   std::vector<std::vector<float>> latExp, latView;
   for (int i = 0; i < r.count; ++i)
   {
-    data.load(i, a, b, c);
-    Image rgbExp(s, s, 3), viewport(s, s, 4), truth(s, s, 4);
-    for (size_t k = 0; k < a.size(); ++k)
-      rgbExp.pixels[k] = a[k] / 255.0f;
-    for (size_t k = 0; k < b.size(); ++k)
-      viewport.pixels[k] = b[k] / 255.0f;
-    for (size_t k = 0; k < c.size(); ++k)
-      truth.pixels[k] = c[k] / 255.0f;
+    const auto [rgbExp, viewport, truth] = data.images(i);
     const auto z = analyze(rgbExp);
     const Image pred =
       overGrey(renderAt(z, viewport, data.exemplars()[static_cast<size_t>(i)].viewView));
@@ -725,12 +721,9 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
     }
   r.invariance = triplets ? static_cast<double>(holds) / triplets : 0;
   // latency, batch 1, median of 21
-  data.load(0, a, b, c);
-  Image rgbExp(s, s, 3), viewport(s, s, 4);
-  for (size_t k = 0; k < a.size(); ++k)
-    rgbExp.pixels[k] = a[k] / 255.0f;
-  for (size_t k = 0; k < b.size(); ++k)
-    viewport.pixels[k] = b[k] / 255.0f;
+  const auto first = data.images(0);
+  const Image& rgbExp = first.rgbExp;
+  const Image& viewport = first.viewport;
   std::vector<double> ta, tr;
   std::vector<float> z;
   for (int k = 0; k < 21; ++k)
@@ -756,6 +749,9 @@ void NeuralDesignModel::saveBundle(
   fs::create_directories(dir, ec);
   if (ec)
     throw Error("cannot create bundle directory '" + dir + "': " + ec.message());
+  // bundle.json is written last and removed first: a failed save never leaves an index that
+  // describes files of another save
+  fs::remove(fs::path(dir) / "bundle.json", ec);
   // weights
   {
     torch::serialize::OutputArchive ar, a, r;
@@ -763,32 +759,14 @@ void NeuralDesignModel::saveBundle(
     In->generator().save(r);
     ar.write("analyzer", a);
     ar.write(In->decoder() ? "decoder" : "renderer", r);
-    const std::string path = (fs::path(dir) / "model.pt").string(), tmp = path + ".tmp";
-    try
-    {
-      ar.save_to(tmp);
-    }
-    catch (const c10::Error&)
-    {
-      fs::remove(tmp, ec);
-      throw Error("cannot write '" + path + "' (disk full?)");
-    }
-    fs::rename(tmp, path, ec);
-    if (ec)
-      throw Error("cannot write '" + path + "': " + ec.message());
+    writeFileAtomic((fs::path(dir) / "model.pt").string(), serialized(ar), "bundle weights");
   }
   // latents of the training exemplars and their TF parameters (for the gallery)
   std::string latents;
-  std::vector<std::uint8_t> a, b, c;
-  const int s = In->Config.imageSize;
   nlohmann::json ex = nlohmann::json::array();
   for (int i = 0; i < training.count(); ++i)
   {
-    training.load(i, a, b, c);
-    Image rgbExp(s, s, 3);
-    for (size_t k = 0; k < a.size(); ++k)
-      rgbExp.pixels[k] = a[k] / 255.0f;
-    const auto z = analyze(rgbExp);
+    const auto z = analyze(training.images(i).rgbExp);
     latents.append(reinterpret_cast<const char*>(z.data()), z.size() * sizeof(float));
     nlohmann::json p = nlohmann::json::array();
     for (const auto& g : training.exemplars()[static_cast<size_t>(i)].primitives)
@@ -816,6 +794,21 @@ void NeuralDesignModel::saveBundle(
   j["metrics"] =
     metricsJson.empty() ? nlohmann::json::object() : nlohmann::json::parse(metricsJson);
   writeFileAtomic((fs::path(dir) / "bundle.json").string(), j.dump(2) + "\n", "bundle index");
+}
+
+const TrainingDesigns& NeuralDesignModel::trainingDesigns() const
+{
+  return In->Designs;
+}
+
+const std::vector<FeatureRegion>& NeuralDesignModel::regions() const
+{
+  return In->Layout.regions;
+}
+
+const DesignSpaceSpec& NeuralDesignModel::spec() const
+{
+  return In->Layout.spec;
 }
 
 NeuralDesignModel NeuralDesignModel::loadBundle(
@@ -889,6 +882,41 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
   if (shapes(*m.In->A) != expectA || shapes(m.In->generator()) != expectR)
   {
     throw Error(broken);
+  }
+  // the training designs: latents.bin (float32, count x latent) and exemplars.json
+  auto& d = m.In->Designs;
+  d.latent = c.latent;
+  const std::string latentsPath = (fs::path(dir) / "latents.bin").string();
+  const std::string designsPath = (fs::path(dir) / "exemplars.json").string();
+  try
+  {
+    const auto count = j.at("training_exemplars").get<std::int64_t>();
+    for (const auto& tf : nlohmann::json::parse(readTextFile(designsPath, "model bundle designs")))
+    {
+      std::vector<GaussianPrimitive> prims;
+      for (const auto& p : tf)
+      {
+        GaussianPrimitive g;
+        g.mean[0] = p.at("mean").get<double>();
+        g.stddev[0] = p.at("stddev").get<double>();
+        g.rgb = p.at("rgb").get<std::array<double, 3>>();
+        g.opacity = p.at("opacity").get<double>();
+        prims.push_back(g);
+      }
+      validatePrimitives(prims, false);
+      d.tfs.push_back(std::move(prims));
+    }
+    const std::string bytes = readTextFile(latentsPath, "model bundle latents");
+    if (static_cast<std::int64_t>(d.tfs.size()) != count ||
+      bytes.size() != static_cast<size_t>(count) * c.latent * sizeof(float))
+      throw Error("model bundle '" + dir + "': latents.bin or exemplars.json is truncated (" +
+        std::to_string(count) + " training exemplars expected)");
+    d.latents.resize(bytes.size() / sizeof(float));
+    std::memcpy(d.latents.data(), bytes.data(), bytes.size());
+  }
+  catch (const nlohmann::json::exception& e)
+  {
+    throw Error("model bundle '" + designsPath + "' is corrupt: " + e.what());
   }
   return m;
 }

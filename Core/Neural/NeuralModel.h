@@ -78,6 +78,17 @@ struct EvaluationReport
   double analyzerMs = 0, rendererMs = 0; ///< one image, batch 1
 };
 
+/// What a bundle keeps of its training exemplars, for the gallery: their latents (count x
+/// latent, row-major) and their TFs (1D Gaussian primitives).
+struct TrainingDesigns
+{
+  int latent = 0;
+  std::vector<float> latents;
+  std::vector<std::vector<GaussianPrimitive>> tfs;
+  int count() const { return static_cast<int>(tfs.size()); }
+  const float* latentOf(int i) const { return latents.data() + static_cast<size_t>(i) * latent; }
+};
+
 /// Analyzer + renderer + discriminator.
 class NeuralDesignModel
 {
@@ -123,6 +134,12 @@ public:
   /// architecture, or (when expectedFingerprint is not empty) a bundle of another volume.
   static NeuralDesignModel loadBundle(
     const std::string& dir, const std::string& expectedFingerprint = "");
+
+  /// The training designs of a loaded bundle (empty otherwise).
+  const TrainingDesigns& trainingDesigns() const;
+  /// The feature regions and design-space spec the model was trained with.
+  const std::vector<FeatureRegion>& regions() const;
+  const DesignSpaceSpec& spec() const;
 
 private:
   struct Internals;

@@ -6,6 +6,7 @@
 #include "Design/ExemplarGenerator.h"
 #include "Image/Image.h"
 #ifdef DDG_WITH_TORCH
+#include "Neural/DesignValidity.h"
 #include "Neural/NeuralModel.h"
 #endif
 #include "Image/ImageMetrics.h"
@@ -384,23 +385,15 @@ int runGenerate(const GenerateArgs& a)
   {
     // contact sheet: up to 8 rows of (image at V_exp | viewport | ground truth over grey)
     const ddg::ExemplarDataset data(a.out);
-    const int rows = std::min(8, data.count()), s = data.size();
-    ddg::Image sheet(3 * s, rows * s, 3, 0.5f);
-    std::vector<std::uint8_t> rgb, vp, gt;
-    for (int r = 0; r < rows; ++r)
+    std::vector<ddg::Image> cells;
+    for (int r = 0; r < std::min(8, data.count()); ++r)
     {
-      data.load(r, rgb, vp, gt);
-      for (int y = 0; y < s; ++y)
-        for (int x = 0; x < s; ++x)
-          for (int c = 0; c < 3; ++c)
-          {
-            const size_t p = static_cast<size_t>(y) * s + x;
-            sheet.at(x, r * s + y, c) = rgb[3 * p + c] / 255.0f;
-            sheet.at(s + x, r * s + y, c) = (vp[4 * p + c] + 0.5f * (255 - vp[4 * p + 3])) / 255.0f;
-            sheet.at(2 * s + x, r * s + y, c) =
-              (gt[4 * p + c] + 0.5f * (255 - gt[4 * p + 3])) / 255.0f;
-          }
+      const auto im = data.images(r);
+      cells.push_back(im.rgbExp);
+      cells.push_back(ddg::compositeOverBackground(im.viewport, { 0.5, 0.5, 0.5 }));
+      cells.push_back(ddg::compositeOverBackground(im.truth, { 0.5, 0.5, 0.5 }));
     }
+    const ddg::Image sheet = ddg::tileImages(cells, 3);
     ddg::writeImage(sheet, a.preview);
     std::printf("wrote preview %s\n", a.preview.c_str());
   }
@@ -529,6 +522,37 @@ int runEval(const std::string& modelDir, const std::string& dataDir, int count, 
     std::printf("%s\n", metricsJson(e, nullptr, model.parameterCount()).c_str());
   else
     printEvaluation(e);
+  return 0;
+}
+
+struct ValidityArgs
+{
+  std::string model, volume, view, out;
+  int count = 6, size = 128;
+  std::uint64_t seed = 1;
+};
+
+int runValidity(const ValidityArgs& a)
+{
+  const ddg::Volume volume = ddg::readVolumeFile(a.volume);
+  auto model = ddg::NeuralDesignModel::loadBundle(a.model, ddg::volumeFingerprint(volume));
+  const ddg::View view = a.view.empty() ? ddg::defaultView(volume, a.size, a.size)
+                                        : ddg::readView(a.view);
+  const auto r = ddg::designSpaceValidity(model, volume, view, a.count, a.seed);
+  for (size_t i = 0; i < r.rows.size(); ++i)
+  {
+    const auto& row = r.rows[i];
+    std::printf("random latent %zu: nearest by cosine #%d (%.3f, PSNR %.2f dB), by distance #%d "
+                "(%.3f, PSNR %.2f dB)\n",
+      i, row.nearestCosine, row.cosine, row.psnrCosine, row.nearestEuclidean, row.euclidean,
+      row.psnrEuclidean);
+  }
+  std::printf("mean PSNR of a random latent's design against its nearest training design: "
+              "%.2f dB (cosine), %.2f dB (Euclidean)\n",
+    r.meanPsnrCosine, r.meanPsnrEuclidean);
+  ddg::writeImage(r.sheet, a.out);
+  std::printf("wrote %s (rows: random latent | nearest by cosine | nearest by distance)\n",
+    a.out.c_str());
   return 0;
 }
 #endif
@@ -783,6 +807,20 @@ int main(int argc, char** argv)
   evalCmd->add_flag("--json", evalJson, "Print the figures as JSON");
   evalCmd->add_option(
     "--volume", evalVolume, "The volume (needed for decoder bundles, which ray cast their TFs)");
+
+  ValidityArgs va2;
+  auto* validity = app.add_subcommand("validity",
+    "Design-space validity (paper 7.2.2): random latents rendered by the model next to the "
+    "nearest training designs (cosine and Euclidean), as a PNG sheet with PSNRs.");
+  validity->add_option("--model", va2.model, "Model bundle directory")->required();
+  validity->add_option("--volume", va2.volume, "The bundle's volume")->required();
+  validity->add_option("--out", va2.out, "Output sheet (PNG)")->required();
+  validity->add_option("--count", va2.count, "Random latents (rows; default 6)")
+    ->check(CLI::Range(1, 1000));
+  validity->add_option("--view", va2.view, "View JSON (default: the volume's default view)");
+  validity->add_option("--size", va2.size, "Image size without --view (default 128)")
+    ->check(CLI::Range(8, 4096));
+  validity->add_option("--seed", va2.seed, "Seed of the random latents (default 1)");
 #endif
 
   std::string infoVolume, infoArray;
@@ -820,6 +858,8 @@ int main(int argc, char** argv)
       return runTrain(ta);
     if (*evalCmd)
       return runEval(evalModel, evalData, evalCount, evalJson, evalVolume);
+    if (*validity)
+      return runValidity(va2);
 #endif
   }
   catch (const std::exception& e)

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <random>
 
+#include "FileSizeLimit.h"
+
 using namespace ddg;
 namespace fs = std::filesystem;
 
@@ -110,6 +112,49 @@ TEST(ExemplarGenerator, DeterministicReadableAndGuarded)
   EXPECT_FALSE(fs::exists(c + "/shard-00000.bin"));
   // an unwritable place
   EXPECT_THROW(generateExemplars(vol, DesignSpaceSpec{}, "/proc/ddg_no_such_dir", opt), Error);
+}
+
+TEST(ExemplarGenerator, FullDiskLeavesNothingThatLooksValid)
+{
+  const Volume vol = materials();
+  GenerateOptions opt;
+  opt.count = 10;
+  opt.size = 16;
+  opt.shardSize = 1;
+  const std::string ok = tempDir("gen_full_ok");
+  generateExemplars(vol, DesignSpaceSpec{}, ok, opt);
+  const auto shard = fs::file_size(ok + "/shard-00000.bin");
+  const auto index = fs::file_size(ok + "/dataset.json");
+  ASSERT_GT(index, shard); // so that a limit of one shard's size fails at the index
+  auto temporaries = [](const std::string& dir)
+  {
+    int n = 0;
+    for (const auto& f : fs::directory_iterator(dir))
+      n += f.path().filename().string().find(".tmp") != std::string::npos;
+    return n;
+  };
+  // the disk fills up while writing the first shard, then while writing the index (into the
+  // directory of the earlier, complete dataset: it is replaced, not left describing new shards)
+  for (const auto limit : { shard - 1, shard })
+  {
+    const std::string dir = tempDir("gen_full_" + std::to_string(limit));
+    fs::copy(ok, dir);
+    {
+      FileSizeLimit full(limit);
+      try
+      {
+        generateExemplars(vol, DesignSpaceSpec{}, dir, opt);
+        ADD_FAILURE() << "generation into a full disk did not fail";
+      }
+      catch (const Error& e)
+      {
+        EXPECT_NE(std::string(e.what()).find("disk full"), std::string::npos) << e.what();
+      }
+    }
+    EXPECT_FALSE(fs::exists(dir + "/dataset.json"));
+    EXPECT_THROW(ExemplarDataset{ dir }, Error);
+    EXPECT_EQ(temporaries(dir), 0) << "temporary files left in " << dir;
+  }
 }
 
 TEST(DecoderLayout, TargetsDecodeBackToTheExemplar)

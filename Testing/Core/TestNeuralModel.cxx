@@ -11,6 +11,8 @@
 #include <fstream>
 #include <random>
 
+#include "FileSizeLimit.h"
+
 using namespace ddg;
 namespace fs = std::filesystem;
 
@@ -188,4 +190,44 @@ TEST(NeuralModel, DecoderVariantDecodesRendersAndRoundTrips)
   std::vector<float> other(8 * 8 * 8, 1.0f);
   other[0] = 0.0f;
   EXPECT_THROW(loaded.attachVolume(Volume({ 8, 8, 8 }, { 0, 0, 0 }, { 1, 1, 1 }, other)), Error);
+}
+
+TEST(NeuralModel, FullDiskKeepsThePreviousCheckpointAndNoHalfBundle)
+{
+  const std::string ckpt = ::testing::TempDir() + "/ddg_full_ckpt.pt";
+  fs::remove(ckpt);
+  NeuralDesignModel m(tiny(), 3);
+  TrainOptions t = quick(2);
+  t.checkpoint = ckpt;
+  m.train(dataset(), t);
+  ASSERT_TRUE(fs::exists(ckpt));
+  const auto size = fs::file_size(ckpt);
+  const std::string dir = ::testing::TempDir() + "/ddg_full_bundle";
+  fs::remove_all(dir);
+  m.saveBundle(dir, dataset(), "");
+  const auto weights = fs::file_size(dir + "/model.pt");
+  {
+    FileSizeLimit full(std::min(size, weights) / 2);
+    t.maxIterations = 4;
+    t.resume = true;
+    try
+    {
+      m.train(dataset(), t);
+      ADD_FAILURE() << "a checkpoint was written to a full disk";
+    }
+    catch (const Error& e)
+    {
+      EXPECT_NE(std::string(e.what()).find("disk full"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(m.saveBundle(dir, dataset(), ""), Error);
+  }
+  EXPECT_EQ(fs::file_size(ckpt), size);
+  for (const auto& f : fs::directory_iterator(::testing::TempDir()))
+    EXPECT_EQ(f.path().filename().string().find("ddg_full_ckpt.pt.tmp"), std::string::npos)
+      << "temporary file left: " << f.path();
+  EXPECT_FALSE(fs::exists(dir + "/bundle.json"));
+  EXPECT_THROW(NeuralDesignModel::loadBundle(dir), Error);
+  // with space again, resuming from the kept checkpoint works
+  NeuralDesignModel again(tiny(), 4);
+  EXPECT_EQ(again.train(dataset(), t).iterations, 4);
 }
