@@ -17,6 +17,11 @@ GaussianPrimitive DecoderLayout::primitive(int r, const float* o) const
   g.stddev[0] *= spec.stddevScale[0] + o[2] * (spec.stddevScale[1] - spec.stddevScale[0]);
   g.rgb = { o[3], o[4], o[5] };
   g.opacity = spec.opacity[0] + o[6] * (spec.opacity[1] - spec.opacity[0]);
+  if (twoD())
+  {
+    g.mean[1] = reg.gradientPeak + o[7] * spec.meanShift * (reg.gradientHi - reg.gradientLo);
+    g.stddev[1] *= spec.stddevScale[0] + o[8] * (spec.stddevScale[1] - spec.stddevScale[0]);
+  }
   return g;
 }
 
@@ -24,8 +29,8 @@ std::vector<GaussianPrimitive> DecoderLayout::decode(const float* o) const
 {
   std::vector<GaussianPrimitive> prims;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r)
-    if (o[kOutputs * r] > 0.0f)
-      prims.push_back(primitive(r, o + kOutputs * r));
+    if (o[outputs() * r] > 0.0f)
+      prims.push_back(primitive(r, o + outputs() * r));
   return prims;
 }
 
@@ -41,14 +46,26 @@ std::vector<float> DecoderLayout::targets(const Exemplar& e) const
     const auto& reg = regions[static_cast<size_t>(r)];
     const auto base = basePrimitive(reg);
     const auto& g = e.primitives[q];
-    float* o = &t[static_cast<size_t>(kOutputs) * r];
+    float* o = &t[static_cast<size_t>(outputs()) * r];
     o[0] = 1.0f;
-    const double w = spec.meanShift * (reg.hi - reg.lo);
-    o[1] = static_cast<float>(w > 0 ? std::clamp((g.mean[0] - reg.peak) / w, -1.0, 1.0) : 0.0);
     const double ds = spec.stddevScale[1] - spec.stddevScale[0];
-    o[2] = static_cast<float>(ds > 0
-        ? std::clamp((g.stddev[0] / base.stddev[0] - spec.stddevScale[0]) / ds, 0.0, 1.0)
-        : 0.5);
+    auto shift = [&](double mean, double peak, double width)
+    {
+      const double w = spec.meanShift * width;
+      return static_cast<float>(w > 0 ? std::clamp((mean - peak) / w, -1.0, 1.0) : 0.0);
+    };
+    auto scale = [&](double stddev, double baseStddev)
+    {
+      return static_cast<float>(
+        ds > 0 ? std::clamp((stddev / baseStddev - spec.stddevScale[0]) / ds, 0.0, 1.0) : 0.5);
+    };
+    o[1] = shift(g.mean[0], reg.peak, reg.hi - reg.lo);
+    o[2] = scale(g.stddev[0], base.stddev[0]);
+    if (twoD())
+    {
+      o[7] = shift(g.mean[1], reg.gradientPeak, reg.gradientHi - reg.gradientLo);
+      o[8] = scale(g.stddev[1], base.stddev[1]);
+    }
     for (int c = 0; c < 3; ++c)
       o[3 + c] = static_cast<float>(g.rgb[c]);
     const double dop = spec.opacity[1] - spec.opacity[0];
@@ -64,27 +81,33 @@ double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, cons
 {
   if (pixels.empty())
     throw Error("the image loss needs at least one pixel");
-  const int n = static_cast<int>(regions.size());
+  const int n = static_cast<int>(regions.size()), m = outputs();
   const auto range = renderer.caster().volume().range();
-  constexpr int kWidth = 256;
+  constexpr int kWidth = 256, kHeight = 64; // as renderDesign
+  const int height = twoD() ? kHeight : 1;
   std::vector<GaussianPrimitive> prims;
   std::vector<double> activity, opacity;
   for (int r = 0; r < n; ++r)
   {
-    GaussianPrimitive g = primitive(r, o + kOutputs * r);
-    const double act = 1.0 / (1.0 + std::exp(-static_cast<double>(o[kOutputs * r])));
+    GaussianPrimitive g = primitive(r, o + m * r);
+    const double act = 1.0 / (1.0 + std::exp(-static_cast<double>(o[m * r])));
     opacity.push_back(g.opacity);
     activity.push_back(act);
     g.opacity *= act;
     prims.push_back(g);
   }
-  const auto rasterized = rasterize1D(prims, range[0], range[1], kWidth);
-  const std::vector<S> table(rasterized.rgba.begin(), rasterized.rgba.end());
+  const auto rgbaTable = twoD() ? rasterize2D(prims, range, gradientRange, kWidth, kHeight).rgba
+                                : rasterize1D(prims, range[0], range[1], kWidth).rgba;
+  const std::vector<S> table(rgbaTable.begin(), rgbaTable.end());
   RenderOptions ropt;
   ropt.threads = 1; // callers parallelize over exemplars
-  std::vector<S> rgba, dRGBA(4 * pixels.size()), dTable(4 * kWidth, S(0));
+  std::vector<S> rgba, dRGBA(4 * pixels.size()), dTable(4 * static_cast<size_t>(kWidth) * height, S(0));
   std::vector<RayRecord> records;
-  renderer.forward(table.data(), kWidth, range[0], range[1], view, ropt, pixels, rgba, records);
+  if (twoD())
+    renderer.forward2D(table.data(), kWidth, kHeight, range, gradientRange, view, ropt, pixels,
+      rgba, records);
+  else
+    renderer.forward(table.data(), kWidth, range[0], range[1], view, ropt, pixels, rgba, records);
   double loss = 0;
   const double norm = 1.0 / (4.0 * static_cast<double>(pixels.size()));
   for (size_t q = 0; q < pixels.size(); ++q)
@@ -95,24 +118,34 @@ double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, cons
       loss += std::abs(d) * norm;
       dRGBA[4 * q + c] = static_cast<S>(d > 0 ? norm : (d < 0 ? -norm : 0.0));
     }
-  renderer.backward(
-    table.data(), kWidth, range[0], range[1], view, ropt, pixels, records, dRGBA, dTable);
+  if (twoD())
+    renderer.backward2D(table.data(), kWidth, kHeight, range, gradientRange, view, ropt, pixels,
+      records, dRGBA, dTable);
+  else
+    renderer.backward(
+      table.data(), kWidth, range[0], range[1], view, ropt, pixels, records, dRGBA, dTable);
   std::vector<GaussianPrimitiveGradient> g;
-  rasterizeAdjoint(prims, false, range, { 0, 0 }, kWidth, 1,
+  rasterizeAdjoint(prims, twoD(), range, gradientRange, kWidth, height,
     std::vector<double>(dTable.begin(), dTable.end()), g);
+  const double ds = spec.stddevScale[1] - spec.stddevScale[0];
   for (int r = 0; r < n; ++r)
   {
     const auto& reg = regions[static_cast<size_t>(r)];
     const auto& gr = g[static_cast<size_t>(r)];
+    const auto base = basePrimitive(reg);
     const double act = activity[static_cast<size_t>(r)];
-    float* d = grad + kOutputs * r;
+    float* d = grad + m * r;
     d[0] = static_cast<float>(gr.opacity * opacity[static_cast<size_t>(r)] * act * (1 - act));
     d[1] = static_cast<float>(gr.mean[0] * spec.meanShift * (reg.hi - reg.lo));
-    d[2] = static_cast<float>(gr.stddev[0] * basePrimitive(reg).stddev[0] *
-      (spec.stddevScale[1] - spec.stddevScale[0]));
+    d[2] = static_cast<float>(gr.stddev[0] * base.stddev[0] * ds);
     for (int c = 0; c < 3; ++c)
       d[3 + c] = static_cast<float>(gr.rgb[c]);
     d[6] = static_cast<float>(gr.opacity * act * (spec.opacity[1] - spec.opacity[0]));
+    if (twoD())
+    {
+      d[7] = static_cast<float>(gr.mean[1] * spec.meanShift * (reg.gradientHi - reg.gradientLo));
+      d[8] = static_cast<float>(gr.stddev[1] * base.stddev[1] * ds);
+    }
   }
   return loss;
 }

@@ -13,18 +13,23 @@
 namespace ddg
 {
 
-/// Per region r, the decoder's outputs o[7r .. 7r+6] after squashing:
+/// Per region r, the decoder's outputs o[n r .. n r + n - 1] after squashing, n = outputs():
 ///   0 activity logit (raw; the region is used when > 0),
 ///   1 mean shift in [-1, 1] (x spec.meanShift x region width, around the region's peak),
 ///   2 stddev in [0, 1] (spec.stddevScale lo..hi x the base stddev),
-///   3-5 colour rgb in [0, 1], 6 peak opacity in [0, 1] (spec.opacity lo..hi).
+///   3-5 colour rgb in [0, 1], 6 peak opacity in [0, 1] (spec.opacity lo..hi);
+///   2D design spaces add 7 the gradient-magnitude mean shift in [-1, 1] and 8 its stddev in
+///   [0, 1], as 1 and 2 along the region's gradient extent.
 struct DecoderLayout
 {
-  static constexpr int kOutputs = 7;
   std::vector<FeatureRegion> regions;
   DesignSpaceSpec spec;
+  /// 2D: the gradient-magnitude axis of the tables (designGradientRange of the volume)
+  std::array<double, 2> gradientRange{ 0, 1 };
 
-  int size() const { return kOutputs * static_cast<int>(regions.size()); }
+  bool twoD() const { return spec.dimensions == 2; }
+  int outputs() const { return twoD() ? 9 : 7; }
+  int size() const { return outputs() * static_cast<int>(regions.size()); }
 
   /// The primitive of region r from its 7 outputs (activity not applied).
   GaussianPrimitive primitive(int r, const float* o) const;
@@ -36,7 +41,7 @@ struct DecoderLayout
 
   /// Image loss of outputs `o` against `truth` (premultiplied RGBA bytes of view.width x
   /// view.height, e.g. an exemplar's ground truth at V_view): the primitives with their opacity
-  /// scaled by the soft activity sigmoid(logit), rasterized to a 256-entry table, ray cast at
+  /// scaled by the soft activity sigmoid(logit), rasterized as renderDesign does, ray cast at
   /// `view` for the listed pixels; loss = mean |rendered - truth| over pixels x 4 channels.
   /// Writes d(loss)/d(o) into grad (size() values) through the renderer's adjoint and the
   /// rasterization adjoint.

@@ -17,23 +17,38 @@
 namespace ddg
 {
 
-std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegions)
+namespace
 {
-  constexpr int kBins = 256;
+constexpr int kBins = 256;
+
+// The 256-bin value histogram, its log-scaled smoothed version, and the first bin above air.
+struct ValueHistogram
+{
+  std::vector<double> hist, smooth;
+  int start = 0;      // first non-air bin
+  double width = 0;   // bin width in data values
+};
+
+ValueHistogram valueHistogram(const Volume& volume)
+{
   const auto range = volume.range();
   if (!(range[1] > range[0]))
   {
     throw Error("feature regions: the volume is constant");
   }
-  const double width = (range[1] - range[0]) / kBins;
-  std::vector<double> hist(kBins, 0.0);
+  ValueHistogram vh;
+  vh.width = (range[1] - range[0]) / kBins;
+  auto& hist = vh.hist;
+  auto& smooth = vh.smooth;
+  hist.assign(kBins, 0.0);
+  smooth.assign(kBins, 0.0);
   for (float v : volume.values())
   {
-    hist[std::clamp(static_cast<int>((v - range[0]) / width), 0, kBins - 1)] += 1.0;
+    hist[std::clamp(static_cast<int>((v - range[0]) / vh.width), 0, kBins - 1)] += 1.0;
   }
   const double total = static_cast<double>(volume.voxelCount());
   // log scale (small features matter), noise floor, smoothing
-  std::vector<double> h(kBins), smooth(kBins, 0.0);
+  std::vector<double> h(kBins);
   for (int i = 0; i < kBins; ++i)
   {
     const double f = hist[i] / total;
@@ -65,6 +80,19 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
     while (start + 1 < kBins && smooth[start + 1] <= smooth[start])
       ++start; // down to the valley
   }
+  vh.start = start;
+  return vh;
+}
+} // namespace
+
+std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegions)
+{
+  const auto range = volume.range();
+  const ValueHistogram vh = valueHistogram(volume);
+  const auto& hist = vh.hist;
+  const auto& smooth = vh.smooth;
+  const int start = vh.start;
+  const double width = vh.width;
   // peaks and their valleys
   struct Peak
   {
@@ -120,11 +148,178 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
   return regions;
 }
 
+std::array<double, 2> designGradientRange(const Volume& volume)
+{
+  const auto g = volume.gradientMagnitude();
+  return { 0.0, std::max(1e-6, static_cast<double>(*std::max_element(g.begin(), g.end()))) };
+}
+
+std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxRegions)
+{
+  constexpr int V = 128, G = 64;
+  const auto range = volume.range();
+  const ValueHistogram vh = valueHistogram(volume);
+  const double airCut = range[0] + vh.start * vh.width;
+  const auto grad = volume.gradientMagnitude();
+  const auto& values = volume.values();
+  // gradient axis up to the 99.5th percentile (a few extreme voxels would squeeze the rest)
+  std::vector<float> sorted(grad);
+  const size_t q = std::min(sorted.size() - 1, static_cast<size_t>(0.995 * sorted.size()));
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(q), sorted.end());
+  const double gmax = std::max(1e-6, static_cast<double>(sorted[q]));
+  const double dv = (range[1] - range[0]) / V, dg = gmax / G;
+  std::vector<double> hist(V * G, 0.0);
+  double nonAir = 0;
+  for (size_t i = 0; i < values.size(); ++i)
+  {
+    if (values[i] < airCut)
+      continue;
+    const int a = std::clamp(static_cast<int>((values[i] - range[0]) / dv), 0, V - 1);
+    const int b = std::clamp(static_cast<int>(grad[i] / dg), 0, G - 1);
+    hist[b * V + a] += 1.0;
+    nonAir += 1.0;
+  }
+  if (nonAir <= 0)
+    throw Error("feature regions: nothing above the air level");
+  // log density over a floor of 1e-5 of the non-air voxels, smoothed (separable Gaussian)
+  std::vector<double> d(V * G), tmp(V * G);
+  for (int k = 0; k < V * G; ++k)
+  {
+    const double f = hist[k] / nonAir;
+    d[k] = f < 1e-5 ? 0.0 : std::log10(f / 1e-5);
+  }
+  auto blur = [&](bool alongValue)
+  {
+    for (int b = 0; b < G; ++b)
+      for (int a = 0; a < V; ++a)
+      {
+        double sum = 0, w = 0;
+        for (int k = -4; k <= 4; ++k)
+        {
+          const int aa = alongValue ? a + k : a, bb = alongValue ? b : b + k;
+          if (aa < 0 || aa >= V || bb < 0 || bb >= G)
+            continue;
+          const double g = std::exp(-0.5 * k * k / 2.25);
+          sum += g * d[bb * V + aa];
+          w += g;
+        }
+        tmp[b * V + a] = sum / w;
+      }
+    d.swap(tmp);
+  };
+  blur(true);
+  blur(false);
+  // local maxima, highest first
+  std::vector<int> maxima;
+  for (int b = 0; b < G; ++b)
+    for (int a = 0; a < V; ++a)
+    {
+      const double c = d[b * V + a];
+      bool top = c > 0;
+      for (int y = -1; y <= 1 && top; ++y)
+        for (int x = -1; x <= 1 && top; ++x)
+        {
+          const int aa = a + x, bb = b + y;
+          if ((x || y) && aa >= 0 && aa < V && bb >= 0 && bb < G)
+            top = c > d[bb * V + aa] || (c == d[bb * V + aa] && bb * V + aa > b * V + a);
+        }
+      if (top)
+        maxima.push_back(b * V + a);
+    }
+  std::sort(maxima.begin(), maxima.end(), [&](int x, int y) { return d[x] > d[y]; });
+  std::vector<int> owner(V * G, -1);
+  std::vector<FeatureRegion> regions;
+  int id = 0;
+  for (int m : maxima)
+  {
+    if (static_cast<int>(regions.size()) >= maxRegions)
+      break;
+    if (owner[m] >= 0)
+      continue; // inside an earlier region: the same feature
+    // grow over connected bins within one decade of the maximum
+    const double floor = d[m] - 1.0;
+    std::vector<int> stack{ m }, members;
+    owner[m] = id;
+    while (!stack.empty())
+    {
+      const int k = stack.back();
+      stack.pop_back();
+      members.push_back(k);
+      const int a = k % V, b = k / V;
+      const int nb[4][2] = { { a - 1, b }, { a + 1, b }, { a, b - 1 }, { a, b + 1 } };
+      for (const auto& n : nb)
+      {
+        if (n[0] < 0 || n[0] >= V || n[1] < 0 || n[1] >= G)
+          continue;
+        const int j = n[1] * V + n[0];
+        if (owner[j] < 0 && d[j] >= floor && d[j] > 0)
+        {
+          owner[j] = id;
+          stack.push_back(j);
+        }
+      }
+    }
+    ++id;
+    // extent: +- 2 standard deviations of its voxels (within its bins), so that the base
+    // primitive's stddev, (hi - lo) / 4, is theirs; a long boundary arc is not a box
+    double mass = 0, ma = 0, mb = 0;
+    int a0 = V, a1 = -1, b0 = G, b1 = -1;
+    for (int k : members)
+    {
+      a0 = std::min(a0, k % V);
+      a1 = std::max(a1, k % V);
+      b0 = std::min(b0, k / V);
+      b1 = std::max(b1, k / V);
+      mass += hist[k];
+      ma += hist[k] * (k % V + 0.5);
+      mb += hist[k] * (k / V + 0.5);
+    }
+    if (mass / nonAir < 0.005)
+      continue; // noise
+    ma /= mass;
+    mb /= mass;
+    double va = 0, vb = 0;
+    for (int k : members)
+    {
+      va += hist[k] * (k % V + 0.5 - ma) * (k % V + 0.5 - ma) / mass;
+      vb += hist[k] * (k / V + 0.5 - mb) * (k / V + 0.5 - mb) / mass;
+    }
+    const double sa = std::max(0.5, std::sqrt(va)), sb = std::max(0.5, std::sqrt(vb));
+    FeatureRegion r;
+    r.lo = range[0] + std::max(static_cast<double>(a0), ma - 2 * sa) * dv;
+    r.hi = range[0] + std::min(a1 + 1.0, ma + 2 * sa) * dv;
+    r.peak = std::clamp(range[0] + (m % V + 0.5) * dv, r.lo, r.hi);
+    r.gradientLo = std::max(static_cast<double>(b0), mb - 2 * sb) * dg;
+    r.gradientHi = std::min(b1 + 1.0, mb + 2 * sb) * dg;
+    r.gradientPeak = std::clamp((m / V + 0.5) * dg, r.gradientLo, r.gradientHi);
+    r.mass = mass / nonAir;
+    regions.push_back(r);
+  }
+  if (regions.empty())
+    throw Error("feature regions: no 2D histogram peak above the air and noise level");
+  std::sort(regions.begin(), regions.end(), [](const FeatureRegion& a, const FeatureRegion& b)
+    { return a.peak < b.peak || (a.peak == b.peak && a.gradientPeak < b.gradientPeak); });
+  return regions;
+}
+
+Image renderDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
+  int dimensions, const std::array<double, 2>& gradientRange, const View& view,
+  const RenderOptions& options)
+{
+  const auto range = caster.volume().range();
+  if (tf.empty())
+    return Image(view.width, view.height, 4, 0.0f);
+  if (dimensions == 2)
+    return caster.render(rasterize2D(tf, range, gradientRange, 256, 64), view, options);
+  return caster.render(rasterize1D(tf, range[0], range[1], 256), view, options);
+}
+
 GaussianPrimitive basePrimitive(const FeatureRegion& r)
 {
   GaussianPrimitive g;
-  g.mean = { r.peak, 0 };
-  g.stddev = { std::max(1e-6, (r.hi - r.lo) / 4.0), 1 };
+  g.mean = { r.peak, r.gradientPeak };
+  g.stddev = { std::max(1e-6, (r.hi - r.lo) / 4.0),
+    r.twoD() ? std::max(1e-6, (r.gradientHi - r.gradientLo) / 4.0) : 1.0 };
   g.rgb = { 0.8, 0.8, 0.8 };
   g.opacity = 0.5;
   return g;
@@ -157,10 +352,19 @@ void DesignSpaceSpec::validate() const
     throw Error("design space spec: \"zoom\" must be [lo, hi] with 0 < lo <= hi");
   if (!(viewportOpacity > 0 && viewportOpacity <= 1))
     throw Error("design space spec: \"viewport_opacity\" must be in (0, 1]");
+  if (dimensions != 1 && dimensions != 2)
+    throw Error("design space spec: \"dimensions\" must be 1 or 2");
   for (const auto& r : regions)
+  {
     if (!(r.lo < r.hi) || !std::isfinite(r.lo) || !std::isfinite(r.hi) || r.peak < r.lo ||
       r.peak > r.hi)
       throw Error("design space spec: every region needs lo < hi and lo <= peak <= hi");
+    if (dimensions == 2 &&
+      !(r.gradientLo >= 0 && r.gradientLo < r.gradientHi && std::isfinite(r.gradientHi) &&
+        r.gradientPeak >= r.gradientLo && r.gradientPeak <= r.gradientHi))
+      throw Error("design space spec: 2D regions need 0 <= gradient_lo < gradient_hi and "
+                  "gradient_lo <= gradient_peak <= gradient_hi");
+  }
 }
 
 DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string& origin)
@@ -178,7 +382,7 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
   if (!j.is_object())
     throw Error(origin + ": expected a JSON object");
   DesignSpaceSpec s;
-  static const char* known[] = { "regions", "max_regions", "min_active", "saturation", "lightness",
+  static const char* known[] = { "regions", "dimensions", "max_regions", "min_active", "saturation", "lightness",
     "opacity", "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity" };
   for (auto it = j.begin(); it != j.end(); ++it)
   {
@@ -203,6 +407,7 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
     pair("stddev_scale", s.stddevScale);
     pair("elevation", s.elevation);
     pair("zoom", s.zoom);
+    s.dimensions = j.value("dimensions", s.dimensions);
     s.maxRegions = j.value("max_regions", s.maxRegions);
     s.minActive = j.value("min_active", s.minActive);
     s.meanShift = j.value("mean_shift", s.meanShift);
@@ -215,6 +420,12 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
         fr.lo = r.at("lo").get<double>();
         fr.hi = r.at("hi").get<double>();
         fr.peak = r.value("peak", 0.5 * (fr.lo + fr.hi));
+        if (s.dimensions == 2)
+        {
+          fr.gradientLo = r.at("gradient_lo").get<double>();
+          fr.gradientHi = r.at("gradient_hi").get<double>();
+          fr.gradientPeak = r.value("gradient_peak", 0.5 * (fr.gradientLo + fr.gradientHi));
+        }
         s.regions.push_back(fr);
       }
     }
@@ -243,6 +454,7 @@ DesignSpaceSpec readDesignSpaceSpec(const std::string& path)
 std::string designSpaceSpecToJson(const DesignSpaceSpec& s)
 {
   nlohmann::json j;
+  j["dimensions"] = s.dimensions;
   j["max_regions"] = s.maxRegions;
   j["min_active"] = s.minActive;
   j["saturation"] = s.saturation;
@@ -257,7 +469,16 @@ std::string designSpaceSpecToJson(const DesignSpaceSpec& s)
   {
     j["regions"] = nlohmann::json::array();
     for (const auto& r : s.regions)
-      j["regions"].push_back({ { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak } });
+    {
+      nlohmann::json o = { { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak } };
+      if (s.dimensions == 2)
+      {
+        o["gradient_lo"] = r.gradientLo;
+        o["gradient_hi"] = r.gradientHi;
+        o["gradient_peak"] = r.gradientPeak;
+      }
+      j["regions"].push_back(o);
+    }
   }
   return j.dump(2) + "\n";
 }
@@ -321,6 +542,11 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
     for (double& c : g.rgb)
       c = std::clamp(c, 0.0, 1.0);
     g.opacity = in(spec.opacity);
+    if (regions[r].twoD())
+    {
+      g.mean[1] += (2 * u(rng) - 1) * spec.meanShift * (regions[r].gradientHi - regions[r].gradientLo);
+      g.stddev[1] *= in(spec.stddevScale);
+    }
     e.primitives.push_back(g);
   }
   e.viewExp = orbit(volume, size, 360 * u(rng), in(spec.elevation), in(spec.zoom));

@@ -2,6 +2,8 @@
 // value histogram, one base Gaussian primitive per region, and the spec of how exemplars vary.
 #pragma once
 
+#include "Image/Image.h"
+#include "Render/RayCaster.h"
 #include "Render/View.h"
 #include "TransferFunction/GaussianPrimitive.h"
 #include "Volume/Volume.h"
@@ -14,11 +16,14 @@
 namespace ddg
 {
 
-/// A feature region of the value axis: [lo, hi] around a histogram peak at `peak`.
+/// A feature region of the value axis: [lo, hi] around a histogram peak at `peak`; 2D regions
+/// (value x gradient magnitude) also span [gradientLo, gradientHi] around gradientPeak.
 struct FeatureRegion
 {
   double lo = 0, hi = 0, peak = 0;
-  double mass = 0; ///< fraction of the non-air voxels in [lo, hi]
+  double mass = 0; ///< fraction of the non-air voxels in the region
+  double gradientLo = 0, gradientHi = 0, gradientPeak = 0; ///< 2D only (1D: all 0)
+  bool twoD() const { return gradientHi > gradientLo; }
 };
 
 /// Finds up to maxRegions feature regions: the 256-bin value histogram, log-scaled and smoothed
@@ -27,22 +32,37 @@ struct FeatureRegion
 /// noise), then the most prominent peaks, each spanning the valleys on either side.
 std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegions = 4);
 
-/// The base primitive of a region: mean at the peak, stddev = (hi - lo) / 4, neutral colour,
-/// opacity 0.5.
+/// Finds up to maxRegions 2D feature regions in the value x gradient-magnitude histogram
+/// (128 x 64 bins over the value range x [0, 99.5th percentile of the gradient magnitude]),
+/// log-scaled and smoothed (Gaussian, 1.5 bins), air excluded as in findFeatureRegions: every
+/// local maximum, highest first, grows over the connected bins within one decade of it; a maximum
+/// inside an earlier region is the same feature. Regions under 0.5 % of the non-air voxels are
+/// noise. A region spans +- 2 standard deviations of its voxels along each axis (within its
+/// bins) and peaks at its maximum. Materials appear at low gradient, the boundaries between them
+/// at high gradient.
+std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxRegions = 4);
+
+/// The gradient-magnitude axis of 2D designs: [0, max gradient magnitude of the volume].
+std::array<double, 2> designGradientRange(const Volume& volume);
+
+/// The base primitive of a region: mean at the peak, stddev = (hi - lo) / 4 (2D regions the
+/// same along gradient magnitude), neutral colour, opacity 0.5.
 GaussianPrimitive basePrimitive(const FeatureRegion& region);
 
 /// How exemplars vary (JSON keys in brackets; defaults in brackets too). Colours are drawn in
 /// HSL; shifts of mean are in units of the region's width.
 struct DesignSpaceSpec
 {
-  std::vector<FeatureRegion>
-    regions;          ///< ["regions": [{"lo", "hi", "peak"}]] empty = found automatically
+  /// ["regions": [{"lo", "hi", "peak", and in 2D "gradient_lo", "gradient_hi",
+  /// "gradient_peak"}]] empty = found automatically
+  std::vector<FeatureRegion> regions;
+  int dimensions = 1; ///< ["dimensions"] 1: TFs over value; 2: value x gradient magnitude [1]
   int maxRegions = 4; ///< ["max_regions"] [4]
   int minActive = 1;  ///< ["min_active"] regions per exemplar, at least [1]
   std::array<double, 2> saturation{ 0.2, 1.0 }; ///< ["saturation"] [0.2, 1]
   std::array<double, 2> lightness{ 0.3, 0.9 };  ///< ["lightness"] [0.3, 0.9]
   std::array<double, 2> opacity{ 0.05, 0.9 };   ///< ["opacity"] peak opacity [0.05, 0.9]
-  double meanShift = 0.25; ///< ["mean_shift"] +- fraction of the region width [0.25]
+  double meanShift = 0.25; ///< ["mean_shift"] +- fraction of the region width (2D: both axes) [0.25]
   std::array<double, 2> stddevScale{ 0.4, 1.6 }; ///< ["stddev_scale"] x base stddev [0.4, 1.6]
   std::array<double, 2> elevation{ -60, 60 };    ///< ["elevation"] degrees [-60, 60]
   std::array<double, 2> zoom{ 0.9, 1.4 };        ///< ["zoom"] [0.9, 1.4]
@@ -71,6 +91,12 @@ struct Exemplar
 /// Draws exemplar `index` of the design space deterministically from (seed, index).
 Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size);
+
+/// Ray casts a TF of primitives (none: an empty image) as the generator does: a 256-entry 1D
+/// table, or (dimensions 2) a 256 x 64 table over the value range x designGradientRange.
+Image renderDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
+  int dimensions, const std::array<double, 2>& gradientRange, const View& view,
+  const RenderOptions& options = {});
 
 /// The auxiliary TF (one grey primitive per region at the viewport opacity).
 std::vector<GaussianPrimitive> auxiliaryPrimitives(

@@ -1,6 +1,8 @@
 // ExemplarGenerator.cxx: parallel rendering of exemplars, shard files, the dataset index.
 #include "Design/ExemplarGenerator.h"
 
+#include "Design/DesignJson.h"
+
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
 #include "Common/Parallel.h"
@@ -47,12 +49,6 @@ json viewJson(const View& v)
   return json::parse(viewToJson(v));
 }
 
-json primitiveJson(const GaussianPrimitive& g)
-{
-  return { { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb },
-    { "opacity", g.opacity } };
-}
-
 } // namespace
 
 GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& spec,
@@ -74,12 +70,15 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
   // index that describes shards of another run.
   fs::remove(fs::path(dir) / "dataset.json", ec);
   GenerateReport report;
-  report.regions =
-    spec.regions.empty() ? findFeatureRegions(volume, spec.maxRegions) : spec.regions;
+  const bool twoD = spec.dimensions == 2;
+  report.regions = !spec.regions.empty()
+    ? spec.regions
+    : (twoD ? findFeatureRegions2D(volume, spec.maxRegions)
+            : findFeatureRegions(volume, spec.maxRegions));
   const RayCaster caster(volume);
-  const auto range = volume.range();
-  const auto auxTable =
-    rasterize1D(auxiliaryPrimitives(spec, report.regions), range[0], range[1], 256);
+  const auto aux = auxiliaryPrimitives(spec, report.regions);
+  const auto gradientRange =
+    twoD ? designGradientRange(volume) : std::array<double, 2>{ 0.0, 1.0 };
   RenderOptions ropt;
   ropt.threads = 1;
 
@@ -105,14 +104,14 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
           const int i = first + static_cast<int>(q);
           Exemplar e =
             sampleExemplar(volume, spec, report.regions, opt.seed, opt.firstIndex + i, opt.size);
-          const auto table = rasterize1D(e.primitives, range[0], range[1], 256);
+          auto render = [&](const std::vector<GaussianPrimitive>& tf, const View& view)
+          { return renderDesign(caster, tf, spec.dimensions, gradientRange, view, ropt); };
           std::uint8_t* out = data.data() + rec * q;
           const size_t px = static_cast<size_t>(opt.size) * opt.size;
           toBytes(
-            compositeOverBackground(caster.render(table, e.viewExp, ropt), e.viewExp.background),
-            out);
-          toBytes(caster.render(auxTable, e.viewView, ropt), out + 3 * px);
-          toBytes(caster.render(table, e.viewView, ropt), out + 7 * px);
+            compositeOverBackground(render(e.primitives, e.viewExp), e.viewExp.background), out);
+          toBytes(render(aux, e.viewView), out + 3 * px);
+          toBytes(render(e.primitives, e.viewView), out + 7 * px);
           items[static_cast<size_t>(i)] = std::move(e);
         });
       std::string bytes(kMagic, kMagic + 8);
@@ -140,14 +139,13 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
     j["spec"] = json::parse(designSpaceSpecToJson(spec));
     j["regions"] = json::array();
     for (const auto& r : report.regions)
-      j["regions"].push_back(
-        { { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak }, { "mass", r.mass } });
+      j["regions"].push_back(regionToJson(r));
     j["exemplars"] = json::array();
     for (const auto& e : items)
     {
       json p = json::array();
       for (const auto& g : e.primitives)
-        p.push_back(primitiveJson(g));
+        p.push_back(primitiveToJson(g, spec.dimensions == 2));
       j["exemplars"].push_back({ { "seed", e.seed }, { "active", e.active }, { "primitives", p },
         { "view_exp", viewJson(e.viewExp) }, { "view_view", viewJson(e.viewView) },
         { "background", e.background } });
@@ -187,23 +185,14 @@ ExemplarDataset::ExemplarDataset(const std::string& dir)
     ShardSize = j.at("shard_size").get<int>();
     Spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
     for (const auto& r : j.at("regions"))
-      Regions.push_back({ r.at("lo").get<double>(), r.at("hi").get<double>(),
-        r.at("peak").get<double>(), r.value("mass", 0.0) });
+      Regions.push_back(regionFromJson(r));
     for (const auto& e : j.at("exemplars"))
     {
       Exemplar x;
       x.seed = e.at("seed").get<std::uint64_t>();
       x.active = e.at("active").get<std::vector<int>>();
       for (const auto& p : e.at("primitives"))
-      {
-        GaussianPrimitive g;
-        g.mean = { p.at("mean").get<double>(), 0 };
-        g.stddev = { p.at("stddev").get<double>(), 1 };
-        const auto rgb = p.at("rgb").get<std::vector<double>>();
-        g.rgb = { rgb.at(0), rgb.at(1), rgb.at(2) };
-        g.opacity = p.at("opacity").get<double>();
-        x.primitives.push_back(g);
-      }
+        x.primitives.push_back(primitiveFromJson(p));
       x.viewExp = parseView(e.at("view_exp").dump(), indexPath);
       x.viewView = parseView(e.at("view_view").dump(), indexPath);
       x.background = e.at("background").get<int>();

@@ -34,23 +34,16 @@ ValidityReport designSpaceValidity(
     s = std::sqrt(s);
 
   const RayCaster caster(volume);
-  const auto range = volume.range();
+  const int dims = model.spec().dimensions;
+  const auto gradientRange =
+    dims == 2 ? designGradientRange(volume) : std::array<double, 2>{ 0.0, 1.0 };
   auto rayCast = [&](const std::vector<GaussianPrimitive>& tf)
   {
-    TransferTable1D table;
-    if (tf.empty())
-    {
-      table.min = range[0];
-      table.max = range[1];
-      table.width = 2;
-      table.rgba.assign(8, 0.0f);
-    }
-    else
-      table = rasterize1D(tf, range[0], range[1], 256);
-    return compositeOverBackground(caster.render(table, view), { 0.5, 0.5, 0.5 });
+    return compositeOverBackground(
+      renderDesign(caster, tf, dims, gradientRange, view), { 0.5, 0.5, 0.5 });
   };
-  const Image viewport = caster.render(
-    rasterize1D(auxiliaryPrimitives(model.spec(), model.regions()), range[0], range[1], 256), view);
+  const Image viewport = renderDesign(
+    caster, auxiliaryPrimitives(model.spec(), model.regions()), dims, gradientRange, view);
 
   ValidityReport report;
   std::vector<Image> cells;

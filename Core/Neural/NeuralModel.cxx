@@ -6,6 +6,7 @@
 #include "Common/FileUtil.h"
 #include "Common/Parallel.h"
 #include "Design/DecoderLayout.h"
+#include "Design/DesignJson.h"
 #include "Image/ImageMetrics.h"
 #include "Render/DifferentiableRenderer.h"
 
@@ -170,15 +171,17 @@ TORCH_MODULE(Discriminator);
 struct DecoderImpl : nn::Module
 {
   nn::Sequential body;
-  DecoderImpl(int latent, int regions)
+  int outputs = 7;
+  DecoderImpl(int latent, int regions, int outputsPerRegion)
+    : outputs(outputsPerRegion)
   {
     body = register_module("body",
       nn::Sequential(nn::Linear(latent, 128), nn::ReLU(), nn::Linear(128, 128), nn::ReLU(),
-        nn::Linear(128, 7 * regions)));
+        nn::Linear(128, outputs * regions)));
   }
   torch::Tensor forward(const torch::Tensor& z)
   {
-    return body->forward(z).view({ z.size(0), -1, 7 });
+    return body->forward(z).view({ z.size(0), -1, outputs });
   }
 };
 TORCH_MODULE(Decoder);
@@ -186,8 +189,14 @@ TORCH_MODULE(Decoder);
 // Decoder outputs in [0, 1] (or [-1, 1] for the mean shift) from raw values.
 torch::Tensor squash(const torch::Tensor& raw)
 {
-  return torch::cat(
-    { raw.slice(2, 0, 1), torch::tanh(raw.slice(2, 1, 2)), torch::sigmoid(raw.slice(2, 2, 7)) }, 2);
+  std::vector<torch::Tensor> parts{ raw.slice(2, 0, 1), torch::tanh(raw.slice(2, 1, 2)),
+    torch::sigmoid(raw.slice(2, 2, 7)) };
+  if (raw.size(2) == 9) // 2D: gradient-magnitude mean shift and stddev
+  {
+    parts.push_back(torch::tanh(raw.slice(2, 7, 8)));
+    parts.push_back(torch::sigmoid(raw.slice(2, 8, 9)));
+  }
+  return torch::cat(parts, 2);
 }
 
 void xavier(nn::Module& m)
@@ -262,6 +271,8 @@ void NetworkConfig::validate() const
     throw Error("network kind must be \"unet\" or \"decoder\", not \"" + kind + "\"");
   if (kind == "decoder" && (regions < 1 || regions > 16))
     throw Error("the decoder needs 1..16 feature regions");
+  if (dimensions != 1 && dimensions != 2)
+    throw Error("network dimensions must be 1 or 2");
 }
 
 struct NeuralDesignModel::Internals
@@ -294,7 +305,7 @@ NeuralDesignModel::NeuralDesignModel(const NetworkConfig& config, std::uint64_t 
   In->A = Analyzer(config);
   if (config.kind == "decoder")
   {
-    In->Dec = Decoder(config.latent, config.regions);
+    In->Dec = Decoder(config.latent, config.regions, config.dimensions == 2 ? 9 : 7);
   }
   else
   {
@@ -378,6 +389,8 @@ void NeuralDesignModel::attachVolume(const Volume& volume)
     throw Error("this model was trained on another volume (" + In->Fingerprint + "), not " + fp);
   In->Diff = std::make_shared<DifferentiableRenderer>(volume);
   In->Fingerprint = fp;
+  if (In->Config.dimensions == 2)
+    In->Layout.gradientRange = designGradientRange(volume);
 }
 
 Image NeuralDesignModel::renderAt(
@@ -395,21 +408,8 @@ Image NeuralDesignModel::renderAt(
   }
   if (!In->Diff)
     throw Error("the decoder model needs its volume (attachVolume) to render");
-  const auto range = In->Diff->caster().volume().range();
-  const auto prims = decode(latent);
-  TransferTable1D table;
-  if (prims.empty())
-  {
-    table.min = range[0];
-    table.max = range[1];
-    table.width = 2;
-    table.rgba.assign(8, 0.0f);
-  }
-  else
-  {
-    table = rasterize1D(prims, range[0], range[1], 256);
-  }
-  return In->Diff->caster().render(table, view);
+  return renderDesign(
+    In->Diff->caster(), decode(latent), In->Config.dimensions, In->Layout.gradientRange, view);
 }
 
 TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOptions& opt,
@@ -422,18 +422,16 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   if (opt.batch < 1 || !(opt.learningRate > 0) || !(opt.minutes > 0) || !(opt.lambdaL1 >= 0))
     throw Error("training needs batch >= 1, a positive learning rate and time budget, lambda >= 0");
   const bool decoder = In->decoder();
-  if (!decoder)
-  {
-    In->Layout.regions = data.regions();
-    In->Layout.spec = data.spec();
-  }
+  if (decoder && (static_cast<int>(data.regions().size()) != In->Config.regions ||
+                   data.spec().dimensions != In->Config.dimensions))
+    throw Error("the decoder was built for " + std::to_string(In->Config.regions) + " regions in " +
+      std::to_string(In->Config.dimensions) + "D, the data has " +
+      std::to_string(data.regions().size()) + " in " + std::to_string(data.spec().dimensions) +
+      "D");
+  In->Layout.regions = data.regions();
+  In->Layout.spec = data.spec();
   if (decoder)
   {
-    if (static_cast<int>(data.regions().size()) != In->Config.regions)
-      throw Error("the decoder was built for " + std::to_string(In->Config.regions) +
-        " regions, the data has " + std::to_string(data.regions().size()));
-    In->Layout.regions = data.regions();
-    In->Layout.spec = data.spec();
     if (opt.imageWeight > 0 && !In->Diff)
       throw Error("the decoder's image loss needs the volume: attach it before training");
     if (opt.imageWeight > 0 && data.fingerprint() != In->Fingerprint)
@@ -443,6 +441,7 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   if (opt.imageWeight < 0 || opt.imageRays < 1)
     throw Error("training needs an image weight >= 0 and at least one ray per exemplar");
   const bool imageLoss = decoder && opt.imageWeight > 0;
+  const int outputs = In->Layout.outputs();
   setThreads(opt.threads);
   torch::manual_seed(opt.seed);
   // Whole dataset in memory (N x C x S x S, uint8); the decoder needs only the analyzer's input
@@ -452,7 +451,7 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   auto vp = decoder ? torch::Tensor() : torch::empty({ n, 4, s, s }, torch::kUInt8);
   auto gt = decoder ? torch::Tensor() : torch::empty({ n, 4, s, s }, torch::kUInt8);
   auto params =
-    decoder ? torch::empty({ n, In->Config.regions, 7 }, torch::kFloat32) : torch::Tensor();
+    decoder ? torch::empty({ n, In->Config.regions, outputs }, torch::kFloat32) : torch::Tensor();
   std::vector<std::uint8_t> truth; // decoder with image loss: ground truths, n x S x S x 4
   if (imageLoss)
     truth.resize(static_cast<size_t>(n) * s * s * 4);
@@ -465,7 +464,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       if (decoder)
       {
         auto t = In->Layout.targets(data.exemplars()[static_cast<size_t>(i)]);
-        params[i].copy_(torch::from_blob(t.data(), { In->Config.regions, 7 }, torch::kFloat32));
+        params[i].copy_(
+          torch::from_blob(t.data(), { In->Config.regions, outputs }, torch::kFloat32));
         if (imageLoss)
           std::copy(c.begin(), c.end(), truth.begin() + static_cast<std::ptrdiff_t>(i) * s * s * 4);
       }
@@ -589,8 +589,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       const auto sq = squash(raw);
       const auto active = target.slice(2, 0, 1);
       const auto bce = torch::binary_cross_entropy_with_logits(raw.slice(2, 0, 1), active);
-      const auto err = (sq.slice(2, 1, 7) - target.slice(2, 1, 7)).abs() * active;
-      l1 = err.sum() / (active.sum() * 6 + 1e-6);
+      const auto err = (sq.slice(2, 1) - target.slice(2, 1)).abs() * active;
+      l1 = err.sum() / (active.sum() * (outputs - 1) + 1e-6);
       lossG = bce + l1;
       if (imageLoss)
       {
@@ -610,8 +610,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
             for (int& p : pixels)
               p = static_cast<int>(pick() % static_cast<std::uint64_t>(s * s));
             losses[static_cast<size_t>(b)] = In->Layout.imageLoss(*In->Diff,
-              out.data_ptr<float>() + b * regions * 7, data.exemplars()[i].viewView,
-              truth.data() + i * s * s * 4, pixels, grad.data_ptr<float>() + b * regions * 7);
+              out.data_ptr<float>() + b * regions * outputs, data.exemplars()[i].viewView,
+              truth.data() + i * s * s * 4, pixels, grad.data_ptr<float>() + b * regions * outputs);
           });
         imageL1 = std::accumulate(losses.begin(), losses.end(), 0.0) / losses.size();
         lossG = lossG + (opt.imageWeight / static_cast<double>(idx.size())) * (sq * grad).sum();
@@ -770,8 +770,7 @@ void NeuralDesignModel::saveBundle(
     latents.append(reinterpret_cast<const char*>(z.data()), z.size() * sizeof(float));
     nlohmann::json p = nlohmann::json::array();
     for (const auto& g : training.exemplars()[static_cast<size_t>(i)].primitives)
-      p.push_back({ { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb },
-        { "opacity", g.opacity } });
+      p.push_back(primitiveToJson(g, training.spec().dimensions == 2));
     ex.push_back(p);
   }
   writeFileAtomic((fs::path(dir) / "latents.bin").string(), latents, "bundle latents");
@@ -782,14 +781,14 @@ void NeuralDesignModel::saveBundle(
   j["version"] = 1;
   j["architecture"] = { { "kind", In->Config.kind }, { "regions", In->Config.regions },
     { "image_size", In->Config.imageSize }, { "width", In->Config.width },
-    { "latent", In->Config.latent }, { "dropout", In->Config.dropout } };
+    { "latent", In->Config.latent }, { "dropout", In->Config.dropout },
+    { "dimensions", In->Config.dimensions } };
   j["parameters"] = parameterCount();
   j["volume"] = training.fingerprint();
   j["spec"] = nlohmann::json::parse(designSpaceSpecToJson(training.spec()));
   j["regions"] = nlohmann::json::array();
   for (const auto& r : training.regions())
-    j["regions"].push_back(
-      { { "lo", r.lo }, { "hi", r.hi }, { "peak", r.peak }, { "mass", r.mass } });
+    j["regions"].push_back(regionToJson(r));
   j["training_exemplars"] = training.count();
   j["metrics"] =
     metricsJson.empty() ? nlohmann::json::object() : nlohmann::json::parse(metricsJson);
@@ -834,6 +833,7 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
     if (c.kind != "unet" && c.kind != "decoder")
       throw Error("model bundle '" + dir + "' has an unknown architecture '" + c.kind + "'");
     c.regions = a.value("regions", 0);
+    c.dimensions = a.value("dimensions", 1);
     c.imageSize = a.at("image_size").get<int>();
     c.width = a.at("width").get<int>();
     c.latent = a.at("latent").get<int>();
@@ -852,8 +852,7 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
     m.In->Fingerprint = j.at("volume").get<std::string>();
     m.In->Layout.spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
     for (const auto& r : j.at("regions"))
-      m.In->Layout.regions.push_back({ r.at("lo").get<double>(), r.at("hi").get<double>(),
-        r.at("peak").get<double>(), r.value("mass", 0.0) });
+      m.In->Layout.regions.push_back(regionFromJson(r));
   }
   catch (const nlohmann::json::exception& e)
   {
@@ -895,15 +894,8 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
     {
       std::vector<GaussianPrimitive> prims;
       for (const auto& p : tf)
-      {
-        GaussianPrimitive g;
-        g.mean[0] = p.at("mean").get<double>();
-        g.stddev[0] = p.at("stddev").get<double>();
-        g.rgb = p.at("rgb").get<std::array<double, 3>>();
-        g.opacity = p.at("opacity").get<double>();
-        prims.push_back(g);
-      }
-      validatePrimitives(prims, false);
+        prims.push_back(primitiveFromJson(p));
+      validatePrimitives(prims, c.dimensions == 2);
       d.tfs.push_back(std::move(prims));
     }
     const std::string bytes = readTextFile(latentsPath, "model bundle latents");

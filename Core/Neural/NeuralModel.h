@@ -27,6 +27,7 @@ struct NetworkConfig
   int latent = 64;      ///< latent TF size [64]
   double dropout = 0.5; ///< in the renderer's up blocks [0.5]
   int regions = 0;      ///< decoder: feature regions (set from the training data)
+  int dimensions = 1;   ///< decoder: 1D or 2D TFs (set from the training data's spec)
 
   void validate() const;
 };

@@ -376,8 +376,13 @@ int runGenerate(const GenerateArgs& a)
     });
   for (const auto& r : report.regions)
   {
-    std::printf(
-      "region [%g, %g] peak %g (%.1f %% of non-air voxels)\n", r.lo, r.hi, r.peak, 100 * r.mass);
+    if (r.twoD())
+      std::printf("region value [%g, %g] peak %g, gradient magnitude [%g, %g] peak %g (%.1f %% of "
+                  "non-air voxels)\n",
+        r.lo, r.hi, r.peak, r.gradientLo, r.gradientHi, r.gradientPeak, 100 * r.mass);
+    else
+      std::printf(
+        "region [%g, %g] peak %g (%.1f %% of non-air voxels)\n", r.lo, r.hi, r.peak, 100 * r.mass);
   }
   std::printf("wrote %d exemplars of %d x %d to %s in %.2f s (%.1f exemplars/s)\n", report.count,
     a.size, a.size, a.out.c_str(), report.seconds, report.count / report.seconds);
@@ -446,6 +451,7 @@ int runTrain(const TrainArgs& a)
   cfg.dropout = a.dropout;
   cfg.kind = a.kind;
   cfg.regions = static_cast<int>(data.regions().size());
+  cfg.dimensions = data.spec().dimensions;
   ddg::NeuralDesignModel model(cfg, a.seed);
   std::unique_ptr<ddg::ExemplarDataset> heldout;
   if (!a.evalData.empty())
