@@ -29,14 +29,28 @@ fi
 DDG=${DDG:-build/bin/ddg}
 WORK=${WORK:-build/models/$VOLUME}
 OUT=Data/Models/$VOLUME
-mkdir -p "$WORK"
-$DDG generate --volume "Data/Volumes/$VOLUME.vti" --count "$COUNT" --size "$SIZE" --seed 1 \
-  --out "$WORK/train" --quiet
-$DDG generate --volume "Data/Volumes/$VOLUME.vti" --count 1000 --size "$SIZE" --seed 1 \
-  --first-index 1000000 --out "$WORK/heldout" --quiet
+mkdir -p "$WORK" Data/Models
+# generation is deterministic: a complete dataset of the same volume, count, size, seed and first
+# index is reused
+generate() { # DIR COUNT FIRST
+  if [ -f "$1/dataset.json" ] && /usr/bin/python3 -c "
+import json, sys
+d = json.load(open('$1/dataset.json'))
+sys.exit(0 if (d['count'], d['size'], d['seed'], d['first_index']) == ($2, $SIZE, 1, $3) else 1)"; then
+    echo "train_model: reusing $1"
+  else
+    $DDG generate --volume "Data/Volumes/$VOLUME.vti" --count "$2" --size "$SIZE" --seed 1 \
+      --first-index "$3" --out "$1" --quiet
+  fi
+}
+generate "$WORK/train" "$COUNT" 0
+generate "$WORK/heldout" 1000 1000000
 $DDG train --kind "$KIND" --volume "Data/Volumes/$VOLUME.vti" --data "$WORK/train" \
   --eval-data "$WORK/heldout" --eval-count 1000 --out "$WORK/bundle" --lr "$LR" \
   --max-iterations "$ITERATIONS" --minutes 30 --width "$WIDTH" --seed 1 --threads 2 \
   --checkpoint "$WORK/checkpoint.pt" "${EXTRA[@]}"
-rm -rf "$OUT.tmp" && cp -r "$WORK/bundle" "$OUT.tmp" && rm -rf "$OUT" && mv "$OUT.tmp" "$OUT"
+rm -rf "$OUT.tmp"
+cp -r "$WORK/bundle" "$OUT.tmp"
+rm -rf "$OUT"
+mv "$OUT.tmp" "$OUT"
 echo "train_model: wrote $OUT ($(du -sh "$OUT" | cut -f1))"

@@ -29,8 +29,13 @@ std::vector<GaussianPrimitive> DecoderLayout::decode(const float* o) const
 {
   std::vector<GaussianPrimitive> prims;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r)
-    if (o[outputs() * r] > 0.0f)
-      prims.push_back(primitive(r, o + outputs() * r));
+  {
+    // as in training's image loss: opacity x the soft activity sigmoid(logit)
+    GaussianPrimitive g = primitive(r, o + outputs() * r);
+    g.opacity /= 1.0 + std::exp(-static_cast<double>(o[outputs() * r]));
+    if (g.opacity >= kMinOpacity)
+      prims.push_back(g);
+  }
   return prims;
 }
 

@@ -14,7 +14,7 @@ namespace ddg
 {
 
 /// Per region r, the decoder's outputs o[n r .. n r + n - 1] after squashing, n = outputs():
-///   0 activity logit (raw; the region is used when > 0),
+///   0 activity logit (raw; sigmoid(logit) scales the region's opacity),
 ///   1 mean shift in [-1, 1] (x spec.meanShift x region width, around the region's peak),
 ///   2 stddev in [0, 1] (spec.stddevScale lo..hi x the base stddev),
 ///   3-5 colour rgb in [0, 1], 6 peak opacity in [0, 1] (spec.opacity lo..hi);
@@ -31,12 +31,17 @@ struct DecoderLayout
   int outputs() const { return twoD() ? 9 : 7; }
   int size() const { return outputs() * static_cast<int>(regions.size()); }
 
-  /// The primitive of region r from its 7 outputs (activity not applied).
+  /// Primitives whose opacity (after the activity) is below this are left out of a decoded TF.
+  static constexpr double kMinOpacity = 1e-3;
+
+  /// The primitive of region r from its outputs (activity not applied).
   GaussianPrimitive primitive(int r, const float* o) const;
-  /// The explicit TF: the primitives of the regions whose activity logit is > 0.
+  /// The explicit TF, as training's image loss sees it: every region's primitive with its
+  /// opacity scaled by the soft activity sigmoid(logit), those below kMinOpacity left out.
   std::vector<GaussianPrimitive> decode(const float* o) const;
-  /// The outputs that reproduce an exemplar's TF (logit 1 for active regions, 0 and zeros for
-  /// the others); values outside the spec's ranges are clamped.
+  /// The training targets of an exemplar's TF: column 0 the activity probability (1 for its
+  /// regions, 0 and zeros elsewhere), the rest the squashed parameters (clamped to the spec's
+  /// ranges).
   std::vector<float> targets(const Exemplar& e) const;
 
   /// Image loss of outputs `o` against `truth` (premultiplied RGBA bytes of view.width x

@@ -131,6 +131,8 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
     j["format"] = "ddg-exemplars";
     j["version"] = 1;
     j["volume"] = volumeFingerprint(volume);
+    if (!opt.volumeFile.empty())
+      j["volume_file"] = opt.volumeFile;
     j["size"] = opt.size;
     j["count"] = opt.count;
     j["seed"] = opt.seed;
@@ -182,6 +184,7 @@ ExemplarDataset::ExemplarDataset(const std::string& dir)
     Fingerprint = j.at("volume").get<std::string>();
     Size = j.at("size").get<int>();
     Count = j.at("count").get<int>();
+    VolumeFile = j.value("volume_file", std::string());
     ShardSize = j.at("shard_size").get<int>();
     Spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
     for (const auto& r : j.at("regions"))

@@ -23,6 +23,7 @@ struct GenerateOptions
     0;                 ///< index of the first exemplar (held-out sets use another range) [0]
   int shardSize = 256; ///< exemplars per shard file [256]
   int threads = 0;     ///< 0 = all cores
+  std::string volumeFile; ///< recorded in dataset.json ("volume_file") so training finds it [""]
 };
 
 struct GenerateReport
@@ -58,6 +59,8 @@ public:
   int count() const { return Count; }
   int size() const { return Size; }
   const std::string& fingerprint() const { return Fingerprint; }
+  /// The volume file the dataset was generated from, as recorded ("" when unknown).
+  const std::string& volumeFile() const { return VolumeFile; }
   const std::vector<Exemplar>& exemplars() const { return Items; }
   const std::vector<FeatureRegion>& regions() const { return Regions; }
   const DesignSpaceSpec& spec() const { return Spec; }
@@ -74,7 +77,7 @@ public:
   Images images(int i) const;
 
 private:
-  std::string Dir, Fingerprint;
+  std::string Dir, Fingerprint, VolumeFile;
   int Count = 0, Size = 0, ShardSize = 0;
   std::vector<Exemplar> Items;
   std::vector<FeatureRegion> Regions;

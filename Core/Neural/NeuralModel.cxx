@@ -438,6 +438,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       throw Error("the training data belongs to another volume than the attached one");
     In->Fingerprint = data.fingerprint();
   }
+  if (opt.cosineSchedule && opt.maxIterations < 1)
+    throw Error("the cosine learning-rate schedule needs a maximum iteration count");
   if (opt.imageWeight < 0 || opt.imageRays < 1)
     throw Error("training needs an image weight >= 0 and at least one ray per exemplar");
   const bool imageLoss = decoder && opt.imageWeight > 0;
@@ -577,6 +579,16 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       }
       idx.push_back(order[cursor++]);
     }
+    if (opt.cosineSchedule && opt.maxIterations > 0)
+    {
+      const double t = std::min(1.0, static_cast<double>(iteration) / opt.maxIterations);
+      const double lr = opt.learningRate * (0.05 + 0.95 * 0.5 * (1 + std::cos(M_PI * t)));
+      for (auto& group : optG.param_groups())
+        static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+      if (optD)
+        for (auto& group : optD->param_groups())
+          static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+    }
     const auto sel = torch::tensor(idx, torch::kInt64);
     const auto x = rgb.index_select(0, sel).to(torch::kFloat32).div(127.5).sub(1.0);
     torch::Tensor lossG, lossD, l1;
@@ -695,9 +707,12 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
     const Image pred =
       overGrey(renderAt(z, viewport, data.exemplars()[static_cast<size_t>(i)].viewView));
     const Image gt = overGrey(truth);
-    r.psnr += std::min(psnr(pred, gt), 99.0) / r.count;
-    r.ssim += ssim(pred, gt) / r.count;
-    r.emd += colorHistogramEMD(pred, gt) / r.count;
+    const EvaluationReport::Item item{ std::min(psnr(pred, gt), 99.0), ssim(pred, gt),
+      colorHistogramEMD(pred, gt) };
+    r.items.push_back(item);
+    r.psnr += item.psnr / r.count;
+    r.ssim += item.ssim / r.count;
+    r.emd += item.emd / r.count;
     // the same TF seen from V_view, over the exemplar's own background
     const double bg = data.exemplars()[static_cast<size_t>(i)].background;
     latExp.push_back(z);

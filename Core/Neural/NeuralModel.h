@@ -51,6 +51,9 @@ struct TrainOptions
   /// analyzer). 0 = TF-parameter regression only. Needs attachVolume() first [0].
   double imageWeight = 0;
   int imageRays = 512; ///< [512]
+  /// Cosine learning-rate schedule from learningRate down to 5 % of it at maxIterations (needs
+  /// maxIterations > 0; a function of the iteration, so resuming continues it) [false].
+  bool cosineSchedule = false;
 };
 
 struct TrainProgress
@@ -77,6 +80,11 @@ struct EvaluationReport
   double psnr = 0, ssim = 0, emd = 0;
   double invariance = 0; ///< fraction of triplets where the same TF from two views is closer
   double analyzerMs = 0, rendererMs = 0; ///< one image, batch 1
+  struct Item
+  {
+    double psnr = 0, ssim = 0, emd = 0;
+  };
+  std::vector<Item> items; ///< per exemplar, in order
 };
 
 /// What a bundle keeps of its training exemplars, for the gallery: their latents (count x
@@ -114,7 +122,7 @@ public:
   /// the decoded TF (needs attachVolume).
   Image renderAt(const std::vector<float>& latent, const Image& viewport, const View& view) const;
 
-  /// Decoder: the explicit TF of a latent, one primitive per region predicted active.
+  /// Decoder: the explicit TF of a latent (DecoderLayout::decode: opacity x sigmoid(logit)).
   std::vector<GaussianPrimitive> decode(const std::vector<float>& latent) const;
 
   /// Decoder: the volume to ray cast (its fingerprint must match the bundle's when loaded).

@@ -3,6 +3,7 @@
 #include "DDGVolumeAdaptor.h"
 
 #include "Common/Error.h"
+#include "Common/FileUtil.h"
 #include "Design/ExemplarGenerator.h"
 #include "Image/Image.h"
 #ifdef DDG_WITH_TORCH
@@ -361,6 +362,9 @@ int runGenerate(const GenerateArgs& a)
   opt.firstIndex = a.firstIndex;
   opt.threads = a.threads;
   opt.shardSize = a.shardSize;
+  std::error_code ec;
+  const auto absolute = std::filesystem::absolute(a.volume, ec);
+  opt.volumeFile = ec ? a.volume : absolute.lexically_normal().string();
   int lastPercent = -1;
   const auto report = ddg::generateExemplars(volume, spec, a.out, opt,
     [&](double f)
@@ -410,13 +414,13 @@ int runGenerate(const GenerateArgs& a)
 
 struct TrainArgs
 {
-  std::string data, out, evalData, checkpoint, kind = "unet";
-  double minutes = 10, lr = 2e-4, lambda = 1000, dropout = 0.5, imageWeight = 0;
+  std::string data, out, evalData, checkpoint, kind = "decoder";
+  double minutes = 10, lr = 0, lambda = 1000, dropout = 0.5, imageWeight = 10;
   int width = 16, latent = 64, batch = 16, threads = 0, maxIterations = 0, evalCount = 1000;
   int imageRays = 512;
   std::uint64_t seed = 1;
   int checkCount = 100;
-  bool resume = false, quiet = false;
+  bool resume = false, quiet = false, cosine = false;
   std::string volume;
 };
 
@@ -463,7 +467,7 @@ int runTrain(const TrainArgs& a)
   }
   ddg::TrainOptions opt;
   opt.batch = a.batch;
-  opt.learningRate = a.lr;
+  opt.learningRate = a.lr > 0 ? a.lr : (a.kind == "decoder" ? 1e-3 : 2e-4);
   opt.lambdaL1 = a.lambda;
   opt.minutes = a.minutes;
   opt.maxIterations = a.maxIterations;
@@ -471,12 +475,17 @@ int runTrain(const TrainArgs& a)
   opt.threads = a.threads;
   opt.checkpoint = a.checkpoint;
   opt.resume = a.resume;
-  opt.imageWeight = a.imageWeight;
+  opt.imageWeight = a.kind == "decoder" ? a.imageWeight : 0.0;
   opt.imageRays = a.imageRays;
-  if (!a.volume.empty())
-    model.attachVolume(ddg::readVolumeFile(a.volume));
-  else if (a.imageWeight > 0)
-    throw ddg::Error("--image-weight needs --volume (the decoder's TFs are ray cast in training)");
+  opt.cosineSchedule = a.cosine;
+  // the decoder ray casts its TFs: the volume given, or the one the data was generated from
+  const std::string volumeFile = a.volume.empty() ? data.volumeFile() : a.volume;
+  if (a.kind == "decoder")
+  {
+    if (volumeFile.empty())
+      throw ddg::Error("the decoder needs its volume: pass --volume (the dataset does not name it)");
+    model.attachVolume(ddg::readVolumeFile(volumeFile));
+  }
   std::printf("training %lld parameters on %d exemplars of %d x %d for up to %.1f min\n",
     static_cast<long long>(model.parameterCount()), data.count(), data.size(), data.size(),
     a.minutes);
@@ -517,13 +526,26 @@ int runTrain(const TrainArgs& a)
 }
 
 int runEval(const std::string& modelDir, const std::string& dataDir, int count, bool json,
-  const std::string& volume)
+  const std::string& volume, const std::string& perExemplar)
 {
   const ddg::ExemplarDataset data(dataDir);
   auto model = ddg::NeuralDesignModel::loadBundle(modelDir, data.fingerprint());
   if (!volume.empty())
     model.attachVolume(ddg::readVolumeFile(volume));
   const auto e = model.evaluate(data, count);
+  if (!perExemplar.empty())
+  {
+    std::string csv = "index,active_regions,background,psnr,ssim,emd\n";
+    char line[160];
+    for (size_t i = 0; i < e.items.size(); ++i)
+    {
+      const auto& x = data.exemplars()[i];
+      std::snprintf(line, sizeof(line), "%zu,%zu,%d,%.4f,%.5f,%.5f\n", i, x.active.size(),
+        x.background, e.items[i].psnr, e.items[i].ssim, e.items[i].emd);
+      csv += line;
+    }
+    ddg::writeFileAtomic(perExemplar, csv, "per-exemplar figures");
+  }
   if (json)
     std::printf("%s\n", metricsJson(e, nullptr, model.parameterCount()).c_str());
   else
@@ -758,9 +780,10 @@ int main(int argc, char** argv)
 #ifdef DDG_WITH_TORCH
   TrainArgs ta;
   auto* train = app.add_subcommand("train",
-    "Train the Neural DVR Analyzer + Renderer (U-Net) with a PatchGAN discriminator on generated "
-    "exemplars "
-    "(L = L_adv + lambda L1, Adam 2e-4, beta 0.5/0.999) and write a model bundle.");
+    "Train a model on generated exemplars and write a model bundle: the Neural DVR Analyzer "
+    "with the explicit-TF decoder (default; TF-parameter loss + image L1 through the "
+    "differentiable ray caster, Adam 1e-3) or with the paper's U-Net renderer and PatchGAN "
+    "discriminator (L = L_adv + lambda L1, Adam 2e-4, beta 0.5/0.999).");
   train->add_option("--data", ta.data, "Exemplar directory from ddg generate")->required();
   train->add_option("--out", ta.out, "Output model bundle directory")->required();
   train->add_option("--minutes", ta.minutes, "Wall-clock budget (default 10)")
@@ -775,14 +798,14 @@ int main(int argc, char** argv)
     "(default 100)");
   train
     ->add_option("--kind", ta.kind,
-      "unet: the paper's U-Net renderer (default); decoder: latent -> explicit Gaussian-primitive "
-      "TF, ray cast")
+      "decoder (default): latent -> explicit Gaussian-primitive TF, ray cast (what ParaView is "
+      "given); unet: the paper's U-Net renderer with a PatchGAN discriminator")
     ->check(CLI::IsMember({ "unet", "decoder" }));
-  train->add_option(
-    "--volume", ta.volume, "The volume (needed to evaluate the decoder, which ray casts its TFs)");
+  train->add_option("--volume", ta.volume,
+    "The volume the decoder ray casts (default: the file the data was generated from)");
   train->add_option("--image-weight", ta.imageWeight,
     "Decoder: weight of the image L1 through the differentiable ray caster, added to the "
-    "TF-parameter loss (default 0: parameters only; needs --volume)");
+    "TF-parameter loss (default 10; 0: parameters only)");
   train->add_option("--image-rays", ta.imageRays, "Decoder: random pixels per exemplar in the "
                                                   "image loss (default 512)")
     ->check(CLI::Range(1, 1 << 20));
@@ -792,16 +815,19 @@ int main(int argc, char** argv)
     ->check(CLI::Range(2, 1024));
   train->add_option("--dropout", ta.dropout, "Dropout in the renderer's up blocks (default 0.5)");
   train->add_option("--batch", ta.batch, "Batch size (default 16)")->check(CLI::Range(1, 4096));
-  train->add_option("--lr", ta.lr, "Adam learning rate (default 2e-4)")->check(CLI::PositiveNumber);
+  train->add_option("--lr", ta.lr, "Adam learning rate (default 1e-3 decoder, 2e-4 unet)")
+    ->check(CLI::PositiveNumber);
   train->add_option("--lambda", ta.lambda, "Weight of the L1 term (default 1000)");
   train->add_option("--seed", ta.seed, "Seed of initialisation and batch order (default 1)");
   train->add_option("--threads", ta.threads, "libtorch threads (default 0: all cores)");
   train->add_option(
     "--checkpoint", ta.checkpoint, "Checkpoint file, written every 500 iterations and at the end");
   train->add_flag("--resume", ta.resume, "Continue from --checkpoint");
+  train->add_flag("--cosine", ta.cosine,
+    "Cosine learning-rate schedule down to 5 % at --max-iterations (which it needs)");
   train->add_flag("--quiet", ta.quiet, "Do not print progress");
 
-  std::string evalModel, evalData;
+  std::string evalModel, evalData, evalPerExemplar;
   int evalCount = 1000;
   bool evalJson = false;
   std::string evalVolume;
@@ -811,6 +837,8 @@ int main(int argc, char** argv)
   evalCmd->add_option("--data", evalData, "Held-out exemplar directory (same volume)")->required();
   evalCmd->add_option("--count", evalCount, "Exemplars used (default 1000)");
   evalCmd->add_flag("--json", evalJson, "Print the figures as JSON");
+  evalCmd->add_option("--per-exemplar", evalPerExemplar,
+    "Also write every exemplar's PSNR, SSIM and EMD to this CSV file");
   evalCmd->add_option(
     "--volume", evalVolume, "The volume (needed for decoder bundles, which ray cast their TFs)");
 
@@ -863,7 +891,7 @@ int main(int argc, char** argv)
     if (*train)
       return runTrain(ta);
     if (*evalCmd)
-      return runEval(evalModel, evalData, evalCount, evalJson, evalVolume);
+      return runEval(evalModel, evalData, evalCount, evalJson, evalVolume, evalPerExemplar);
     if (*validity)
       return runValidity(va2);
 #endif
