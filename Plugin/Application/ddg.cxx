@@ -415,7 +415,7 @@ int runGenerate(const GenerateArgs& a)
 struct TrainArgs
 {
   std::string data, out, evalData, checkpoint, kind = "decoder";
-  double minutes = 10, lr = 0, lambda = 1000, dropout = 0.5, imageWeight = 10;
+  double minutes = 10, lr = 0, lambda = 1000, dropout = 0.5, imageWeight = 100;
   int width = 16, latent = 64, batch = 16, threads = 0, maxIterations = 0, evalCount = 1000;
   int imageRays = 512;
   std::uint64_t seed = 1;
@@ -805,7 +805,7 @@ int main(int argc, char** argv)
     "The volume the decoder ray casts (default: the file the data was generated from)");
   train->add_option("--image-weight", ta.imageWeight,
     "Decoder: weight of the image L1 through the differentiable ray caster, added to the "
-    "TF-parameter loss (default 10; 0: parameters only)");
+    "TF-parameter loss (default 100; 0: parameters only)");
   train->add_option("--image-rays", ta.imageRays, "Decoder: random pixels per exemplar in the "
                                                   "image loss (default 512)")
     ->check(CLI::Range(1, 1 << 20));
@@ -842,19 +842,19 @@ int main(int argc, char** argv)
   evalCmd->add_option(
     "--volume", evalVolume, "The volume (needed for decoder bundles, which ray cast their TFs)");
 
-  ValidityArgs va2;
+  ValidityArgs vda;
   auto* validity = app.add_subcommand("validity",
     "Design-space validity (paper 7.2.2): random latents rendered by the model next to the "
     "nearest training designs (cosine and Euclidean), as a PNG sheet with PSNRs.");
-  validity->add_option("--model", va2.model, "Model bundle directory")->required();
-  validity->add_option("--volume", va2.volume, "The bundle's volume")->required();
-  validity->add_option("--out", va2.out, "Output sheet (PNG)")->required();
-  validity->add_option("--count", va2.count, "Random latents (rows; default 6)")
+  validity->add_option("--model", vda.model, "Model bundle directory")->required();
+  validity->add_option("--volume", vda.volume, "The bundle's volume")->required();
+  validity->add_option("--out", vda.out, "Output sheet (PNG)")->required();
+  validity->add_option("--count", vda.count, "Random latents (rows; default 6)")
     ->check(CLI::Range(1, 1000));
-  validity->add_option("--view", va2.view, "View JSON (default: the volume's default view)");
-  validity->add_option("--size", va2.size, "Image size without --view (default 128)")
+  validity->add_option("--view", vda.view, "View JSON (default: the volume's default view)");
+  validity->add_option("--size", vda.size, "Image size without --view (default 128)")
     ->check(CLI::Range(8, 4096));
-  validity->add_option("--seed", va2.seed, "Seed of the random latents (default 1)");
+  validity->add_option("--seed", vda.seed, "Seed of the random latents (default 1)");
 #endif
 
   std::string infoVolume, infoArray;
@@ -893,7 +893,7 @@ int main(int argc, char** argv)
     if (*evalCmd)
       return runEval(evalModel, evalData, evalCount, evalJson, evalVolume, evalPerExemplar);
     if (*validity)
-      return runValidity(va2);
+      return runValidity(vda);
 #endif
   }
   catch (const std::exception& e)

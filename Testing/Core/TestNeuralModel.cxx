@@ -109,6 +109,25 @@ TEST(NeuralModel, BundlesRoundTripAndRefuseBadOnes)
   Image rgb(16, 16, 3, 0.25f);
   EXPECT_EQ(m.analyze(rgb), loaded.analyze(rgb));
   EXPECT_EQ(fs::file_size(dir + "/latents.bin"), 24u * 8u * sizeof(float));
+  // the training designs come back with the bundle, latents equal to the analyzer's
+  const auto& designs = loaded.trainingDesigns();
+  ASSERT_EQ(designs.count(), 24);
+  const auto first = dataset().images(0).rgbExp;
+  const auto z0 = m.analyze(first);
+  EXPECT_EQ(std::vector<float>(designs.latentOf(0), designs.latentOf(0) + 8), z0);
+  EXPECT_EQ(designs.tfs[0].size(), dataset().exemplars()[0].primitives.size());
+  {
+    // truncated latents or designs
+    const std::string cut = ::testing::TempDir() + "/ddg_bundle_cut";
+    fs::remove_all(cut);
+    fs::copy(dir, cut);
+    fs::resize_file(cut + "/latents.bin", 100);
+    EXPECT_THROW(NeuralDesignModel::loadBundle(cut), Error);
+    fs::remove_all(cut);
+    fs::copy(dir, cut);
+    fs::resize_file(cut + "/exemplars.json", 50);
+    EXPECT_THROW(NeuralDesignModel::loadBundle(cut), Error);
+  }
 
   // another volume
   EXPECT_THROW(
