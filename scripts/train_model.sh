@@ -7,24 +7,25 @@
 #   3. ddg eval:     the first 100 held-out exemplars again, recorded as the bundle's check
 # Usage: scripts/train_model.sh VOLUME [ITERATIONS] [COUNT] [SIZE] [WIDTH] [KIND] [IMAGE_WEIGHT]
 #   KIND: unet (the paper's renderer) or decoder (explicit TF, ray cast) [decoder]
-#   IMAGE_WEIGHT: decoder's image loss through the differentiable ray caster [10]
+#   IMAGE_WEIGHT: decoder's image loss through the differentiable ray caster [100]; the decoder
+#   also gets a cosine learning-rate schedule over ITERATIONS
 #   DDG (the ddg program) [build/bin/ddg] and WORK (scratch folder) [build/models/VOLUME] may be
 #   set in the environment.
 #   e.g. scripts/train_model.sh tooth        -> Data/Models/tooth/
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VOLUME=${1:?volume name, e.g. tooth}
-ITERATIONS=${2:-36000}
+ITERATIONS=${2:-30000}
 COUNT=${3:-10000}
 SIZE=${4:-64}
 WIDTH=${5:-16}
 KIND=${6:-decoder}
-IMAGE_WEIGHT=${7:-10}
+IMAGE_WEIGHT=${7:-100}
 LR=2e-4
 EXTRA=()
 if [ "$KIND" = decoder ]; then
   LR=1e-3
-  EXTRA=(--image-weight "$IMAGE_WEIGHT")
+  EXTRA=(--image-weight "$IMAGE_WEIGHT" --cosine)
 fi
 DDG=${DDG:-build/bin/ddg}
 WORK=${WORK:-build/models/$VOLUME}
