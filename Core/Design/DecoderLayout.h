@@ -24,7 +24,7 @@ struct DecoderLayout
 {
   std::vector<FeatureRegion> regions;
   DesignSpaceSpec spec;
-  /// 2D: the gradient-magnitude axis of the tables (designGradientRange of the volume)
+  /// 2D: the gradient-magnitude axis of the tables (Volume::gradientMagnitudeRange)
   std::array<double, 2> gradientRange{ 0, 1 };
 
   bool twoD() const { return spec.dimensions == 2; }

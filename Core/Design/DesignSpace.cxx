@@ -148,12 +148,6 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
   return regions;
 }
 
-std::array<double, 2> designGradientRange(const Volume& volume)
-{
-  const auto g = volume.gradientMagnitude();
-  return { 0.0, std::max(1e-6, static_cast<double>(*std::max_element(g.begin(), g.end()))) };
-}
-
 std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxRegions)
 {
   constexpr int V = 128, G = 64;

@@ -42,9 +42,6 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
 /// at high gradient.
 std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxRegions = 4);
 
-/// The gradient-magnitude axis of 2D designs: [0, max gradient magnitude of the volume].
-std::array<double, 2> designGradientRange(const Volume& volume);
-
 /// The base primitive of a region: mean at the peak, stddev = (hi - lo) / 4 (2D regions the
 /// same along gradient magnitude), neutral colour, opacity 0.5.
 GaussianPrimitive basePrimitive(const FeatureRegion& region);
@@ -93,7 +90,7 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size);
 
 /// Ray casts a TF of primitives (none: an empty image) as the generator does: a 256-entry 1D
-/// table, or (dimensions 2) a 256 x 64 table over the value range x designGradientRange.
+/// table, or (dimensions 2) a 256 x 64 table over the value range x Volume::gradientMagnitudeRange().
 Image renderDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
   int dimensions, const std::array<double, 2>& gradientRange, const View& view,
   const RenderOptions& options = {});

@@ -78,7 +78,7 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
   const RayCaster caster(volume);
   const auto aux = auxiliaryPrimitives(spec, report.regions);
   const auto gradientRange =
-    twoD ? designGradientRange(volume) : std::array<double, 2>{ 0.0, 1.0 };
+    twoD ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
   RenderOptions ropt;
   ropt.threads = 1;
 

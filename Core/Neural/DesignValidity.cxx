@@ -36,7 +36,7 @@ ValidityReport designSpaceValidity(
   const RayCaster caster(volume);
   const int dims = model.spec().dimensions;
   const auto gradientRange =
-    dims == 2 ? designGradientRange(volume) : std::array<double, 2>{ 0.0, 1.0 };
+    dims == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
   auto rayCast = [&](const std::vector<GaussianPrimitive>& tf)
   {
     return compositeOverBackground(

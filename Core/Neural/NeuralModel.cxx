@@ -390,7 +390,7 @@ void NeuralDesignModel::attachVolume(const Volume& volume)
   In->Diff = std::make_shared<DifferentiableRenderer>(volume);
   In->Fingerprint = fp;
   if (In->Config.dimensions == 2)
-    In->Layout.gradientRange = designGradientRange(volume);
+    In->Layout.gradientRange = volume.gradientMagnitudeRange();
 }
 
 Image NeuralDesignModel::renderAt(

@@ -250,12 +250,8 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   const int B = opt.bins;
   const int G = opt.twoD ? opt.gradientBins : 1;
   const size_t nBins = static_cast<size_t>(B) * G;
-  std::array<double, 2> gradientRange{ 0, 1 };
-  if (opt.twoD)
-  {
-    const auto g = vol.gradientMagnitude();
-    gradientRange[1] = std::max(1e-6, static_cast<double>(*std::max_element(g.begin(), g.end())));
-  }
+  const std::array<double, 2> gradientRange =
+    opt.twoD ? vol.gradientMagnitudeRange() : std::array<double, 2>{ 0, 1 };
 
   // Parameters: logits of rgb and opacity per bin.
   std::vector<double> theta(4 * nBins);

@@ -218,4 +218,10 @@ std::vector<float> Volume::gradientMagnitude() const
   return out;
 }
 
+std::array<double, 2> Volume::gradientMagnitudeRange() const
+{
+  const auto g = gradientMagnitude();
+  return { 0.0, std::max(1e-6, static_cast<double>(*std::max_element(g.begin(), g.end()))) };
+}
+
 } // namespace ddg

@@ -83,6 +83,8 @@ public:
   /// (v[i+1] - v[i-1]) / (2 * spacing) inside, one-sided differences on the faces,
   /// 0 along an axis of extent 1. Same layout as values().
   std::vector<float> gradientMagnitude() const;
+  /// [0, max gradientMagnitude()] (the max at least 1e-6): the gradient axis of 2D TFs.
+  std::array<double, 2> gradientMagnitudeRange() const;
 
 private:
   std::array<int, 3> Dims{ 0, 0, 0 };

@@ -191,7 +191,7 @@ void checkImageLossGradient(int dimensions)
   layout.spec.dimensions = dimensions;
   layout.regions = dimensions == 2 ? findFeatureRegions2D(vol) : findFeatureRegions(vol);
   if (dimensions == 2)
-    layout.gradientRange = designGradientRange(vol);
+    layout.gradientRange = vol.gradientMagnitudeRange();
   const DifferentiableRendererT<double> renderer(vol);
   const Exemplar truthDesign = sampleExemplar(vol, layout.spec, layout.regions, 5, 1, 16);
   const View& view = truthDesign.viewView;
@@ -258,7 +258,7 @@ TEST(DesignSpace, FindsMaterialsAndBoundariesIn2D)
 {
   const auto regions = findFeatureRegions2D(materials());
   ASSERT_GE(regions.size(), 2u);
-  const auto gmax = designGradientRange(materials())[1];
+  const auto gmax = materials().gradientMagnitudeRange()[1];
   int materialsFound = 0, boundaries = 0;
   for (const auto& r : regions)
   {
