@@ -4,7 +4,8 @@
 #   1. ddg generate: training exemplars (indices 0..N-1) and held-out exemplars (indices from
 #      1 000 000, never seen in training), from the shipped volume, default design space
 #   2. ddg train:    fixed iterations, seed 1, 2 threads; evaluated on the held-out set
-#   3. ddg eval:     the first 100 held-out exemplars again, recorded as the bundle's check
+#   3. ddg outline:  the gallery's outline: latents of 50 000 designs (0..49 999 of seed 1, whose
+#                    first COUNT are the training exemplars), outline.bin in the bundle
 # Usage: scripts/train_model.sh VOLUME [ITERATIONS] [COUNT] [SIZE] [WIDTH] [KIND] [IMAGE_WEIGHT]
 #   KIND: unet (the paper's renderer) or decoder (explicit TF, ray cast) [decoder]
 #   IMAGE_WEIGHT: decoder's image loss through the differentiable ray caster [100]; the decoder
@@ -50,6 +51,8 @@ $DDG train --kind "$KIND" --volume "Data/Volumes/$VOLUME.vti" --data "$WORK/trai
   --eval-data "$WORK/heldout" --eval-count 1000 --out "$WORK/bundle" --lr "$LR" \
   --max-iterations "$ITERATIONS" --minutes 30 --width "$WIDTH" --seed 1 --threads 2 \
   --checkpoint "$WORK/checkpoint.pt" "${EXTRA[@]}"
+$DDG outline --model "$WORK/bundle" --volume "Data/Volumes/$VOLUME.vti" --count 50000 --seed 1 \
+  --threads 2 --quiet
 rm -rf "$OUT.tmp"
 cp -r "$WORK/bundle" "$OUT.tmp"
 rm -rf "$OUT"

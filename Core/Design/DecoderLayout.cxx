@@ -25,7 +25,7 @@ GaussianPrimitive DecoderLayout::primitive(int r, const float* o) const
   return g;
 }
 
-std::vector<GaussianPrimitive> DecoderLayout::decode(const float* o) const
+std::vector<GaussianPrimitive> DecoderLayout::decodeRegions(const float* o) const
 {
   std::vector<GaussianPrimitive> prims;
   for (int r = 0; r < static_cast<int>(regions.size()); ++r)
@@ -33,9 +33,17 @@ std::vector<GaussianPrimitive> DecoderLayout::decode(const float* o) const
     // as in training's image loss: opacity x the soft activity sigmoid(logit)
     GaussianPrimitive g = primitive(r, o + outputs() * r);
     g.opacity /= 1.0 + std::exp(-static_cast<double>(o[outputs() * r]));
+    prims.push_back(g);
+  }
+  return prims;
+}
+
+std::vector<GaussianPrimitive> DecoderLayout::decode(const float* o) const
+{
+  std::vector<GaussianPrimitive> prims;
+  for (const auto& g : decodeRegions(o))
     if (g.opacity >= kMinOpacity)
       prims.push_back(g);
-  }
   return prims;
 }
 

@@ -39,6 +39,8 @@ struct DecoderLayout
   /// The explicit TF, as training's image loss sees it: every region's primitive with its
   /// opacity scaled by the soft activity sigmoid(logit), those below kMinOpacity left out.
   std::vector<GaussianPrimitive> decode(const float* o) const;
+  /// The same, one primitive per region in region order, none left out.
+  std::vector<GaussianPrimitive> decodeRegions(const float* o) const;
   /// The training targets of an exemplar's TF: column 0 the activity probability (1 for its
   /// regions, 0 and zeros elsewhere), the rest the squashed parameters (clamped to the spec's
   /// ranges).

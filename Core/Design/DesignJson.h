@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
+
 namespace ddg
 {
 
@@ -35,14 +37,23 @@ inline FeatureRegion regionFromJson(const nlohmann::json& j)
   return r;
 }
 
-inline nlohmann::json primitiveToJson(const GaussianPrimitive& g, bool twoD)
+/// `compact`: numbers rounded to 6 significant digits (model bundles: a third of the size; the
+/// designs they describe differ by < 1e-5 relative).
+inline nlohmann::json primitiveToJson(const GaussianPrimitive& g, bool twoD, bool compact = false)
 {
-  nlohmann::json j = { { "mean", g.mean[0] }, { "stddev", g.stddev[0] }, { "rgb", g.rgb },
-    { "opacity", g.opacity } };
+  auto v = [compact](double x)
+  {
+    if (!compact || x == 0 || !std::isfinite(x))
+      return x;
+    const double scale = std::pow(10.0, 5 - static_cast<int>(std::floor(std::log10(std::abs(x)))));
+    return std::round(x * scale) / scale;
+  };
+  nlohmann::json j = { { "mean", v(g.mean[0]) }, { "stddev", v(g.stddev[0]) },
+    { "rgb", { v(g.rgb[0]), v(g.rgb[1]), v(g.rgb[2]) } }, { "opacity", v(g.opacity) } };
   if (twoD)
   {
-    j["gradient_mean"] = g.mean[1];
-    j["gradient_stddev"] = g.stddev[1];
+    j["gradient_mean"] = v(g.mean[1]);
+    j["gradient_stddev"] = v(g.stddev[1]);
   }
   return j;
 }

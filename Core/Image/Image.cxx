@@ -65,6 +65,12 @@ Image readImage(const std::string& path, ImageFileInfo* info)
   {
     throw Error("image '" + path + "' is empty or not a 2D image");
   }
+  if (spec.width > 16384 || spec.height > 16384 ||
+    static_cast<long long>(spec.width) * spec.height > 64LL * 1024 * 1024)
+  {
+    throw Error("image '" + path + "' is " + std::to_string(spec.width) + " x " +
+      std::to_string(spec.height) + " pixels: too large (at most 16384 on a side, 64 Mpixel)");
+  }
   if (info)
   {
     info->format = spec.format.c_str();
@@ -131,6 +137,46 @@ void writeImage(const Image& image, const std::string& path)
   {
     std::remove(tmp.c_str());
     throw Error("cannot write image '" + path + "': cannot move it into place");
+  }
+}
+
+void writeAnimation(const std::vector<Image>& frames, const std::string& path, double fps)
+{
+  if (frames.empty())
+    throw Error("cannot write animation '" + path + "': no frames");
+  if (!(fps > 0) || fps > 100)
+    throw Error("cannot write animation '" + path + "': frames per second must be in (0, 100]");
+  for (const auto& f : frames)
+    if (f.width != frames[0].width || f.height != frames[0].height || f.channels != 3)
+      throw Error("cannot write animation '" + path + "': frames must be RGB of one size");
+  const auto slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+  const std::string tmp = dir + ".ddg-tmp-" + std::to_string(::getpid()) + "-" +
+    path.substr(slash == std::string::npos ? 0 : slash + 1);
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out || !out->supports("multiimage") || !out->supports("appendsubimage"))
+    throw Error("cannot write animation '" + path + "': its format holds no frame sequence (use .gif)");
+  OIIO::ImageSpec spec(frames[0].width, frames[0].height, 3, OIIO::TypeDesc::UINT8);
+  spec.attribute("FramesPerSecond", OIIO::TypeRational, std::vector<int>{ static_cast<int>(std::lround(fps * 100)), 100 }.data());
+  spec.attribute("oiio:LoopCount", 0);
+  std::vector<OIIO::ImageSpec> specs(frames.size(), spec);
+  bool ok = out->open(tmp, static_cast<int>(specs.size()), specs.data());
+  for (size_t i = 0; ok && i < frames.size(); ++i)
+  {
+    if (i > 0)
+      ok = out->open(tmp, spec, OIIO::ImageOutput::AppendSubimage);
+    std::vector<unsigned char> bytes(frames[i].pixels.size());
+    for (size_t p = 0; p < bytes.size(); ++p)
+      bytes[p] = static_cast<unsigned char>(
+        std::lround(std::clamp(frames[i].pixels[p], 0.0f, 1.0f) * 255.0f));
+    ok = ok && out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  }
+  const std::string reason = out->geterror();
+  ok = out->close() && ok;
+  if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0)
+  {
+    std::remove(tmp.c_str());
+    throw Error("cannot write animation '" + path + "': " + (reason.empty() ? "write failed" : reason));
   }
 }
 

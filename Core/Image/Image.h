@@ -67,6 +67,10 @@ Image resizeImage(const Image& image, int width, int height);
 /// Written atomically (temporary file + rename). Throws ddg::Error on failure.
 void writeImage(const Image& image, const std::string& path);
 
+/// Writes RGB frames of one size as an animation (a format with frame sequences: .gif), looping,
+/// at `fps` frames per second. Atomic. Throws ddg::Error otherwise.
+void writeAnimation(const std::vector<Image>& frames, const std::string& path, double fps = 12);
+
 /// Drops or adds channels: RGBA -> RGB (alpha dropped), gray -> RGB, RGB -> RGBA (alpha 1).
 Image toChannels(const Image& image, int channels);
 

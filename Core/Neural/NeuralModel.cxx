@@ -7,6 +7,7 @@
 #include "Common/Parallel.h"
 #include "Design/DecoderLayout.h"
 #include "Design/DesignJson.h"
+#include "Gallery/Outline.h"
 #include "Image/ImageMetrics.h"
 #include "Render/DifferentiableRenderer.h"
 
@@ -347,6 +348,30 @@ std::vector<float> NeuralDesignModel::analyze(const Image& image) const
   return std::vector<float>(z.data_ptr<float>(), z.data_ptr<float>() + z.numel());
 }
 
+std::vector<float> NeuralDesignModel::analyzeBatch(const std::vector<Image>& images) const
+{
+  torch::NoGradGuard guard;
+  In->A->eval();
+  const int s = In->Config.imageSize;
+  std::vector<float> out;
+  out.reserve(images.size() * static_cast<size_t>(In->Config.latent));
+  const size_t batch = 256;
+  for (size_t first = 0; first < images.size(); first += batch)
+  {
+    std::vector<torch::Tensor> xs;
+    for (size_t i = first; i < std::min(images.size(), first + batch); ++i)
+    {
+      const Image& image = images[i];
+      const Image resized =
+        image.width == s && image.height == s ? image : resizeImage(image, s, s);
+      xs.push_back(imageToTensor(resized, 3));
+    }
+    const auto z = In->A->forward(torch::stack(xs).mul(2.0).sub(1.0)).contiguous();
+    out.insert(out.end(), z.data_ptr<float>(), z.data_ptr<float>() + z.numel());
+  }
+  return out;
+}
+
 Image NeuralDesignModel::render(const std::vector<float>& latent, const Image& viewport) const
 {
   if (In->decoder())
@@ -367,6 +392,15 @@ Image NeuralDesignModel::render(const std::vector<float>& latent, const Image& v
 
 std::vector<GaussianPrimitive> NeuralDesignModel::decode(const std::vector<float>& latent) const
 {
+  std::vector<GaussianPrimitive> prims;
+  for (const auto& g : decodeRegions(latent))
+    if (g.opacity >= DecoderLayout::kMinOpacity)
+      prims.push_back(g);
+  return prims;
+}
+
+std::vector<GaussianPrimitive> NeuralDesignModel::decodeRegions(const std::vector<float>& latent) const
+{
   if (!In->decoder())
     throw Error("only the decoder model has an explicit TF");
   if (static_cast<int>(latent.size()) != In->Config.latent)
@@ -379,7 +413,7 @@ std::vector<GaussianPrimitive> NeuralDesignModel::decode(const std::vector<float
     torch::from_blob(const_cast<float*>(latent.data()), { 1, In->Config.latent }, torch::kFloat32)
       .clone();
   const auto o = squash(In->Dec->forward(z))[0].contiguous();
-  return In->Layout.decode(o.data_ptr<float>());
+  return In->Layout.decodeRegions(o.data_ptr<float>());
 }
 
 void NeuralDesignModel::attachVolume(const Volume& volume)
@@ -776,24 +810,38 @@ void NeuralDesignModel::saveBundle(
     ar.write(In->decoder() ? "decoder" : "renderer", r);
     writeFileAtomic((fs::path(dir) / "model.pt").string(), serialized(ar), "bundle weights");
   }
-  // latents of the training exemplars and their TF parameters (for the gallery)
-  std::string latents;
+  // latents of the training exemplars (half floats) and their TF parameters (for the gallery)
+  {
+    LatentSet set;
+    set.dim = In->Config.latent;
+    set.seed = training.exemplars().empty() ? 0 : training.exemplars()[0].seed;
+    const int chunk = 1024;
+    for (int first = 0; first < training.count(); first += chunk)
+    {
+      std::vector<Image> images;
+      for (int i = first; i < std::min(training.count(), first + chunk); ++i)
+      {
+        images.push_back(training.images(i).rgbExp);
+        set.indices.push_back(static_cast<std::uint64_t>(i));
+      }
+      const auto z = analyzeBatch(images);
+      set.values.insert(set.values.end(), z.begin(), z.end());
+    }
+    writeLatentSet(set, (fs::path(dir) / "latents.bin").string());
+  }
   nlohmann::json ex = nlohmann::json::array();
   for (int i = 0; i < training.count(); ++i)
   {
-    const auto z = analyze(training.images(i).rgbExp);
-    latents.append(reinterpret_cast<const char*>(z.data()), z.size() * sizeof(float));
     nlohmann::json p = nlohmann::json::array();
     for (const auto& g : training.exemplars()[static_cast<size_t>(i)].primitives)
-      p.push_back(primitiveToJson(g, training.spec().dimensions == 2));
+      p.push_back(primitiveToJson(g, training.spec().dimensions == 2, true));
     ex.push_back(p);
   }
-  writeFileAtomic((fs::path(dir) / "latents.bin").string(), latents, "bundle latents");
   writeFileAtomic(
     (fs::path(dir) / "exemplars.json").string(), ex.dump() + "\n", "bundle exemplars");
   nlohmann::json j;
   j["format"] = "ddg-model-bundle";
-  j["version"] = 1;
+  j["version"] = 2; // 2: latents.bin is a half-float latent set (Gallery/Outline.h)
   j["architecture"] = { { "kind", In->Config.kind }, { "regions", In->Config.regions },
     { "image_size", In->Config.imageSize }, { "width", In->Config.width },
     { "latent", In->Config.latent }, { "dropout", In->Config.dropout },
@@ -841,8 +889,8 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
   NetworkConfig c;
   try
   {
-    if (j.value("format", std::string()) != "ddg-model-bundle" || j.value("version", 0) != 1)
-      throw Error("'" + indexPath + "' is not a version-1 ddg model bundle");
+    if (j.value("format", std::string()) != "ddg-model-bundle" || j.value("version", 0) != 2)
+      throw Error("'" + indexPath + "' is not a version-2 ddg model bundle");
     const auto& a = j.at("architecture");
     c.kind = a.value("kind", std::string());
     if (c.kind != "unet" && c.kind != "decoder")
@@ -897,7 +945,7 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
   {
     throw Error(broken);
   }
-  // the training designs: latents.bin (float32, count x latent) and exemplars.json
+  // the training designs: latents.bin (a half-float latent set) and exemplars.json
   auto& d = m.In->Designs;
   d.latent = c.latent;
   const std::string latentsPath = (fs::path(dir) / "latents.bin").string();
@@ -913,13 +961,21 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
       validatePrimitives(prims, c.dimensions == 2);
       d.tfs.push_back(std::move(prims));
     }
-    const std::string bytes = readTextFile(latentsPath, "model bundle latents");
-    if (static_cast<std::int64_t>(d.tfs.size()) != count ||
-      bytes.size() != static_cast<size_t>(count) * c.latent * sizeof(float))
+    LatentSet set;
+    try
+    {
+      set = readLatentSet(latentsPath);
+    }
+    catch (const Error& e)
+    {
+      throw Error("model bundle '" + dir + "': " + e.what());
+    }
+    if (static_cast<std::int64_t>(d.tfs.size()) != count || set.count() != count ||
+      set.dim != c.latent)
       throw Error("model bundle '" + dir + "': latents.bin or exemplars.json is truncated (" +
-        std::to_string(count) + " training exemplars expected)");
-    d.latents.resize(bytes.size() / sizeof(float));
-    std::memcpy(d.latents.data(), bytes.data(), bytes.size());
+        std::to_string(count) + " training exemplars of latent " + std::to_string(c.latent) +
+        " expected)");
+    d.latents = std::move(set.values);
   }
   catch (const nlohmann::json::exception& e)
   {

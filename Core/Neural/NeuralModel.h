@@ -113,6 +113,9 @@ public:
 
   /// Latent of an RGB (or RGBA: alpha dropped) image of any size (resized to the model's).
   std::vector<float> analyze(const Image& image) const;
+  /// Latents of many images at once (each resized like analyze): images.size() x latent,
+  /// row-major. Batched, so much faster per image than analyze().
+  std::vector<float> analyzeBatch(const std::vector<Image>& images) const;
   /// Neural render of `latent` with the viewport image (premultiplied RGBA at the model's size):
   /// premultiplied RGBA.
   Image render(const std::vector<float>& latent, const Image& viewport) const;
@@ -124,6 +127,8 @@ public:
 
   /// Decoder: the explicit TF of a latent (DecoderLayout::decode: opacity x sigmoid(logit)).
   std::vector<GaussianPrimitive> decode(const std::vector<float>& latent) const;
+  /// Decoder: one primitive per feature region (DecoderLayout::decodeRegions, none left out).
+  std::vector<GaussianPrimitive> decodeRegions(const std::vector<float>& latent) const;
 
   /// Decoder: the volume to ray cast (its fingerprint must match the bundle's when loaded).
   void attachVolume(const Volume& volume);

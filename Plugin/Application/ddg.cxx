@@ -1,6 +1,7 @@
 // ddg.cxx: the command-line program — the project's public interface for rendering and (later)
 // reconstruction, generation, training and gallery operations. See `ddg --help`.
 #include "DDGVolumeAdaptor.h"
+#include "GalleryCommands.h"
 
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
@@ -863,6 +864,8 @@ int main(int argc, char** argv)
   info->add_option("--volume", infoVolume, "Volume file")->required();
   info->add_option("--array", infoArray, "Point array (default: the active scalars)");
 
+  const auto runGalleryCommand = addGalleryCommands(app);
+
   try
   {
     app.parse(argc, argv);
@@ -895,6 +898,9 @@ int main(int argc, char** argv)
     if (*validity)
       return runValidity(vda);
 #endif
+    const int code = runGalleryCommand();
+    if (code >= 0)
+      return code;
   }
   catch (const std::exception& e)
   {

@@ -1,0 +1,451 @@
+// Gallery.cxx: outline latents, query images, thumbnails and the outline sheet.
+#include "Gallery/Gallery.h"
+
+#include "Common/Error.h"
+#include "Common/Parallel.h"
+#include "Design/DecoderLayout.h"
+#include "Design/DesignSpace.h"
+#include "Gallery/Export.h"
+#include "Image/ImageMetrics.h"
+#include "Reconstruct/Reconstruction.h"
+#include "TransferFunction/TransferFunction2D.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+namespace ddg
+{
+
+// ---- outline latents ----------------------------------------------------------------------
+
+LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volume, int count,
+  std::uint64_t seed, std::uint64_t firstIndex, int threads,
+  const std::function<bool(double)>& progress)
+{
+  if (count < 3)
+    throw Error("an outline needs at least 3 designs (got " + std::to_string(count) + ")");
+  const auto& spec = model.spec();
+  const auto& regions = model.regions();
+  if (regions.empty())
+    throw Error("the model has no feature regions (load it from a bundle)");
+  const RayCaster caster(volume);
+  const auto gradientRange =
+    spec.dimensions == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
+  const int s = model.config().imageSize;
+  RenderOptions ropt;
+  ropt.threads = 1;
+  LatentSet set;
+  set.dim = model.config().latent;
+  set.seed = seed;
+  set.indices.resize(count);
+  set.values.resize(static_cast<size_t>(count) * set.dim);
+  const int chunk = 512;
+  for (int first = 0; first < count; first += chunk)
+  {
+    const int n = std::min(chunk, count - first);
+    std::vector<Image> images(n);
+    parallelFor(n, threads,
+      [&](std::int64_t q, int)
+      {
+        const std::uint64_t index = firstIndex + first + q;
+        const Exemplar e = sampleExemplar(volume, spec, regions, seed, index, s);
+        images[q] = compositeOverBackground(
+          renderDesign(caster, e.primitives, spec.dimensions, gradientRange, e.viewExp, ropt),
+          e.viewExp.background);
+        set.indices[first + q] = index;
+      });
+    const auto z = model.analyzeBatch(images);
+    std::copy(z.begin(), z.end(), set.values.begin() + static_cast<size_t>(first) * set.dim);
+    if (progress && !progress(static_cast<double>(first + n) / count))
+      throw Cancelled();
+  }
+  return set;
+}
+
+std::string outlineFile(const std::string& bundleDir)
+{
+  return (std::filesystem::path(bundleDir) / "outline.bin").string();
+}
+
+QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline,
+  const ExemplarDataset& heldout, int count, int k)
+{
+  if (count < 1 || k < 1)
+    throw Error("query recall needs count >= 1 and k >= 1");
+  const int s = model.config().imageSize;
+  if (heldout.size() != s)
+    throw Error("the held-out images are " + std::to_string(heldout.size()) +
+      " pixels, the model's " + std::to_string(s));
+  if (outline.dim != model.config().latent)
+    throw Error("the outline's latents come from another model");
+  count = std::min(count, heldout.count());
+  std::vector<Image> own(count), other(count);
+  for (int i = 0; i < count; ++i)
+  {
+    const auto im = heldout.images(i);
+    own[i] = im.rgbExp;
+    other[i] = compositeOverBackground(im.truth, heldout.exemplars()[i].viewExp.background);
+  }
+  LatentSet joined = outline;
+  const auto z = model.analyzeBatch(own);
+  joined.values.insert(joined.values.end(), z.begin(), z.end());
+  for (int i = 0; i < count; ++i)
+    joined.indices.push_back(heldout.exemplars()[i].seed);
+  const DesignOutline all(std::move(joined));
+  auto recall = [&](const std::vector<Image>& images)
+  {
+    std::vector<Image> prepared;
+    for (const auto& im : images)
+      prepared.push_back(prepareQueryImage(im, s));
+    const auto q = model.analyzeBatch(prepared);
+    int hits = 0;
+    for (int i = 0; i < count; ++i)
+    {
+      const auto nn = all.nearest(q.data() + static_cast<size_t>(i) * outline.dim, k);
+      const int want = outline.count() + i;
+      hits += std::any_of(nn.begin(), nn.end(), [&](const Neighbour& n) { return n.row == want; });
+    }
+    return static_cast<double>(hits) / count;
+  };
+  QueryRecall r;
+  r.count = count;
+  r.k = k;
+  r.ownImage = recall(own);
+  r.otherView = recall(other);
+  return r;
+}
+
+// ---- the gallery --------------------------------------------------------------------------
+
+DesignGallery::DesignGallery(NeuralDesignModel& model, const Volume& volume, LatentSet latents)
+  : Model(model)
+  , Vol(volume)
+  , Outline(std::move(latents))
+{
+  if (Outline.latents().dim != model.config().latent)
+    throw Error("the outline's latents have " + std::to_string(Outline.latents().dim) +
+      " values, the model's " + std::to_string(model.config().latent) +
+      ": they come from another model");
+  if (model.config().kind == "decoder")
+    model.attachVolume(volume); // checks the fingerprint
+}
+
+std::vector<float> DesignGallery::latent(int row) const
+{
+  if (row < 0 || row >= Outline.count())
+    throw Error("design " + std::to_string(row) + " is not in the outline (0.." +
+      std::to_string(Outline.count() - 1) + ")");
+  const float* z = Outline.latents().row(row);
+  return std::vector<float>(z, z + Outline.latents().dim);
+}
+
+Exemplar DesignGallery::exemplar(int row) const
+{
+  latent(row); // range check
+  return sampleExemplar(Vol, Model.spec(), Model.regions(), Outline.latents().seed,
+    Outline.latents().indices[row], Model.config().imageSize);
+}
+
+const Image& DesignGallery::viewport(const View& view) const
+{
+  const std::string key = viewToJson(view);
+  if (Viewport.empty() || key != ViewportKey)
+  {
+    const RayCaster caster(Vol);
+    const int dims = Model.spec().dimensions;
+    View v = view;
+    v.width = v.height = Model.config().imageSize;
+    Viewport = renderDesign(caster, auxiliaryPrimitives(Model.spec(), Model.regions()), dims,
+      dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 }, v);
+    ViewportKey = key;
+  }
+  return Viewport;
+}
+
+Image DesignGallery::render(const std::vector<float>& latent, const View& view) const
+{
+  if (Model.config().kind == "decoder")
+    return Model.renderAt(latent, Image(), view);
+  return Model.renderAt(latent, viewport(view), view);
+}
+
+const Image& DesignGallery::thumbnail(int row, const View& view)
+{
+  const auto key = std::make_pair(row, viewToJson(view));
+  auto it = Cache.find(key);
+  if (it == Cache.end())
+    it = Cache.emplace(key, render(latent(row), view)).first;
+  return it->second;
+}
+
+std::vector<float> DesignGallery::analyzeImage(const Image& image) const
+{
+  return Model.analyze(prepareQueryImage(image, Model.config().imageSize));
+}
+
+QueryResult DesignGallery::query(const Image& image, const View& view, int neighbours) const
+{
+  if (neighbours < 0)
+    throw Error("the neighbour count must be >= 0");
+  QueryResult r;
+  r.input = prepareQueryImage(image, Model.config().imageSize);
+  r.latent = Model.analyze(r.input);
+  r.position = Outline.project(r.latent.data());
+  r.neighbours = Outline.nearest(r.latent.data(), neighbours);
+  r.preview = render(r.latent, view);
+  return r;
+}
+
+std::vector<GaussianPrimitive> DesignGallery::primitives(const std::vector<float>& latent) const
+{
+  if (Model.config().kind != "decoder")
+    throw Error("the U-Net model has no explicit TF: reconstruct one from its render");
+  return Model.decode(latent);
+}
+
+// ---- lock, edits, explicit TFs, fidelity, animation ---------------------------------------
+
+bool FeatureLock::any() const
+{
+  return std::find(locked.begin(), locked.end(), true) != locked.end();
+}
+
+std::vector<GaussianPrimitive> DesignGallery::regionPrimitives(
+  const std::vector<float>& latent, const FeatureLock* lock) const
+{
+  auto prims = Model.decodeRegions(latent);
+  if (lock)
+  {
+    if (lock->primitives.size() != prims.size() || lock->locked.size() != prims.size())
+      throw Error("the feature lock holds " + std::to_string(lock->locked.size()) +
+        " regions, the model " + std::to_string(prims.size()));
+    for (size_t r = 0; r < prims.size(); ++r)
+      if (lock->locked[r])
+        prims[r] = lock->primitives[r];
+  }
+  return prims;
+}
+
+FeatureLock DesignGallery::lockRegions(
+  const std::vector<float>& latent, const std::vector<int>& regions) const
+{
+  FeatureLock lock;
+  lock.primitives = Model.decodeRegions(latent);
+  lock.locked.assign(lock.primitives.size(), false);
+  for (int r : regions)
+  {
+    if (r < 0 || r >= static_cast<int>(lock.primitives.size()))
+      throw Error("feature region " + std::to_string(r) + " does not exist (0.." +
+        std::to_string(lock.primitives.size() - 1) + ")");
+    lock.locked[r] = true;
+  }
+  return lock;
+}
+
+Image DesignGallery::renderPrimitives(
+  const std::vector<GaussianPrimitive>& primitives, const View& view) const
+{
+  std::vector<GaussianPrimitive> visible;
+  for (const auto& g : primitives)
+    if (g.opacity >= DecoderLayout::kMinOpacity)
+      visible.push_back(g);
+  const RayCaster caster(Vol);
+  const int dims = Model.spec().dimensions;
+  return renderDesign(caster, visible, dims,
+    dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 }, view);
+}
+
+Image DesignGallery::render(
+  const std::vector<float>& latent, const View& view, const FeatureLock* lock) const
+{
+  if (!lock || !lock->any() || Model.config().kind != "decoder")
+    return render(latent, view);
+  return renderPrimitives(regionPrimitives(latent, lock), view);
+}
+
+std::vector<float> DesignGallery::analyzeEdit(
+  const Image& rgba, const std::array<double, 3>& background) const
+{
+  if (rgba.channels != 4)
+    throw Error("an edited design image is premultiplied RGBA");
+  return analyzeImage(compositeOverBackground(rgba, background));
+}
+
+TransferFunctionFile DesignGallery::explicitTransferFunction(
+  const std::vector<float>& latent, const View& view, const FeatureLock* lock) const
+{
+  const int dims = Model.spec().dimensions;
+  const auto valueRange = Vol.range();
+  const auto gradientRange =
+    dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
+  if (Model.config().kind == "decoder")
+  {
+    std::vector<GaussianPrimitive> visible;
+    for (const auto& g : regionPrimitives(latent, lock))
+      if (g.opacity >= DecoderLayout::kMinOpacity)
+        visible.push_back(g);
+    return primitivesToTransferFunction(visible, dims, valueRange, gradientRange, "ddg design");
+  }
+  // the U-Net's image has no TF: reconstruct one from it at this view
+  const DifferentiableRenderer diff(Vol);
+  ReconstructionOptions opt;
+  opt.twoD = dims == 2;
+  const auto result = reconstructTransferFunction(
+    diff, { { compositeOverBackground(render(latent, view), view.background), view, {} } }, opt);
+  TransferFunctionFile tf;
+  tf.is2D = result.twoD;
+  if (result.twoD)
+  {
+    tf.tf2D.name = "ddg design";
+    tf.tf2D.table = result.table2D;
+  }
+  else
+    tf.tf1D = tableToTransferFunction(result.table1D, 1.0 / 512.0, "ddg design");
+  return tf;
+}
+
+namespace
+{
+Image heatMap(const Image& a, const Image& b, double* maxError)
+{
+  Image heat(a.width, a.height, 3);
+  *maxError = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+    {
+      double e = 0;
+      for (int c = 0; c < 3; ++c)
+        e = std::max(e, static_cast<double>(std::abs(a.at(x, y, c) - b.at(x, y, c))));
+      *maxError = std::max(*maxError, e);
+      const double t = std::min(1.0, e / 0.25) * 3; // black -> red -> yellow -> white
+      heat.at(x, y, 0) = static_cast<float>(std::min(1.0, t));
+      heat.at(x, y, 1) = static_cast<float>(std::clamp(t - 1, 0.0, 1.0));
+      heat.at(x, y, 2) = static_cast<float>(std::clamp(t - 2, 0.0, 1.0));
+    }
+  return heat;
+}
+} // namespace
+
+Fidelity DesignGallery::fidelity(
+  const std::vector<float>& latent, const View& view, const FeatureLock* lock) const
+{
+  Fidelity f;
+  f.neural = compositeOverBackground(render(latent, view, lock), view.background);
+  const auto tf = explicitTransferFunction(latent, view, lock);
+  const RayCaster caster(Vol);
+  const Image real = tf.is2D ? caster.render(tf.tf2D.bake(), view)
+                             : caster.render(caster.paraviewTable(tf.tf1D), view);
+  f.real = compositeOverBackground(real, view.background);
+  f.psnr = psnr(f.neural, f.real);
+  f.ssim = ssim(f.neural, f.real);
+  f.heat = heatMap(f.neural, f.real, &f.maxError);
+  return f;
+}
+
+Animation DesignGallery::animate(const std::vector<float>& a, const std::vector<float>& b,
+  const View& view, int frames, const std::string& easing, int keyEvery,
+  const FeatureLock* lock) const
+{
+  if (keyEvery < 1)
+    throw Error("keyframes must be at least 1 frame apart");
+  Animation anim;
+  anim.latents = latentPath(a, b, frames, easing);
+  for (int f = 0; f < frames; f += keyEvery)
+    anim.keyframes.push_back(f);
+  if (anim.keyframes.back() != frames - 1)
+    anim.keyframes.push_back(frames - 1);
+  // explicit TFs at the keyframes, as dense tables (1D: ParaView's table of the exported preset)
+  const RayCaster caster(Vol);
+  std::vector<TransferTable1D> t1;
+  std::vector<TransferTable2D> t2;
+  bool twoD = false;
+  for (int k : anim.keyframes)
+  {
+    const auto tf = explicitTransferFunction(anim.latents[k], view, lock);
+    twoD = tf.is2D;
+    if (twoD)
+      t2.push_back(tf.tf2D.bake());
+    else
+      t1.push_back(bakeTable(tf.tf1D, Vol.range()[0], Vol.range()[1], 1024));
+  }
+  for (int f = 0; f < frames; ++f)
+  {
+    anim.neural.push_back(
+      compositeOverBackground(render(anim.latents[f], view, lock), view.background));
+    size_t k = 0;
+    while (k + 1 < anim.keyframes.size() && anim.keyframes[k + 1] <= f)
+      ++k;
+    const size_t k1 = std::min(k + 1, anim.keyframes.size() - 1);
+    const double span = anim.keyframes[k1] - anim.keyframes[k];
+    const double t = span > 0 ? (f - anim.keyframes[k]) / span : 0.0;
+    auto mix = [t](const std::vector<float>& p, const std::vector<float>& q)
+    {
+      std::vector<float> m(p.size());
+      for (size_t i = 0; i < p.size(); ++i)
+        m[i] = static_cast<float>((1 - t) * p[i] + t * q[i]);
+      return m;
+    };
+    Image real;
+    if (twoD)
+    {
+      TransferTable2D table = t2[k];
+      table.rgba = mix(t2[k].rgba, t2[k1].rgba);
+      real = caster.render(table, view);
+    }
+    else
+    {
+      TransferTable1D table = t1[k];
+      table.rgba = mix(t1[k].rgba, t1[k1].rgba);
+      real = caster.render(table, view);
+    }
+    anim.real.push_back(compositeOverBackground(real, view.background));
+  }
+  return anim;
+}
+
+Image DesignGallery::sheet(const OutlineViewState& state, const View& view, int side)
+{
+  if (side < 64 || side > 8192)
+    throw Error("the sheet side must be in [64, 8192]");
+  const OutlineBox& box = state.current();
+  const auto rows = selectThumbnails(Outline, box, state.count, state.seed);
+  Image canvas(side, side, 3, 1.0f);
+  auto toPixel = [&](std::array<double, 2> p)
+  {
+    return std::array<double, 2>{ (p[0] - box.x0) / (box.x1 - box.x0) * (side - 1),
+      (box.y1 - p[1]) / (box.y1 - box.y0) * (side - 1) };
+  };
+  for (int i : Outline.inside(box))
+  {
+    const auto q = toPixel(Outline.point(i));
+    const int x = static_cast<int>(q[0]), y = static_cast<int>(q[1]);
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx)
+        if (x + dx < side && y + dy < side)
+          for (int c = 0; c < 3; ++c)
+            canvas.at(x + dx, y + dy, c) = std::min(canvas.at(x + dx, y + dy, c), 0.72f);
+  }
+  for (int row : rows)
+  {
+    const Image thumb =
+      compositeOverBackground(thumbnail(row, view), { 0.12, 0.12, 0.12 });
+    const auto q = toPixel(Outline.point(row));
+    const int tw = thumb.width, th = thumb.height;
+    const int x0 = std::clamp(static_cast<int>(q[0]) - tw / 2, 1, std::max(1, side - tw - 1));
+    const int y0 = std::clamp(static_cast<int>(q[1]) - th / 2, 1, std::max(1, side - th - 1));
+    for (int y = -1; y <= th; ++y)
+      for (int x = -1; x <= tw; ++x)
+      {
+        const int px = x0 + x, py = y0 + y;
+        if (px < 0 || py < 0 || px >= side || py >= side)
+          continue;
+        const bool frame = x < 0 || y < 0 || x >= tw || y >= th;
+        for (int c = 0; c < 3; ++c)
+          canvas.at(px, py, c) = frame ? 1.0f : thumb.at(x, y, c);
+      }
+  }
+  return canvas;
+}
+
+} // namespace ddg

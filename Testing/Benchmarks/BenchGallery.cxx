@@ -1,0 +1,109 @@
+// BenchGallery.cxx: the design gallery's interactive costs on 2 cores, against the bars of
+// issue 5 (median of N runs, printed with the ratio to the bar; asserts nothing):
+//  (a) PCA + layout of the outline's latents (the shipped bundle's outline.bin, >= 50 000)  <= 0.5 s
+//  (b) K = 64 thumbnails chosen over the whole outline (farthest-point sampling)           (no bar)
+//  (c) one query: image -> analyzer -> latent -> outline position + 5 neighbours -> preview
+//      at 128 x 128                                                                        <= 50 ms
+//  (d) screenshot -> explicit TF file: (c) plus the decoded TF written as a ParaView preset <= 3 s
+// Usage: BenchGallery [MODEL_DIR [VOLUME [RUNS]]]   (default: the shipped Tooth bundle)
+#include "DDGVolumeAdaptor.h"
+
+#include "Gallery/Export.h"
+#include "Gallery/Gallery.h"
+#include "Render/View.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+using namespace ddg;
+namespace
+{
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t)
+{
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
+double median(std::vector<double> v)
+{
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+void row(const char* what, double ms, double barMs)
+{
+  if (barMs > 0)
+    std::printf("%-58s %9.2f ms   bar %6.0f ms   ratio %.3f\n", what, ms, barMs, ms / barMs);
+  else
+    std::printf("%-58s %9.2f ms\n", what, ms);
+}
+} // namespace
+
+int main(int argc, char** argv)
+{
+  const std::string data = DDG_DATA_DIR;
+  const std::string modelDir = argc > 1 ? argv[1] : data + "/Models/tooth";
+  const std::string volumePath = argc > 2 ? argv[2] : data + "/Volumes/tooth.vti";
+  const int runs = argc > 3 ? std::max(1, std::atoi(argv[3])) : 5;
+  try
+  {
+    const Volume volume = readVolumeFile(volumePath);
+    auto model = NeuralDesignModel::loadBundle(modelDir, volumeFingerprint(volume));
+    const LatentSet latents = readLatentSet(outlineFile(modelDir));
+    std::printf("gallery benchmark: %s (%s, %d outline latents of %d), %d runs, median\n",
+      modelDir.c_str(), model.config().kind.c_str(), latents.count(), latents.dim, runs);
+
+    std::vector<double> pca, pick, query, file;
+    std::unique_ptr<DesignGallery> gallery;
+    for (int r = 0; r < runs; ++r)
+    {
+      const auto t0 = Clock::now();
+      gallery = std::make_unique<DesignGallery>(model, volume, latents);
+      const auto box = gallery->outline().bounds();
+      pca.push_back(msSince(t0));
+      const auto t1 = Clock::now();
+      const auto rows = selectThumbnails(gallery->outline(), box, 64, r + 1);
+      pick.push_back(msSince(t1));
+    }
+    row("(a) PCA + layout of the outline", median(pca), 500);
+    row("(b) 64 thumbnails chosen (farthest-point sampling)", median(pick), 0);
+
+    // the query image: a design of the outline rendered at another view, as a screenshot
+    View view = defaultView(volume, 128, 128);
+    const Exemplar e = gallery->exemplar(gallery->outline().count() / 2);
+    View shot = e.viewView;
+    shot.width = shot.height = 512;
+    const RayCaster caster(volume);
+    const int dims = model.spec().dimensions;
+    const auto gradientRange =
+      dims == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
+    const Image screenshot = compositeOverBackground(
+      renderDesign(caster, e.primitives, dims, gradientRange, shot), { 1.0, 1.0, 1.0 });
+    const auto out = (std::filesystem::temp_directory_path() / "ddg_bench_query.json").string();
+    for (int r = 0; r < runs; ++r)
+    {
+      const auto t0 = Clock::now();
+      const auto q = gallery->query(screenshot, view, 5);
+      query.push_back(msSince(t0));
+      if (model.config().kind == "decoder")
+      {
+        exportTransferFunction(primitivesToTransferFunction(gallery->primitives(q.latent), dims,
+                                 volume.range(), gradientRange, "bench"),
+          out, "paraview", volume.range(), caster.defaultOpacityUnitDistance());
+        file.push_back(msSince(t0));
+      }
+    }
+    row("(c) query 512x512 screenshot -> latent, 5 neighbours, 128^2 preview", median(query), 50);
+    if (!file.empty())
+      row("(d) screenshot -> explicit TF file (ParaView preset)", median(file), 3000);
+    std::filesystem::remove(out);
+  }
+  catch (const std::exception& e)
+  {
+    std::fprintf(stderr, "BenchGallery: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

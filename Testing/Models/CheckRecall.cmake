@@ -1,0 +1,25 @@
+# CheckRecall.cmake: query recall of a shipped bundle: 200 held-out designs (indices from
+# 2 000 000, never in training or the outline) join its outline; each is queried with its own
+# image and with its image from another view. The own-image query must find it among the 5
+# nearest in >= 90 % of the cases (issue 5's bar); the other view is printed.
+#   cmake -DDDG=... -DVOLUME=... -DBUNDLE=... -DWORK=... -P CheckRecall.cmake
+file(READ "${BUNDLE}/bundle.json" bundle)
+string(JSON size GET "${bundle}" architecture image_size)
+execute_process(COMMAND ${DDG} generate --volume ${VOLUME} --count 200 --size ${size} --seed 1
+    --first-index 2000000 --out ${WORK} --quiet RESULT_VARIABLE code ERROR_VARIABLE err)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "ddg generate failed: ${err}")
+endif()
+execute_process(COMMAND ${DDG} recall --model ${BUNDLE} --data ${WORK} --count 200 --k 5
+  RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "ddg recall failed: ${err}")
+endif()
+message(STATUS "${out}")
+if(NOT out MATCHES "own image ([0-9.]+) %, other view ([0-9.]+) %")
+  message(FATAL_ERROR "unexpected output of ddg recall: ${out}")
+endif()
+if(CMAKE_MATCH_1 LESS 90)
+  message(FATAL_ERROR "the query of a design's own image found it among the 5 nearest in "
+    "${CMAKE_MATCH_1} % of 200 held-out cases (bar: 90 %)")
+endif()
