@@ -95,9 +95,11 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
   const DesignOutline all(std::move(joined));
   auto recall = [&](const std::vector<Image>& images)
   {
+    // queried as a screenshot three times the model's size would be: upsampled, then framed
+    // and resized back by the query pipeline
     std::vector<Image> prepared;
     for (const auto& im : images)
-      prepared.push_back(prepareQueryImage(im, s));
+      prepared.push_back(prepareQueryImage(resizeImage(im, 3 * s, 3 * s), s));
     const auto q = model.analyzeBatch(prepared);
     int hits = 0;
     for (int i = 0; i < count; ++i)

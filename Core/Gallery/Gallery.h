@@ -49,7 +49,8 @@ struct QueryRecall
 
 /// For each of the first `count` exemplars of a held-out dataset: its latent from its V_exp
 /// image (as buildOutlineLatents makes them) joins `outline`; then the exemplar is queried
-/// through prepareQueryImage and the analyzer, with its own image and with the other view, and
+/// through prepareQueryImage and the analyzer, with its own image and with the other view (each
+/// upsampled to 3x the model's size first, as a larger screenshot), and
 /// counts as found when its row is among the k nearest of the joined set. Throws ddg::Error for
 /// count < 1, k < 1, or data whose image size or volume is not the model's.
 QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline,

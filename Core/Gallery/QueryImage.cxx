@@ -10,12 +10,10 @@
 namespace ddg
 {
 
-Image prepareQueryImage(const Image& image, int size, double fill)
+Image prepareQueryImage(const Image& image, int size)
 {
   if (size < 8)
     throw Error("the analyzer input must be at least 8 pixels");
-  if (!(fill > 0 && fill <= 1))
-    throw Error("the content fill must be in (0, 1]");
   if (image.width < 8 || image.height < 8)
     throw Error("the query image is " + std::to_string(image.width) + " x " +
       std::to_string(image.height) + " pixels: too small (at least 8 x 8)");
@@ -81,12 +79,17 @@ Image prepareQueryImage(const Image& image, int size, double fill)
     }
   if (x1 < 0)
     throw Error("the query image shows nothing: every pixel is the background colour");
-  // 3. square frame around the content, padded with the background
-  const double cx = 0.5 * (x0 + x1 + 1), cy = 0.5 * (y0 + y1 + 1);
-  const int side = std::max(1,
-    static_cast<int>(std::lround(std::max(x1 - x0 + 1, y1 - y0 + 1) / fill)));
-  const int ox = static_cast<int>(std::lround(cx - 0.5 * side));
-  const int oy = static_cast<int>(std::lround(cy - 0.5 * side));
+  // 3. a square of the shorter side on the content's centre, inside the image if it fits
+  const int extent = std::max(x1 - x0 + 1, y1 - y0 + 1);
+  const int side = std::max(std::min(w, h), extent);
+  auto place = [side](double centre, int length)
+  {
+    int o = static_cast<int>(std::lround(centre - 0.5 * side));
+    if (side <= length)
+      o = std::clamp(o, 0, length - side);
+    return o;
+  };
+  const int ox = place(0.5 * (x0 + x1 + 1), w), oy = place(0.5 * (y0 + y1 + 1), h);
   Image square(side, side, 3);
   for (int y = 0; y < side; ++y)
     for (int x = 0; x < side; ++x)
@@ -97,7 +100,21 @@ Image prepareQueryImage(const Image& image, int size, double fill)
         square.at(x, y, c) = in ? rgb.at(sx, sy, c) : bg[c];
     }
   // 4. the model's size, quantised to 8 bits as the training images are
-  Image out = side == size ? square : resizeImage(square, size, size);
+  // halve by 2 x 2 box averages while the square is over 4x the size (exact area averages,
+  // much cheaper than one wide filtered resize), then the filtered resize
+  while (square.width >= 4 * size)
+  {
+    const int hw = square.width / 2;
+    Image half(hw, hw, 3);
+    for (int y = 0; y < hw; ++y)
+      for (int x = 0; x < hw; ++x)
+        for (int c = 0; c < 3; ++c)
+          half.at(x, y, c) = 0.25f *
+            (square.at(2 * x, 2 * y, c) + square.at(2 * x + 1, 2 * y, c) +
+              square.at(2 * x, 2 * y + 1, c) + square.at(2 * x + 1, 2 * y + 1, c));
+    square = std::move(half);
+  }
+  Image out = square.width == size ? square : resizeImage(square, size, size);
   for (float& v : out.pixels)
     v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
   return out;

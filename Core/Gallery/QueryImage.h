@@ -12,14 +12,18 @@ namespace ddg
 ///     an image whose alpha is 0 everywhere is refused;
 ///  2. the background colour is the median of the 1-pixel border; pixels differing from it by
 ///     more than 0.04 in any channel are content; an image without content is refused;
-///  3. a square centred on the content's bounding box, its side the larger extent divided by
-///     `fill`, the fraction of the frame the volume's content spans in training images (median
-///     over generated exemplars: Tooth 0.69, Engine 0.64; default 0.67), padded with the background colour where it leaves the image;
-///  4. OpenImageIO's filtered resize to size x size.
-/// So any size and aspect works, and a screenshot with the volume small in a corner is framed
-/// as the analyzer was trained. Backgrounds other than black or white are kept (the analyzer
-/// was trained on black and white). Throws ddg::Error for images smaller than 8 x 8, larger
-/// than 16384 on a side, with other than 1-4 channels, fully transparent or uniform.
-Image prepareQueryImage(const Image& image, int size, double fill = 0.67);
+///  3. a square of the image's shorter side (the frame ParaView's camera fits the volume to:
+///     the vertical view angle of a landscape window), placed on the content's centre and moved
+///     inside the image; when the content does not fit, the square grows to hold it and is padded
+///     with the background colour. The volume's size in the frame is kept, as the analyzer
+///     saw it in training (rescaling it to a standard size changes the latent more than any
+///     other step);
+///  4. 2 x 2 box averages while the square is 4x the size or more, then OpenImageIO's filtered
+///     resize to size x size, quantised to 8 bits as training images are.
+/// So any size and aspect works, and a square image of the model's size is used as it is.
+/// Backgrounds other than black or white are kept (the analyzer was trained on black and
+/// white). Throws ddg::Error for images smaller than 8 x 8, larger than 16384 on a side, with
+/// other than 1-4 channels, fully transparent or uniform.
+Image prepareQueryImage(const Image& image, int size);
 
 } // namespace ddg

@@ -15,6 +15,7 @@
 #ifdef DDG_WITH_TORCH
 #include "Design/ExemplarGenerator.h"
 #include "Gallery/Gallery.h"
+#include "Gallery/History.h"
 #include "Reconstruct/Reconstruction.h"
 #endif
 
@@ -85,6 +86,8 @@ ddg::OutlineBox parseBox(const std::string& text)
     throw ddg::Error("--box needs x0 < x1 and y0 < y1");
   return b;
 }
+
+ddg::DesignHistory historyOf(const std::string& ref);
 
 /// The bundle, its volume and its outline, loaded and checked together.
 struct LoadedGallery
@@ -234,7 +237,7 @@ int runGallery(const GalleryArgs& a)
 
 struct QueryArgs
 {
-  std::string model, volume, image, view, outPreview, outTF, outInput, format = "paraview";
+  std::string model, volume, image, view, outPreview, outTF, outInput, format = "paraview", history;
   int neighbours = 5;
 };
 
@@ -258,6 +261,8 @@ int runQuery(const QueryArgs& a)
   }
   if (!a.outInput.empty())
     ddg::writeImage(r.input, a.outInput);
+  if (!a.history.empty())
+    historyOf("image:" + a.image).write(a.history);
   if (!a.outPreview.empty())
     ddg::writeImage(ddg::compositeOverBackground(r.preview, view.background), a.outPreview);
   double tfMs = 0;
@@ -300,14 +305,14 @@ int runQuery(const QueryArgs& a)
 // --- designs named on the command line ------------------------------------------------------
 
 /// A design reference: "row:N" (row N of the outline), "image:PATH" (the analyzer's latent of an
-/// image, framed as a query) or "latent:PATH" (a latent JSON {"latent": [...]} written by
-/// --out-latent).
+/// image, framed as a query), "latent:PATH" (a latent JSON {"latent": [...]} written by
+/// --out-latent) or "history:PATH" (where a history file's path ends).
 std::vector<float> resolveDesign(const ddg::DesignGallery& g, const std::string& ref)
 {
   const auto colon = ref.find(':');
   const std::string kind = ref.substr(0, colon), arg = colon == std::string::npos ? "" : ref.substr(colon + 1);
   if (colon == std::string::npos || arg.empty())
-    throw ddg::Error("design '" + ref + "': use row:N, image:PATH or latent:PATH");
+    throw ddg::Error("design '" + ref + "': use row:N, image:PATH, latent:PATH or history:PATH");
   if (kind == "row")
   {
     try
@@ -347,7 +352,37 @@ std::vector<float> resolveDesign(const ddg::DesignGallery& g, const std::string&
         ": it comes from another model");
     return z;
   }
-  throw ddg::Error("design '" + ref + "': unknown kind '" + kind + "' (row, image or latent)");
+  if (kind == "history")
+    return ddg::replayHistory(g, ddg::DesignHistory::read(arg));
+  throw ddg::Error("design '" + ref + "': unknown kind '" + kind + "' (row, image, latent or history)");
+}
+
+/// The history that leads to a design reference (for --history): row -> [pick], image ->
+/// [query], history -> its steps. A latent file has no history.
+ddg::DesignHistory historyOf(const std::string& ref)
+{
+  const auto colon = ref.find(':');
+  const std::string kind = ref.substr(0, colon), arg = ref.substr(colon + 1);
+  ddg::DesignHistory h;
+  ddg::HistoryStep s;
+  if (kind == "row")
+  {
+    s.action = "pick";
+    s.row = std::stoi(arg);
+    h.steps.push_back(s);
+  }
+  else if (kind == "image")
+  {
+    s.action = "query";
+    s.image = arg;
+    h.steps.push_back(s);
+  }
+  else if (kind == "history")
+    h = ddg::DesignHistory::read(arg);
+  else
+    throw ddg::Error("--history: a design given as " + kind + ":... has no history to continue; "
+      "start from row:N, image:PATH or history:PATH");
+  return h;
 }
 
 void writeLatent(const std::vector<float>& z, const std::string& path)
@@ -454,7 +489,7 @@ int runNavigate(const NavigateArgs& a)
 struct EditArgs
 {
   std::string model, volume, design, view, pick, mask, axes, outImage, outDesign, outTF, outLatent,
-    format = "paraview", lock, lockFrom;
+    format = "paraview", lock, lockFrom, history;
   int cluster = -1, clusters = 4;
   double hue = 0, saturation = 1, lightness = 0, visibility = 1;
   bool white = false;
@@ -467,6 +502,15 @@ int runEdit(const EditArgs& a)
   const auto lock = makeLock(*g.gallery, a.lock, a.lockFrom);
   std::vector<float> z = resolveDesign(*g.gallery, a.design);
   const bool imageEdit = a.hue != 0 || a.saturation != 1 || a.lightness != 0 || a.visibility != 1;
+  ddg::DesignHistory history;
+  if (!a.history.empty())
+  {
+    if (lock)
+      throw ddg::Error("--history does not record feature locks yet; edit without --lock");
+    if (imageEdit && !a.mask.empty())
+      throw ddg::Error("--history does not record brushed masks; edit a --cluster or --pick");
+    history = historyOf(a.design);
+  }
   if (imageEdit)
   {
     const ddg::Image before = g.gallery->render(z, view, lock.get());
@@ -505,9 +549,34 @@ int runEdit(const EditArgs& a)
     if (!a.outImage.empty())
       ddg::writeImage(ddg::compositeOverBackground(edited, bg), a.outImage);
     z = g.gallery->analyzeEdit(edited, bg);
+    ddg::HistoryStep step;
+    step.action = "edit";
+    step.viewJson = ddg::viewToJson(view);
+    step.clusters = a.clusters;
+    step.cluster = a.pick.empty() ? region.cluster : -1;
+    if (!a.pick.empty())
+    {
+      const auto p = parseNumbers(a.pick, 2, "--pick");
+      step.pickX = static_cast<int>(p[0]);
+      step.pickY = static_cast<int>(p[1]);
+    }
+    step.hue = a.hue;
+    step.saturation = a.saturation;
+    step.lightness = a.lightness;
+    step.visibility = a.visibility;
+    step.white = a.white;
+    history.steps.push_back(step);
   }
   if (!a.axes.empty())
-    z = g.gallery->outline().moveAlongAxes(z, parseNumbers(a.axes, 0, "--axes"));
+  {
+    ddg::HistoryStep step;
+    step.action = "axes";
+    step.steps = parseNumbers(a.axes, 0, "--axes");
+    z = g.gallery->outline().moveAlongAxes(z, step.steps);
+    history.steps.push_back(step);
+  }
+  if (!a.history.empty())
+    history.write(a.history);
   const auto p = g.gallery->outline().project(z.data());
   std::printf("edited design: outline position (%.4f, %.4f)\n", p[0], p[1]);
   if (!a.outDesign.empty())
@@ -584,6 +653,41 @@ int runFidelity(const FidelityArgs& a)
     ddg::writeImage(f.heat, a.outHeat);
   if (!a.outPair.empty())
     ddg::writeImage(ddg::tileImages({ f.neural, f.real, f.heat }, 3), a.outPair);
+  return 0;
+}
+
+// --- ddg replay ------------------------------------------------------------------------------
+
+struct ReplayArgs
+{
+  std::string model, volume, history, view, outTF, outDesign, outLatent, format = "paraview";
+};
+
+int runReplay(const ReplayArgs& a)
+{
+  LoadedGallery g(a.model, a.volume);
+  const auto history = ddg::DesignHistory::read(a.history);
+  std::vector<float> z;
+  for (size_t i = 0; i < history.steps.size(); ++i)
+  {
+    z = ddg::applyHistoryStep(*g.gallery, history.steps[i], z);
+    const auto p = g.gallery->outline().project(z.data());
+    std::printf("step %zu (%s): outline position (%.4f, %.4f)\n", i + 1,
+      history.steps[i].action.c_str(), p[0], p[1]);
+  }
+  const ddg::View view = a.view.empty() ? ddg::defaultView(g.volume, 256, 256) : ddg::readView(a.view);
+  if (!a.outLatent.empty())
+    writeLatent(z, a.outLatent);
+  if (!a.outDesign.empty())
+    ddg::writeImage(ddg::compositeOverBackground(g.gallery->render(z, view), view.background),
+      a.outDesign);
+  if (!a.outTF.empty())
+  {
+    const ddg::RayCaster caster(g.volume);
+    ddg::exportTransferFunction(g.gallery->explicitTransferFunction(z, view), a.outTF, a.format,
+      g.volume.range(),
+      view.opacityUnitDistance ? *view.opacityUnitDistance : caster.defaultOpacityUnitDistance());
+  }
   return 0;
 }
 
@@ -685,6 +789,7 @@ std::function<int()> addGalleryCommands(CLI::App& app)
   query->add_option("--format", qa->format, "TF file format: paraview (default) or slicer")
     ->check(CLI::IsMember({ "paraview", "slicer" }));
   query->add_option("--out-input", qa->outInput, "Write what the analyzer saw (PNG)");
+  query->add_option("--history", qa->history, "Start a history file that replays this path (ddg edit --history, ddg replay)");
   query->add_option("--neighbours", qa->neighbours, "Nearest designs listed (default 5)")
     ->check(CLI::Range(0, 1000));
   commands.push_back({ query, [qa] { return runQuery(*qa); } });
@@ -732,6 +837,8 @@ std::function<int()> addGalleryCommands(CLI::App& app)
   edit->add_option("--format", eda->format, "TF file format: paraview (default) or slicer")
     ->check(CLI::IsMember({ "paraview", "slicer" }));
   edit->add_option("--out-latent", eda->outLatent, "Write the edited latent (JSON)");
+  edit->add_option("--history", eda->history,
+    "Write the path to this design as a history file (continuing a history:PATH design)");
   edit->add_option("--lock", eda->lock, "Feature lock: regions kept from --lock-from");
   edit->add_option("--lock-from", eda->lockFrom, "The design the locked regions come from");
   commands.push_back({ edit, [eda] { return runEdit(*eda); } });
@@ -769,6 +876,21 @@ std::function<int()> addGalleryCommands(CLI::App& app)
   fidelity->add_option("--out-heat", fa->outHeat, "Write the heat map (PNG)");
   fidelity->add_option("--out-pair", fa->outPair, "Write neural | ray cast | heat map side by side (PNG)");
   commands.push_back({ fidelity, [fa] { return runFidelity(*fa); } });
+
+  auto pa = std::make_shared<ReplayArgs>();
+  auto* replay = app.add_subcommand("replay",
+    "Replay a history file (query -> picks -> edits -> TF; written by query/edit --history): "
+    "prints each step's outline position and writes the design it ends on.");
+  replay->add_option("--model", pa->model, "Model bundle directory (with outline.bin)")->required();
+  replay->add_option("--volume", pa->volume, "The bundle's volume")->required();
+  replay->add_option("--history", pa->history, "History file")->required();
+  replay->add_option("--view", pa->view, "View JSON of the outputs (default: the volume's default view)");
+  replay->add_option("--out-tf", pa->outTF, "Write the final design's explicit TF");
+  replay->add_option("--format", pa->format, "TF file format: paraview (default) or slicer")
+    ->check(CLI::IsMember({ "paraview", "slicer" }));
+  replay->add_option("--out-design", pa->outDesign, "Write the final design's render (PNG)");
+  replay->add_option("--out-latent", pa->outLatent, "Write the final latent (JSON)");
+  commands.push_back({ replay, [pa] { return runReplay(*pa); } });
 
   auto ra = std::make_shared<RecallArgs>();
   auto* recall = app.add_subcommand("recall",

@@ -9,8 +9,9 @@
 //  - Thumbnails: farthest-point sampling must cover the box better (lower dispersion) than the
 //    best of 20 random selections of the same size.
 //  - Latent files: half-float round trip within 1e-3 relative; truncated/corrupt files refused.
-//  - Query images: a disc drawn off-centre in a wide image lands centred and framed at the
-//    stated fill (2 pixels); bad images refused with their reason.
+//  - Query images: a disc drawn off-centre in a wide image keeps its size in a square of the
+//    shorter side (1.5 pixels); a model-size image passes unchanged; bad images refused with
+//    their reason.
 //  - Export: the preset re-evaluates to the rasterized primitives within 1/256; the Slicer JSON
 //    carries every field the published schema requires, with the TF's nodes.
 #include "Common/Error.h"
@@ -272,10 +273,11 @@ TEST(QueryImage, FramesContentAnywhere)
       if ((x - 260) * (x - 260) + (y - 40) * (y - 40) <= 400)
         for (int c = 0; c < 3; ++c)
           im.at(x, y, c) = 1.0f;
-  const auto out = ddg::prepareQueryImage(im, 64, 0.5);
+  const auto out = ddg::prepareQueryImage(im, 64);
   ASSERT_EQ(out.width, 64);
   ASSERT_EQ(out.channels, 3);
-  // centred, spanning half the frame: columns with content between ~16 and ~48
+  // the 100 x 100 square on the disc, moved inside the image: columns 200..299; the disc keeps
+  // its size (radius 20 of 100 -> 12.8 of 64) at (60, 40) of 100 -> (38.4, 25.6) of 64
   int x0 = 64, x1 = -1, y0 = 64, y1 = -1;
   for (int y = 0; y < 64; ++y)
     for (int x = 0; x < 64; ++x)
@@ -286,10 +288,22 @@ TEST(QueryImage, FramesContentAnywhere)
         y0 = std::min(y0, y);
         y1 = std::max(y1, y);
       }
-  EXPECT_NEAR(x0, 16, 2);
-  EXPECT_NEAR(x1, 47, 2);
-  EXPECT_NEAR(y0, 16, 2);
-  EXPECT_NEAR(y1, 47, 2);
+  EXPECT_NEAR(x0, 25.6, 1.5);
+  EXPECT_NEAR(x1, 51.2, 1.5);
+  EXPECT_NEAR(y0, 12.8, 1.5);
+  EXPECT_NEAR(y1, 38.4, 1.5);
+  // a square image of the model's size (8-bit values) is used as it is
+  ddg::Image same(64, 64, 3, 0.0f);
+  for (int y = 20; y < 40; ++y)
+    for (int x = 10; x < 30; ++x)
+      same.at(x, y, 1) = 200.0f / 255.0f;
+  EXPECT_EQ(ddg::prepareQueryImage(same, 64).pixels, same.pixels);
+  // content larger than the shorter side: the square grows and pads with the background
+  ddg::Image wide(200, 20, 3, 1.0f);
+  for (int x = 10; x < 190; ++x)
+    wide.at(x, 10, 0) = 0.0f;
+  const auto padded = ddg::prepareQueryImage(wide, 64);
+  EXPECT_FLOAT_EQ(padded.at(32, 2, 1), 1.0f); // white padding above
   // white background, gray, gray + alpha and RGBA are accepted
   ddg::Image gray(50, 50, 1, 1.0f);
   gray.at(25, 25, 0) = 0.0f;

@@ -1,0 +1,190 @@
+// History.cxx: history files and their replay.
+#include "Gallery/History.h"
+
+#include "Common/Error.h"
+#include "Common/FileUtil.h"
+#include "Render/View.h"
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <sstream>
+
+namespace ddg
+{
+
+namespace
+{
+using json = nlohmann::json;
+
+const char* const kActions[] = { "query", "pick", "blend", "edit", "axes" };
+
+void validateStep(const HistoryStep& s, size_t i, const std::string& origin)
+{
+  const std::string where = origin + ": step " + std::to_string(i + 1) + " (" + s.action + ")";
+  if (std::find(std::begin(kActions), std::end(kActions), s.action) == std::end(kActions))
+    throw Error(origin + ": step " + std::to_string(i + 1) + " has the unknown action '" +
+      s.action + "' (query, pick, blend, edit or axes)");
+  if (s.action == "query" && s.image.empty())
+    throw Error(where + " needs \"image\"");
+  if (s.action == "pick" && s.row < 0)
+    throw Error(where + " needs a \"row\" >= 0");
+  if (s.action == "blend" && (s.rows.size() < 2 || s.rows.size() > 4))
+    throw Error(where + " needs 2 to 4 \"rows\"");
+  if (s.action == "edit")
+  {
+    if (s.viewJson.empty())
+      throw Error(where + " needs the \"view\" it was made at");
+    if (s.cluster < 0 && (s.pickX < 0 || s.pickY < 0))
+      throw Error(where + " needs a \"cluster\" or a \"pick\" [x, y]");
+  }
+  if (s.action == "axes" && s.steps.empty())
+    throw Error(where + " needs \"steps\"");
+  const bool starts = s.action == "query" || s.action == "pick" || s.action == "blend";
+  if (i == 0 && !starts)
+    throw Error(origin + ": a history starts with query, pick or blend (not " + s.action + ")");
+}
+} // namespace
+
+std::string DesignHistory::toJson() const
+{
+  json steps = json::array();
+  for (const auto& s : this->steps)
+  {
+    json j = { { "action", s.action } };
+    if (s.action == "query")
+      j["image"] = s.image;
+    else if (s.action == "pick")
+      j["row"] = s.row;
+    else if (s.action == "blend")
+      j.update({ { "rows", s.rows }, { "u", s.u }, { "v", s.v } });
+    else if (s.action == "edit")
+    {
+      j["view"] = json::parse(s.viewJson);
+      if (s.cluster >= 0)
+        j["cluster"] = s.cluster;
+      else
+        j["pick"] = { s.pickX, s.pickY };
+      j.update({ { "clusters", s.clusters }, { "hue", s.hue }, { "saturation", s.saturation },
+        { "lightness", s.lightness }, { "visibility", s.visibility }, { "white", s.white } });
+    }
+    else if (s.action == "axes")
+      j["steps"] = s.steps;
+    steps.push_back(j);
+  }
+  return json{ { "format", "ddg-history" }, { "version", 1 }, { "steps", steps } }.dump(2) + "\n";
+}
+
+DesignHistory DesignHistory::fromJson(const std::string& text, const std::string& origin)
+{
+  DesignHistory h;
+  try
+  {
+    const auto j = json::parse(text);
+    if (j.value("format", std::string()) != "ddg-history" || j.value("version", 0) != 1)
+      throw Error(origin + " is not a version-1 ddg history (\"format\": \"ddg-history\")");
+    for (const auto& e : j.at("steps"))
+    {
+      HistoryStep s;
+      s.action = e.at("action").get<std::string>();
+      s.image = e.value("image", std::string());
+      s.row = e.value("row", -1);
+      s.rows = e.value("rows", std::vector<int>());
+      s.u = e.value("u", 0.0);
+      s.v = e.value("v", 0.0);
+      if (e.contains("view"))
+        s.viewJson = e.at("view").dump();
+      s.cluster = e.value("cluster", -1);
+      if (e.contains("pick"))
+      {
+        const auto p = e.at("pick").get<std::vector<int>>();
+        if (p.size() != 2)
+          throw Error(origin + ": \"pick\" is [x, y]");
+        s.pickX = p[0];
+        s.pickY = p[1];
+      }
+      s.clusters = e.value("clusters", 4);
+      s.hue = e.value("hue", 0.0);
+      s.saturation = e.value("saturation", 1.0);
+      s.lightness = e.value("lightness", 0.0);
+      s.visibility = e.value("visibility", 1.0);
+      s.white = e.value("white", false);
+      s.steps = e.value("steps", std::vector<double>());
+      h.steps.push_back(std::move(s));
+    }
+  }
+  catch (const json::exception& e)
+  {
+    throw Error(origin + ": " + e.what());
+  }
+  if (h.steps.empty())
+    throw Error(origin + " has no steps");
+  for (size_t i = 0; i < h.steps.size(); ++i)
+    validateStep(h.steps[i], i, origin);
+  return h;
+}
+
+DesignHistory DesignHistory::read(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw Error("cannot open the history " + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return fromJson(text.str(), path);
+}
+
+void DesignHistory::write(const std::string& path) const
+{
+  for (size_t i = 0; i < steps.size(); ++i)
+    validateStep(steps[i], i, path);
+  writeFileAtomic(path, toJson(), "history");
+}
+
+std::vector<float> applyHistoryStep(
+  const DesignGallery& gallery, const HistoryStep& s, const std::vector<float>& current)
+{
+  if (s.action == "query")
+    return gallery.analyzeImage(readImage(s.image));
+  if (s.action == "pick")
+    return gallery.latent(s.row);
+  if (s.action == "blend")
+  {
+    std::vector<Latent> anchors;
+    for (int r : s.rows)
+      anchors.push_back(gallery.latent(r));
+    return blendLatents(anchors, s.u, s.v);
+  }
+  if (current.empty())
+    throw Error("a history's " + s.action + " step needs a design before it");
+  if (s.action == "axes")
+    return gallery.outline().moveAlongAxes(current, s.steps);
+  if (s.action == "edit")
+  {
+    const View view = parseView(s.viewJson, "history edit view");
+    const Image image = gallery.render(current, view);
+    const auto clusters = colorClusters(image, s.clusters);
+    EditRegion region;
+    region.cluster = s.cluster >= 0 ? s.cluster : clusters.at(s.pickX, s.pickY);
+    if (region.cluster < 0)
+      throw Error("a history's edit picks a background pixel");
+    Image edited = image;
+    if (s.hue != 0 || s.saturation != 1 || s.lightness != 0)
+      edited = recolour(edited, clusters, region, s.hue, s.saturation, s.lightness);
+    if (s.visibility != 1)
+      edited = changeVisibility(edited, clusters, region, s.visibility);
+    return gallery.analyzeEdit(edited,
+      s.white ? std::array<double, 3>{ 1, 1, 1 } : std::array<double, 3>{ 0, 0, 0 });
+  }
+  throw Error("unknown history action '" + s.action + "'");
+}
+
+std::vector<float> replayHistory(const DesignGallery& gallery, const DesignHistory& history)
+{
+  std::vector<float> z;
+  for (const auto& s : history.steps)
+    z = applyHistoryStep(gallery, s, z);
+  return z;
+}
+
+} // namespace ddg
