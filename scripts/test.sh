@@ -7,8 +7,8 @@ cd "$(dirname "$0")/.."
 JOBS=${DDG_JOBS:-$(nproc)}
 bash scripts/setup.sh
 bash scripts/build.sh
-# A failed test gets one more run: an Xvfb display occasionally refuses its first client ("bad X
-# server connection", seen once in ~20 full runs); a real failure fails both runs.
+# A failed test gets one more run (a real failure fails both). X tests run under
+# scripts/with-xvfb.sh, which fixed the "bad X server connection" seen with xvfb-run -a.
 (cd build && ctest --output-on-failure -j "$JOBS" --repeat until-pass:2 "$@")
 
 echo "test: sanitizer build of Core and its tests (ASan + UBSan)"
