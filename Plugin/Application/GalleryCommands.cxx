@@ -16,7 +16,6 @@
 #include "Design/ExemplarGenerator.h"
 #include "Gallery/Gallery.h"
 #include "Gallery/History.h"
-#include "Reconstruct/Reconstruction.h"
 #endif
 
 #include <nlohmann/json.hpp>
@@ -62,6 +61,13 @@ int runExport(const ExportArgs& a)
 }
 
 #ifdef DDG_WITH_TORCH
+
+/// The opacity unit distance a TF is exported with: the view's, or ParaView's default.
+double unitDistance(const ddg::Volume& volume, const ddg::View& view)
+{
+  return view.opacityUnitDistance ? *view.opacityUnitDistance
+                                  : ddg::RayCaster(volume).defaultOpacityUnitDistance();
+}
 
 ddg::OutlineBox parseBox(const std::string& text)
 {
@@ -269,31 +275,8 @@ int runQuery(const QueryArgs& a)
   if (!a.outTF.empty())
   {
     const auto t2 = Clock::now();
-    ddg::TransferFunctionFile tf;
-    const int dims = g.model.spec().dimensions;
-    const auto valueRange = g.volume.range();
-    const auto gradientRange =
-      dims == 2 ? g.volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
-    if (g.model.config().kind == "decoder")
-      tf = ddg::primitivesToTransferFunction(
-        g.gallery->primitives(r.latent), dims, valueRange, gradientRange, "ddg query");
-    else
-    {
-      // the U-Net's image has no TF: reconstruct one from it at the query view
-      const ddg::DifferentiableRenderer diff(g.volume);
-      ddg::ReconstructionOptions opt;
-      opt.twoD = dims == 2;
-      const auto result = ddg::reconstructTransferFunction(
-        diff, { { ddg::compositeOverBackground(r.preview, view.background), view, {} } }, opt);
-      tf.is2D = result.twoD;
-      if (result.twoD)
-        tf.tf2D.table = result.table2D;
-      else
-        tf.tf1D = ddg::tableToTransferFunction(result.table1D, 1.0 / 512.0, "ddg query");
-    }
-    const ddg::RayCaster caster(g.volume);
-    ddg::exportTransferFunction(tf, a.outTF, a.format, valueRange,
-      view.opacityUnitDistance ? *view.opacityUnitDistance : caster.defaultOpacityUnitDistance());
+    const auto tf = g.gallery->explicitTransferFunction(r.latent, view);
+    ddg::exportTransferFunction(tf, a.outTF, a.format, g.volume.range(), unitDistance(g.volume, view));
     tfMs = msSince(t2);
   }
   std::printf("times: load %.0f ms (PCA %.0f ms), query (analyzer, neighbours, %dx%d preview) "
@@ -586,10 +569,8 @@ int runEdit(const EditArgs& a)
     writeLatent(z, a.outLatent);
   if (!a.outTF.empty())
   {
-    const ddg::RayCaster caster(g.volume);
     ddg::exportTransferFunction(g.gallery->explicitTransferFunction(z, view, lock.get()), a.outTF,
-      a.format, g.volume.range(),
-      view.opacityUnitDistance ? *view.opacityUnitDistance : caster.defaultOpacityUnitDistance());
+      a.format, g.volume.range(), unitDistance(g.volume, view));
   }
   return 0;
 }
@@ -621,12 +602,11 @@ int runAnimate(const AnimateArgs& a)
     ddg::writeImage(anim.neural[f], a.out + name);
   }
   ddg::writeAnimation(anim.real, a.out + "/preview.gif", a.fps);
-  const ddg::RayCaster caster(g.volume);
   for (int k : anim.keyframes)
   {
     std::snprintf(name, sizeof(name), "/key_%04d.json", k);
     ddg::exportTransferFunction(g.gallery->explicitTransferFunction(anim.latents[k], view, lock.get()),
-      a.out + name, "paraview", g.volume.range(), caster.defaultOpacityUnitDistance());
+      a.out + name, "paraview", g.volume.range(), unitDistance(g.volume, view));
   }
   std::printf("animation: %d frames (%zu keyframes with explicit TFs, %s easing) in %.1f s; wrote "
               "%s/frame_*.png (ray casts), neural_*.png, key_*.json, preview.gif\n",
@@ -683,10 +663,8 @@ int runReplay(const ReplayArgs& a)
       a.outDesign);
   if (!a.outTF.empty())
   {
-    const ddg::RayCaster caster(g.volume);
     ddg::exportTransferFunction(g.gallery->explicitTransferFunction(z, view), a.outTF, a.format,
-      g.volume.range(),
-      view.opacityUnitDistance ? *view.opacityUnitDistance : caster.defaultOpacityUnitDistance());
+      g.volume.range(), unitDistance(g.volume, view));
   }
   return 0;
 }
