@@ -406,7 +406,8 @@ Animation DesignGallery::animate(const std::vector<float>& a, const std::vector<
   return anim;
 }
 
-Image DesignGallery::sheet(const OutlineViewState& state, const View& view, int side)
+Image DesignGallery::sheet(
+  const OutlineViewState& state, const View& view, int side, const FeatureLock* lock)
 {
   if (side < 64 || side > 8192)
     throw Error("the sheet side must be in [64, 8192]");
@@ -430,8 +431,9 @@ Image DesignGallery::sheet(const OutlineViewState& state, const View& view, int 
   }
   for (int row : rows)
   {
-    const Image thumb =
-      compositeOverBackground(thumbnail(row, view), { 0.12, 0.12, 0.12 });
+    const Image thumb = compositeOverBackground(
+      lock && lock->any() ? render(latent(row), view, lock) : thumbnail(row, view),
+      { 0.12, 0.12, 0.12 });
     const auto q = toPixel(Outline.point(row));
     const int tw = thumb.width, th = thumb.height;
     const int x0 = std::clamp(static_cast<int>(q[0]) - tw / 2, 1, std::max(1, side - tw - 1));

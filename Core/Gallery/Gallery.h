@@ -157,7 +157,9 @@ public:
   /// K thumbnails (selectThumbnails with its seed) rendered at `view` and centred on their
   /// points (clamped inside), on a side x side white canvas (RGB). `view`'s size is the
   /// thumbnail size.
-  Image sheet(const OutlineViewState& state, const View& view, int side = 1024);
+  /// With a feature lock the thumbnails show the locked regions fixed (rendered, not cached).
+  Image sheet(const OutlineViewState& state, const View& view, int side = 1024,
+    const FeatureLock* lock = nullptr);
 
 private:
   NeuralDesignModel& Model;

@@ -94,6 +94,8 @@ ddg::OutlineBox parseBox(const std::string& text)
 }
 
 ddg::DesignHistory historyOf(const std::string& ref);
+std::unique_ptr<ddg::FeatureLock> makeLock(
+  const ddg::DesignGallery& g, const std::string& regions, const std::string& from);
 
 /// The bundle, its volume and its outline, loaded and checked together.
 struct LoadedGallery
@@ -170,7 +172,7 @@ int runOutline(const OutlineArgs& a)
 
 struct GalleryArgs
 {
-  std::string model, volume, out, view, box, state, saveState, list;
+  std::string model, volume, out, view, box, state, saveState, list, lock, lockFrom;
   int count = 64, thumb = 96, side = 1024;
   std::uint64_t seed = 1;
 };
@@ -209,7 +211,8 @@ int runGallery(const GalleryArgs& a)
     g.gallery->outline(), state.current(), state.count, state.seed);
   const double selectMs = msSince(t0);
   const auto t1 = Clock::now();
-  const ddg::Image sheet = g.gallery->sheet(state, view, a.side);
+  const auto lock = makeLock(*g.gallery, a.lock, a.lockFrom);
+  const ddg::Image sheet = g.gallery->sheet(state, view, a.side, lock.get());
   const double sheetMs = msSince(t1);
   ddg::writeImage(sheet, a.out);
   const auto& b = state.current();
@@ -748,6 +751,8 @@ std::function<int()> addGalleryCommands(CLI::App& app)
   gallery->add_option("--state", ga->state,
     "Start from a saved view state JSON ({\"boxes\": [[x0,y0,x1,y1], ...], \"count\", \"seed\"})");
   gallery->add_option("--save-state", ga->saveState, "Write the view state JSON shown");
+  gallery->add_option("--lock", ga->lock, "Feature lock: regions (e.g. 0,2) kept from --lock-from in every thumbnail");
+  gallery->add_option("--lock-from", ga->lockFrom, "The design the locked regions come from");
   gallery->add_option("--list", ga->list, "Write the thumbnails' rows, design indices and positions (CSV)");
   commands.push_back({ gallery, [ga] { return runGallery(*ga); } });
 
