@@ -1,5 +1,7 @@
-"""DDG Volume Render through pvserver: the plugin loads on the server (remote=True), the filter
-runs there and the client fetches the image.
+"""The filters through pvserver: the plugin loads on the server (remote=True), the filters run
+there and the client fetches only their small results: DDG Volume Render's image, DDG Query's
+designs table and preset (shipped Tooth bundle, shipped screenshot), DDG Reconstruct Transfer
+Function's table and preset.
 
 Usage: pvpython TestClientServer.py PLUGIN DATA
 """
@@ -42,9 +44,37 @@ try:
     rgba = image.GetPointData().GetArray("RGBA")
     alpha = max(rgba.GetRange(3))
     assert alpha > 0.1, alpha
-    print(f"client/server ok: {dims[0]}x{dims[1]}, max alpha {alpha:.3f}")
+    print(f"client/server render ok: {dims[0]}x{dims[1]}, max alpha {alpha:.3f}")
+
+    tooth = simple.XMLImageDataReader(FileName=[os.path.join(data, "Volumes", "tooth.vti")])
+    shot = os.path.join(data, "Screenshots", "tooth_dentin_enamel_oblique.png")
+    view = os.path.join(data, "Views", "tooth_oblique.json")
+    if hasattr(simple, "DDGQuery"):
+        query = simple.DDGQuery(Input=tooth)
+        query.ModelDirectory = os.path.join(data, "Models", "tooth")
+        query.ImageFile = shot
+        query.ViewFile = view
+        query.UpdatePipeline()
+        table = servermanager.Fetch(query, idx=1)
+        assert table.GetNumberOfRows() == 5, table.GetNumberOfRows()
+        preset = table.GetFieldData().GetAbstractArray("Preset").GetValue(0)
+        assert '"RGBPoints"' in preset
+        print(f"client/server query ok: {table.GetNumberOfRows()} designs, preset {len(preset)} chars")
+    rec = simple.DDGReconstructTransferFunction(Input=tooth)
+    rec.TargetImageFile = os.path.join(data, "Screenshots", "tooth_cool_warm_side.png")
+    rec.ViewFile = os.path.join(data, "Views", "tooth_side.json")
+    rec.Iterations = 20
+    rec.UpdatePipeline()
+    table = servermanager.Fetch(rec)
+    assert table.GetNumberOfRows() == 128, table.GetNumberOfRows()
+    print("client/server reconstruct ok")
     simple.Disconnect()
 finally:
     if server.poll() is None:
         server.terminate()
         server.wait(timeout=30)
+    rest = server.stdout.read()
+    if "SIGSEGV" in rest or "SIGABRT" in rest or "Segmentation" in rest:
+        print(rest)
+        raise SystemExit("pvserver crashed")
+    print("pvserver exit status", server.returncode)

@@ -1,0 +1,200 @@
+// vtkDDGQuery.cxx: converts the input, runs ddg::DesignGallery::query, returns the preview image
+// and the designs table.
+#include "vtkDDGQuery.h"
+
+#include "DDGVolumeAdaptor.h"
+
+#include "Gallery/Gallery.h"
+#include "TransferFunction/TransferFunctionIO.h"
+
+#include <vtkAlgorithmOutput.h>
+#include <vtkDataArray.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkFloatArray.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkObjectFactory.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkStringArray.h>
+#include <vtkTable.h>
+
+vtkStandardNewMacro(vtkDDGQuery);
+
+// The loaded bundle: rebuilt when the model directory or the input changes.
+struct vtkDDGQuery::Internals
+{
+  std::unique_ptr<ddg::Volume> Volume;
+  std::unique_ptr<ddg::NeuralDesignModel> Model;
+  std::unique_ptr<ddg::DesignGallery> Gallery;
+  std::string ModelDirectory;
+  vtkMTimeType InputTime = 0;
+  // the last error and the state it was reported for: the pipeline may re-run a failed request
+  // (an empty image never satisfies the update extent); each failure is reported once
+  std::string LastError;
+  vtkMTimeType LastErrorState = 0;
+};
+
+vtkDDGQuery::vtkDDGQuery()
+  : Internal(new Internals)
+{
+  this->SetNumberOfOutputPorts(2);
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+vtkDDGQuery::~vtkDDGQuery() = default;
+
+void vtkDDGQuery::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ModelDirectory: " << this->ModelDirectory << "\n";
+  os << indent << "ImageFile: " << this->ImageFile << "\n";
+  os << indent << "ViewFile: " << this->ViewFile << "\n";
+  os << indent << "Neighbours: " << this->Neighbours << "\n";
+}
+
+int vtkDDGQuery::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  return 1;
+}
+
+int vtkDDGQuery::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkImageData" : "vtkTable");
+  return 1;
+}
+
+int vtkDDGQuery::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  int extent[6] = { 0, -1, 0, -1, 0, -1 };
+  if (!this->ViewFile.empty())
+  {
+    try
+    {
+      const ddg::View view = ddg::readView(this->ViewFile);
+      extent[1] = view.width - 1;
+      extent[3] = view.height - 1;
+      extent[5] = 0;
+    }
+    catch (const std::exception&)
+    {
+      // reported in RequestData
+    }
+  }
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  return 1;
+}
+
+int vtkDDGQuery::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  }
+  return 1;
+}
+
+int vtkDDGQuery::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
+  vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
+  vtkTable* designs = vtkTable::GetData(outputVector, 1);
+  preview->Initialize();
+  designs->Initialize();
+  try
+  {
+    if (this->ModelDirectory.empty())
+      throw ddg::Error("no ModelDirectory set");
+    if (this->ImageFile.empty())
+      throw ddg::Error("no ImageFile set");
+    if (this->ViewFile.empty())
+      throw ddg::Error("no ViewFile set");
+    const ddg::View view = ddg::readView(this->ViewFile);
+    const ddg::Image image = ddg::readImage(this->ImageFile);
+    vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector);
+    const vtkMTimeType inputTime =
+      std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
+    auto& in = *this->Internal;
+    if (!in.Gallery || in.ModelDirectory != this->ModelDirectory || in.InputTime != inputTime)
+    {
+      in.Gallery.reset();
+      in.Model.reset();
+      in.Volume = std::make_unique<ddg::Volume>(ddg::toCoreVolume(input, array));
+      in.Model = std::make_unique<ddg::NeuralDesignModel>(ddg::NeuralDesignModel::loadBundle(
+        this->ModelDirectory, ddg::volumeFingerprint(*in.Volume)));
+      this->UpdateProgress(0.3);
+      in.Gallery = std::make_unique<ddg::DesignGallery>(
+        *in.Model, *in.Volume, ddg::readLatentSet(ddg::outlineFile(this->ModelDirectory)));
+      in.ModelDirectory = this->ModelDirectory;
+      in.InputTime = inputTime;
+    }
+    this->UpdateProgress(0.5);
+    const auto r = in.Gallery->query(image, view, this->Neighbours);
+    const auto tf = in.Gallery->explicitTransferFunction(r.latent, view);
+
+    ddg::toVTKImage(r.preview, view.background, preview);
+    auto row = vtkSmartPointer<vtkIntArray>::New();
+    row->SetName("Row");
+    auto index = vtkSmartPointer<vtkDoubleArray>::New(); // uint64 indices fit a double exactly
+    index->SetName("DesignIndex");
+    auto distance = vtkSmartPointer<vtkDoubleArray>::New();
+    distance->SetName("Distance");
+    for (const auto& n : r.neighbours)
+    {
+      row->InsertNextValue(n.row);
+      index->InsertNextValue(
+        static_cast<double>(in.Gallery->outline().latents().indices[static_cast<size_t>(n.row)]));
+      distance->InsertNextValue(n.distance);
+    }
+    designs->AddColumn(row);
+    designs->AddColumn(index);
+    designs->AddColumn(distance);
+    auto latent = vtkSmartPointer<vtkFloatArray>::New();
+    latent->SetName("Latent");
+    for (float v : r.latent)
+      latent->InsertNextValue(v);
+    designs->GetFieldData()->AddArray(latent);
+    auto position = vtkSmartPointer<vtkDoubleArray>::New();
+    position->SetName("Position");
+    position->InsertNextValue(r.position[0]);
+    position->InsertNextValue(r.position[1]);
+    designs->GetFieldData()->AddArray(position);
+    auto text = vtkSmartPointer<vtkStringArray>::New();
+    text->SetName(tf.is2D ? "TransferFunction2D" : "Preset");
+    text->InsertNextValue(
+      tf.is2D ? ddg::transferFunction2DToJson(tf.tf2D) : ddg::presetToJson(tf.tf1D));
+    designs->GetFieldData()->AddArray(text);
+    this->UpdateProgress(1.0);
+    this->Internal->LastError.clear();
+  }
+  catch (const std::exception& e)
+  {
+    preview->Initialize();
+    designs->Initialize();
+    vtkAlgorithm* producer = this->GetNumberOfInputConnections(0) > 0
+      ? this->GetInputConnection(0, 0)->GetProducer()
+      : nullptr;
+    const vtkMTimeType state = std::max(this->GetMTime(), producer ? producer->GetMTime() : 0);
+    if (e.what() != this->Internal->LastError || state != this->Internal->LastErrorState)
+    {
+      this->Internal->LastError = e.what();
+      this->Internal->LastErrorState = state;
+      vtkErrorMacro(<< e.what());
+    }
+  }
+  return 1;
+}

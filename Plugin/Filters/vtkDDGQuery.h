@@ -1,0 +1,85 @@
+// vtkDDGQuery.h: queries a model bundle's design space with an image (ddg::DesignGallery::query).
+#ifndef vtkDDGQuery_h
+#define vtkDDGQuery_h
+
+#include "DDGFiltersModule.h" // export macro
+#include "vtkImageAlgorithm.h"
+
+#include <memory>
+#include <string>
+
+/**
+ * @class vtkDDGQuery
+ * @brief Image -> latent TF -> nearest designs, preview and explicit TF, on a model bundle.
+ *
+ * Input: the bundle's volume (vtkImageData, 1-component point array; another volume is refused).
+ * ModelDirectory: a model bundle with its outline (Data/Models/<volume>, `ddg outline`);
+ * ImageFile: the query (screenshot, figure; any size, RGB/RGBA/gray); ViewFile: the view of the
+ * preview and the TF (the current camera, DDG view JSON).
+ *
+ * Output port 0 ("Preview"): the model's render of the queried design at the view, as
+ * vtkDDGVolumeRender's output ("Image" RGB over the view's background, "RGBA").
+ * Output port 1 ("Designs"): a vtkTable of the nearest outline designs ("Row", "DesignIndex",
+ * "Distance"), its field data holding "Latent" (the query's latent), "Position" (its place on
+ * the outline plane) and "Preset" (the design's explicit TF as a ParaView preset JSON string;
+ * 2D models: "TransferFunction2D").
+ *
+ * The bundle and its outline are loaded once per ModelDirectory and input. Bad input (missing
+ * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one
+ * error message and empty outputs.
+ */
+class DDGFILTERS_EXPORT vtkDDGQuery : public vtkImageAlgorithm
+{
+public:
+  static vtkDDGQuery* New();
+  vtkTypeMacro(vtkDDGQuery, vtkImageAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  ///@{
+  /// Model bundle directory (with outline.bin). (default: empty)
+  vtkSetStdStringFromCharMacro(ModelDirectory);
+  vtkGetCharFromStdStringMacro(ModelDirectory);
+  ///@}
+
+  ///@{
+  /// Query image file. (default: empty)
+  vtkSetStdStringFromCharMacro(ImageFile);
+  vtkGetCharFromStdStringMacro(ImageFile);
+  ///@}
+
+  ///@{
+  /// View file of the preview and the TF. (default: empty)
+  vtkSetStdStringFromCharMacro(ViewFile);
+  vtkGetCharFromStdStringMacro(ViewFile);
+  ///@}
+
+  ///@{
+  /// Nearest designs listed. (default: 5)
+  vtkSetClampMacro(Neighbours, int, 0, 1000);
+  vtkGetMacro(Neighbours, int);
+  ///@}
+
+protected:
+  vtkDDGQuery();
+  ~vtkDDGQuery() override;
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+
+private:
+  vtkDDGQuery(const vtkDDGQuery&) = delete;
+  void operator=(const vtkDDGQuery&) = delete;
+
+  std::string ModelDirectory;
+  std::string ImageFile;
+  std::string ViewFile;
+  int Neighbours = 5;
+
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+};
+
+#endif

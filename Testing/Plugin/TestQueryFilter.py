@@ -1,0 +1,95 @@
+"""DDG Query in pvpython: the shipped Tooth bundle queried with a shipped ParaView screenshot.
+
+Compared: the filter's outputs against `ddg query` on the same files (the same Core code): the
+nearest designs (rows) must be identical, the preview image identical (PSNR >= 99 dB by
+`ddg compare`) and the "Preset" field the same TF as --out-tf. Bad input (another volume's
+bundle, a missing bundle, an unusable image): exactly one error, empty outputs, no crash.
+
+Usage: pvpython TestQueryFilter.py PLUGIN DDG DATA TESTDATA OUTDIR
+"""
+import json
+import os
+import re
+import subprocess
+import sys
+
+from paraview import servermanager
+from paraview.simple import LoadPlugin, XMLImageDataReader
+import paraview.simple as simple
+
+plugin, ddg, data, testdata, outdir = sys.argv[1:6]
+os.makedirs(outdir, exist_ok=True)
+LoadPlugin(plugin, remote=False)
+
+volume = os.path.join(data, "Volumes", "tooth.vti")
+model = os.path.join(data, "Models", "tooth")
+shot = os.path.join(data, "Screenshots", "tooth_dentin_enamel_oblique.png")
+view = os.path.join(data, "Views", "tooth_oblique.json")
+
+reader = XMLImageDataReader(FileName=[volume])
+query = simple.DDGQuery(Input=reader)
+query.ModelDirectory = model
+query.ImageFile = shot
+query.ViewFile = view
+query.Neighbours = 5
+query.UpdatePipeline()
+preview = servermanager.Fetch(query, idx=0)
+table = servermanager.Fetch(query, idx=1)
+rows = [int(table.GetColumnByName("Row").GetValue(i)) for i in range(table.GetNumberOfRows())]
+preset = json.loads(table.GetFieldData().GetAbstractArray("Preset").GetValue(0))[0]
+position = table.GetFieldData().GetArray("Position")
+print("filter: rows", rows, "position", position.GetValue(0), position.GetValue(1))
+
+cli_tf = os.path.join(outdir, "query_cli_tf.json")
+cli_png = os.path.join(outdir, "query_cli.png")
+out = subprocess.run([ddg, "query", "--model", model, "--volume", volume, "--image", shot, "--view", view,
+                      "--out-tf", cli_tf, "--out-preview", cli_png], check=True, capture_output=True,
+                     text=True).stdout
+cli_rows = [int(m) for m in re.findall(r"design row (\d+)", out)]
+assert rows == cli_rows, f"filter rows {rows} != ddg query rows {cli_rows}"
+with open(cli_tf) as f:
+    assert json.load(f)[0]["RGBPoints"] == preset["RGBPoints"], "Preset differs from ddg query --out-tf"
+
+from vtkmodules.vtkIOImage import vtkPNGWriter  # noqa: E402
+
+png = os.path.join(outdir, "query_filter.png")
+w = vtkPNGWriter()
+w.SetFileName(png)
+w.SetInputData(preview)
+w.Write()
+cmp = subprocess.run([ddg, "compare", "--min-psnr", "99", png, cli_png], capture_output=True, text=True)
+print("filter preview vs ddg query preview:", cmp.stdout.strip())
+assert cmp.returncode == 0, cmp.stderr
+
+# --- bad input -------------------------------------------------------------------------------
+from vtkmodules.util.misc import calldata_type  # noqa: E402
+from vtkmodules.util.vtkConstants import VTK_STRING  # noqa: E402
+from vtkmodules.vtkCommonCore import vtkCommand  # noqa: E402
+
+messages = []
+
+
+@calldata_type(VTK_STRING)
+def on_error(obj, event, calldata):
+    messages.append(calldata)
+
+
+query.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, on_error)
+
+
+def expect_error(label, expected, **props):
+    messages.clear()
+    for key, value in props.items():
+        setattr(query, key, value)
+    query.UpdatePipeline()
+    assert servermanager.Fetch(query, idx=0).GetNumberOfPoints() == 0, f"{label}: preview should be empty"
+    assert len(messages) == 1, f"{label}: expected one error, got {messages}"
+    assert expected in messages[0], f"{label}: '{expected}' not in '{messages[0]}'"
+    print(f"{label}: {messages[0].strip().splitlines()[-1]}")
+
+
+expect_error("another volume's bundle", "trained on another volume", ModelDirectory=os.path.join(data, "Models", "engine"))
+expect_error("missing bundle", "model bundle", ModelDirectory=os.path.join(outdir, "no_bundle"))
+expect_error("uniform image", "shows nothing", ModelDirectory=model, ImageFile=os.path.join(testdata, "query_uniform.png"))
+expect_error("tiny image", "too small", ImageFile=os.path.join(testdata, "query_tiny.png"))
+print("ok")
