@@ -2,6 +2,7 @@
 // and the designs table.
 #include "vtkDDGQuery.h"
 
+#include "DDGGalleryCache.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Gallery/Gallery.h"
@@ -24,14 +25,9 @@
 
 vtkStandardNewMacro(vtkDDGQuery);
 
-// The loaded bundle: rebuilt when the model directory or the input changes.
 struct vtkDDGQuery::Internals
 {
-  std::unique_ptr<ddg::Volume> Volume;
-  std::unique_ptr<ddg::NeuralDesignModel> Model;
-  std::unique_ptr<ddg::DesignGallery> Gallery;
-  std::string ModelDirectory;
-  vtkMTimeType InputTime = 0;
+  ddg::GalleryCache Cache;
   // the last error and the state it was reported for: the pipeline may re-run a failed request
   // (an empty image never satisfies the update extent); each failure is reported once
   std::string LastError;
@@ -125,26 +121,11 @@ int vtkDDGQuery::RequestData(
       throw ddg::Error("no ViewFile set");
     const ddg::View view = ddg::readView(this->ViewFile);
     const ddg::Image image = ddg::readImage(this->ImageFile);
-    vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector);
-    const vtkMTimeType inputTime =
-      std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
-    auto& in = *this->Internal;
-    if (!in.Gallery || in.ModelDirectory != this->ModelDirectory || in.InputTime != inputTime)
-    {
-      in.Gallery.reset();
-      in.Model.reset();
-      in.Volume = std::make_unique<ddg::Volume>(ddg::toCoreVolume(input, array));
-      in.Model = std::make_unique<ddg::NeuralDesignModel>(ddg::NeuralDesignModel::loadBundle(
-        this->ModelDirectory, ddg::volumeFingerprint(*in.Volume)));
-      this->UpdateProgress(0.3);
-      in.Gallery = std::make_unique<ddg::DesignGallery>(
-        *in.Model, *in.Volume, ddg::readLatentSet(ddg::outlineFile(this->ModelDirectory)));
-      in.ModelDirectory = this->ModelDirectory;
-      in.InputTime = inputTime;
-    }
+    ddg::DesignGallery& gallery = this->Internal->Cache.get(
+      this->ModelDirectory, input, this->GetInputArrayToProcess(0, inputVector));
     this->UpdateProgress(0.5);
-    const auto r = in.Gallery->query(image, view, this->Neighbours);
-    const auto tf = in.Gallery->explicitTransferFunction(r.latent, view);
+    const auto r = gallery.query(image, view, this->Neighbours);
+    const auto tf = gallery.explicitTransferFunction(r.latent, view);
 
     ddg::toVTKImage(r.preview, view.background, preview);
     auto row = vtkSmartPointer<vtkIntArray>::New();
@@ -157,7 +138,7 @@ int vtkDDGQuery::RequestData(
     {
       row->InsertNextValue(n.row);
       index->InsertNextValue(
-        static_cast<double>(in.Gallery->outline().latents().indices[static_cast<size_t>(n.row)]));
+        static_cast<double>(gallery.outline().latents().indices[static_cast<size_t>(n.row)]));
       distance->InsertNextValue(n.distance);
     }
     designs->AddColumn(row);

@@ -1,9 +1,15 @@
-"""DDG Query in pvpython: the shipped Tooth bundle queried with a shipped ParaView screenshot.
+"""DDG Query and DDG Design Gallery in pvpython, on the shipped Tooth bundle.
+
+DDG Query: the bundle queried with a shipped ParaView screenshot.
 
 Compared: the filter's outputs against `ddg query` on the same files (the same Core code): the
 nearest designs (rows) must be identical, the preview image identical (PSNR >= 99 dB by
 `ddg compare`) and the "Preset" field the same TF as --out-tf. Bad input (another volume's
 bundle, a missing bundle, an unusable image): exactly one error, empty outputs, no crash.
+
+DDG Design Gallery: 16 thumbnails of 32 px; the sheet's size, one row per outline design, the
+thumbnail rows identical to `ddg gallery --list` (same count and seed), and a box beside the
+plane giving no thumbnails without an error.
 
 Usage: pvpython TestQueryFilter.py PLUGIN DDG DATA TESTDATA OUTDIR
 """
@@ -92,4 +98,38 @@ expect_error("another volume's bundle", "trained on another volume", ModelDirect
 expect_error("missing bundle", "model bundle", ModelDirectory=os.path.join(outdir, "no_bundle"))
 expect_error("uniform image", "shows nothing", ModelDirectory=model, ImageFile=os.path.join(testdata, "query_uniform.png"))
 expect_error("tiny image", "too small", ImageFile=os.path.join(testdata, "query_tiny.png"))
+print("ok")
+
+# --- DDG Design Gallery on the same bundle -----------------------------------------------------
+gal = simple.DDGDesignGallery(Input=reader)
+gal.ModelDirectory = model
+gal.ViewFile = view
+gal.Count = 16
+gal.ThumbnailSize = 32
+gal.UpdatePipeline()
+sheet = servermanager.Fetch(gal, idx=0)
+designs = servermanager.Fetch(gal, idx=1)
+assert sheet.GetDimensions()[:2] == (4 * 34 + 2, 4 * 34 + 2), sheet.GetDimensions()
+assert designs.GetNumberOfRows() == 50000, designs.GetNumberOfRows()
+thumb = designs.GetColumnByName("Thumbnail")
+cells = sorted(int(thumb.GetValue(i)) for i in range(designs.GetNumberOfRows()) if thumb.GetValue(i) >= 0)
+assert cells == list(range(16)), cells
+# the same rows as ddg gallery --list with the same seed and count
+listing = os.path.join(outdir, "gallery_rows.csv")
+subprocess.run([ddg, "gallery", "--model", model, "--volume", volume, "--count", "16", "--thumb", "16",
+                "--side", "128", "--out", os.path.join(outdir, "gallery_cli.png"), "--list", listing],
+               check=True, stdout=subprocess.DEVNULL)
+with open(listing) as f:
+    cli_rows = [int(line.split(",")[0]) for line in f.read().splitlines()[1:]]
+filter_rows = [0] * 16
+for i in range(designs.GetNumberOfRows()):
+    if thumb.GetValue(i) >= 0:
+        filter_rows[int(thumb.GetValue(i))] = i
+assert filter_rows == cli_rows, (filter_rows, cli_rows)
+box = designs.GetFieldData().GetArray("Box")
+print(f"design gallery ok: 16 thumbnails over box ({box.GetValue(0):.2f}, {box.GetValue(1):.2f}, "
+      f"{box.GetValue(2):.2f}, {box.GetValue(3):.2f}), rows as ddg gallery")
+gal.Box = [1000, 1000, 1001, 1001]  # beside the plane: no thumbnails, no error
+gal.UpdatePipeline()
+assert max(servermanager.Fetch(gal, idx=1).GetColumnByName("Thumbnail").GetRange()) == -1
 print("ok")

@@ -1,0 +1,199 @@
+// vtkDDGDesignGallery.cxx: outline table and thumbnail sheet of a model bundle.
+#include "vtkDDGDesignGallery.h"
+
+#include "DDGGalleryCache.h"
+#include "DDGVolumeAdaptor.h"
+
+#include <vtkAlgorithmOutput.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkDoubleArray.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkIntArray.h>
+#include <vtkObjectFactory.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkTable.h>
+
+#include <cmath>
+
+vtkStandardNewMacro(vtkDDGDesignGallery);
+
+struct vtkDDGDesignGallery::Internals
+{
+  ddg::GalleryCache Cache;
+  std::string LastError; // reported once per state (see vtkDDGVolumeRender)
+  vtkMTimeType LastErrorState = 0;
+};
+
+vtkDDGDesignGallery::vtkDDGDesignGallery()
+  : Internal(new Internals)
+{
+  this->SetNumberOfOutputPorts(2);
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+vtkDDGDesignGallery::~vtkDDGDesignGallery() = default;
+
+void vtkDDGDesignGallery::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "ModelDirectory: " << this->ModelDirectory << "\n";
+  os << indent << "ViewFile: " << this->ViewFile << "\n";
+  os << indent << "Box: " << this->Box[0] << " " << this->Box[1] << " " << this->Box[2] << " "
+     << this->Box[3] << "\n";
+  os << indent << "Count: " << this->Count << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "ThumbnailSize: " << this->ThumbnailSize << "\n";
+}
+
+int vtkDDGDesignGallery::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  return 1;
+}
+
+int vtkDDGDesignGallery::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkImageData" : "vtkTable");
+  return 1;
+}
+
+int vtkDDGDesignGallery::columns() const
+{
+  return static_cast<int>(std::ceil(std::sqrt(static_cast<double>(this->Count))));
+}
+
+int vtkDDGDesignGallery::RequestInformation(
+  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+{
+  const int cols = this->columns(), rows = (this->Count + cols - 1) / cols;
+  const int gap = 2, cell = this->ThumbnailSize;
+  int extent[6] = { 0, cols * (cell + gap) + gap - 1, 0, rows * (cell + gap) + gap - 1, 0, 0 };
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  return 1;
+}
+
+int vtkDDGDesignGallery::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  }
+  return 1;
+}
+
+int vtkDDGDesignGallery::RequestData(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
+  vtkImageData* sheet = vtkImageData::GetData(outputVector, 0);
+  vtkTable* designs = vtkTable::GetData(outputVector, 1);
+  sheet->Initialize();
+  designs->Initialize();
+  try
+  {
+    ddg::DesignGallery& gallery = this->Internal->Cache.get(
+      this->ModelDirectory, input, this->GetInputArrayToProcess(0, inputVector));
+    const auto& outline = gallery.outline();
+    ddg::View view = this->ViewFile.empty() ? ddg::defaultView(gallery.volume())
+                                            : ddg::readView(this->ViewFile);
+    view.width = view.height = this->ThumbnailSize;
+    const bool whole = this->Box[0] == 0 && this->Box[1] == 0 && this->Box[2] == 0 &&
+      this->Box[3] == 0;
+    const ddg::OutlineBox box = whole
+      ? outline.bounds()
+      : ddg::OutlineBox{ this->Box[0], this->Box[1], this->Box[2], this->Box[3] };
+    const auto rows = ddg::selectThumbnails(
+      outline, box, this->Count, static_cast<std::uint64_t>(this->Seed));
+
+    // the sheet: cells row by row, top row first
+    const int cols = this->columns(), gridRows = (this->Count + cols - 1) / cols;
+    const int gap = 2, cell = this->ThumbnailSize;
+    ddg::Image canvas(cols * (cell + gap) + gap, gridRows * (cell + gap) + gap, 4, 0.0f);
+    for (size_t k = 0; k < rows.size(); ++k)
+    {
+      const ddg::Image& t = gallery.thumbnail(rows[k], view);
+      const int x0 = gap + static_cast<int>(k % cols) * (cell + gap);
+      const int y0 = gap + static_cast<int>(k / cols) * (cell + gap);
+      for (int y = 0; y < cell; ++y)
+        for (int x = 0; x < cell; ++x)
+          for (int c = 0; c < 4; ++c)
+            canvas.at(x0 + x, y0 + y, c) = t.at(x, y, c);
+      this->UpdateProgress(static_cast<double>(k + 1) / rows.size());
+      if (this->GetAbortExecute())
+        throw ddg::Cancelled();
+    }
+    ddg::toVTKImage(canvas, view.background, sheet);
+
+    auto column = [designs](vtkDataArray* a, const char* name)
+    {
+      a->SetName(name);
+      a->SetNumberOfTuples(0);
+      designs->AddColumn(a);
+    };
+    auto row = vtkSmartPointer<vtkIntArray>::New();
+    auto index = vtkSmartPointer<vtkDoubleArray>::New();
+    auto px = vtkSmartPointer<vtkDoubleArray>::New();
+    auto py = vtkSmartPointer<vtkDoubleArray>::New();
+    auto thumb = vtkSmartPointer<vtkIntArray>::New();
+    column(row, "Row");
+    column(index, "DesignIndex");
+    column(px, "X");
+    column(py, "Y");
+    column(thumb, "Thumbnail");
+    std::vector<int> cellOf(static_cast<size_t>(outline.count()), -1);
+    for (size_t k = 0; k < rows.size(); ++k)
+      cellOf[static_cast<size_t>(rows[k])] = static_cast<int>(k);
+    for (int i = 0; i < outline.count(); ++i)
+    {
+      const auto p = outline.point(i);
+      row->InsertNextValue(i);
+      index->InsertNextValue(static_cast<double>(outline.latents().indices[static_cast<size_t>(i)]));
+      px->InsertNextValue(p[0]);
+      py->InsertNextValue(p[1]);
+      thumb->InsertNextValue(cellOf[static_cast<size_t>(i)]);
+    }
+    auto boxArray = vtkSmartPointer<vtkDoubleArray>::New();
+    boxArray->SetName("Box");
+    for (double v : { box.x0, box.y0, box.x1, box.y1 })
+      boxArray->InsertNextValue(v);
+    designs->GetFieldData()->AddArray(boxArray);
+    auto explained = vtkSmartPointer<vtkDoubleArray>::New();
+    explained->SetName("ExplainedVariance");
+    explained->InsertNextValue(outline.explainedVariance(0));
+    explained->InsertNextValue(outline.explainedVariance(1));
+    designs->GetFieldData()->AddArray(explained);
+    this->Internal->LastError.clear();
+  }
+  catch (const ddg::Cancelled&)
+  {
+    sheet->Initialize();
+    designs->Initialize();
+  }
+  catch (const std::exception& e)
+  {
+    sheet->Initialize();
+    designs->Initialize();
+    vtkAlgorithm* producer = this->GetNumberOfInputConnections(0) > 0
+      ? this->GetInputConnection(0, 0)->GetProducer()
+      : nullptr;
+    const vtkMTimeType state = std::max(this->GetMTime(), producer ? producer->GetMTime() : 0);
+    if (e.what() != this->Internal->LastError || state != this->Internal->LastErrorState)
+    {
+      this->Internal->LastError = e.what();
+      this->Internal->LastErrorState = state;
+      vtkErrorMacro(<< e.what());
+    }
+  }
+  return 1;
+}
