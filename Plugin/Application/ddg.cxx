@@ -8,6 +8,7 @@
 #include "Design/ExemplarGenerator.h"
 #include "Image/Image.h"
 #ifdef DDG_WITH_TORCH
+#include "Gallery/BuildDesignSpace.h"
 #include "Neural/DesignValidity.h"
 #include "Neural/NeuralModel.h"
 #endif
@@ -425,20 +426,6 @@ struct TrainArgs
   std::string volume;
 };
 
-std::string metricsJson(
-  const ddg::EvaluationReport& e, const ddg::TrainReport* t, std::int64_t parameters)
-{
-  char buf[512];
-  std::snprintf(buf, sizeof(buf),
-    "{\"heldout_count\": %d, \"psnr\": %.4f, \"ssim\": %.5f, \"emd\": %.5f, \"invariance\": %.4f, "
-    "\"analyzer_ms\": %.3f, \"renderer_ms\": %.3f, \"parameters\": %lld, \"train_iterations\": %d, "
-    "\"train_seconds\": %.1f, \"train_exemplars_per_second\": %.2f}",
-    e.count, e.psnr, e.ssim, e.emd, e.invariance, e.analyzerMs, e.rendererMs,
-    static_cast<long long>(parameters), t ? t->iterations : 0, t ? t->seconds : 0.0,
-    t ? t->exemplarsPerSecond : 0.0);
-  return buf;
-}
-
 void printEvaluation(const ddg::EvaluationReport& e)
 {
   std::printf("held-out %d exemplars: PSNR %.2f dB  SSIM %.4f  EMD %.3f  invariance %.3f  analyzer "
@@ -510,16 +497,16 @@ int runTrain(const TrainArgs& a)
   std::printf("trained %d iterations in %.1f s (%.1f exemplars/s)\n", report.iterations,
     report.seconds, report.exemplarsPerSecond);
   ddg::EvaluationReport e;
-  std::string metrics = metricsJson(e, &report, model.parameterCount());
+  std::string metrics = ddg::metricsToJson(e, &report, model.parameterCount());
   if (heldout)
   {
     e = model.evaluate(*heldout, a.evalCount);
     printEvaluation(e);
     // the first checkCount held-out exemplars again: what a quick test can reproduce
     const auto check = model.evaluate(*heldout, a.checkCount);
-    metrics = metricsJson(e, &report, model.parameterCount());
+    metrics = ddg::metricsToJson(e, &report, model.parameterCount());
     metrics.pop_back();
-    metrics += ", \"check\": " + metricsJson(check, nullptr, model.parameterCount()) + "}";
+    metrics += ", \"check\": " + ddg::metricsToJson(check, nullptr, model.parameterCount()) + "}";
   }
   model.saveBundle(a.out, data, metrics);
   std::printf("wrote model bundle %s\n", a.out.c_str());
@@ -548,7 +535,7 @@ int runEval(const std::string& modelDir, const std::string& dataDir, int count, 
     ddg::writeFileAtomic(perExemplar, csv, "per-exemplar figures");
   }
   if (json)
-    std::printf("%s\n", metricsJson(e, nullptr, model.parameterCount()).c_str());
+    std::printf("%s\n", ddg::metricsToJson(e, nullptr, model.parameterCount()).c_str());
   else
     printEvaluation(e);
   return 0;
