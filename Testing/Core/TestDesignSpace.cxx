@@ -4,6 +4,7 @@
 #include "Design/DecoderLayout.h"
 #include "Design/ExemplarGenerator.h"
 
+#include "TempDir.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -39,7 +40,7 @@ Volume materials()
 
 std::string tempDir(const std::string& name)
 {
-  const std::string d = ::testing::TempDir() + "/ddg_" + name;
+  const std::string d = ddg::testing::tempDir() + "/ddg_" + name;
   fs::remove_all(d);
   return d;
 }

@@ -23,6 +23,7 @@
 #include "Gallery/QueryImage.h"
 #include "TransferFunction/ColorSpace.h"
 
+#include "TempDir.h"
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -78,7 +79,7 @@ ddg::LatentSet plantedLatents(int n, std::vector<double>& u, std::vector<double>
 
 std::string tempPath(const std::string& name)
 {
-  return (std::filesystem::temp_directory_path() / ("ddg_gallery_" + name)).string();
+  return (std::filesystem::path(ddg::testing::tempDir()) / ("ddg_gallery_" + name)).string();
 }
 
 } // namespace

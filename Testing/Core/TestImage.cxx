@@ -3,6 +3,7 @@
 #include "Image/ImageMetrics.h"
 #include "TransferFunction/ColorSpace.h"
 
+#include "TempDir.h"
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -48,7 +49,7 @@ TEST(ImageIO, PngRoundTripIsExactOn8BitValues)
   Image a(7, 5, 4);
   for (size_t i = 0; i < a.pixels.size(); ++i)
     a.pixels[i] = static_cast<float>(i % 256) / 255.0f;
-  const std::string path = ::testing::TempDir() + "/ddg_roundtrip.png";
+  const std::string path = ddg::testing::tempDir() + "/ddg_roundtrip.png";
   writeImage(a, path);
   const Image b = readImage(path);
   ASSERT_EQ(b.channels, 4);
@@ -56,7 +57,7 @@ TEST(ImageIO, PngRoundTripIsExactOn8BitValues)
   {
     EXPECT_NEAR(a.pixels[i], b.pixels[i], 1e-6);
   }
-  EXPECT_THROW(readImage(::testing::TempDir() + "/missing.png"), Error);
+  EXPECT_THROW(readImage(ddg::testing::tempDir() + "/missing.png"), Error);
   EXPECT_THROW(writeImage(a, "/nonexistent-dir/x.png"), Error);
 }
 

@@ -4,6 +4,7 @@
 // handled. Tolerances: exact equality for round trips; "lower" for training.
 #include "Neural/NeuralModel.h"
 
+#include "TempDir.h"
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -38,7 +39,7 @@ const ExemplarDataset& dataset()
 {
   static const std::string dir = []
   {
-    const std::string d = ::testing::TempDir() + "/ddg_neural_data";
+    const std::string d = ddg::testing::tempDir() + "/ddg_neural_data";
     fs::remove_all(d);
     GenerateOptions opt;
     opt.count = 24;
@@ -103,7 +104,7 @@ TEST(NeuralModel, BundlesRoundTripAndRefuseBadOnes)
 {
   NeuralDesignModel m(tiny(), 5);
   m.train(dataset(), quick(5));
-  const std::string dir = ::testing::TempDir() + "/ddg_bundle";
+  const std::string dir = ddg::testing::tempDir() + "/ddg_bundle";
   fs::remove_all(dir);
   m.saveBundle(dir, dataset(), "{\"psnr\": 1}");
   const auto loaded = NeuralDesignModel::loadBundle(dir, dataset().fingerprint());
@@ -121,7 +122,7 @@ TEST(NeuralModel, BundlesRoundTripAndRefuseBadOnes)
   EXPECT_EQ(designs.tfs[0].size(), dataset().exemplars()[0].primitives.size());
   {
     // truncated latents or designs
-    const std::string cut = ::testing::TempDir() + "/ddg_bundle_cut";
+    const std::string cut = ddg::testing::tempDir() + "/ddg_bundle_cut";
     fs::remove_all(cut);
     fs::copy(dir, cut);
     fs::resize_file(cut + "/latents.bin", 100);
@@ -136,7 +137,7 @@ TEST(NeuralModel, BundlesRoundTripAndRefuseBadOnes)
   EXPECT_THROW(
     NeuralDesignModel::loadBundle(dir, "64x64x64 spacing 1,1,1 range 0..1 fnv1a 0"), Error);
   // wrong architecture in bundle.json
-  const std::string wrong = ::testing::TempDir() + "/ddg_bundle_wrong";
+  const std::string wrong = ddg::testing::tempDir() + "/ddg_bundle_wrong";
   fs::remove_all(wrong);
   fs::copy(dir, wrong);
   {
@@ -152,12 +153,12 @@ TEST(NeuralModel, BundlesRoundTripAndRefuseBadOnes)
   // corrupt index, missing bundle
   std::ofstream(wrong + "/bundle.json") << "{\"format\": ";
   EXPECT_THROW(NeuralDesignModel::loadBundle(wrong), Error);
-  EXPECT_THROW(NeuralDesignModel::loadBundle(::testing::TempDir() + "/ddg_no_bundle"), Error);
+  EXPECT_THROW(NeuralDesignModel::loadBundle(ddg::testing::tempDir() + "/ddg_no_bundle"), Error);
 }
 
 TEST(NeuralModel, CancelThenResumeContinuesFromTheCheckpoint)
 {
-  const std::string ckpt = ::testing::TempDir() + "/ddg_ckpt.pt";
+  const std::string ckpt = ddg::testing::tempDir() + "/ddg_ckpt.pt";
   fs::remove(ckpt);
   NeuralDesignModel m(tiny(), 7);
   TrainOptions t = quick(40);
@@ -202,7 +203,7 @@ TEST(NeuralModel, DecoderVariantDecodesRendersAndRoundTrips)
   EXPECT_EQ(out.channels, 4);
   EXPECT_THROW(m.render(z, viewport), Error); // the decoder needs a view
 
-  const std::string dir = ::testing::TempDir() + "/ddg_bundle_decoder";
+  const std::string dir = ddg::testing::tempDir() + "/ddg_bundle_decoder";
   fs::remove_all(dir);
   m.saveBundle(dir, dataset(), "");
   auto loaded = NeuralDesignModel::loadBundle(dir, dataset().fingerprint());
@@ -216,7 +217,7 @@ TEST(NeuralModel, DecoderVariantDecodesRendersAndRoundTrips)
 
 TEST(NeuralModel, FullDiskKeepsThePreviousCheckpointAndNoHalfBundle)
 {
-  const std::string ckpt = ::testing::TempDir() + "/ddg_full_ckpt.pt";
+  const std::string ckpt = ddg::testing::tempDir() + "/ddg_full_ckpt.pt";
   fs::remove(ckpt);
   NeuralDesignModel m(tiny(), 3);
   TrainOptions t = quick(2);
@@ -224,7 +225,7 @@ TEST(NeuralModel, FullDiskKeepsThePreviousCheckpointAndNoHalfBundle)
   m.train(dataset(), t);
   ASSERT_TRUE(fs::exists(ckpt));
   const auto size = fs::file_size(ckpt);
-  const std::string dir = ::testing::TempDir() + "/ddg_full_bundle";
+  const std::string dir = ddg::testing::tempDir() + "/ddg_full_bundle";
   fs::remove_all(dir);
   m.saveBundle(dir, dataset(), "");
   const auto weights = fs::file_size(dir + "/model.pt");
@@ -244,7 +245,7 @@ TEST(NeuralModel, FullDiskKeepsThePreviousCheckpointAndNoHalfBundle)
     EXPECT_THROW(m.saveBundle(dir, dataset(), ""), Error);
   }
   EXPECT_EQ(fs::file_size(ckpt), size);
-  for (const auto& f : fs::directory_iterator(::testing::TempDir()))
+  for (const auto& f : fs::directory_iterator(ddg::testing::tempDir()))
     EXPECT_EQ(f.path().filename().string().find("ddg_full_ckpt.pt.tmp"), std::string::npos)
       << "temporary file left: " << f.path();
   EXPECT_FALSE(fs::exists(dir + "/bundle.json"));

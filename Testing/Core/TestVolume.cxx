@@ -4,6 +4,7 @@
 #include "Common/Error.h"
 #include "Volume/VolumeIO.h"
 
+#include "TempDir.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -78,7 +79,7 @@ TEST(Volume, Validation)
 
 TEST(VolumeIO, RawJsonPairs)
 {
-  const std::string dir = ::testing::TempDir();
+  const std::string dir = ddg::testing::tempDir();
   const std::string raw = dir + "/ddg_small.raw";
   {
     std::ofstream f(raw, std::ios::binary);
