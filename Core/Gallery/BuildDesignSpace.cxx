@@ -91,8 +91,7 @@ BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile
   t0 = Clock::now();
   try
   {
-    const auto loaded = NeuralDesignModel::loadBundle(bundleDir);
-    const auto set = buildOutlineLatents(loaded, volume, o.outlineCount, o.seed, 0, o.threads,
+    const auto set = buildOutlineLatents(model, volume, o.outlineCount, o.seed, 0, o.threads,
       [&](double f) { return !progress || progress("outline", 0.9 + 0.1 * f); });
     writeLatentSet(set, outlineFile(bundleDir));
   }

@@ -92,7 +92,6 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
   joined.values.insert(joined.values.end(), z.begin(), z.end());
   for (int i = 0; i < count; ++i)
     joined.indices.push_back(heldout.exemplars()[i].seed);
-  const DesignOutline all(std::move(joined));
   auto recall = [&](const std::vector<Image>& images)
   {
     // queried as a screenshot three times the model's size would be: upsampled, then framed
@@ -104,7 +103,7 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
     int hits = 0;
     for (int i = 0; i < count; ++i)
     {
-      const auto nn = all.nearest(q.data() + static_cast<size_t>(i) * outline.dim, k);
+      const auto nn = nearestLatents(joined, q.data() + static_cast<size_t>(i) * outline.dim, k);
       const int want = outline.count() + i;
       hits += std::any_of(nn.begin(), nn.end(), [&](const Neighbour& n) { return n.row == want; });
     }
@@ -123,6 +122,7 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
 DesignGallery::DesignGallery(NeuralDesignModel& model, const Volume& volume, LatentSet latents)
   : Model(model)
   , Vol(volume)
+  , Caster(volume)
   , Outline(std::move(latents))
 {
   if (Outline.latents().dim != model.config().latent)
@@ -154,11 +154,10 @@ const Image& DesignGallery::viewport(const View& view) const
   const std::string key = viewToJson(view);
   if (Viewport.empty() || key != ViewportKey)
   {
-    const RayCaster caster(Vol);
     const int dims = Model.spec().dimensions;
     View v = view;
     v.width = v.height = Model.config().imageSize;
-    Viewport = renderDesign(caster, auxiliaryPrimitives(Model.spec(), Model.regions()), dims,
+    Viewport = renderDesign(Caster, auxiliaryPrimitives(Model.spec(), Model.regions()), dims,
       dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 }, v);
     ViewportKey = key;
   }
@@ -252,9 +251,8 @@ Image DesignGallery::renderPrimitives(
   for (const auto& g : primitives)
     if (g.opacity >= DecoderLayout::kMinOpacity)
       visible.push_back(g);
-  const RayCaster caster(Vol);
   const int dims = Model.spec().dimensions;
-  return renderDesign(caster, visible, dims,
+  return renderDesign(Caster, visible, dims,
     dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 }, view);
 }
 
@@ -335,9 +333,8 @@ Fidelity DesignGallery::fidelity(
   Fidelity f;
   f.neural = compositeOverBackground(render(latent, view, lock), view.background);
   const auto tf = explicitTransferFunction(latent, view, lock);
-  const RayCaster caster(Vol);
-  const Image real = tf.is2D ? caster.render(tf.tf2D.bake(), view)
-                             : caster.render(caster.paraviewTable(tf.tf1D), view);
+  const Image real = tf.is2D ? Caster.render(tf.tf2D.bake(), view)
+                             : Caster.render(Caster.paraviewTable(tf.tf1D), view);
   f.real = compositeOverBackground(real, view.background);
   f.psnr = psnr(f.neural, f.real);
   f.ssim = ssim(f.neural, f.real);
@@ -358,7 +355,6 @@ Animation DesignGallery::animate(const std::vector<float>& a, const std::vector<
   if (anim.keyframes.back() != frames - 1)
     anim.keyframes.push_back(frames - 1);
   // explicit TFs at the keyframes, as dense tables (1D: ParaView's table of the exported preset)
-  const RayCaster caster(Vol);
   std::vector<TransferTable1D> t1;
   std::vector<TransferTable2D> t2;
   bool twoD = false;
@@ -393,13 +389,13 @@ Animation DesignGallery::animate(const std::vector<float>& a, const std::vector<
     {
       TransferTable2D table = t2[k];
       table.rgba = mix(t2[k].rgba, t2[k1].rgba);
-      real = caster.render(table, view);
+      real = Caster.render(table, view);
     }
     else
     {
       TransferTable1D table = t1[k];
       table.rgba = mix(t1[k].rgba, t1[k1].rgba);
-      real = caster.render(table, view);
+      real = Caster.render(table, view);
     }
     anim.real.push_back(compositeOverBackground(real, view.background));
   }

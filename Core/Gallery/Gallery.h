@@ -98,6 +98,8 @@ public:
   const DesignOutline& outline() const { return Outline; }
   NeuralDesignModel& model() { return Model; }
   const Volume& volume() const { return Vol; }
+  /// The ray caster of the volume (one, shared by every render of the gallery).
+  const RayCaster& caster() const { return Caster; }
 
   std::vector<float> latent(int row) const;
   /// The design a row came from, regenerated from (seed, index): its TF and views.
@@ -164,6 +166,7 @@ public:
 private:
   NeuralDesignModel& Model;
   const Volume& Vol;
+  RayCaster Caster;
   DesignOutline Outline;
   mutable Image Viewport; ///< U-Net only: the auxiliary TF at the last view (model size)
   mutable std::string ViewportKey;

@@ -229,14 +229,14 @@ std::vector<float> DesignOutline::moveAlongAxes(
   return out;
 }
 
-std::vector<Neighbour> DesignOutline::nearest(const float* latent, int k) const
+std::vector<Neighbour> nearestLatents(const LatentSet& set, const float* latent, int k)
 {
-  const int n = count(), d = Latents.dim;
+  const int n = set.count(), d = set.dim;
   k = std::max(0, std::min(k, n));
   std::vector<Neighbour> all(n);
   for (int i = 0; i < n; ++i)
   {
-    const float* r = Latents.row(i);
+    const float* r = set.row(i);
     double s = 0;
     for (int c = 0; c < d; ++c)
       s += (r[c] - latent[c]) * (r[c] - latent[c]);

@@ -48,6 +48,10 @@ struct Neighbour
   double distance = 0;
 };
 
+/// The k rows of `set` nearest to `latent` (Euclidean, nearest first, ties by row; k clamped to
+/// the set's size).
+std::vector<Neighbour> nearestLatents(const LatentSet& set, const float* latent, int k);
+
 /// PCA of a latent set. The components are the eigenvectors of the latents' covariance
 /// (dim x dim, Eigen's self-adjoint solver), largest eigenvalue first; the outline plane is
 /// the first two, a latent z lands at ((z - mean) . e0, (z - mean) . e1).
@@ -76,8 +80,11 @@ public:
   /// standard deviations (steps may be shorter than dim).
   std::vector<float> moveAlongAxes(const std::vector<float>& latent, const std::vector<double>& steps) const;
 
-  /// The k rows nearest to `latent` (Euclidean, nearest first; k clamped to count()).
-  std::vector<Neighbour> nearest(const float* latent, int k) const;
+  /// The k rows nearest to `latent` (nearestLatents over its latents).
+  std::vector<Neighbour> nearest(const float* latent, int k) const
+  {
+    return nearestLatents(Latents, latent, k);
+  }
 
 private:
   LatentSet Latents;

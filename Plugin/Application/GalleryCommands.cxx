@@ -64,30 +64,17 @@ int runExport(const ExportArgs& a)
 #ifdef DDG_WITH_TORCH
 
 /// The opacity unit distance a TF is exported with: the view's, or ParaView's default.
-double unitDistance(const ddg::Volume& volume, const ddg::View& view)
+double unitDistance(const ddg::DesignGallery& gallery, const ddg::View& view)
 {
   return view.opacityUnitDistance ? *view.opacityUnitDistance
-                                  : ddg::RayCaster(volume).defaultOpacityUnitDistance();
+                                  : gallery.caster().defaultOpacityUnitDistance();
 }
+
+std::vector<double> parseNumbers(const std::string& text, size_t count, const char* what);
 
 ddg::OutlineBox parseBox(const std::string& text)
 {
-  std::stringstream in(text);
-  std::vector<double> v;
-  std::string part;
-  while (std::getline(in, part, ','))
-  {
-    try
-    {
-      v.push_back(std::stod(part));
-    }
-    catch (const std::exception&)
-    {
-      throw ddg::Error("--box: '" + part + "' is not a number");
-    }
-  }
-  if (v.size() != 4)
-    throw ddg::Error("--box takes x0,y0,x1,y1 (4 numbers, got " + std::to_string(v.size()) + ")");
+  const auto v = parseNumbers(text, 4, "--box");
   ddg::OutlineBox b{ v[0], v[1], v[2], v[3] };
   if (!b.valid())
     throw ddg::Error("--box needs x0 < x1 and y0 < y1");
@@ -280,7 +267,7 @@ int runQuery(const QueryArgs& a)
   {
     const auto t2 = Clock::now();
     const auto tf = g.gallery->explicitTransferFunction(r.latent, view);
-    ddg::exportTransferFunction(tf, a.outTF, a.format, g.volume.range(), unitDistance(g.volume, view));
+    ddg::exportTransferFunction(tf, a.outTF, a.format, g.volume.range(), unitDistance(*g.gallery, view));
     tfMs = msSince(t2);
   }
   std::printf("times: load %.0f ms (PCA %.0f ms), query (analyzer, neighbours, %dx%d preview) "
@@ -574,7 +561,7 @@ int runEdit(const EditArgs& a)
   if (!a.outTF.empty())
   {
     ddg::exportTransferFunction(g.gallery->explicitTransferFunction(z, view, lock.get()), a.outTF,
-      a.format, g.volume.range(), unitDistance(g.volume, view));
+      a.format, g.volume.range(), unitDistance(*g.gallery, view));
   }
   return 0;
 }
@@ -610,7 +597,7 @@ int runAnimate(const AnimateArgs& a)
   {
     std::snprintf(name, sizeof(name), "/key_%04d.json", k);
     ddg::exportTransferFunction(g.gallery->explicitTransferFunction(anim.latents[k], view, lock.get()),
-      a.out + name, "paraview", g.volume.range(), unitDistance(g.volume, view));
+      a.out + name, "paraview", g.volume.range(), unitDistance(*g.gallery, view));
   }
   std::printf("animation: %d frames (%zu keyframes with explicit TFs, %s easing) in %.1f s; wrote "
               "%s/frame_*.png (ray casts), neural_*.png, key_*.json, preview.gif\n",
@@ -668,7 +655,7 @@ int runReplay(const ReplayArgs& a)
   if (!a.outTF.empty())
   {
     ddg::exportTransferFunction(g.gallery->explicitTransferFunction(z, view), a.outTF, a.format,
-      g.volume.range(), unitDistance(g.volume, view));
+      g.volume.range(), unitDistance(*g.gallery, view));
   }
   return 0;
 }

@@ -1,6 +1,7 @@
 // vtkDDGDesignGallery.cxx: outline table and thumbnail sheet of a model bundle.
 #include "vtkDDGDesignGallery.h"
 
+#include "DDGFilterSupport.h"
 #include "DDGGalleryCache.h"
 #include "DDGVolumeAdaptor.h"
 
@@ -23,8 +24,7 @@ vtkStandardNewMacro(vtkDDGDesignGallery);
 struct vtkDDGDesignGallery::Internals
 {
   ddg::GalleryCache Cache;
-  std::string LastError; // reported once per state (see vtkDDGVolumeRender)
-  vtkMTimeType LastErrorState = 0;
+  ddg::ErrorOnce Errors;
 };
 
 vtkDDGDesignGallery::vtkDDGDesignGallery()
@@ -71,24 +71,15 @@ int vtkDDGDesignGallery::RequestInformation(
 {
   const int cols = this->columns(), rows = (this->Count + cols - 1) / cols;
   const int gap = 2, cell = this->ThumbnailSize;
-  int extent[6] = { 0, cols * (cell + gap) + gap - 1, 0, rows * (cell + gap) + gap - 1, 0, 0 };
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
-  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
-  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  ddg::setImageInformation(outputVector->GetInformationObject(0), cols * (cell + gap) + gap,
+    rows * (cell + gap) + gap);
   return 1;
 }
 
 int vtkDDGDesignGallery::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-  {
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
-  }
+  ddg::requestWholeInputExtent(inputVector);
   return 1;
 }
 
@@ -173,7 +164,7 @@ int vtkDDGDesignGallery::RequestData(
     explained->InsertNextValue(outline.explainedVariance(0));
     explained->InsertNextValue(outline.explainedVariance(1));
     designs->GetFieldData()->AddArray(explained);
-    this->Internal->LastError.clear();
+    this->Internal->Errors.clear();
   }
   catch (const ddg::Cancelled&)
   {
@@ -184,16 +175,8 @@ int vtkDDGDesignGallery::RequestData(
   {
     sheet->Initialize();
     designs->Initialize();
-    vtkAlgorithm* producer = this->GetNumberOfInputConnections(0) > 0
-      ? this->GetInputConnection(0, 0)->GetProducer()
-      : nullptr;
-    const vtkMTimeType state = std::max(this->GetMTime(), producer ? producer->GetMTime() : 0);
-    if (e.what() != this->Internal->LastError || state != this->Internal->LastErrorState)
-    {
-      this->Internal->LastError = e.what();
-      this->Internal->LastErrorState = state;
+    if (this->Internal->Errors.report(this, e.what()))
       vtkErrorMacro(<< e.what());
-    }
   }
   return 1;
 }

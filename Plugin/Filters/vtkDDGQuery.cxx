@@ -2,6 +2,7 @@
 // and the designs table.
 #include "vtkDDGQuery.h"
 
+#include "DDGFilterSupport.h"
 #include "DDGGalleryCache.h"
 #include "DDGVolumeAdaptor.h"
 
@@ -28,10 +29,7 @@ vtkStandardNewMacro(vtkDDGQuery);
 struct vtkDDGQuery::Internals
 {
   ddg::GalleryCache Cache;
-  // the last error and the state it was reported for: the pipeline may re-run a failed request
-  // (an empty image never satisfies the update extent); each failure is reported once
-  std::string LastError;
-  vtkMTimeType LastErrorState = 0;
+  ddg::ErrorOnce Errors;
 };
 
 vtkDDGQuery::vtkDDGQuery()
@@ -68,38 +66,16 @@ int vtkDDGQuery::FillOutputPortInformation(int port, vtkInformation* info)
 int vtkDDGQuery::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  int extent[6] = { 0, -1, 0, -1, 0, -1 };
-  if (!this->ViewFile.empty())
-  {
-    try
-    {
-      const ddg::View view = ddg::readView(this->ViewFile);
-      extent[1] = view.width - 1;
-      extent[3] = view.height - 1;
-      extent[5] = 0;
-    }
-    catch (const std::exception&)
-    {
-      // reported in RequestData
-    }
-  }
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
-  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
-  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  int width, height;
+  ddg::viewFileSize(this->ViewFile, width, height);
+  ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
   return 1;
 }
 
 int vtkDDGQuery::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-  {
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
-  }
+  ddg::requestWholeInputExtent(inputVector);
   return 1;
 }
 
@@ -160,22 +136,14 @@ int vtkDDGQuery::RequestData(
       tf.is2D ? ddg::transferFunction2DToJson(tf.tf2D) : ddg::presetToJson(tf.tf1D));
     designs->GetFieldData()->AddArray(text);
     this->UpdateProgress(1.0);
-    this->Internal->LastError.clear();
+    this->Internal->Errors.clear();
   }
   catch (const std::exception& e)
   {
     preview->Initialize();
     designs->Initialize();
-    vtkAlgorithm* producer = this->GetNumberOfInputConnections(0) > 0
-      ? this->GetInputConnection(0, 0)->GetProducer()
-      : nullptr;
-    const vtkMTimeType state = std::max(this->GetMTime(), producer ? producer->GetMTime() : 0);
-    if (e.what() != this->Internal->LastError || state != this->Internal->LastErrorState)
-    {
-      this->Internal->LastError = e.what();
-      this->Internal->LastErrorState = state;
+    if (this->Internal->Errors.report(this, e.what()))
       vtkErrorMacro(<< e.what());
-    }
   }
   return 1;
 }

@@ -1,6 +1,7 @@
 // vtkDDGVolumeRender.cxx: converts the input, calls ddg::RayCaster, converts the image back.
 #include "vtkDDGVolumeRender.h"
 
+#include "DDGFilterSupport.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Render/RayCaster.h"
@@ -24,10 +25,7 @@ struct vtkDDGVolumeRender::Internals
   std::unique_ptr<ddg::RayCaster> Caster;
   vtkMTimeType InputTime = 0;
   vtkDataArray* Array = nullptr;
-  // The last error and the state it was reported for: the pipeline may re-run a failed
-  // request (an empty output never satisfies the update extent); report each failure once.
-  std::string LastError;
-  vtkMTimeType LastErrorState = 0;
+  ddg::ErrorOnce Errors;
 };
 
 vtkDDGVolumeRender::vtkDDGVolumeRender()
@@ -58,39 +56,16 @@ int vtkDDGVolumeRender::FillInputPortInformation(int, vtkInformation* info)
 int vtkDDGVolumeRender::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
-  vtkInformation* outInfo = outputVector->GetInformationObject(0);
-  int extent[6] = { 0, -1, 0, -1, 0, -1 };
-  if (!this->ViewFile.empty())
-  {
-    try
-    {
-      const ddg::View view = ddg::readView(this->ViewFile);
-      extent[1] = view.width - 1;
-      extent[3] = view.height - 1;
-      extent[5] = 0;
-    }
-    catch (const std::exception&)
-    {
-      // Reported once, in RequestData; the output stays empty.
-    }
-  }
-  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
-  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
-  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
-  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+  int width, height;
+  ddg::viewFileSize(this->ViewFile, width, height);
+  ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
   return 1;
 }
 
 int vtkDDGVolumeRender::RequestUpdateExtent(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
 {
-  // The whole volume is needed, whatever image extent is requested downstream.
-  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
-  {
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
-  }
+  ddg::requestWholeInputExtent(inputVector);
   return 1;
 }
 
@@ -146,7 +121,7 @@ int vtkDDGVolumeRender::RequestData(
       ? caster.render(tf.tf2D.bake(), view, options, progress)
       : caster.render(caster.paraviewTable(tf.tf1D), view, options, progress);
     ddg::toVTKImage(image, view.background, output);
-    this->Internal->LastError.clear();
+    this->Internal->Errors.clear();
   }
   catch (const ddg::Cancelled&)
   {
@@ -155,16 +130,8 @@ int vtkDDGVolumeRender::RequestData(
   catch (const std::exception& e)
   {
     output->Initialize();
-    // State = this filter's and its producer's parameters (not the data's MTime, which moves
-    // whenever the producer re-executes).
-    vtkAlgorithm* producer = this->GetNumberOfInputConnections(0) > 0
-      ? this->GetInputConnection(0, 0)->GetProducer()
-      : nullptr;
-    const vtkMTimeType state = std::max(this->GetMTime(), producer ? producer->GetMTime() : 0);
-    if (e.what() != this->Internal->LastError || state != this->Internal->LastErrorState)
+    if (this->Internal->Errors.report(this, e.what()))
     {
-      this->Internal->LastError = e.what();
-      this->Internal->LastErrorState = state;
       vtkErrorMacro(<< e.what());
     }
   }

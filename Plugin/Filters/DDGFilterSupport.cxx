@@ -1,0 +1,73 @@
+// DDGFilterSupport.cxx: whole-extent requests, image output information, errors reported once.
+#include "DDGFilterSupport.h"
+
+#include "Render/View.h"
+
+#include <vtkAlgorithm.h>
+#include <vtkAlgorithmOutput.h>
+#include <vtkDataObject.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+
+#include <algorithm>
+
+namespace ddg
+{
+
+void requestWholeInputExtent(vtkInformationVector** inputVector)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  {
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+  }
+}
+
+void setImageInformation(vtkInformation* outInfo, int width, int height)
+{
+  int extent[6] = { 0, -1, 0, -1, 0, -1 };
+  if (width > 0 && height > 0)
+  {
+    extent[1] = width - 1;
+    extent[3] = height - 1;
+    extent[5] = 0;
+  }
+  outInfo->Set(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), extent, 6);
+  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
+  outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
+  outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
+}
+
+void viewFileSize(const std::string& viewFile, int& width, int& height)
+{
+  width = height = 0;
+  if (viewFile.empty())
+    return;
+  try
+  {
+    const View view = readView(viewFile);
+    width = view.width;
+    height = view.height;
+  }
+  catch (const std::exception&)
+  {
+    // reported once, in RequestData; the output stays empty
+  }
+}
+
+bool ErrorOnce::report(vtkAlgorithm* filter, const std::string& message)
+{
+  vtkAlgorithm* producer = filter->GetNumberOfInputConnections(0) > 0
+    ? filter->GetInputConnection(0, 0)->GetProducer()
+    : nullptr;
+  const vtkMTimeType state = std::max(filter->GetMTime(), producer ? producer->GetMTime() : 0);
+  if (message == Last && state == LastState)
+    return false;
+  Last = message;
+  LastState = state;
+  return true;
+}
+
+} // namespace ddg

@@ -1,0 +1,45 @@
+// DDGFilterSupport.h: pipeline chores shared by the Design Gallery filters.
+#pragma once
+
+#include "DDGFiltersModule.h" // export macro
+
+#include <vtkType.h>
+
+#include <string>
+
+class vtkAlgorithm;
+class vtkInformation;
+class vtkInformationVector;
+
+namespace ddg
+{
+
+/// Asks for the input's whole extent (the filters need the whole volume, whatever image extent
+/// is requested downstream).
+DDGFILTERS_EXPORT void requestWholeInputExtent(vtkInformationVector** inputVector);
+
+/// Sets a 2D image output's whole extent (width x height; empty when either is < 1), origin 0
+/// and spacing 1.
+DDGFILTERS_EXPORT void setImageInformation(vtkInformation* outInfo, int width, int height);
+
+/// The (width, height) of a view file, or (0, 0) when it is empty or unreadable (the error is
+/// reported by RequestData).
+DDGFILTERS_EXPORT void viewFileSize(const std::string& viewFile, int& width, int& height);
+
+/// Reports each failure once: the pipeline may re-run a failed request (an empty image never
+/// satisfies the update extent), so the same error for the same state (the filter's and its
+/// producer's parameters, not the data's MTime, which moves whenever the producer re-executes)
+/// is not repeated.
+class DDGFILTERS_EXPORT ErrorOnce
+{
+public:
+  /// True when `message` should be reported now for `filter`'s current state.
+  bool report(vtkAlgorithm* filter, const std::string& message);
+  void clear() { Last.clear(); }
+
+private:
+  std::string Last;
+  vtkMTimeType LastState = 0;
+};
+
+} // namespace ddg
