@@ -17,20 +17,23 @@ namespace
 {
 using json = nlohmann::json;
 
-const char* const kActions[] = { "query", "pick", "blend", "edit", "axes" };
+const char* const kActions[] = { "query", "pick", "latent", "blend", "edit", "axes" };
 
 void validateStep(const HistoryStep& s, size_t i, const std::string& origin)
 {
   const std::string where = origin + ": step " + std::to_string(i + 1) + " (" + s.action + ")";
   if (std::find(std::begin(kActions), std::end(kActions), s.action) == std::end(kActions))
     throw Error(origin + ": step " + std::to_string(i + 1) + " has the unknown action '" +
-      s.action + "' (query, pick, blend, edit or axes)");
+      s.action + "' (query, pick, latent, blend, edit or axes)");
   if (s.action == "query" && s.image.empty())
     throw Error(where + " needs \"image\"");
   if (s.action == "pick" && s.row < 0)
     throw Error(where + " needs a \"row\" >= 0");
-  if (s.action == "blend" && (s.rows.size() < 2 || s.rows.size() > 4))
-    throw Error(where + " needs 2 to 4 \"rows\"");
+  if (s.action == "latent" && s.latent.empty())
+    throw Error(where + " needs \"latent\"");
+  const size_t anchors = s.rows.empty() ? s.latents.size() : s.rows.size();
+  if (s.action == "blend" && (anchors < 2 || anchors > 4 || (!s.rows.empty() && !s.latents.empty())))
+    throw Error(where + " needs 2 to 4 \"rows\" or 2 to 4 \"latents\"");
   if (s.action == "edit")
   {
     if (s.viewJson.empty())
@@ -40,9 +43,11 @@ void validateStep(const HistoryStep& s, size_t i, const std::string& origin)
   }
   if (s.action == "axes" && s.steps.empty())
     throw Error(where + " needs \"steps\"");
-  const bool starts = s.action == "query" || s.action == "pick" || s.action == "blend";
+  const bool starts =
+    s.action == "query" || s.action == "pick" || s.action == "latent" || s.action == "blend";
   if (i == 0 && !starts)
-    throw Error(origin + ": a history starts with query, pick or blend (not " + s.action + ")");
+    throw Error(
+      origin + ": a history starts with query, pick, latent or blend (not " + s.action + ")");
 }
 } // namespace
 
@@ -56,8 +61,20 @@ std::string DesignHistory::toJson() const
       j["image"] = s.image;
     else if (s.action == "pick")
       j["row"] = s.row;
+    else if (s.action == "latent")
+    {
+      j["latent"] = s.latent;
+      if (!s.image.empty())
+        j["image"] = s.image;
+    }
     else if (s.action == "blend")
-      j.update({ { "rows", s.rows }, { "u", s.u }, { "v", s.v } });
+    {
+      if (s.latents.empty())
+        j["rows"] = s.rows;
+      else
+        j["latents"] = s.latents;
+      j.update({ { "u", s.u }, { "v", s.v } });
+    }
     else if (s.action == "edit")
     {
       j["view"] = json::parse(s.viewJson);
@@ -90,6 +107,8 @@ DesignHistory DesignHistory::fromJson(const std::string& text, const std::string
       s.image = e.value("image", std::string());
       s.row = e.value("row", -1);
       s.rows = e.value("rows", std::vector<int>());
+      s.latent = e.value("latent", std::vector<float>());
+      s.latents = e.value("latents", std::vector<std::vector<float>>());
       s.u = e.value("u", 0.0);
       s.v = e.value("v", 0.0);
       if (e.contains("view"))
@@ -148,9 +167,21 @@ std::vector<float> applyHistoryStep(
     return gallery.analyzeImage(readImage(s.image));
   if (s.action == "pick")
     return gallery.latent(s.row);
+  const size_t size = static_cast<size_t>(gallery.outline().latents().dim);
+  auto checked = [size](const std::vector<float>& z)
+  {
+    if (z.size() != size)
+      throw Error("a history's latent has " + std::to_string(z.size()) +
+        " values; this model's latents have " + std::to_string(size));
+    return z;
+  };
+  if (s.action == "latent")
+    return checked(s.latent);
   if (s.action == "blend")
   {
-    std::vector<Latent> anchors;
+    std::vector<Latent> anchors = s.latents;
+    for (const auto& z : anchors)
+      checked(z);
     for (int r : s.rows)
       anchors.push_back(gallery.latent(r));
     return blendLatents(anchors, s.u, s.v);

@@ -13,13 +13,16 @@ namespace ddg
 /// One step. JSON: {"action": ..., and the fields the action uses}.
 struct HistoryStep
 {
-  /// "query" (image), "pick" (row), "blend" (rows, u, v: a cell of a navigation grid),
-  /// "edit" (view, cluster or pick, hue, saturation, lightness, visibility, clusters, white),
-  /// "axes" (steps).
+  /// "query" (image), "pick" (row), "latent" (latent: a design given by its latent, e.g. a
+  /// query's result whose image the replaying process cannot read; "image" may name it),
+  /// "blend" (rows or latents, u, v: a cell of a navigation grid), "edit" (view, cluster or
+  /// pick, hue, saturation, lightness, visibility, clusters, white), "axes" (steps).
   std::string action;
   std::string image;           ///< query: the image file
   int row = -1;                ///< pick: the outline row
   std::vector<int> rows;       ///< blend: 2-4 outline rows
+  std::vector<float> latent;   ///< latent: the design
+  std::vector<std::vector<float>> latents; ///< blend: 2-4 latents (instead of rows)
   double u = 0, v = 0;         ///< blend
   std::string viewJson;        ///< edit: the view the edit was made at (view JSON)
   int cluster = -1;            ///< edit: the colour cluster (or -1 with pickX/pickY)
@@ -37,7 +40,8 @@ struct DesignHistory
 
   std::string toJson() const;
   /// Throws ddg::Error naming the step for unknown actions or missing/invalid fields, and for a
-  /// history that does not start with "query", "pick" or "blend" (what gives the first design).
+  /// history that does not start with "query", "pick", "latent" or "blend" (what gives the first
+  /// design).
   static DesignHistory fromJson(const std::string& text, const std::string& origin = "history");
   static DesignHistory read(const std::string& path);
   void write(const std::string& path) const;

@@ -3,6 +3,7 @@
 
 #include "Common/FileUtil.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -48,12 +49,17 @@ Image readImage(const std::string& path)
   return readImage(path, nullptr);
 }
 
-Image readImage(const std::string& path, ImageFileInfo* info)
+namespace
+{
+/// readImage through `proxy` (nullptr: the file `path`); `path` names the format and the errors.
+Image readImageFrom(const std::string& path, ImageFileInfo* info, OIIO::Filesystem::IOProxy* proxy)
 {
   // Keep alpha as stored (straight for PNG); OpenImageIO would premultiply otherwise.
   OIIO::ImageSpec config;
   config.attribute("oiio:UnassociatedAlpha", 1);
-  auto input = OIIO::ImageInput::open(path, &config);
+  if (proxy) // OpenImageIO 2.4's readers look for the proxy in the configuration
+    config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  auto input = OIIO::ImageInput::open(path, &config, proxy);
   if (!input)
   {
     std::string reason = OIIO::geterror();
@@ -84,6 +90,42 @@ Image readImage(const std::string& path, ImageFileInfo* info)
   }
   input->close();
   return img;
+}
+} // namespace
+
+Image readImage(const std::string& path, ImageFileInfo* info)
+{
+  return readImageFrom(path, info, nullptr);
+}
+
+Image decodeImage(const std::string& bytes, const std::string& origin)
+{
+  auto starts = [&bytes](const char* magic, size_t n)
+  { return bytes.size() >= n && bytes.compare(0, n, magic, n) == 0; };
+  std::string ext;
+  if (starts("\x89PNG\r\n\x1a\n", 8))
+    ext = ".png";
+  else if (starts("\xff\xd8\xff", 3))
+    ext = ".jpg";
+  else if (starts("II*\0", 4) || starts("MM\0*", 4))
+    ext = ".tif";
+  else
+    throw Error(origin + " is not a PNG, JPEG or TIFF file (" + std::to_string(bytes.size()) +
+      " bytes)");
+  OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
+  // the name only tells OpenImageIO the format; errors name the origin
+  try
+  {
+    return readImageFrom("memory" + ext, nullptr, &reader);
+  }
+  catch (const Error& e)
+  {
+    std::string what = e.what();
+    const std::string name = "'memory" + ext + "'";
+    for (size_t at; (at = what.find(name)) != std::string::npos;)
+      what.replace(at, name.size(), origin);
+    throw Error(what);
+  }
 }
 
 void writeImage(const Image& image, const std::string& path)

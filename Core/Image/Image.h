@@ -58,6 +58,11 @@ struct ImageFileInfo
 };
 Image readImage(const std::string& path, ImageFileInfo* info);
 
+/// Reads an image file's contents held in memory (PNG, JPEG or TIFF, told by their first bytes;
+/// e.g. a screenshot sent by the GUI), as readImage. `origin` names it in errors. Throws
+/// ddg::Error for another format or a file OpenImageIO cannot read.
+Image decodeImage(const std::string& bytes, const std::string& origin = "image data");
+
 /// Resamples an image to width x height with OpenImageIO's filtered resize.
 Image resizeImage(const Image& image, int width, int height);
 

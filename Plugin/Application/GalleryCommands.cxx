@@ -278,6 +278,24 @@ int runQuery(const QueryArgs& a)
 
 // --- designs named on the command line ------------------------------------------------------
 
+/// The latent of a latent JSON file {"latent": [...]} (written by --out-latent).
+std::vector<float> readLatentFile(const std::string& path)
+{
+  std::ifstream in(path);
+  if (!in)
+    throw ddg::Error("cannot open the latent file " + path);
+  std::stringstream text;
+  text << in.rdbuf();
+  try
+  {
+    return nlohmann::json::parse(text.str()).at("latent").get<std::vector<float>>();
+  }
+  catch (const nlohmann::json::exception& e)
+  {
+    throw ddg::Error(path + ": not a latent file (" + e.what() + ")");
+  }
+}
+
 /// A design reference: "row:N" (row N of the outline), "image:PATH" (the analyzer's latent of an
 /// image, framed as a query), "latent:PATH" (a latent JSON {"latent": [...]} written by
 /// --out-latent) or "history:PATH" (where a history file's path ends).
@@ -306,20 +324,7 @@ std::vector<float> resolveDesign(const ddg::DesignGallery& g, const std::string&
     return g.analyzeImage(ddg::readImage(arg));
   if (kind == "latent")
   {
-    std::ifstream in(arg);
-    if (!in)
-      throw ddg::Error("cannot open the latent file " + arg);
-    std::stringstream text;
-    text << in.rdbuf();
-    std::vector<float> z;
-    try
-    {
-      z = nlohmann::json::parse(text.str()).at("latent").get<std::vector<float>>();
-    }
-    catch (const nlohmann::json::exception& e)
-    {
-      throw ddg::Error(arg + ": not a latent file (" + e.what() + ")");
-    }
+    std::vector<float> z = readLatentFile(arg);
     if (static_cast<int>(z.size()) != g.outline().latents().dim)
       throw ddg::Error(arg + ": a latent of " + std::to_string(z.size()) +
         " values, the model's have " + std::to_string(g.outline().latents().dim) +
@@ -332,7 +337,7 @@ std::vector<float> resolveDesign(const ddg::DesignGallery& g, const std::string&
 }
 
 /// The history that leads to a design reference (for --history): row -> [pick], image ->
-/// [query], history -> its steps. A latent file has no history.
+/// [query], latent file -> [latent], history -> its steps.
 ddg::DesignHistory historyOf(const std::string& ref)
 {
   const auto colon = ref.find(':');
@@ -351,11 +356,17 @@ ddg::DesignHistory historyOf(const std::string& ref)
     s.image = arg;
     h.steps.push_back(s);
   }
+  else if (kind == "latent")
+  {
+    s.action = "latent";
+    s.latent = readLatentFile(arg);
+    h.steps.push_back(s);
+  }
   else if (kind == "history")
     h = ddg::DesignHistory::read(arg);
   else
     throw ddg::Error("--history: a design given as " + kind + ":... has no history to continue; "
-      "start from row:N, image:PATH or history:PATH");
+      "start from row:N, image:PATH, latent:PATH or history:PATH");
   return h;
 }
 

@@ -1,6 +1,7 @@
 // vtkDDGDesignGallery.cxx: outline table and thumbnail sheet of a model bundle.
 #include "vtkDDGDesignGallery.h"
 
+#include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
 #include "DDGGalleryCache.h"
 #include "DDGVolumeAdaptor.h"
@@ -42,6 +43,7 @@ void vtkDDGDesignGallery::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "ModelDirectory: " << this->ModelDirectory << "\n";
   os << indent << "ViewFile: " << this->ViewFile << "\n";
+  os << indent << "ViewJSON: " << this->ViewJSON << "\n";
   os << indent << "Box: " << this->Box[0] << " " << this->Box[1] << " " << this->Box[2] << " "
      << this->Box[3] << "\n";
   os << indent << "Count: " << this->Count << "\n";
@@ -96,8 +98,9 @@ int vtkDDGDesignGallery::RequestData(
     ddg::DesignGallery& gallery = this->Internal->Cache.get(
       this->ModelDirectory, input, this->GetInputArrayToProcess(0, inputVector));
     const auto& outline = gallery.outline();
-    ddg::View view = this->ViewFile.empty() ? ddg::defaultView(gallery.volume())
-                                            : ddg::readView(this->ViewFile);
+    ddg::View view = this->ViewFile.empty() && this->ViewJSON.empty()
+      ? ddg::defaultView(gallery.volume())
+      : ddg::filterView(this->ViewJSON, this->ViewFile);
     view.width = view.height = this->ThumbnailSize;
     const bool whole = this->Box[0] == 0 && this->Box[1] == 0 && this->Box[2] == 0 &&
       this->Box[3] == 0;
@@ -165,9 +168,11 @@ int vtkDDGDesignGallery::RequestData(
     explained->InsertNextValue(outline.explainedVariance(1));
     designs->GetFieldData()->AddArray(explained);
     this->Internal->Errors.clear();
+    this->LastError.clear();
   }
   catch (const ddg::Cancelled&)
   {
+    this->LastError = "cancelled";
     sheet->Initialize();
     designs->Initialize();
   }
@@ -175,6 +180,7 @@ int vtkDDGDesignGallery::RequestData(
   {
     sheet->Initialize();
     designs->Initialize();
+    this->LastError = e.what();
     if (this->Internal->Errors.report(this, e.what()))
       vtkErrorMacro(<< e.what());
   }

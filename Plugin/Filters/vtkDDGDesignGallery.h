@@ -45,6 +45,13 @@ public:
   ///@}
 
   ///@{
+  /// The view as view JSON text; when set, used instead of ViewFile (the panel's current
+  /// camera; needs no file on the server). (default: empty)
+  vtkSetStdStringFromCharMacro(ViewJSON);
+  vtkGetCharFromStdStringMacro(ViewJSON);
+  ///@}
+
+  ///@{
   /// Box of the outline plane shown (x0, y0, x1, y1); all zero: the whole outline. (default: 0)
   vtkSetVector4Macro(Box, double);
   vtkGetVector4Macro(Box, double);
@@ -68,6 +75,9 @@ public:
   vtkGetMacro(ThumbnailSize, int);
   ///@}
 
+  /// The last error message (empty after a run without error): the panel shows it.
+  vtkGetCharFromStdStringMacro(LastError);
+
 protected:
   vtkDDGDesignGallery();
   ~vtkDDGDesignGallery() override;
@@ -86,10 +96,13 @@ private:
 
   std::string ModelDirectory;
   std::string ViewFile;
+  std::string ViewJSON;
   double Box[4] = { 0, 0, 0, 0 };
   int Count = 64;
   int Seed = 1;
   int ThumbnailSize = 64;
+
+  std::string LastError;
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

@@ -2,6 +2,7 @@
 // and the designs table.
 #include "vtkDDGQuery.h"
 
+#include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
 #include "DDGGalleryCache.h"
 #include "DDGVolumeAdaptor.h"
@@ -48,6 +49,8 @@ void vtkDDGQuery::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ModelDirectory: " << this->ModelDirectory << "\n";
   os << indent << "ImageFile: " << this->ImageFile << "\n";
   os << indent << "ViewFile: " << this->ViewFile << "\n";
+  os << indent << "ViewJSON: " << this->ViewJSON << "\n";
+  os << indent << "ImageData: " << this->ImageData.size() << " characters\n";
   os << indent << "Neighbours: " << this->Neighbours << "\n";
 }
 
@@ -67,7 +70,7 @@ int vtkDDGQuery::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   int width, height;
-  ddg::viewFileSize(this->ViewFile, width, height);
+  ddg::filterViewSize(this->ViewJSON, this->ViewFile, width, height);
   ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
   return 1;
 }
@@ -91,12 +94,8 @@ int vtkDDGQuery::RequestData(
   {
     if (this->ModelDirectory.empty())
       throw ddg::Error("no ModelDirectory set");
-    if (this->ImageFile.empty())
-      throw ddg::Error("no ImageFile set");
-    if (this->ViewFile.empty())
-      throw ddg::Error("no ViewFile set");
-    const ddg::View view = ddg::readView(this->ViewFile);
-    const ddg::Image image = ddg::readImage(this->ImageFile);
+    const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
+    const ddg::Image image = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
     ddg::DesignGallery& gallery = this->Internal->Cache.get(
       this->ModelDirectory, input, this->GetInputArrayToProcess(0, inputVector));
     this->UpdateProgress(0.5);
@@ -137,11 +136,13 @@ int vtkDDGQuery::RequestData(
     designs->GetFieldData()->AddArray(text);
     this->UpdateProgress(1.0);
     this->Internal->Errors.clear();
+    this->LastError.clear();
   }
   catch (const std::exception& e)
   {
     preview->Initialize();
     designs->Initialize();
+    this->LastError = e.what();
     if (this->Internal->Errors.report(this, e.what()))
       vtkErrorMacro(<< e.what());
   }

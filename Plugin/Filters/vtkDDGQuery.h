@@ -54,10 +54,27 @@ public:
   ///@}
 
   ///@{
+  /// The view as view JSON text; when set, used instead of ViewFile (the panel's current
+  /// camera; needs no file on the server). (default: empty)
+  vtkSetStdStringFromCharMacro(ViewJSON);
+  vtkGetCharFromStdStringMacro(ViewJSON);
+  ///@}
+
+  ///@{
+  /// The query image as a base64-encoded image file (PNG, JPEG or TIFF); when set, used instead
+  /// of ImageFile (a screenshot dropped or pasted into the panel). (default: empty)
+  vtkSetStdStringFromCharMacro(ImageData);
+  vtkGetCharFromStdStringMacro(ImageData);
+  ///@}
+
+  ///@{
   /// Nearest designs listed. (default: 5)
   vtkSetClampMacro(Neighbours, int, 0, 1000);
   vtkGetMacro(Neighbours, int);
   ///@}
+
+  /// The last error message (empty after a run without error): the panel shows it.
+  vtkGetCharFromStdStringMacro(LastError);
 
 protected:
   vtkDDGQuery();
@@ -76,7 +93,11 @@ private:
   std::string ModelDirectory;
   std::string ImageFile;
   std::string ViewFile;
+  std::string ViewJSON;
+  std::string ImageData;
   int Neighbours = 5;
+
+  std::string LastError;
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

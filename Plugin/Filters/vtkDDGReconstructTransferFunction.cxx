@@ -2,6 +2,7 @@
 // ddg::reconstructTransferFunction, returns the TF as a table and a preset string.
 #include "vtkDDGReconstructTransferFunction.h"
 
+#include "DDGFilterInputs.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Common/FileUtil.h"
@@ -35,6 +36,8 @@ void vtkDDGReconstructTransferFunction::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "TargetImageFile: " << this->TargetImageFile << "\n";
   os << indent << "ViewFile: " << this->ViewFile << "\n";
+  os << indent << "ViewJSON: " << this->ViewJSON << "\n";
+  os << indent << "TargetImageData: " << this->TargetImageData.size() << " characters\n";
   os << indent << "OutputFile: " << this->OutputFile << "\n";
   os << indent << "TwoD: " << this->TwoD << "\n";
   os << indent << "Bins: " << this->Bins << "\n";
@@ -76,13 +79,9 @@ int vtkDDGReconstructTransferFunction::RequestData(
   output->Initialize();
   try
   {
-    if (this->TargetImageFile.empty())
-      throw ddg::Error("no TargetImageFile set");
-    if (this->ViewFile.empty())
-      throw ddg::Error("no ViewFile set");
     ddg::ReconstructionTarget target;
-    target.view = ddg::readView(this->ViewFile);
-    target.image = ddg::readImage(this->TargetImageFile);
+    target.image = ddg::filterImage(this->TargetImageData, this->TargetImageFile, "TargetImage");
+    target.view = ddg::filterView(this->ViewJSON, this->ViewFile);
     if (target.image.width != target.view.width || target.image.height != target.view.height)
       throw ddg::Error("the target image is " + std::to_string(target.image.width) + " x " +
         std::to_string(target.image.height) + ", the view " + std::to_string(target.view.width) +

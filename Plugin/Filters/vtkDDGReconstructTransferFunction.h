@@ -48,6 +48,20 @@ public:
   ///@}
 
   ///@{
+  /// The view as view JSON text; when set, used instead of ViewFile (the panel's current
+  /// camera; needs no file on the server). (default: empty)
+  vtkSetStdStringFromCharMacro(ViewJSON);
+  vtkGetCharFromStdStringMacro(ViewJSON);
+  ///@}
+
+  ///@{
+  /// The target as a base64-encoded image file (PNG, JPEG or TIFF); when set, used instead of
+  /// TargetImageFile. (default: empty)
+  vtkSetStdStringFromCharMacro(TargetImageData);
+  vtkGetCharFromStdStringMacro(TargetImageData);
+  ///@}
+
+  ///@{
   /// Where to write the TF (ParaView preset JSON, or DDG 2D TF JSON); empty: not written.
   /// (default: empty)
   vtkSetStdStringFromCharMacro(OutputFile);
@@ -98,6 +112,8 @@ private:
 
   std::string TargetImageFile;
   std::string ViewFile;
+  std::string ViewJSON;
+  std::string TargetImageData;
   std::string OutputFile;
   bool TwoD = false;
   int Bins = 128;

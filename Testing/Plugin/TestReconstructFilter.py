@@ -92,5 +92,5 @@ rec.Iterations = 5
 expect_error("wrong size", "save the screenshot at the view's size",
              TargetImageFile=os.path.join(testdata, "small_target_40x30.png"))
 expect_error("missing target", "cannot read image", TargetImageFile=os.path.join(testdata, "none.png"))
-expect_error("no view", "no ViewFile set", TargetImageFile=shot, ViewFile="")
+expect_error("no view", "no ViewFile or ViewJSON set", TargetImageFile=shot, ViewFile="")
 print("ok")
