@@ -1,0 +1,55 @@
+// pqDDGScene.h: what the Design Gallery panel reads from and writes to the ParaView scene, on the
+// client through proxies: the current view as a DDG view JSON, a design's transfer function
+// written into a representation's colour and opacity maps, server-side helper filters and
+// fetching their (small) results.
+#pragma once
+
+#include <QJsonObject>
+#include <QString>
+
+#include <vtkSmartPointer.h>
+
+class pqDataRepresentation;
+class pqOutputPort;
+class pqPipelineSource;
+class pqRenderView;
+class pqServer;
+class vtkDataObject;
+class vtkSMProxy;
+class vtkSMSourceProxy;
+
+namespace ddgpanel
+{
+
+/// The view JSON of the render view's camera (ParaView's Camera* properties after
+/// SynchronizeCameraProperties), its background and the representation's Scalar Opacity Unit
+/// Distance (when given), with the view's aspect and `maxSide` pixels on its longer side.
+QJsonObject viewJson(pqRenderView* view, pqDataRepresentation* repr, int maxSide);
+
+/// Compact text of a JSON object.
+QString jsonText(const QJsonObject& object);
+
+/// Writes a ParaView preset (JSON text: a preset object or a list whose first element is one,
+/// with "RGBPoints", "Points" and "ColorSpace") into the LookupTable and ScalarOpacityFunction
+/// of `repr`, colouring it by its input's point scalars `array` and switching it to the Volume
+/// representation; the LUT is set not to rescale itself. Recorded on ParaView's undo stack as
+/// one step named `label` when `undoable`. Returns an empty string or the reason it failed (the
+/// scene is then untouched).
+QString applyPreset(pqDataRepresentation* repr, const QString& array, const QString& presetText,
+  const QString& label, bool undoable = true);
+
+/// The current RGBPoints and opacity Points of `repr`'s maps as a preset text (to restore them).
+QString currentPreset(pqDataRepresentation* repr);
+
+/// A new, unregistered server-side filter `name` of the "filters" group on `input`'s port.
+vtkSmartPointer<vtkSMSourceProxy> newFilter(
+  pqServer* server, const char* name, vtkSMSourceProxy* input, int port);
+
+/// Fetches output `port` of `producer` (already updated) from the first process: a copy on the
+/// client (nullptr when it is empty).
+vtkSmartPointer<vtkDataObject> fetch(pqServer* server, vtkSMSourceProxy* producer, int port);
+
+/// The filter's LastError information property (empty when it has none).
+QString lastError(vtkSMProxy* filter);
+
+} // namespace ddgpanel
