@@ -19,7 +19,7 @@ PACKAGES=(
   nlohmann-json3-dev libcli11-dev zlib1g-dev
   # build, tests, benchmarks, charts
   cmake ninja-build g++ python3-dev googletest libgtest-dev libbenchmark-dev
-  python3-numpy python3-matplotlib clang-format black
+  python3-numpy python3-matplotlib python3-pil clang-format black
   # rendering without a display
   xvfb xauth
 )

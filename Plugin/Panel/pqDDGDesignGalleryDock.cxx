@@ -335,7 +335,12 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
   QObject::connect(this->CancelButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::cancel);
   QObject::connect(backButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::back);
   QObject::connect(resampleButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::resample);
-  QObject::connect(refreshButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::refreshThumbnails);
+  QObject::connect(refreshButton, &QPushButton::clicked, this,
+    [this]()
+    {
+      this->ThumbnailsAtCamera = true;
+      this->refreshThumbnails();
+    });
   QObject::connect(this->Outline, &pqDDGOutlineView::rowClicked, this, &pqDDGDesignGalleryDock::pickRow);
   QObject::connect(this->Outline, &pqDDGOutlineView::drillIn, this, &pqDDGDesignGalleryDock::drillIn);
   QObject::connect(this->Outline, &pqDDGOutlineView::boxChanged, this->BoxTimer,
@@ -684,7 +689,8 @@ void pqDDGDesignGalleryDock::refreshThumbnails()
   vtkSMPropertyHelper(this->GalleryProxy, "Count").Set(kThumbnails);
   vtkSMPropertyHelper(this->GalleryProxy, "ThumbnailSize").Set(kThumbnailSize);
   vtkSMPropertyHelper(this->GalleryProxy, "Seed").Set(this->Seed);
-  const QJsonObject view = this->currentView(kThumbnailSize);
+  // the volume's default view (the whole volume in sight), or the view's camera once asked for
+  const QJsonObject view = this->ThumbnailsAtCamera ? this->currentView(kThumbnailSize) : QJsonObject();
   vtkSMPropertyHelper(this->GalleryProxy, "ViewJSON").Set(view.isEmpty() ? "" : ddgpanel::jsonText(view).toUtf8().constData());
   this->GalleryProxy->UpdateVTKObjects();
   this->setBusy(true);

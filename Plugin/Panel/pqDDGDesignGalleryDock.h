@@ -126,6 +126,7 @@ private:
   bool Loaded = false;
   bool Cancelled = false;
   bool Busy = false;
+  bool ThumbnailsAtCamera = false; ///< thumbnails at the view's camera (else the volume's default)
 
   // the current design
   QJsonArray Steps;
