@@ -5,6 +5,8 @@ Function's table and preset.
 
 Usage: pvpython TestClientServer.py PLUGIN DATA
 """
+import base64
+import json
 import os
 import socket
 import subprocess
@@ -60,6 +62,36 @@ try:
         preset = table.GetFieldData().GetAbstractArray("Preset").GetValue(0)
         assert '"RGBPoints"' in preset
         print(f"client/server query ok: {table.GetNumberOfRows()} designs, preset {len(preset)} chars")
+        # the panel's way: the image as base64 text and the view as JSON text (nothing read from
+        # the server's disk but the bundle and the volume), then apply and render
+        query.ImageFile = ""
+        query.ViewFile = ""
+        query.ImageData = base64.b64encode(open(shot, "rb").read()).decode()
+        query.ViewJSON = open(view).read()
+        query.UpdatePipeline()
+        same = servermanager.Fetch(query, idx=1).GetFieldData().GetAbstractArray("Preset").GetValue(0)
+        assert same == preset, "ImageData/ViewJSON should give the ImageFile/ViewFile preset"
+        p = json.loads(preset)[0]
+        display = simple.Show(tooth)
+        display.SetRepresentationType("Volume")
+        array = tooth.PointData.keys()[0]
+        simple.ColorBy(display, ("POINTS", array))
+        lut = simple.GetColorTransferFunction(array)
+        lut.AutomaticRescaleRangeMode = "Never"
+        lut.RGBPoints = p["RGBPoints"]
+        simple.GetOpacityTransferFunction(array).Points = p["Points"]
+        camera = json.load(open(view))["camera"]
+        rview = simple.GetActiveView()
+        rview.CameraPosition, rview.CameraFocalPoint = camera["position"], camera["focal_point"]
+        rview.CameraViewUp = camera["view_up"]
+        shot_out = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"ddg_cs_apply_{os.getpid()}.png")
+        simple.SaveScreenshot(shot_out, rview, ImageResolution=[320, 320])
+        assert list(lut.RGBPoints) == p["RGBPoints"]
+        size = os.path.getsize(shot_out)
+        os.remove(shot_out)
+        assert size > 5000, size
+        simple.Hide(tooth)
+        print(f"client/server apply ok: the query's preset in the LUT, rendered ({size} bytes PNG)")
     rec = simple.DDGReconstructTransferFunction(Input=tooth)
     rec.TargetImageFile = os.path.join(data, "Screenshots", "tooth_cool_warm_side.png")
     rec.ViewFile = os.path.join(data, "Views", "tooth_side.json")
