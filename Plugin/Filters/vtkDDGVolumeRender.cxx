@@ -1,6 +1,7 @@
 // vtkDDGVolumeRender.cxx: converts the input, calls ddg::RayCaster, converts the image back.
 #include "vtkDDGVolumeRender.h"
 
+#include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
 #include "DDGVolumeAdaptor.h"
 
@@ -42,6 +43,8 @@ void vtkDDGVolumeRender::PrintSelf(ostream& os, vtkIndent indent)
   this->Superclass::PrintSelf(os, indent);
   os << indent << "TransferFunctionFile: " << this->TransferFunctionFile << "\n";
   os << indent << "ViewFile: " << this->ViewFile << "\n";
+  os << indent << "ViewJSON: " << this->ViewJSON << "\n";
+  os << indent << "TransferFunctionJSON: " << this->TransferFunctionJSON.size() << " characters\n";
   os << indent << "Jitter: " << this->Jitter << "\n";
   os << indent << "SampleDistance: " << this->SampleDistance << "\n";
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
@@ -57,7 +60,7 @@ int vtkDDGVolumeRender::RequestInformation(
   vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
 {
   int width, height;
-  ddg::viewFileSize(this->ViewFile, width, height);
+  ddg::filterViewSize(this->ViewJSON, this->ViewFile, width, height);
   ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
   return 1;
 }
@@ -77,16 +80,14 @@ int vtkDDGVolumeRender::RequestData(
   output->Initialize();
   try
   {
-    if (this->TransferFunctionFile.empty())
+    if (this->TransferFunctionFile.empty() && this->TransferFunctionJSON.empty())
     {
-      throw ddg::Error("no TransferFunctionFile set");
+      throw ddg::Error("no TransferFunctionFile or TransferFunctionJSON set");
     }
-    if (this->ViewFile.empty())
-    {
-      throw ddg::Error("no ViewFile set");
-    }
-    const ddg::View view = ddg::readView(this->ViewFile);
-    const ddg::TransferFunctionFile tf = ddg::readTransferFunctionFile(this->TransferFunctionFile);
+    const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
+    const ddg::TransferFunctionFile tf = this->TransferFunctionJSON.empty()
+      ? ddg::readTransferFunctionFile(this->TransferFunctionFile)
+      : ddg::parseTransferFunctionFile(this->TransferFunctionJSON, "TransferFunctionJSON");
 
     vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector);
     const vtkMTimeType inputTime =

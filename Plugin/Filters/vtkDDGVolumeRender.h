@@ -44,6 +44,15 @@ public:
   ///@}
 
   ///@{
+  /// The TF and the view as JSON text; when set, used instead of the files (scripts and the
+  /// panel: nothing needed on the server's disk). (default: empty)
+  vtkSetStdStringFromCharMacro(TransferFunctionJSON);
+  vtkGetCharFromStdStringMacro(TransferFunctionJSON);
+  vtkSetStdStringFromCharMacro(ViewJSON);
+  vtkGetCharFromStdStringMacro(ViewJSON);
+  ///@}
+
+  ///@{
   /// Jitter the first sample per pixel. (default: off)
   vtkSetMacro(Jitter, bool);
   vtkGetMacro(Jitter, bool);
@@ -77,6 +86,8 @@ private:
 
   std::string TransferFunctionFile;
   std::string ViewFile;
+  std::string TransferFunctionJSON;
+  std::string ViewJSON;
   bool Jitter = false;
   double SampleDistance = 0.0;
   int NumberOfThreads = 0;
