@@ -1,16 +1,12 @@
 #!/usr/bin/env bash
-# demo.sh: the main job on the embedded default data — sets up, builds, then renders the Tooth
-# with a shipped ParaView preset and view, and prints where the image is.
-# Usage: scripts/demo.sh [output.png]
+# demo.sh: the main job on the embedded default (Tooth and its shipped model) — sets up, builds,
+# then runs the whole story in ParaView (pvpython under Xvfb): the design gallery, a shipped
+# ParaView screenshot as the query, its TF and the TF reconstructed from it applied in ParaView,
+# renders and presets saved, metrics and step times printed (Python/examples/main_job.py).
+# Usage: scripts/demo.sh [OUT_DIR]     (default: build/demo)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 bash scripts/build.sh
-OUT=${1:-build/demo/tooth.png}
-mkdir -p "$(dirname "$OUT")"
-build/bin/ddg render \
-  --volume Data/Volumes/tooth.vti \
-  --tf Data/TransferFunctions/tooth_dentin_enamel.json \
-  --view Data/Views/tooth_oblique.json \
-  --out "$OUT"
-echo "demo: the Tooth rendered with the preset 'Tooth dentin and enamel' is at $(realpath "$OUT")"
+OUT=${1:-build/demo}
+scripts/with-xvfb.sh "${DDG_BUILD_DIR:-build}/bin/pvpython" Python/examples/main_job.py "$OUT"

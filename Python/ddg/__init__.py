@@ -136,9 +136,11 @@ def view_json(view=None, source=None, max_side=None):
 
 
 def set_camera(view_file, view=None):
-    """Sets a render view's camera (default: the active one) from a DDG view JSON file or dict."""
+    """Sets a render view's camera (default: the active one) from a DDG view JSON file or dict
+    and renders (after a first render: paraview.simple resets the camera on that one)."""
     v = view_json(view_file)
     view = view or simple.GetActiveViewOrCreate("RenderView")
+    simple.Render(view)  # paraview.simple resets the camera on a view's first render: do it first
     c = v["camera"]
     view.CameraPosition = c["position"]
     view.CameraFocalPoint = c["focal_point"]
@@ -147,6 +149,7 @@ def set_camera(view_file, view=None):
     view.CameraParallelProjection = int(c.get("parallel_projection", False))
     if "parallel_scale" in c:
         view.CameraParallelScale = c["parallel_scale"]
+    simple.Render(view)
     return view
 
 
