@@ -15,14 +15,46 @@
 namespace ddg
 {
 
+namespace
+{
+int updatePiece(vtkInformation* info)
+{
+  return info && info->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    ? info->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER())
+    : 0;
+}
+} // namespace
+
 void requestWholeInputExtent(vtkInformationVector** inputVector)
 {
   vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
-  if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+  if (!inInfo || !inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    return;
+  // the executive has copied the downstream piece request onto the input
+  if (updatePiece(inInfo) > 0)
   {
-    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
-      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+    const int nothing[6] = { 0, -1, 0, -1, 0, -1 };
+    inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(), nothing, 6);
+    return;
   }
+  // the whole volume as one piece (else the producer splits the extent by the piece request)
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER(), 0);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES(), 1);
+  inInfo->Set(vtkStreamingDemandDrivenPipeline::UPDATE_EXTENT(),
+    inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
+}
+
+bool skipPiece(vtkInformationVector* outputVector)
+{
+  if (updatePiece(outputVector->GetInformationObject(0)) == 0)
+    return false;
+  for (int i = 0; i < outputVector->GetNumberOfInformationObjects(); ++i)
+  {
+    vtkDataObject* data = outputVector->GetInformationObject(i)->Get(vtkDataObject::DATA_OBJECT());
+    if (data)
+      data->Initialize();
+  }
+  return true;
 }
 
 void setImageInformation(vtkInformation* outInfo, int width, int height)

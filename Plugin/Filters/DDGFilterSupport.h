@@ -15,8 +15,14 @@ namespace ddg
 {
 
 /// Asks for the input's whole extent (the filters need the whole volume, whatever image extent
-/// is requested downstream).
+/// is requested downstream). Distributed runs (pvserver under MPI): piece 0 asks for the whole
+/// volume and computes; every other piece asks for nothing (an empty extent) and outputs empty
+/// data (see skipPiece), so the result exists once, on the first rank.
 DDGFILTERS_EXPORT void requestWholeInputExtent(vtkInformationVector** inputVector);
+
+/// True for the pieces that do not compute (update piece > 0 of a distributed run); their
+/// outputs are then initialized empty. Call first in RequestData and return 1 when true.
+DDGFILTERS_EXPORT bool skipPiece(vtkInformationVector* outputVector);
 
 /// Sets a 2D image output's whole extent (width x height; empty when either is < 1), origin 0
 /// and spacing 1.

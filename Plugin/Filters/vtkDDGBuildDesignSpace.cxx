@@ -1,6 +1,7 @@
 // vtkDDGBuildDesignSpace.cxx: converts the input and calls ddg::buildDesignSpace.
 #include "vtkDDGBuildDesignSpace.h"
 
+#include "DDGFilterSupport.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Gallery/BuildDesignSpace.h"
@@ -43,9 +44,18 @@ int vtkDDGBuildDesignSpace::FillInputPortInformation(int, vtkInformation* info)
   return 1;
 }
 
+int vtkDDGBuildDesignSpace::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  ddg::requestWholeInputExtent(inputVector);
+  return 1;
+}
+
 int vtkDDGBuildDesignSpace::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
+    return 1;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkTable* output = vtkTable::GetData(outputVector);
   output->Initialize();

@@ -120,6 +120,8 @@ void addField(vtkTable* table, const char* name, const Values& values)
 int vtkDDGDesign::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
+    return 1;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
   vtkTable* design = vtkTable::GetData(outputVector, 1);

@@ -88,6 +88,8 @@ int vtkDDGDesignGallery::RequestUpdateExtent(
 int vtkDDGDesignGallery::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
+    return 1;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* sheet = vtkImageData::GetData(outputVector, 0);
   vtkTable* designs = vtkTable::GetData(outputVector, 1);

@@ -85,6 +85,8 @@ int vtkDDGQuery::RequestUpdateExtent(
 int vtkDDGQuery::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
+    return 1;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
   vtkTable* designs = vtkTable::GetData(outputVector, 1);

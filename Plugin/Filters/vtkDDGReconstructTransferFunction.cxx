@@ -3,6 +3,7 @@
 #include "vtkDDGReconstructTransferFunction.h"
 
 #include "DDGFilterInputs.h"
+#include "DDGFilterSupport.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Common/FileUtil.h"
@@ -71,9 +72,18 @@ void addString(vtkFieldData* fd, const char* name, const std::string& value)
 }
 } // namespace
 
+int vtkDDGReconstructTransferFunction::RequestUpdateExtent(
+  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+{
+  ddg::requestWholeInputExtent(inputVector);
+  return 1;
+}
+
 int vtkDDGReconstructTransferFunction::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
+    return 1;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkTable* output = vtkTable::GetData(outputVector);
   output->Initialize();

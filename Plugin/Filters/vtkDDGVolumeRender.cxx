@@ -75,6 +75,8 @@ int vtkDDGVolumeRender::RequestUpdateExtent(
 int vtkDDGVolumeRender::RequestData(
   vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
 {
+  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
+    return 1;
   vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
   output->Initialize();
