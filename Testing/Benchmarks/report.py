@@ -1,0 +1,622 @@
+"""report.py: speed against accuracy, stability where methods fail, model size -- one command.
+
+    scripts/with-xvfb.sh build/bin/pvpython Testing/Benchmarks/report.py [--quick] [--out DIR]
+
+Writes DIR (default Documentation/Results) report.md (tables of the raw numbers, what fails and
+which method to use), report.json, and the charts report_methods.png, report_stability.png,
+report_optimisation.png, report_tf_resolution.png, report_renderer.png, report_models.png.
+--quick (CI: Tooth only, fewer budgets, strengths and seeds) runs in a few minutes; the full run
+(Tooth and Engine) in about half an hour on 2 cores.
+
+What is measured. A reference: ParaView renders a shipped preset on a shipped volume at the
+reference view and at an unseen view (white background, as the shipped screenshots). Each
+screenshot -> TF method gets only the reference-view screenshot; the TF it returns is rendered
+by ParaView at both views and compared with the references (PSNR, SSIM of `ddg compare`). Time is
+the wall-clock of the method's `ddg` command (2 cores, including its process start and loading).
+Methods: (a) nearest outline design (its decoded TF), (b') analyzer -> TF decoder (`ddg query`),
+(b'+c) that TF refined by differentiable reconstruction, (c) differentiable reconstruction from
+scratch, (e) multi-view reconstruction (the screenshot and a second view of the same TF); (b'+c),
+(c) and (e) at several iteration budgets (curves). Stability: the same methods on perturbed
+screenshots (viewpoint, zoom, crop, noise, JPEG, gamma, colour shift, background, annotation,
+another volume, shading); success = ParaView's render at the reference view within
+SUCCESS_DB of the unperturbed reference. Optimisation: random initial TFs and seeds, learning
+rates. TF resolution and smoothness prior. Renderer speed (BenchRayCaster, BenchDifferentiable,
+bench_torch_autograd.py). Model size (Testing/Benchmarks/model_sweep.py; --quick plots its last
+committed table).
+"""
+import argparse
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+from PIL import Image, ImageDraw
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from paraview.simple import (  # noqa: E402
+    ColorBy, CreateView, GetColorTransferFunction, GetOpacityTransferFunction, Render,
+    SaveScreenshot, Show, XMLImageDataReader)
+
+SUCCESS_DB = 30.0
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+DATA = os.path.join(ROOT, "Data")
+
+parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+parser.add_argument("--quick", action="store_true", help="CI size: Tooth only, fewer points")
+parser.add_argument("--out", default=os.path.join(ROOT, "Documentation", "Results"))
+parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+args = parser.parse_args()
+DDG = os.environ.get("DDG_EXE", os.path.join(args.build, "bin", "ddg"))
+BIN = os.path.dirname(DDG)
+os.makedirs(args.out, exist_ok=True)
+work = tempfile.mkdtemp(prefix="ddg-report-")
+started = time.time()
+CASES = [("tooth", "tooth_dentin_enamel")] + ([] if args.quick else [("engine", "engine_block")])
+BUDGETS = [20, 80, 300] if args.quick else [10, 30, 100, 300, 1000]
+results = {"quick": args.quick, "success_db": SUCCESS_DB, "cases": {}}
+CASE_OBJECTS = {}  # volume -> its scene, views, references
+
+
+def log(text):
+    print(f"[{time.time() - started:7.1f} s] {text}", flush=True)
+
+
+def ddg(*a, check=True):
+    t = time.time()
+    r = subprocess.run([DDG, *map(str, a)], capture_output=True, text=True)
+    if check and r.returncode != 0:
+        raise RuntimeError(f"ddg {' '.join(map(str, a))}: {r.stderr.strip()}")
+    return r, time.time() - t
+
+
+def compare(a, b):
+    r, _ = ddg("compare", a, b, "--json")
+    return json.loads(r.stdout)
+
+
+# --- views ------------------------------------------------------------------------------------
+
+def load_view(volume, name):
+    with open(os.path.join(DATA, "Views", f"{volume}_{name}.json")) as f:
+        v = json.load(f)
+    v["background"] = [1.0, 1.0, 1.0]
+    return v
+
+
+def rotated(view, azimuth=0.0, elevation=0.0, zoom=1.0):
+    """The view's camera orbited about its focal point (degrees) and moved closer by `zoom`."""
+    v = json.loads(json.dumps(view))
+    c = v["camera"]
+    f, p, up = (np.array(c[k], float) for k in ("focal_point", "position", "view_up"))
+    d = p - f
+    up = up / np.linalg.norm(up)
+
+    def rot(x, axis, deg):
+        axis = axis / np.linalg.norm(axis)
+        t = math.radians(deg)
+        return x * math.cos(t) + np.cross(axis, x) * math.sin(t) + axis * np.dot(axis, x) * (1 - math.cos(t))
+
+    d = rot(d, up, azimuth)
+    right = np.cross(d, up)
+    d, up = rot(d, right, elevation), rot(up, right, elevation)
+    c["position"] = list(f + d / zoom)
+    c["view_up"] = list(up)
+    return v
+
+
+def write_json(obj, name):
+    path = os.path.join(work, name)
+    with open(path, "w") as f:
+        json.dump(obj, f)
+    return path
+
+
+# --- ParaView renders -----------------------------------------------------------------------------
+
+class ParaViewScene:
+    """One ParaView render view per volume; renders a preset at a view (as pvrender.py does)."""
+
+    def __init__(self, volume):
+        self.reader = XMLImageDataReader(FileName=[os.path.join(DATA, "Volumes", volume + ".vti")])
+        self.view = CreateView("RenderView")
+        self.view.OrientationAxesVisibility = 0
+        self.view.UseColorPaletteForBackground = 0
+        self.display = Show(self.reader, self.view)
+        self.array = self.reader.PointData.keys()[0]
+        ColorBy(self.display, ("POINTS", self.array))
+        self.display.SetRepresentationType("Volume")
+        self.display.Shade = 0
+        self.lut = GetColorTransferFunction(self.array)
+        self.pwf = GetOpacityTransferFunction(self.array)
+        self.lut.AutomaticRescaleRangeMode = "Never"
+        Render(self.view)
+
+    def render(self, preset_file, view, out, shade=False):
+        with open(preset_file) as f:
+            p = json.load(f)
+        p = p[0] if isinstance(p, list) else p
+        self.lut.ColorSpace = p.get("ColorSpace", "RGB")
+        self.lut.HSVWrap = int(p.get("HSVWrap", 0))
+        self.lut.RGBPoints = p["RGBPoints"]
+        self.pwf.Points = p["Points"]
+        self.display.Shade = int(shade)
+        self.view.Background = view["background"]
+        self.view.ViewSize = view["size"]
+        c = view["camera"]
+        self.view.CameraPosition, self.view.CameraFocalPoint = c["position"], c["focal_point"]
+        self.view.CameraViewUp = c["view_up"]
+        self.view.CameraViewAngle = c.get("view_angle", 30.0)
+        SaveScreenshot(out, self.view, ImageResolution=view["size"], TransparentBackground=0)
+        self.display.Shade = 0
+        return out
+
+
+# --- methods (each: screenshot + its view -> preset file, seconds) ---------------------------
+
+def method_query(case, shot, view_file, tag):
+    out = os.path.join(work, f"{tag}_query.json")
+    _, s = ddg("query", "--model", case["model"], "--volume", case["volume"], "--image", shot, "--view", view_file,
+               "--out-tf", out)
+    return out, s
+
+
+def method_nearest(case, shot, view_file, tag):
+    r, s1 = ddg("query", "--model", case["model"], "--volume", case["volume"], "--image", shot, "--view", view_file,
+                "--neighbours", "1")
+    row = int(re.search(r"design row (\d+)", r.stdout).group(1))
+    history = write_json({"format": "ddg-history", "version": 1, "steps": [{"action": "pick", "row": row}]},
+                         f"{tag}_pick.json")
+    out = os.path.join(work, f"{tag}_nearest.json")
+    _, s2 = ddg("replay", "--model", case["model"], "--volume", case["volume"], "--history", history,
+                "--view", view_file, "--out-tf", out)
+    return out, s1 + s2
+
+
+def reconstruct(case, targets, views, tag, iterations, init=None, extra=()):
+    out = os.path.join(work, f"{tag}.json")
+    cmd = ["reconstruct", "--volume", case["volume"], "--out", out, "--iterations", iterations, "--quiet", *extra]
+    for t, v in zip(targets, views):
+        cmd += ["--target", t, "--view", v]
+    if init:
+        cmd += ["--init", init]
+    _, s = ddg(*cmd)
+    return out, s
+
+
+def method_refine(case, shot, view_file, tag, iterations):
+    init, s1 = method_query(case, shot, view_file, tag)
+    out, s2 = reconstruct(case, [shot], [view_file], f"{tag}_refine{iterations}", iterations, init=init)
+    return out, s1 + s2
+
+
+def method_direct(case, shot, view_file, tag, iterations):
+    return reconstruct(case, [shot], [view_file], f"{tag}_direct{iterations}", iterations)
+
+
+def evaluate(case, preset, tag):
+    """PSNR/SSIM of ParaView's renders of `preset` against the references at both views."""
+    scene = case["scene"]
+    out = {}
+    for which in ("reference", "unseen"):
+        png = scene.render(preset, case["views"][which], os.path.join(work, f"{tag}_{which}.png"))
+        m = compare(png, case["refs"][which])
+        out[which] = (m["psnr"], m["ssim"])
+    return out
+
+
+# --- 1. methods: accuracy against time ------------------------------------------------------------
+
+for volume, preset_name in CASES:
+    log(f"{volume}: references")
+    case = {"volume": os.path.join(DATA, "Volumes", volume + ".vti"), "model": os.path.join(DATA, "Models", volume),
+            "preset": os.path.join(DATA, "TransferFunctions", preset_name + ".json"), "scene": ParaViewScene(volume)}
+    case["views"] = {"reference": load_view(volume, "oblique"), "unseen": load_view(volume, "side"),
+                     "second": rotated(load_view(volume, "oblique"), elevation=45)}
+    case["view_files"] = {k: write_json(v, f"{volume}_{k}_view.json") for k, v in case["views"].items()}
+    case["refs"] = {k: case["scene"].render(case["preset"], v, os.path.join(work, f"{volume}_ref_{k}.png"))
+                    for k, v in case["views"].items()}
+    shot, vfile = case["refs"]["reference"], case["view_files"]["reference"]
+    rows = []
+
+    def record(method, budget, preset, seconds):
+        e = evaluate(case, preset, f"{volume}_{method}_{budget}")
+        rows.append({"method": method, "budget": budget, "seconds": seconds, "psnr": e["reference"][0],
+                     "ssim": e["reference"][1], "psnr_unseen": e["unseen"][0], "ssim_unseen": e["unseen"][1]})
+        log(f"{volume} {method} {budget}: {seconds:.2f} s, {e['reference'][0]:.1f} dB / {e['unseen'][0]:.1f} dB unseen")
+
+    record("nearest design (a)", 0, *method_nearest(case, shot, vfile, volume))
+    record("analyzer -> decoder (b')", 0, *method_query(case, shot, vfile, volume))
+    for b in BUDGETS:
+        record("b' + reconstruction", b, *method_refine(case, shot, vfile, volume, b))
+        record("reconstruction (c)", b, *method_direct(case, shot, vfile, volume, b))
+        record("2-view reconstruction (e)", b, *reconstruct(case, [shot, case["refs"]["second"]],
+                                                           [vfile, case["view_files"]["second"]],
+                                                           f"{volume}_multi{b}", b))
+    results["cases"][volume] = {"preset": preset_name, "methods": rows}
+    CASE_OBJECTS[volume] = case
+
+# --- 2. stability: perturbed screenshots ------------------------------------------------------------
+
+
+def perturbations(case):
+    """name -> list of (strength label, numeric strength, image file, view file the method gets)."""
+    ref, vfile, view = case["refs"]["reference"], case["view_files"]["reference"], case["views"]["reference"]
+    scene, preset = case["scene"], case["preset"]
+    img = np.asarray(Image.open(ref).convert("RGB")).astype(float)
+    out = {}
+    tag = os.path.basename(case["volume"]).split(".")[0]
+
+    def save(a, name):
+        path = os.path.join(work, f"{tag}_{name}.png")
+        Image.fromarray(np.clip(a, 0, 255).astype(np.uint8)).save(path)
+        return path
+
+    angles = [0, 15, 30, 60, 90] if not args.quick else [0, 30, 90]
+    out["viewpoint (deg)"] = [(a, a, scene.render(preset, rotated(view, azimuth=a), os.path.join(work, f"{tag}_az{a}.png")),
+                               vfile) for a in angles]
+    zooms = [1.0, 1.15, 1.4, 0.75] if not args.quick else [1.0, 1.4]
+    out["zoom (x)"] = [(z, abs(math.log(z)), scene.render(preset, rotated(view, zoom=z), os.path.join(work, f"{tag}_zoom{z}.png")),
+                        vfile) for z in zooms]
+    h, w, _ = img.shape
+    crops = [0.0, 0.1, 0.25] if not args.quick else [0.0, 0.25]
+    out["crop (fraction)"] = []
+    for c in crops:
+        y0, x0 = int(h * c / 2), int(w * c / 2)
+        part = Image.fromarray(img[y0:h - y0, x0:w - x0].astype(np.uint8)).resize((w, h), Image.BILINEAR)
+        out["crop (fraction)"].append((c, c, save(np.asarray(part).astype(float), f"crop{c}"), vfile))
+    rng = np.random.default_rng(1)
+    noises = [0, 5, 15, 40] if not args.quick else [0, 15]
+    out["noise (sigma, grey levels)"] = [(s, s, save(img + rng.normal(0, s, img.shape), f"noise{s}"), vfile)
+                                          for s in noises]
+    out["JPEG (quality)"] = []
+    for q in ([95, 50, 20, 5] if not args.quick else [50, 5]):
+        path = os.path.join(work, f"{tag}_jpeg{q}.jpg")
+        Image.open(ref).convert("RGB").save(path, quality=q)
+        out["JPEG (quality)"].append((q, 100 - q, path, vfile))
+    out["gamma"] = [(g, abs(math.log(g)), save(255 * (img / 255) ** g, f"gamma{g}"), vfile)
+                    for g in ([1.0, 1.25, 0.8, 1.6] if not args.quick else [1.0, 1.6])]
+    shift = np.array([1.0, 0.9, 0.8])
+    out["colour shift (warm, x)"] = [(k, k, save(img * (1 - k + k * shift), f"tint{k}"), vfile)
+                                     for k in ([0, 0.5, 1.0, 2.0] if not args.quick else [0, 2.0])]
+    black = dict(view, background=[0.0, 0.0, 0.0])
+    out["wrong background"] = [("white (right)", 0, ref, vfile),
+                               ("black, view says white", 1, scene.render(preset, black, os.path.join(work, f"{tag}_black.png")),
+                                vfile)]
+    annotated = Image.open(ref).convert("RGB")
+    d = ImageDraw.Draw(annotated)
+    d.line([(20, 20), (w // 2, h // 2)], fill=(220, 0, 0), width=4)
+    d.rectangle([w - 120, 10, w - 10, 40], outline=(0, 0, 0), width=3)
+    d.text((w - 115, 15), "enamel", fill=(0, 0, 0))
+    out["annotation"] = [("none", 0, ref, vfile), ("arrow, box, text", 1, save(np.asarray(annotated).astype(float), "annot"),
+                                                   vfile)]
+    out["shading (lit render)"] = [("unlit", 0, ref, vfile),
+                                   ("lit", 1, scene.render(preset, view, os.path.join(work, f"{tag}_lit.png"), shade=True),
+                                    vfile)]
+    other = "engine_block_oblique.png" if tag != "engine" else "tooth_dentin_enamel_oblique.png"
+    other_img = Image.open(os.path.join(DATA, "Screenshots", other)).convert("RGB").resize((w, h))
+    out["another volume's screenshot"] = [("own", 0, ref, vfile),
+                                          ("other volume", 1, save(np.asarray(other_img).astype(float), "other"), vfile)]
+    return out
+
+
+STABILITY_STEPS = 150 if args.quick else 300
+STABLE_METHODS = {
+    "analyzer -> decoder (b')": lambda c, s, v, t: method_query(c, s, v, t),
+    "b' + reconstruction": lambda c, s, v, t: method_refine(c, s, v, t, STABILITY_STEPS),
+    "reconstruction (c)": lambda c, s, v, t: method_direct(c, s, v, t, STABILITY_STEPS),
+}
+for volume, case in CASE_OBJECTS.items():
+    stability = []
+    baseline = {}  # method -> its result on the unperturbed screenshot (every kind's strength 0)
+    for kind, items in perturbations(case).items():
+        for label, strength, image, vfile in items:
+            for name, run in STABLE_METHODS.items():
+                if strength == 0 and name in baseline:
+                    stability.append(dict(baseline[name], perturbation=kind, label=str(label)))
+                    continue
+                tag = f"{volume}_{re.sub('[^a-z0-9]', '', kind.lower())}_{strength}_{re.sub('[^a-z]', '', name)}"
+                try:
+                    preset, seconds = run(case, image, vfile, tag)
+                    png = case["scene"].render(preset, case["views"]["reference"], os.path.join(work, tag + ".png"))
+                    psnr = compare(png, case["refs"]["reference"])["psnr"]
+                    error = ""
+                except RuntimeError as e:
+                    psnr, seconds, error = 0.0, 0.0, str(e).splitlines()[-1][:120]
+                stability.append({"perturbation": kind, "label": str(label), "strength": strength, "method": name,
+                                  "psnr": psnr, "success": psnr >= SUCCESS_DB, "error": error})
+                if strength == 0:
+                    baseline[name] = stability[-1]
+            log(f"{volume} {kind} {label}: " + ", ".join(f"{r['method'].split(' ')[0]} {r['psnr']:.1f}"
+                                                          for r in stability[-len(STABLE_METHODS):]))
+    results["cases"][volume]["stability"] = stability
+
+# --- 3. optimisation stability, learning rate, TF resolution ------------------------------------------
+
+case = CASE_OBJECTS["tooth"]
+shot, vfile = case["refs"]["reference"], case["view_files"]["reference"]
+rng = np.random.default_rng(7)
+lo, hi = 0.0, 255.0
+seeds = 6 if args.quick else 20
+runs = []
+for k in range(seeds):
+    xs = np.sort(rng.uniform(lo, hi, 6))
+    rgb = rng.uniform(0, 1, (6, 3))
+    alpha = rng.uniform(0, 1, 6)
+    init = write_json([{"Name": f"random {k}", "ColorSpace": "RGB",
+                        "RGBPoints": [float(v) for x, c in zip(xs, rgb) for v in (x, *c)],
+                        "Points": [float(v) for x, a in zip(xs, alpha) for v in (x, a, 0.5, 0.0)]}], f"init{k}.json")
+    preset, seconds = reconstruct(case, [shot], [vfile], f"seed{k}", 300, init=init, extra=["--seed", k + 1])
+    with open(preset) as f:
+        p = json.load(f)[0]
+    finite = all(math.isfinite(v) for v in p["RGBPoints"] + p["Points"])
+    psnr = compare(case["scene"].render(preset, case["views"]["reference"], os.path.join(work, f"seed{k}.png")),
+                   case["refs"]["reference"])["psnr"] if finite else float("nan")
+    runs.append({"seed": k + 1, "psnr": psnr, "finite": finite, "seconds": seconds})
+log(f"random starts: PSNR {min(r['psnr'] for r in runs):.1f}..{max(r['psnr'] for r in runs):.1f} dB, "
+    f"{sum(not r['finite'] for r in runs)} non-finite")
+rates = []
+for lr in ([0.05, 0.2, 1.0] if args.quick else [0.01, 0.03, 0.1, 0.2, 0.5, 1.0, 3.0]):
+    preset, seconds = reconstruct(case, [shot], [vfile], f"lr{lr}", 300, extra=["--lr", lr])
+    psnr = compare(case["scene"].render(preset, case["views"]["reference"], os.path.join(work, f"lr{lr}.png")),
+                   case["refs"]["reference"])["psnr"]
+    rates.append({"lr": lr, "psnr": psnr, "seconds": seconds})
+results["optimisation"] = {"random_starts": runs, "learning_rates": rates}
+resolution = []
+for bins in ([16, 64, 256] if args.quick else [16, 32, 64, 128, 256]):
+    for smooth in ([0.0, 0.01] if args.quick else [0.0, 0.01, 0.1, 1.0]):
+        preset, seconds = reconstruct(case, [shot], [vfile], f"bins{bins}_{smooth}", 300,
+                                      extra=["--bins", bins, "--smoothness", smooth])
+        e = evaluate(case, preset, f"bins{bins}_{smooth}")
+        resolution.append({"bins": bins, "smoothness": smooth, "seconds": seconds, "psnr": e["reference"][0],
+                           "psnr_unseen": e["unseen"][0]})
+    log(f"bins {bins}: " + ", ".join(f"smoothness {r['smoothness']}: {r['psnr']:.1f}/{r['psnr_unseen']:.1f} dB"
+                                     for r in resolution if r["bins"] == bins))
+results["tf_resolution"] = resolution
+
+# --- 4. renderer speed ------------------------------------------------------------------------------
+
+renderer = []
+for size in ([64, 128] if args.quick else [64, 128, 256, 512]):
+    r = subprocess.run([os.path.join(BIN, "BenchRayCaster"), "--size", str(size), "--runs", "5"], capture_output=True, text=True)
+    ours = float(re.search(r"ddg RayCaster +([\d.]+) ms", r.stdout).group(1))
+    vtk = float(re.search(r"VTK FixedPointVolumeRayCastMapper +([\d.]+) ms", r.stdout).group(1))
+    d = subprocess.run([os.path.join(BIN, "BenchDifferentiable"), "--size", str(size), "--runs", "3"], capture_output=True,
+                       text=True)
+    m = re.search(r"forward ([\d.]+) ms, backward ([\d.]+) ms", d.stdout)
+    row = {"size": size, "ours_ms": ours, "vtk_ms": vtk, "forward_ms": float(m.group(1)),
+           "forward_backward_ms": float(m.group(1)) + float(m.group(2))}
+    if size <= 128:
+        t = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "bench_torch_autograd.py"),
+                            "--bench", os.path.join(BIN, "BenchDifferentiable"), "--size", str(size)],
+                           capture_output=True, text=True)
+        m = re.search(r"PyTorch autograd: forward\+backward ([\d.]+) ms", t.stdout)
+        row["torch_forward_backward_ms"] = float(m.group(1)) if m else None
+    renderer.append(row)
+    log(f"renderer {size}^2: ours {ours:.1f} ms, VTK {vtk:.1f} ms, fwd+bwd {row['forward_backward_ms']:.1f} ms, "
+        f"torch {row.get('torch_forward_backward_ms')}")
+results["renderer"] = renderer
+
+# --- 5. model size (the model sweep) ----------------------------------------------------------------
+
+sweep_md = os.path.join(args.out, "model_sweep.md")
+if not args.quick:
+    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "model_sweep.py"), "--ddg", DDG,
+                    "--volume", "tooth", "--minutes", "1.5", "--out", sweep_md], check=True)
+models = []
+if os.path.exists(sweep_md):
+    for line in open(sweep_md):
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) >= 15 and re.match(r"^[\d.]+$", cells[1] or "x"):
+            models.append({"kind": cells[0], "width": int(cells[1]), "image": int(cells[2]), "parameters": int(cells[3]),
+                           "analyzer_ms": float(cells[8]), "renderer_ms": float(cells[9]), "psnr": float(cells[10]),
+                           "ssim": float(cells[11]), "emd": float(cells[12]), "minutes": float(cells[14])})
+results["models"] = models
+
+# --- charts -------------------------------------------------------------------------------------------
+
+COLORS = {"nearest design (a)": "tab:gray", "analyzer -> decoder (b')": "tab:purple", "b' + reconstruction": "tab:red",
+          "reconstruction (c)": "tab:blue", "2-view reconstruction (e)": "tab:green"}
+fig, axes = plt.subplots(len(CASES), 2, figsize=(11, 4.2 * len(CASES)), squeeze=False)
+for i, (volume, _) in enumerate(CASES):
+    rows = results["cases"][volume]["methods"]
+    for j, key in enumerate(("psnr", "psnr_unseen")):
+        ax = axes[i][j]
+        for method, color in COLORS.items():
+            pts = sorted((r["seconds"], r[key]) for r in rows if r["method"] == method)
+            if pts:
+                ax.plot(*zip(*pts), "o-" if len(pts) > 1 else "s", color=color, label=method)
+        ax.set_xscale("log")
+        ax.set_xlabel("time on 2 cores (s, log)")
+        ax.set_ylabel("PSNR of ParaView's render (dB)")
+        ax.set_title(f"{volume}: {'reference view' if j == 0 else 'unseen view'}")
+        ax.grid(alpha=0.3)
+axes[0][0].legend(fontsize=8)
+fig.tight_layout()
+fig.savefig(os.path.join(args.out, "report_methods.png"), dpi=110)
+
+kinds = list(dict.fromkeys(r["perturbation"] for r in results["cases"]["tooth"]["stability"]))
+fig, axes = plt.subplots(int(math.ceil(len(kinds) / 4)), 4, figsize=(16, 3.3 * math.ceil(len(kinds) / 4)), squeeze=False)
+for k, kind in enumerate(kinds):
+    ax = axes[k // 4][k % 4]
+    for method in STABLE_METHODS:
+        pts = {}
+        for volume in CASE_OBJECTS:
+            for r in results["cases"][volume]["stability"]:
+                if r["perturbation"] == kind and r["method"] == method:
+                    pts.setdefault(r["strength"], []).append(r["success"])
+        xs = sorted(pts)
+        ax.plot(range(len(xs)), [np.mean(pts[x]) for x in xs], "o-", color=COLORS[method], label=method)
+        labels = [next(r["label"] for r in results["cases"]["tooth"]["stability"] if r["perturbation"] == kind
+                       and r["strength"] == x) for x in xs]
+        ax.set_xticks(range(len(xs)))
+        ax.set_xticklabels(labels, fontsize=7)
+    ax.set_ylim(-0.05, 1.05)
+    ax.set_title(kind, fontsize=9)
+    ax.set_ylabel("success rate", fontsize=8)
+for k in range(len(kinds), axes.size):
+    axes[k // 4][k % 4].axis("off")
+axes[0][0].legend(fontsize=7)
+fig.suptitle(f"success = ParaView's render at the reference view within {SUCCESS_DB:.0f} dB of the reference")
+fig.tight_layout()
+fig.savefig(os.path.join(args.out, "report_stability.png"), dpi=110)
+
+fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+axes[0].hist([r["psnr"] for r in runs if r["finite"]], bins=10, color="tab:blue")
+axes[0].set_xlabel("PSNR after 300 steps (dB)")
+axes[0].set_title(f"{len(runs)} random initial TFs and seeds (Tooth)")
+axes[1].plot([r["lr"] for r in rates], [r["psnr"] for r in rates], "o-")
+axes[1].set_xscale("log")
+axes[1].set_xlabel("Adam learning rate (logit space, log)")
+axes[1].set_ylabel("PSNR (dB)")
+axes[1].set_title("learning-rate sensitivity (Tooth, 300 steps)")
+fig.tight_layout()
+fig.savefig(os.path.join(args.out, "report_optimisation.png"), dpi=110)
+
+fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+for smooth in sorted({r["smoothness"] for r in resolution}):
+    pts = [r for r in resolution if r["smoothness"] == smooth]
+    axes[0].plot([r["bins"] for r in pts], [r["psnr_unseen"] for r in pts], "o-", label=f"smoothness {smooth}")
+    axes[1].plot([r["bins"] for r in pts], [r["seconds"] for r in pts], "o-", label=f"smoothness {smooth}")
+for ax, label in zip(axes, ("PSNR at the unseen view (dB)", "time (s)")):
+    ax.set_xscale("log", base=2)
+    ax.set_xlabel("TF bins")
+    ax.set_ylabel(label)
+    ax.grid(alpha=0.3)
+axes[0].legend(fontsize=8)
+fig.tight_layout()
+fig.savefig(os.path.join(args.out, "report_tf_resolution.png"), dpi=110)
+
+fig, ax = plt.subplots(figsize=(6, 4))
+sizes = [r["size"] ** 2 for r in renderer]
+ax.plot(sizes, [r["ours_ms"] for r in renderer], "o-", label="ours, forward (block skipping)")
+ax.plot(sizes, [r["forward_backward_ms"] for r in renderer], "o-", label="ours, forward + adjoint")
+ax.plot(sizes, [r["vtk_ms"] for r in renderer], "o-", label="VTK FixedPointVolumeRayCastMapper")
+tp = [(s, r["torch_forward_backward_ms"]) for s, r in zip(sizes, renderer) if r.get("torch_forward_backward_ms")]
+if tp:
+    ax.plot(*zip(*tp), "o-", label="PyTorch autograd, forward + backward")
+ax.set_xscale("log")
+ax.set_yscale("log")
+ax.set_xlabel("pixels (Engine, engine_block)")
+ax.set_ylabel("ms on 2 cores")
+ax.legend(fontsize=7)
+ax.grid(alpha=0.3)
+fig.tight_layout()
+fig.savefig(os.path.join(args.out, "report_renderer.png"), dpi=110)
+
+if models:
+    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
+    for m in models:
+        label = f"{m['kind']} w{m['width']} {m['image']}px"
+        shipped = m["kind"].startswith("decoder (image") and m["width"] == 16 and m["image"] == 64
+        axes[0].scatter(m["analyzer_ms"] + m["renderer_ms"], m["psnr"], s=30 + m["parameters"] / 2e4,
+                        marker="*" if shipped else "o")
+        axes[0].annotate(label + (" (shipped)" if shipped else ""), (m["analyzer_ms"] + m["renderer_ms"], m["psnr"]), fontsize=7)
+        axes[1].scatter(m["parameters"], m["ssim"], marker="*" if shipped else "o")
+        axes[1].annotate(label, (m["parameters"], m["ssim"]), fontsize=7)
+    axes[0].set_xlabel("analyzer + renderer ms (one image)")
+    axes[0].set_ylabel("held-out PSNR (dB)")
+    axes[1].set_xscale("log")
+    axes[1].set_xlabel("parameters")
+    axes[1].set_ylabel("held-out SSIM")
+    fig.suptitle("model kind and size, equal training time (Tooth)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.out, "report_models.png"), dpi=110)
+
+# --- report.md ------------------------------------------------------------------------------------------
+
+
+def shipped_text(models):
+    """Where the shipped configuration (decoder, image loss, width 16, 64 px) stands, from the sweep."""
+    shipped = [m for m in models if m["kind"].startswith("decoder (image") and m["width"] == 16 and m["image"] == 64]
+    if not shipped:
+        return "The shipped configuration is not in this sweep."
+    s, best = shipped[0], max(models, key=lambda m: m["psnr"])
+    bigger = [m for m in models if m["kind"] == s["kind"] and m["parameters"] > s["parameters"]]
+    text = (f"Shipped: decoder, width 16, 64 px (star): {s['psnr']:.2f} dB / SSIM {s['ssim']:.3f} with "
+            f"{s['parameters']} parameters; best in the sweep {best['psnr']:.2f} dB ({best['kind']}, width "
+            f"{best['width']}, {best['image']} px, {best['parameters']} parameters).")
+    if bigger:
+        b = max(bigger, key=lambda m: m["parameters"])
+        text += (f" The largest decoder ({b['parameters']} parameters) reaches {b['psnr']:.2f} dB: "
+                 f"{b['psnr'] - s['psnr']:+.2f} dB for {b['parameters'] / s['parameters']:.1f}x the parameters.")
+    return text
+
+
+def table(rows, cols):
+    lines = ["| " + " | ".join(c for c, _ in cols) + " |", "|" + "---|" * len(cols)]
+    for r in rows:
+        lines.append("| " + " | ".join(f(r) for _, f in cols) + " |")
+    return "\n".join(lines)
+
+
+md = [f"# Speed against accuracy, stability, model size{' (quick run)' if args.quick else ''}", "",
+      f"Produced by `Testing/Benchmarks/report.py{' --quick' if args.quick else ''}` on 2 cores in "
+      f"{(time.time() - started) / 60:.1f} min. Raw numbers: `report.json`.", ""]
+for volume, preset_name in CASES:
+    md += [f"## Screenshot -> TF: {volume} ({preset_name})", "", f"![methods](report_methods.png)", "",
+           table(results["cases"][volume]["methods"],
+                 [("method", lambda r: r["method"]), ("iterations", lambda r: str(r["budget"] or "-")),
+                  ("time s", lambda r: f"{r['seconds']:.2f}"), ("PSNR ref", lambda r: f"{r['psnr']:.2f}"),
+                  ("SSIM ref", lambda r: f"{r['ssim']:.4f}"), ("PSNR unseen", lambda r: f"{r['psnr_unseen']:.2f}"),
+                  ("SSIM unseen", lambda r: f"{r['ssim_unseen']:.4f}")]), ""]
+md += ["Not measured here: (b) the paper's neural path (analyzer -> neural render at the view -> reconstruction): "
+       "the shipped models are decoders, whose render at a view is the ray cast of their decoded TF, so (b) is "
+       "(b') + reconstruction; (d) a Gaussian-primitive parametric fit of the screenshot alone.", ""]
+md += ["## Stability: where each method breaks", "", "![stability](report_stability.png)", ""]
+fails = {}
+for volume in CASE_OBJECTS:
+    st = results["cases"][volume]["stability"]
+    md += [f"### {volume}", "", table(st, [("perturbation", lambda r: r["perturbation"]), ("strength", lambda r: r["label"]),
+                                          ("method", lambda r: r["method"]), ("PSNR", lambda r: f"{r['psnr']:.1f}"),
+                                          ("success", lambda r: "yes" if r["success"] else "no")]), ""]
+    for r in st:
+        if not r["success"]:
+            fails.setdefault((r["perturbation"], r["method"]), []).append(f"{volume} {r['label']}")
+md += ["Failures seen (perturbation, method: cases):", ""]
+md += [f"- {k[0]}, {k[1]}: {', '.join(v)}" for k, v in sorted(fails.items())] or ["- none"]
+rate = {m: np.mean([r["success"] for v in CASE_OBJECTS for r in results["cases"][v]["stability"] if r["method"] == m])
+        for m in STABLE_METHODS}
+best = max(rate, key=rate.get)
+md += ["", "Success rate over all perturbations: " + ", ".join(f"{m} {100 * s:.0f} %" for m, s in rate.items()) +
+       f". Most robust here: {best}.", ""]
+md += ["## Optimisation", "", "![optimisation](report_optimisation.png)", "",
+       f"{len(runs)} random initial TFs with their own pixel-sampling seeds, 300 steps: PSNR "
+       f"{np.nanmin([r['psnr'] for r in runs]):.2f}..{np.nanmax([r['psnr'] for r in runs]):.2f} dB "
+       f"(median {np.nanmedian([r['psnr'] for r in runs]):.2f}), non-finite results: "
+       f"{sum(not r['finite'] for r in runs)}.", "",
+       table(rates, [("learning rate", lambda r: f"{r['lr']}"), ("PSNR", lambda r: f"{r['psnr']:.2f}"),
+                     ("time s", lambda r: f"{r['seconds']:.2f}")]), "",
+       "## TF resolution and smoothness prior (Tooth, 300 steps)", "", "![resolution](report_tf_resolution.png)", "",
+       table(resolution, [("bins", lambda r: str(r["bins"])), ("smoothness", lambda r: str(r["smoothness"])),
+                          ("PSNR ref", lambda r: f"{r['psnr']:.2f}"), ("PSNR unseen", lambda r: f"{r['psnr_unseen']:.2f}"),
+                          ("time s", lambda r: f"{r['seconds']:.2f}")]), "",
+       "## Renderer (Engine, engine_block)", "", "![renderer](report_renderer.png)", "",
+       table(renderer, [("size", lambda r: f"{r['size']}^2"), ("ours ms", lambda r: f"{r['ours_ms']:.1f}"),
+                        ("VTK ms", lambda r: f"{r['vtk_ms']:.1f}"), ("ours fwd+adjoint ms", lambda r: f"{r['forward_backward_ms']:.1f}"),
+                        ("PyTorch autograd ms", lambda r: f"{r['torch_forward_backward_ms']:.1f}"
+                         if r.get("torch_forward_backward_ms") else "-")]), ""]
+if models:
+    md += ["## Model kind and size (Tooth, equal training time)", "", "![models](report_models.png)", "",
+           table(models, [("kind", lambda r: r["kind"]), ("width", lambda r: str(r["width"])),
+                          ("image", lambda r: str(r["image"])), ("parameters", lambda r: str(r["parameters"])),
+                          ("ms (analyzer + renderer)", lambda r: f"{r['analyzer_ms'] + r['renderer_ms']:.1f}"),
+                          ("PSNR", lambda r: f"{r['psnr']:.2f}"), ("SSIM", lambda r: f"{r['ssim']:.3f}"),
+                          ("EMD", lambda r: f"{r['emd']:.2f}")]), "",
+           shipped_text(models), ""]
+with open(os.path.join(args.out, "report.json"), "w") as f:
+    json.dump(results, f, indent=1)
+with open(os.path.join(args.out, "report.md"), "w") as f:
+    f.write("\n".join(md) + "\n")
+log(f"wrote {args.out}/report.md, report.json and the report_*.png charts")
+nonfinite = sum(not r["finite"] for r in runs)
+if nonfinite:
+    sys.exit(f"{nonfinite} reconstructions from random starts ended with non-finite values")
