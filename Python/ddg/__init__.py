@@ -42,7 +42,7 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 __all__ = [
     "Model", "Design", "Gallery", "load_model", "build_design_space", "gallery", "query", "pick",
     "reconstruct", "apply", "interpolate", "edit", "animate", "export", "render", "view_json",
-    "set_camera", "data_path", "DDGError",
+    "set_camera", "save_image", "data_path", "DDGError",
 ]
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
@@ -153,12 +153,9 @@ def set_camera(view_file, view=None):
     return view
 
 
-def _image_text(image):
-    """base64 of a PNG/JPEG/TIFF file (path) or of a numpy image encoded as PNG."""
-    if isinstance(image, str):
-        with open(image, "rb") as f:
-            return base64.b64encode(f.read()).decode()
-    a = np.asarray(image)
+def _png(pixels, path=None):
+    """A numpy image (h, w[, c]) as PNG: written to `path`, or returned as bytes."""
+    a = np.asarray(pixels)
     if a.dtype != np.uint8:
         a = np.clip(np.rint(a * 255.0), 0, 255).astype(np.uint8)
     if a.ndim == 2:
@@ -166,13 +163,29 @@ def _image_text(image):
     h, w, c = a.shape
     data = vtkImageData()
     data.SetDimensions(w, h, 1)
-    arr = numpy_support.numpy_to_vtk(np.ascontiguousarray(a[::-1]).reshape(-1, c), deep=True)
-    data.GetPointData().SetScalars(arr)
+    data.GetPointData().SetScalars(numpy_support.numpy_to_vtk(np.ascontiguousarray(a[::-1]).reshape(-1, c), deep=True))
     writer = vtkPNGWriter()
     writer.SetInputData(data)
+    if path:
+        writer.SetFileName(path)
+        writer.Write()
+        return path
     writer.WriteToMemoryOn()
     writer.Write()
-    return base64.b64encode(numpy_support.vtk_to_numpy(writer.GetResult()).tobytes()).decode()
+    return numpy_support.vtk_to_numpy(writer.GetResult()).tobytes()
+
+
+def save_image(pixels, path):
+    """Writes a numpy image (h, w, 3 or 4; uint8, or floats in [0, 1]; top row first) as PNG."""
+    return _png(pixels, path)
+
+
+def _image_text(image):
+    """base64 of a PNG/JPEG/TIFF file (path) or of a numpy image encoded as PNG."""
+    if isinstance(image, str):
+        with open(image, "rb") as f:
+            return base64.b64encode(f.read()).decode()
+    return base64.b64encode(_png(image)).decode()
 
 
 def _to_numpy(image):

@@ -18,9 +18,6 @@ import time
 
 import ddg
 from paraview.simple import GetActiveViewOrCreate, SaveScreenshot, Show, XMLImageDataReader
-from vtkmodules.util import numpy_support
-from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkIOImage import vtkPNGWriter
 
 out = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else "build/demo")
 os.makedirs(out, exist_ok=True)
@@ -34,17 +31,6 @@ steps = []
 def step(name, start):
     steps.append((name, time.time() - start))
     print(f"[{time.time() - start:6.2f} s] {name}")
-
-
-def save_png(pixels, path):
-    h, w, c = pixels.shape
-    data = vtkImageData()
-    data.SetDimensions(w, h, 1)
-    data.GetPointData().SetScalars(numpy_support.numpy_to_vtk(pixels[::-1].reshape(-1, c).copy()))
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(data)
-    writer.Write()
 
 
 def compare(a, b):
@@ -76,13 +62,13 @@ step("load Tooth (%s) and its model" % "x".join(str(d) for d in tooth.GetDataInf
 
 t = time.time()
 g = ddg.gallery(tooth, model, count=64, thumbnail_size=64)
-save_png(g.sheet, os.path.join(out, "gallery.png"))
+ddg.save_image(g.sheet, os.path.join(out, "gallery.png"))
 step(f"gallery: {len(g.x)} designs on the outline, {len(g.thumbnails)} thumbnails -> gallery.png", t)
 
 t = time.time()
 found = ddg.query(reference, source=tooth, view=view, model=model)
 result = found.evaluate(view, fidelity=True)
-save_png(result["preview"], os.path.join(out, "query_preview.png"))
+ddg.save_image(result["preview"], os.path.join(out, "query_preview.png"))
 step(f"query with {os.path.basename(reference)}: outline position ({result['position'][0]:.1f}, "
      f"{result['position'][1]:.1f}), nearest designs {found.neighbours}", t)
 

@@ -13,26 +13,12 @@ import time
 
 import ddg
 from paraview.simple import GetActiveView, SaveScreenshot, Show, XMLImageDataReader
-from vtkmodules.util import numpy_support
-from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkIOImage import vtkPNGWriter
 
 volume, image, view, out = (sys.argv[1:5] if len(sys.argv) > 4 else
                             (ddg.data_path("Volumes/tooth.vti"),
                              ddg.data_path("Screenshots/tooth_dentin_enamel_oblique.png"),
                              ddg.data_path("Views/tooth_oblique.json"), "query_out"))
 os.makedirs(out, exist_ok=True)
-
-
-def save_png(pixels, path):
-    h, w, c = pixels.shape
-    data = vtkImageData()
-    data.SetDimensions(w, h, 1)
-    data.GetPointData().SetScalars(numpy_support.numpy_to_vtk(pixels[::-1].reshape(-1, c).copy()))
-    writer = vtkPNGWriter()
-    writer.SetFileName(path)
-    writer.SetInputData(data)
-    writer.Write()
 
 
 source = XMLImageDataReader(FileName=[volume])
@@ -45,7 +31,7 @@ print(f"query: {time.time() - start:.2f} s; outline position ({result['position'
       f"{result['position'][1]:.2f}); nearest outline rows {found.neighbours}")
 print(f"fidelity (neural vs. ray cast of its TF): PSNR {result['fidelity'][0]:.1f} dB, "
       f"SSIM {result['fidelity'][1]:.3f}")
-save_png(result["preview"], os.path.join(out, "preview.png"))
+ddg.save_image(result["preview"], os.path.join(out, "preview.png"))
 ddg.export(found, os.path.join(out, "preset.json"), view=view)
 ddg.apply(found)
 SaveScreenshot(os.path.join(out, "paraview.png"), GetActiveView())

@@ -16,6 +16,9 @@ import time
 from paraview import servermanager
 import paraview.simple as simple
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ddgtest import apply_and_render  # noqa: E402
+
 plugin, data = sys.argv[1:3]
 with socket.socket() as s:
     s.bind(("localhost", 0))
@@ -71,26 +74,9 @@ try:
         query.UpdatePipeline()
         same = servermanager.Fetch(query, idx=1).GetFieldData().GetAbstractArray("Preset").GetValue(0)
         assert same == preset, "ImageData/ViewJSON should give the ImageFile/ViewFile preset"
-        p = json.loads(preset)[0]
-        display = simple.Show(tooth)
-        display.SetRepresentationType("Volume")
-        array = tooth.PointData.keys()[0]
-        simple.ColorBy(display, ("POINTS", array))
-        lut = simple.GetColorTransferFunction(array)
-        lut.AutomaticRescaleRangeMode = "Never"
-        lut.RGBPoints = p["RGBPoints"]
-        simple.GetOpacityTransferFunction(array).Points = p["Points"]
-        camera = json.load(open(view))["camera"]
-        rview = simple.GetActiveView()
-        rview.CameraPosition, rview.CameraFocalPoint = camera["position"], camera["focal_point"]
-        rview.CameraViewUp = camera["view_up"]
         shot_out = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"ddg_cs_apply_{os.getpid()}.png")
-        simple.SaveScreenshot(shot_out, rview, ImageResolution=[320, 320])
-        assert list(lut.RGBPoints) == p["RGBPoints"]
-        size = os.path.getsize(shot_out)
-        os.remove(shot_out)
+        size = apply_and_render(tooth, json.loads(preset)[0], view, shot_out)
         assert size > 5000, size
-        simple.Hide(tooth)
         print(f"client/server apply ok: the query's preset in the LUT, rendered ({size} bytes PNG)")
     rec = simple.DDGReconstructTransferFunction(Input=tooth)
     rec.TargetImageFile = os.path.join(data, "Screenshots", "tooth_cool_warm_side.png")

@@ -20,6 +20,9 @@ import time
 from paraview import servermanager
 import paraview.simple as simple
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ddgtest import apply_and_render  # noqa: E402
+
 plugin, data = sys.argv[1:3]
 tooth_file = os.path.join(data, "Volumes", "tooth.vti")
 shot = os.path.join(data, "Screenshots", "tooth_dentin_enamel_oblique.png")
@@ -93,19 +96,8 @@ try:
     assert diff < 0.02, f"DDG Reconstruct differs by {diff}"
     print(f"2 ranks: render identical, query identical, reconstruct max opacity difference {diff:.2e}")
     # the query's preset applied to the distributed volume, rendered by the two ranks
-    p = json.loads(mpi["preset"])[0]
-    display = simple.Show(tooth)
-    display.SetRepresentationType("Volume")
-    array = tooth.PointData.keys()[0]
-    simple.ColorBy(display, ("POINTS", array))
-    lut = simple.GetColorTransferFunction(array)
-    lut.AutomaticRescaleRangeMode = "Never"
-    lut.RGBPoints = p["RGBPoints"]
-    simple.GetOpacityTransferFunction(array).Points = p["Points"]
     out = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"ddg_mpi_apply_{os.getpid()}.png")
-    simple.SaveScreenshot(out, simple.GetActiveView(), ImageResolution=[320, 320])
-    size = os.path.getsize(out)
-    os.remove(out)
+    size = apply_and_render(tooth, json.loads(mpi["preset"])[0], view_file, out)
     assert size > 5000, size
     print(f"applied and rendered on 2 ranks ({size} bytes PNG)")
     simple.Disconnect()
