@@ -61,7 +61,7 @@ os.makedirs(args.out, exist_ok=True)
 work = tempfile.mkdtemp(prefix="ddg-report-")
 started = time.time()
 CASES = [("tooth", "tooth_dentin_enamel")] + ([] if args.quick else [("engine", "engine_block")])
-BUDGETS = [20, 80, 300] if args.quick else [10, 30, 100, 300, 1000]
+BUDGETS = [30, 150] if args.quick else [10, 30, 100, 300, 1000]
 results = {"quick": args.quick, "success_db": SUCCESS_DB, "cases": {}}
 CASE_OBJECTS = {}  # volume -> its scene, views, references
 
@@ -345,7 +345,7 @@ case = CASE_OBJECTS["tooth"]
 shot, vfile = case["refs"]["reference"], case["view_files"]["reference"]
 rng = np.random.default_rng(7)
 lo, hi = 0.0, 255.0
-seeds = 6 if args.quick else 20
+seeds = 4 if args.quick else 20
 runs = []
 for k in range(seeds):
     xs = np.sort(rng.uniform(lo, hi, 6))
@@ -364,14 +364,14 @@ for k in range(seeds):
 log(f"random starts: PSNR {min(r['psnr'] for r in runs):.1f}..{max(r['psnr'] for r in runs):.1f} dB, "
     f"{sum(not r['finite'] for r in runs)} non-finite")
 rates = []
-for lr in ([0.05, 0.2, 1.0] if args.quick else [0.01, 0.03, 0.1, 0.2, 0.5, 1.0, 3.0]):
+for lr in ([0.05, 0.2] if args.quick else [0.01, 0.03, 0.1, 0.2, 0.5, 1.0, 3.0]):
     preset, seconds = reconstruct(case, [shot], [vfile], f"lr{lr}", 300, extra=["--lr", lr])
     psnr = compare(case["scene"].render(preset, case["views"]["reference"], os.path.join(work, f"lr{lr}.png")),
                    case["refs"]["reference"])["psnr"]
     rates.append({"lr": lr, "psnr": psnr, "seconds": seconds})
 results["optimisation"] = {"random_starts": runs, "learning_rates": rates}
 resolution = []
-for bins in ([16, 64, 256] if args.quick else [16, 32, 64, 128, 256]):
+for bins in ([16, 128] if args.quick else [16, 32, 64, 128, 256]):
     for smooth in ([0.0, 0.01] if args.quick else [0.0, 0.01, 0.1, 1.0]):
         preset, seconds = reconstruct(case, [shot], [vfile], f"bins{bins}_{smooth}", 300,
                                       extra=["--bins", bins, "--smoothness", smooth])
