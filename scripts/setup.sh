@@ -20,6 +20,7 @@ PACKAGES=(
   # build, tests, benchmarks, charts
   cmake ninja-build g++ python3-dev googletest libgtest-dev libbenchmark-dev
   python3-numpy python3-matplotlib python3-pil clang-format black
+  mpi-default-bin  # mpiexec, for Plugin.MPIServer (mpiexec -np 2 pvserver)
   # rendering without a display
   xvfb xauth
 )
