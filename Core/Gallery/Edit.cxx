@@ -154,8 +154,16 @@ ColorClusters colorClusters(const Image& rgba, int k)
     cl.lab.push_back(centres[order[r]]);
     cl.share.push_back(static_cast<double>(n[order[r]]) / lab.size());
   }
+  cl.rgb.assign(order.size(), RGB{ 0, 0, 0 });
   for (size_t i = 0; i < lab.size(); ++i)
-    cl.labels[where[i]] = remap[label[i]];
+  {
+    const int r = remap[label[i]];
+    cl.labels[where[i]] = r;
+    const RGB c = straight(rgba, static_cast<int>(where[i] % rgba.width),
+      static_cast<int>(where[i] / rgba.width));
+    for (int q = 0; q < 3; ++q)
+      cl.rgb[r][q] += c[q] / n[order[r]];
+  }
   return cl;
 }
 

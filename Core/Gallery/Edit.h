@@ -18,6 +18,7 @@ namespace ddg
 struct ColorClusters
 {
   std::vector<std::array<double, 3>> lab; ///< cluster centres
+  std::vector<std::array<double, 3>> rgb; ///< mean straight sRGB of each cluster's pixels
   std::vector<double> share;             ///< fraction of the visible pixels in each
   std::vector<int> labels;               ///< width x height
   int width = 0, height = 0;

@@ -167,26 +167,12 @@ int vtkDDGDesign::RequestData(
       rgb[c]->SetName(names[c]);
       design->AddColumn(rgb[c]);
     }
-    // each cluster's mean colour over its pixels (straight colour)
-    std::vector<std::array<double, 4>> sum(static_cast<size_t>(clusters.count()), { 0, 0, 0, 0 });
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x)
-      {
-        const int k = clusters.at(x, y);
-        if (k < 0)
-          continue;
-        const double a = image.at(x, y, 3);
-        for (int c = 0; c < 3; ++c)
-          sum[static_cast<size_t>(k)][c] += image.at(x, y, c) / a;
-        sum[static_cast<size_t>(k)][3] += 1;
-      }
     for (int k = 0; k < clusters.count(); ++k)
     {
       id->InsertNextValue(k);
       share->InsertNextValue(clusters.share[static_cast<size_t>(k)]);
-      const auto& s = sum[static_cast<size_t>(k)];
       for (int c = 0; c < 3; ++c)
-        rgb[c]->InsertNextValue(s[3] > 0 ? std::min(1.0, s[c] / s[3]) : 0.0);
+        rgb[c]->InsertNextValue(clusters.rgb[static_cast<size_t>(k)][c]);
     }
 
     addField<vtkFloatArray>(design, "Latent", z);

@@ -711,7 +711,7 @@ void pqDDGDesignGalleryDock::refreshThumbnails()
     this->Outline->setMessage(this->Status->text());
     return;
   }
-  vtkDataArray* xs = table->GetColumnByName("X") ? vtkDataArray::SafeDownCast(table->GetColumnByName("X")) : nullptr;
+  vtkDataArray* xs = vtkDataArray::SafeDownCast(table->GetColumnByName("X"));
   vtkDataArray* ys = vtkDataArray::SafeDownCast(table->GetColumnByName("Y"));
   vtkDataArray* cells = vtkDataArray::SafeDownCast(table->GetColumnByName("Thumbnail"));
   if (!xs || !ys || !cells)
@@ -739,7 +739,6 @@ void pqDDGDesignGalleryDock::refreshThumbnails()
     images.push_back(sheetImage.copy(gap + (k % cols) * (kThumbnailSize + gap),
       gap + (k / cols) * (kThumbnailSize + gap), kThumbnailSize, kThumbnailSize));
   }
-  const bool first = this->Outline->thumbnailCount() == 0 && this->Steps.isEmpty();
   this->Outline->setPoints(points);
   if (shown.size() == 4)
   {
@@ -748,16 +747,10 @@ void pqDDGDesignGalleryDock::refreshThumbnails()
     this->Boxes.last() = b2.normalized();
   }
   this->Outline->setThumbnails(rows, images);
-  if (!this->Latent.isEmpty())
-  {
-    const QJsonArray position = QJsonArray(); // the selection is re-drawn by the next design update
-    Q_UNUSED(position);
-  }
   this->setStatus(tr("%1 designs of '%2'; %3 thumbnails. Click one, or query with a picture.")
                     .arg(points.size())
                     .arg(this->Source->getSMName())
                     .arg(rows.size()));
-  Q_UNUSED(first);
 }
 
 void pqDDGDesignGalleryDock::drillIn(const QRectF& box)

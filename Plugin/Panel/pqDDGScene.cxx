@@ -43,10 +43,16 @@ std::vector<double> numbers(const QJsonValue& value)
   return out;
 }
 
+// vtkColorTransferFunction's ColorSpace enumeration, as the LUT proxy's ColorSpace domain names it.
+const QStringList& colorSpaces()
+{
+  static const QStringList spaces{ "RGB", "HSV", "Lab", "Diverging", "Lab/CIEDE2000", "Step" };
+  return spaces;
+}
+
 int colorSpace(const QString& name)
 {
-  const QStringList spaces{ "RGB", "HSV", "Lab", "Diverging", "Lab/CIEDE2000", "Step" };
-  const int i = static_cast<int>(spaces.indexOf(name));
+  const int i = static_cast<int>(colorSpaces().indexOf(name));
   return i < 0 ? 0 : i;
 }
 } // namespace
@@ -147,8 +153,7 @@ QString currentPreset(pqDataRepresentation* repr)
   };
   QJsonObject preset;
   preset["Name"] = "before the design gallery";
-  const QStringList spaces{ "RGB", "HSV", "Lab", "Diverging", "Lab/CIEDE2000", "Step" };
-  preset["ColorSpace"] = spaces.value(vtkSMPropertyHelper(lut, "ColorSpace").GetAsInt(), "RGB");
+  preset["ColorSpace"] = colorSpaces().value(vtkSMPropertyHelper(lut, "ColorSpace").GetAsInt(), "RGB");
   preset["RGBPoints"] = values(lut, "RGBPoints");
   preset["Points"] = values(sof, "Points");
   return jsonText(preset);

@@ -195,11 +195,6 @@ def _to_numpy(image):
     return np.ascontiguousarray(a[::-1, :, :3]).astype(np.uint8)
 
 
-def _fetch(proxy, port):
-    data = servermanager.Fetch(proxy, idx=port)
-    return data
-
-
 def _run(proxy):
     """Updates a filter; raises DDGError with its message when it failed."""
     proxy.UpdatePipeline()
@@ -233,9 +228,21 @@ def _tf_dict(tf, view=None):
     return tf
 
 
+_helpers = {}  # (filter, source, connection) -> helper proxy
+
+
 def _proxy(name, source, **props):
-    """An unregistered helper filter on ``source`` (not in the pipeline, the active source kept)."""
-    proxy = getattr(servermanager.filters, name)(Input=source)
+    """An unregistered helper filter on ``source`` (not in the pipeline, the active source kept).
+    One proxy per filter, source and connection is kept and reused with its properties reset, so
+    a filter's loaded bundle and outline serve the next call too."""
+    key = (name, source.GetGlobalIDAsString(), id(servermanager.ActiveConnection))
+    proxy = _helpers.get(key)
+    if proxy is None:
+        proxy = _helpers[key] = getattr(servermanager.filters, name)(Input=source)
+    else:
+        for prop in proxy.ListProperties():
+            if prop != "Input":
+                proxy.GetProperty(prop).SMProperty.ResetToXMLDefaults()
     proxy.SetPropertyWithName("SelectInputScalars", ["POINTS", _array(source)])
     for key, value in props.items():  # XML property names
         proxy.SetPropertyWithName(key, value)
@@ -289,7 +296,7 @@ def build_design_space(source=None, directory="design_space", minutes=5.0, count
     if outline is not None:
         build.SetPropertyWithName("OutlineCount", int(outline))
     build.UpdatePipeline()
-    table = _fetch(build, 0)
+    table = servermanager.Fetch(build, idx=0)
     if table.GetNumberOfRows() != 1:
         raise DDGError("the design space was not built (see the Output Messages)")
     return Model(directory, source)
@@ -333,12 +340,13 @@ class Design:
         proxy = _proxy("DDGDesign", self.model.source, ModelDirectory=self.model.directory,
                        History=self.history(), ViewJSON=json.dumps(v), ComputeFidelity=int(fidelity))
         _run(proxy)
-        table = _fetch(proxy, 1)
+        table = servermanager.Fetch(proxy, idx=1)
         preset = _field_string(table, "Preset") or _field_string(table, "TransferFunction2D")
         clusters = [{"rgb": [table.GetValueByName(i, c).ToDouble() for c in "RGB"],
                      "share": table.GetValueByName(i, "Share").ToDouble()}
                     for i in range(table.GetNumberOfRows())]
-        out = {"preview": _to_numpy(_fetch(proxy, 0)), "latent": _field_numbers(table, "Latent"),
+        out = {"preview": _to_numpy(servermanager.Fetch(proxy, idx=0)),
+               "latent": _field_numbers(table, "Latent"),
                "position": tuple(_field_numbers(table, "Position")),
                "preset": json.loads(preset), "slicer": _field_string(table, "Slicer"),
                "clusters": clusters}
@@ -384,7 +392,7 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     proxy = _proxy("DDGQuery", source, ModelDirectory=model.directory, ViewJSON=json.dumps(v),
                    ImageData=_image_text(image), Neighbours=int(neighbours))
     _run(proxy)
-    table = _fetch(proxy, 1)
+    table = servermanager.Fetch(proxy, idx=1)
     rows = [int(table.GetValueByName(i, "Row").ToInt()) for i in range(table.GetNumberOfRows())]
     latent = [float(x) for x in _field_numbers(table, "Latent")]
     step = {"action": "latent", "latent": latent}
@@ -448,8 +456,8 @@ def gallery(source=None, model=None, count=32, box=None, seed=1, thumbnail_size=
     if view is not None:
         proxy.SetPropertyWithName("ViewJSON", json.dumps(view_json(view)))
     _run(proxy)
-    sheet = _to_numpy(_fetch(proxy, 0))
-    table = _fetch(proxy, 1)
+    sheet = _to_numpy(servermanager.Fetch(proxy, idx=0))
+    table = servermanager.Fetch(proxy, idx=1)
     col = lambda name: numpy_support.vtk_to_numpy(table.GetColumnByName(name))  # noqa: E731
     x, y, cells = col("X").copy(), col("Y").copy(), col("Thumbnail")
     order = np.argsort(np.where(cells >= 0, cells, np.iinfo(np.int32).max))
@@ -475,7 +483,7 @@ def reconstruct(image, source=None, view=None, iterations=300, bins=128, smoothn
     if learning_rate is not None:
         proxy.SetPropertyWithName("LearningRate", float(learning_rate))
     proxy.UpdatePipeline()
-    table = _fetch(proxy, 0)
+    table = servermanager.Fetch(proxy, idx=0)
     text = _field_string(table, "Preset") or _field_string(table, "TransferFunction2D")
     if not text:
         raise DDGError("the reconstruction failed (see the Output Messages)")
@@ -540,7 +548,7 @@ def render(source=None, tf=None, view=None):
     proxy = _proxy("DDGVolumeRender", source, TransferFunctionJSON=json.dumps(_tf_dict(tf, v)),
                    ViewJSON=json.dumps(v))
     proxy.UpdatePipeline()
-    image = _fetch(proxy, 0)
+    image = servermanager.Fetch(proxy, idx=0)
     if image.GetNumberOfPoints() == 0:
         raise DDGError("the render failed (see the Output Messages)")
     return _to_numpy(image)

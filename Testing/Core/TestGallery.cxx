@@ -491,6 +491,9 @@ TEST(Edit, ClustersSeparateFeaturesAndEditsTouchOnlyOne)
   const int red = cl.at(5, 10), blue = cl.at(30, 10);
   EXPECT_NE(red, blue);
   EXPECT_NEAR(cl.share[0], 0.5, 1e-9);
+  EXPECT_NEAR(cl.rgb[red][0], 0.9, 1e-6); // mean straight colour of each cluster
+  EXPECT_NEAR(cl.rgb[blue][2], 0.9, 1e-6);
+  EXPECT_NEAR(cl.rgb[blue][1], 0.1, 1e-6);
   // rotate the red feature's hue by +120 degrees: red -> green; blue untouched
   const auto green = ddg::recolour(im, cl, { red, {} }, 120);
   EXPECT_NEAR(green.at(5, 10, 1) / green.at(5, 10, 3), 0.9, 0.02);
