@@ -212,6 +212,71 @@ struct BinsToTable
   }
 };
 
+// The parametric fit: K Gaussian primitives of 8 unconstrained numbers each: mean and log width
+// per axis in units of that axis' range, then colour and peak-opacity logits.
+struct PrimitiveParameters
+{
+  static constexpr int kPer = 8;
+  bool twoD = false;
+  std::array<double, 2> lo{ 0, 0 }, span{ 1, 1 };
+
+  void initialise(int count, std::vector<double>& theta) const
+  {
+    theta.assign(static_cast<size_t>(count) * kPer, 0.0);
+    for (int k = 0; k < count; ++k)
+    {
+      double* t = &theta[static_cast<size_t>(k) * kPer];
+      t[0] = (k + 0.5) / count;
+      t[1] = 0.5;
+      t[2] = std::log(0.5 / count);
+      t[3] = std::log(0.5);
+      t[4] = t[5] = t[6] = logit(0.5);
+      t[7] = logit(0.05);
+    }
+  }
+  std::vector<GaussianPrimitive> decode(const std::vector<double>& theta) const
+  {
+    std::vector<GaussianPrimitive> out(theta.size() / kPer);
+    for (size_t k = 0; k < out.size(); ++k)
+    {
+      const double* t = &theta[k * kPer];
+      for (int a = 0; a < 2; ++a)
+      {
+        out[k].mean[a] = lo[a] + t[a] * span[a];
+        out[k].stddev[a] = std::exp(std::clamp(t[2 + a], -12.0, 3.0)) * span[a];
+      }
+      for (int c = 0; c < 3; ++c)
+        out[k].rgb[c] = sigmoid(t[4 + c]);
+      out[k].opacity = sigmoid(t[7]);
+    }
+    return out;
+  }
+  // dL/dtheta from dL/d(primitive parameters).
+  void chain(const std::vector<GaussianPrimitive>& p,
+    const std::vector<GaussianPrimitiveGradient>& g, std::vector<double>& dTheta) const
+  {
+    for (size_t k = 0; k < p.size(); ++k)
+    {
+      double* d = &dTheta[k * kPer];
+      for (int a = 0; a < (twoD ? 2 : 1); ++a)
+      {
+        d[a] = g[k].mean[a] * span[a];
+        d[2 + a] = g[k].stddev[a] * p[k].stddev[a];
+      }
+      for (int c = 0; c < 3; ++c)
+        d[4 + c] = g[k].rgb[c] * p[k].rgb[c] * (1 - p[k].rgb[c]);
+      d[7] = g[k].opacity * p[k].opacity * (1 - p[k].opacity);
+    }
+  }
+  // Adam step of each slot relative to the learning rate: positions and widths move in units
+  // of the range, so more slowly than logits.
+  static double stepScale(size_t i)
+  {
+    const size_t slot = i % kPer;
+    return slot < 2 ? 0.1 : slot < 4 ? 0.25 : 1.0;
+  }
+};
+
 } // namespace
 
 ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& renderer,
@@ -231,6 +296,10 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   if (!(opt.ssimWeight >= 0) || opt.ssimPatch < 3)
   {
     throw Error("the SSIM weight must be non-negative and the SSIM patch at least 3 pixels");
+  }
+  if (opt.primitives < 0 || opt.primitives > 64)
+  {
+    throw Error("the parametric fit takes 1..64 Gaussian primitives (0: free bins)");
   }
   if (!(opt.learningRate > 0) || opt.iterations < 1 || !(opt.smoothness >= 0) ||
     opt.raysPerIteration < 0)
@@ -253,9 +322,16 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   const std::array<double, 2> gradientRange =
     opt.twoD ? vol.gradientMagnitudeRange() : std::array<double, 2>{ 0, 1 };
 
-  // Parameters: logits of rgb and opacity per bin.
-  std::vector<double> theta(4 * nBins);
-  for (size_t b = 0; b < nBins; ++b)
+  // Parameters: logits of rgb and opacity per bin, or the primitives' parameters.
+  const int K = opt.primitives;
+  PrimitiveParameters prim;
+  prim.twoD = opt.twoD;
+  prim.lo = { range[0], gradientRange[0] };
+  prim.span = { range[1] - range[0], gradientRange[1] - gradientRange[0] };
+  std::vector<double> theta(K > 0 ? 0 : 4 * nBins);
+  if (K > 0)
+    prim.initialise(K, theta);
+  for (size_t b = 0; b < (K > 0 ? 0 : nBins); ++b)
   {
     double init[4] = { 0.5, 0.5, 0.5, 0.02 };
     if (opt.initial1D && !opt.twoD)
@@ -279,12 +355,32 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
     map.setup(B, paraviewTableWidth(spacingProbe, range[0], range[1]));
   }
 
-  // The current TF (sigmoid of the parameters) into result's tables.
+  // The current TF's bins (RGBA, uncorrected opacity): sigmoid of the parameters, or the
+  // primitives rasterized.
+  std::vector<GaussianPrimitive> primitives;
+  auto currentValues = [&](std::vector<double>& out)
+  {
+    out.resize(4 * nBins);
+    if (K == 0)
+    {
+      for (size_t i = 0; i < theta.size(); ++i)
+        out[i] = sigmoid(theta[i]);
+      return;
+    }
+    primitives = prim.decode(theta);
+    const std::vector<float> raster = opt.twoD
+      ? rasterize2D(primitives, { range[0], range[1] }, gradientRange, B, G).rgba
+      : rasterize1D(primitives, range[0], range[1], B).rgba;
+    std::copy(raster.begin(), raster.end(), out.begin());
+  };
+
+  // The current TF into result's tables.
   auto fillTables = [&](ReconstructionResult& r)
   {
-    std::vector<float> current(theta.size());
-    for (size_t i = 0; i < theta.size(); ++i)
-      current[i] = static_cast<float>(sigmoid(theta[i]));
+    std::vector<double> v;
+    currentValues(v);
+    std::vector<float> current(v.begin(), v.end());
+    r.primitives = primitives;
     if (opt.twoD)
     {
       r.table2D.valueRange = { range[0], range[1] };
@@ -308,9 +404,10 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   RenderOptions ropt = opt.render;
   ropt.jitter = false;
 
-  std::vector<double> values(theta.size());
+  std::vector<double> values(4 * nBins);
   std::vector<float> table, dTable;
-  std::vector<double> dValues(theta.size());
+  std::vector<double> dValues(4 * nBins), dTheta(theta.size());
+  std::vector<GaussianPrimitiveGradient> dPrimitives;
   std::vector<int> pixels;
   std::vector<float> rgba, dRGBA;
   std::vector<RayRecord> records;
@@ -380,8 +477,7 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
 
   for (int step = 0; step < opt.iterations; ++step)
   {
-    for (size_t i = 0; i < theta.size(); ++i)
-      values[i] = sigmoid(theta[i]);
+    currentValues(values);
     if (opt.twoD)
     {
       table.assign(values.begin(), values.end());
@@ -433,7 +529,7 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
       map.backward(dTable, dValues);
     }
     // Smoothness prior: lambda * mean over neighbour pairs of squared differences (all channels).
-    if (opt.smoothness > 0)
+    if (opt.smoothness > 0 && K == 0)
     {
       std::vector<std::pair<size_t, size_t>> pairs;
       for (int g = 0; g < G; ++g)
@@ -460,14 +556,26 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
       throw Error("the loss became NaN or infinite at step " + std::to_string(step) +
         " (try a smaller learning rate)");
     }
-    // Adam in logit space.
+    // Adam on the unconstrained parameters (logits of the bins, or the primitives').
+    if (K == 0)
+    {
+      for (size_t i = 0; i < theta.size(); ++i)
+        dTheta[i] = dValues[i] * values[i] * (1.0 - values[i]);
+    }
+    else
+    {
+      rasterizeAdjoint(primitives, opt.twoD, { range[0], range[1] }, gradientRange, B, G, dValues,
+        dPrimitives);
+      prim.chain(primitives, dPrimitives, dTheta);
+    }
     const double c1 = 1.0 - std::pow(beta1, step + 1), c2 = 1.0 - std::pow(beta2, step + 1);
     for (size_t i = 0; i < theta.size(); ++i)
     {
-      const double g = dValues[i] * values[i] * (1.0 - values[i]);
+      const double g = dTheta[i];
+      const double lr = K == 0 ? opt.learningRate : opt.learningRate * PrimitiveParameters::stepScale(i);
       m[i] = beta1 * m[i] + (1 - beta1) * g;
       v2[i] = beta2 * v2[i] + (1 - beta2) * g * g;
-      theta[i] -= opt.learningRate * (m[i] / c1) / (std::sqrt(v2[i] / c2) + eps);
+      theta[i] -= lr * (m[i] / c1) / (std::sqrt(v2[i] / c2) + eps);
     }
     result.loss.push_back(loss);
     result.iterations = step + 1;

@@ -5,6 +5,7 @@
 #include "Image/Image.h"
 #include "Render/DifferentiableRenderer.h"
 #include "Render/View.h"
+#include "TransferFunction/GaussianPrimitive.h"
 #include "TransferFunction/TransferFunction1D.h"
 #include "TransferFunction/TransferFunction2D.h"
 
@@ -61,6 +62,13 @@ struct ReconstructionOptions
   int patience = 50;
   /// Pass the current TF to the progress callback every N steps [0: never].
   int snapshotEvery = 0;
+  /// Fit this many Gaussian primitives instead of free bins [0: bins]: the parametric fit.
+  /// Each primitive has a mean and width per axis, a colour and a peak opacity (GaussianPrimitive;
+  /// 2D adds the gradient axis); they are rasterized (rasterize1D/2D) at `bins` (x
+  /// `gradientBins`) entries and their gradients come through rasterizeAdjoint. They start
+  /// evenly spread over the value range (width range / (2 K), opacity 0.05, grey). The
+  /// smoothness prior and `initial1D` are not used. 1..64.
+  int primitives = 0;
   /// Start from this TF (1D) [grey, opacity 0.02].
   std::optional<TransferTable1D> initial1D;
   /// Seed of the pixel sampling [1].
@@ -74,6 +82,7 @@ struct ReconstructionResult
   bool twoD = false;
   TransferTable1D table1D; ///< bins entries over the volume's data range (uncorrected opacity)
   TransferTable2D table2D; ///< 2D result: value range x [0, max gradient magnitude]
+  std::vector<GaussianPrimitive> primitives; ///< the fitted primitives (options.primitives > 0)
   int iterations = 0;
   bool converged = false;
   std::vector<double> loss; ///< per step (minibatch loss including the prior)

@@ -181,7 +181,7 @@ struct ReconstructArgs
   std::vector<double> background;
   bool twoD = false, resample = false, quiet = false, estimateView = false;
   std::string outView;
-  int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0;
+  int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0, primitives = 0;
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
   unsigned seed = 1;
 };
@@ -255,6 +255,7 @@ int runReconstruct(const ReconstructArgs& a)
   opt.twoD = a.twoD;
   opt.bins = a.bins;
   opt.gradientBins = a.gradientBins;
+  opt.primitives = a.primitives;
   opt.loss = a.loss == "l2" ? ddg::ReconstructionLoss::L2 : ddg::ReconstructionLoss::L1;
   opt.smoothness = a.smoothness;
   opt.ssimWeight = a.ssimWeight;
@@ -704,6 +705,11 @@ int main(int argc, char** argv)
     ->add_option(
       "--gradient-bins", rc.gradientBins, "2D: bins along gradient magnitude (default 32)")
     ->check(CLI::Range(2, 1024));
+  reconstruct
+    ->add_option("--primitives", rc.primitives,
+      "Fit K Gaussian primitives (mean, width, colour, opacity each) instead of free bins; "
+      "rasterized at --bins, no smoothness prior (default 0: bins)")
+    ->check(CLI::Range(0, 64));
   reconstruct->add_option("--loss", rc.loss, "l1 (default) or l2")
     ->check(CLI::IsMember({ "l1", "l2" }));
   reconstruct->add_option(
