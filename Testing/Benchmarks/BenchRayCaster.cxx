@@ -65,6 +65,7 @@ int main(int argc, char** argv)
   std::string tfPath = dataDir + "/TransferFunctions/engine_block.json";
   std::string viewPath = dataDir + "/Views/engine_oblique.json";
   int size = 512, runs = 7, threads = 0;
+  double samplesPerVoxel = 2; // ParaView's rule: sample distance = mean spacing / 2
   for (int i = 1; i < argc; i += 2)
   {
     const std::string a = argv[i];
@@ -72,12 +73,13 @@ int main(int argc, char** argv)
     {
       std::printf(
         "BenchRayCaster [--volume V.vti] [--tf PRESET.json] [--view VIEW.json] [--size N]\n"
-        "               [--runs N>=5] [--threads N]\n"
+        "               [--runs N>=5] [--threads N] [--samples-per-voxel S]\n"
         "Times ddg's ray caster and VTK's vtkFixedPointVolumeRayCastMapper on the same\n"
         "volume, TF, camera (VIEW.json at N x N) and sample distance; prints medians,\n"
         "the ratio and samples/s per core. Needs a display: run under xvfb-run -a.\n"
+        "Sample distance = mean spacing / S (S = 2 is ParaView's rule).\n"
         "Defaults: Data/Volumes/engine.vti, engine_block.json, engine_oblique.json, 512, 7, all "
-        "cores.\n");
+        "cores, 2.\n");
       return 0;
     }
     if (i + 1 >= argc)
@@ -97,6 +99,8 @@ int main(int argc, char** argv)
       runs = std::max(5, std::stoi(argv[i + 1]));
     else if (a == "--threads")
       threads = std::stoi(argv[i + 1]);
+    else if (a == "--samples-per-voxel")
+      samplesPerVoxel = std::stod(argv[i + 1]);
     else
     {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
@@ -115,7 +119,12 @@ int main(int argc, char** argv)
   ddg::View view = ddg::readView(viewPath);
   view.width = view.height = size;
   const ddg::RayCaster caster(volume);
-  const double d = caster.defaultSampleDistance();
+  if (!(samplesPerVoxel > 0))
+  {
+    std::fprintf(stderr, "--samples-per-voxel must be positive\n");
+    return 2;
+  }
+  const double d = caster.defaultSampleDistance() * 2.0 / samplesPerVoxel;
   const double unit =
     view.opacityUnitDistance ? *view.opacityUnitDistance : caster.defaultOpacityUnitDistance();
 

@@ -13,10 +13,13 @@ reference view and at an unseen view (white background, as the shipped screensho
 screenshot -> TF method gets only the reference-view screenshot; the TF it returns is rendered
 by ParaView at both views and compared with the references (PSNR, SSIM of `ddg compare`). Time is
 the wall-clock of the method's `ddg` command (2 cores, including its process start and loading).
-Methods: (a) nearest outline design (its decoded TF), (b') analyzer -> TF decoder (`ddg query`),
-(b'+c) that TF refined by differentiable reconstruction, (c) differentiable reconstruction from
-scratch, (e) multi-view reconstruction (the screenshot and a second view of the same TF); (b'+c),
-(c) and (e) at several iteration budgets (curves). Stability: the same methods on perturbed
+Methods: (a) nearest outline design (its decoded TF), (b) the paper's neural path: analyzer ->
+U-Net render at the view -> reconstruction (`ddg query` on a U-Net bundle; full run, Tooth: the
+model sweep's U-Net with a 2000-design outline), (b') analyzer -> TF decoder (`ddg query`), (b'+c)
+that TF refined by differentiable reconstruction, (c) differentiable reconstruction from scratch,
+(d) parametric fit of PRIMITIVES Gaussian primitives (`ddg reconstruct --primitives`), (e)
+multi-view reconstruction (the screenshot and a second view of the same TF); (b'+c), (c), (d) and
+(e) at several iteration budgets (curves). Stability: the same methods on perturbed
 screenshots (viewpoint, zoom, crop, noise, JPEG, gamma, colour shift, background, annotation,
 another volume, shading); success = ParaView's render at the reference view within
 SUCCESS_DB of the unperturbed reference. Optimisation: random initial TFs and seeds, learning
@@ -47,6 +50,7 @@ from paraview.simple import (  # noqa: E402
     SaveScreenshot, Show, XMLImageDataReader)
 
 SUCCESS_DB = 30.0
+PRIMITIVES = 12
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DATA = os.path.join(ROOT, "Data")
 
@@ -202,6 +206,19 @@ def method_direct(case, shot, view_file, tag, iterations):
     return reconstruct(case, [shot], [view_file], f"{tag}_direct{iterations}", iterations)
 
 
+def method_primitives(case, shot, view_file, tag, iterations):
+    return reconstruct(case, [shot], [view_file], f"{tag}_prim{iterations}", iterations,
+                       extra=["--primitives", PRIMITIVES])
+
+
+def method_neural(case, shot, view_file, tag):
+    """(b): the U-Net bundle's analyzer and renderer, then reconstruction from its render."""
+    out = os.path.join(work, f"{tag}_neural.json")
+    _, s = ddg("query", "--model", case["unet"], "--volume", case["volume"], "--image", shot, "--view", view_file,
+               "--out-tf", out)
+    return out, s
+
+
 def evaluate(case, preset, tag):
     """PSNR/SSIM of ParaView's renders of `preset` against the references at both views."""
     scene = case["scene"]
@@ -212,6 +229,19 @@ def evaluate(case, preset, tag):
         out[which] = (m["psnr"], m["ssim"])
     return out
 
+
+# --- 0. model sweep (full run; before the methods, whose (b) uses its U-Net) ---------------------------
+
+sweep_md = os.path.join(args.out, "model_sweep.md")
+UNET = None
+if not args.quick:
+    sweep_work = os.path.join(work, "sweep")
+    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "model_sweep.py"), "--ddg", DDG,
+                    "--volume", "tooth", "--minutes", "1.5", "--out", sweep_md, "--work", sweep_work], check=True)
+    UNET = next((os.path.join(sweep_work, d) for d in sorted(os.listdir(sweep_work)) if d.startswith("tooth_unet")),
+                None)
+    if UNET:
+        ddg("outline", "--model", UNET, "--volume", os.path.join(DATA, "Volumes", "tooth.vti"), "--count", "2000")
 
 # --- 1. methods: accuracy against time ------------------------------------------------------------
 
@@ -234,10 +264,14 @@ for volume, preset_name in CASES:
         log(f"{volume} {method} {budget}: {seconds:.2f} s, {e['reference'][0]:.1f} dB / {e['unseen'][0]:.1f} dB unseen")
 
     record("nearest design (a)", 0, *method_nearest(case, shot, vfile, volume))
+    if UNET and volume == "tooth":
+        case["unet"] = UNET
+        record("neural path (b)", 0, *method_neural(case, shot, vfile, volume))
     record("analyzer -> decoder (b')", 0, *method_query(case, shot, vfile, volume))
     for b in BUDGETS:
         record("b' + reconstruction", b, *method_refine(case, shot, vfile, volume, b))
         record("reconstruction (c)", b, *method_direct(case, shot, vfile, volume, b))
+        record(f"{PRIMITIVES} primitives (d)", b, *method_primitives(case, shot, vfile, volume, b))
         record("2-view reconstruction (e)", b, *reconstruct(case, [shot, case["refs"]["second"]],
                                                            [vfile, case["view_files"]["second"]],
                                                            f"{volume}_multi{b}", b))
@@ -313,6 +347,7 @@ STABLE_METHODS = {
     "analyzer -> decoder (b')": lambda c, s, v, t: method_query(c, s, v, t),
     "b' + reconstruction": lambda c, s, v, t: method_refine(c, s, v, t, STABILITY_STEPS),
     "reconstruction (c)": lambda c, s, v, t: method_direct(c, s, v, t, STABILITY_STEPS),
+    f"{PRIMITIVES} primitives (d)": lambda c, s, v, t: method_primitives(c, s, v, t, STABILITY_STEPS),
 }
 for volume, case in CASE_OBJECTS.items():
     stability = []
@@ -404,14 +439,25 @@ for size in ([64, 128] if args.quick else [64, 128, 256, 512]):
     log(f"renderer {size}^2: ours {ours:.1f} ms, VTK {vtk:.1f} ms, fwd+bwd {row['forward_backward_ms']:.1f} ms, "
         f"torch {row.get('torch_forward_backward_ms')}")
 results["renderer"] = renderer
+samples = []  # time against samples per voxel (sample distance = mean spacing / S; ParaView: S = 2)
+sample_size = 64 if args.quick else 256
+for spv in ([1, 4] if args.quick else [0.5, 1, 2, 4, 8]):
+    r = subprocess.run([os.path.join(BIN, "BenchRayCaster"), "--size", str(sample_size), "--runs", "5",
+                        "--samples-per-voxel", str(spv)], capture_output=True, text=True)
+    d = subprocess.run([os.path.join(BIN, "BenchDifferentiable"), "--size", str(sample_size), "--runs", "3",
+                        "--samples-per-voxel", str(spv), "--timing-only"], capture_output=True, text=True)
+    m = re.search(r"forward ([\d.]+) ms, backward ([\d.]+) ms", d.stdout)
+    row = {"samples_per_voxel": spv, "ours_ms": float(re.search(r"ddg RayCaster +([\d.]+) ms", r.stdout).group(1)),
+           "vtk_ms": float(re.search(r"VTK FixedPointVolumeRayCastMapper +([\d.]+) ms", r.stdout).group(1)),
+           "forward_ms": float(m.group(1)), "forward_backward_ms": float(m.group(1)) + float(m.group(2))}
+    samples.append(row)
+    log(f"renderer {sample_size}^2, {spv} samples/voxel: ours {row['ours_ms']:.1f} ms, VTK {row['vtk_ms']:.1f} ms, "
+        f"fwd+bwd {row['forward_backward_ms']:.1f} ms")
+results["renderer_samples"] = {"size": sample_size, "rows": samples}
 
 # --- 5. model size (the model sweep) ----------------------------------------------------------------
 
-sweep_md = os.path.join(args.out, "model_sweep.md")
-if not args.quick:
-    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "model_sweep.py"), "--ddg", DDG,
-                    "--volume", "tooth", "--minutes", "1.5", "--out", sweep_md], check=True)
-models = []
+models = []  # the sweep ran first (section 0)
 if args.quick and not os.path.exists(sweep_md):  # the committed table of the last full run
     sweep_md = os.path.join(ROOT, "Documentation", "Results", "model_sweep.md")
 if os.path.exists(sweep_md):
@@ -425,8 +471,10 @@ results["models"] = models
 
 # --- charts -------------------------------------------------------------------------------------------
 
-COLORS = {"nearest design (a)": "tab:gray", "analyzer -> decoder (b')": "tab:purple", "b' + reconstruction": "tab:red",
-          "reconstruction (c)": "tab:blue", "2-view reconstruction (e)": "tab:green"}
+COLORS = {"nearest design (a)": "tab:gray", "neural path (b)": "tab:brown", "analyzer -> decoder (b')": "tab:purple",
+          "b' + reconstruction": "tab:red", "reconstruction (c)": "tab:blue", f"{PRIMITIVES} primitives (d)": "tab:orange",
+          "2-view reconstruction (e)": "tab:green"}
+MARKERS = {m: k for m, k in zip(COLORS, "o^vsDPX")}
 fig, axes = plt.subplots(len(CASES), 2, figsize=(11, 4.2 * len(CASES)), squeeze=False)
 for i, (volume, _) in enumerate(CASES):
     rows = results["cases"][volume]["methods"]
@@ -435,7 +483,7 @@ for i, (volume, _) in enumerate(CASES):
         for method, color in COLORS.items():
             pts = sorted((r["seconds"], r[key]) for r in rows if r["method"] == method)
             if pts:
-                ax.plot(*zip(*pts), "o-" if len(pts) > 1 else "s", color=color, label=method)
+                ax.plot(*zip(*pts), "-" if len(pts) > 1 else "", marker=MARKERS[method], color=color, label=method)
         ax.set_xscale("log")
         ax.set_xlabel("time on 2 cores (s, log)")
         ax.set_ylabel("PSNR of ParaView's render (dB)")
@@ -449,14 +497,16 @@ kinds = list(dict.fromkeys(r["perturbation"] for r in results["cases"]["tooth"][
 fig, axes = plt.subplots(int(math.ceil(len(kinds) / 4)), 4, figsize=(16, 3.3 * math.ceil(len(kinds) / 4)), squeeze=False)
 for k, kind in enumerate(kinds):
     ax = axes[k // 4][k % 4]
-    for method in STABLE_METHODS:
+    for q, method in enumerate(STABLE_METHODS):
         pts = {}
         for volume in CASE_OBJECTS:
             for r in results["cases"][volume]["stability"]:
                 if r["perturbation"] == kind and r["method"] == method:
                     pts.setdefault(r["strength"], []).append(r["success"])
         xs = sorted(pts)
-        ax.plot(range(len(xs)), [np.mean(pts[x]) for x in xs], "o-", color=COLORS[method], label=method)
+        shift = (q - (len(STABLE_METHODS) - 1) / 2) * 0.06  # equal rates stay visible side by side
+        ax.plot([i + shift for i in range(len(xs))], [np.mean(pts[x]) + shift / 3 for x in xs], "-",
+                marker=MARKERS[method], color=COLORS[method], label=method, alpha=0.85)
         labels = [next(r["label"] for r in results["cases"]["tooth"]["stability"] if r["perturbation"] == kind
                        and r["strength"] == x) for x in xs]
         ax.set_xticks(range(len(xs)))
@@ -467,7 +517,8 @@ for k, kind in enumerate(kinds):
 for k in range(len(kinds), axes.size):
     axes[k // 4][k % 4].axis("off")
 axes[0][0].legend(fontsize=7)
-fig.suptitle(f"success = ParaView's render at the reference view within {SUCCESS_DB:.0f} dB of the reference")
+fig.suptitle(f"success = ParaView's render at the reference view within {SUCCESS_DB:.0f} dB of the reference "
+             "(lines shifted slightly so that equal rates stay visible)")
 fig.tight_layout()
 fig.savefig(os.path.join(args.out, "report_stability.png"), dpi=110)
 
@@ -497,7 +548,7 @@ axes[0].legend(fontsize=8)
 fig.tight_layout()
 fig.savefig(os.path.join(args.out, "report_tf_resolution.png"), dpi=110)
 
-fig, ax = plt.subplots(figsize=(6, 4))
+fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4))
 sizes = [r["size"] ** 2 for r in renderer]
 ax.plot(sizes, [r["ours_ms"] for r in renderer], "o-", label="ours, forward (block skipping)")
 ax.plot(sizes, [r["forward_backward_ms"] for r in renderer], "o-", label="ours, forward + adjoint")
@@ -507,10 +558,20 @@ if tp:
     ax.plot(*zip(*tp), "o-", label="PyTorch autograd, forward + backward")
 ax.set_xscale("log")
 ax.set_yscale("log")
-ax.set_xlabel("pixels (Engine, engine_block)")
+ax.set_xlabel("pixels (Engine, engine_block, 2 samples per voxel)")
 ax.set_ylabel("ms on 2 cores")
 ax.legend(fontsize=7)
 ax.grid(alpha=0.3)
+spv = [r["samples_per_voxel"] for r in samples]
+ax2.plot(spv, [r["ours_ms"] for r in samples], "o-", label="ours, forward (block skipping)")
+ax2.plot(spv, [r["forward_backward_ms"] for r in samples], "o-", label="ours, forward + adjoint")
+ax2.plot(spv, [r["vtk_ms"] for r in samples], "o-", label="VTK FixedPointVolumeRayCastMapper")
+ax2.set_xscale("log", base=2)
+ax2.set_yscale("log")
+ax2.set_xlabel(f"samples per voxel (Engine, {sample_size}^2; ParaView's rule: 2)")
+ax2.set_ylabel("ms on 2 cores")
+ax2.legend(fontsize=7)
+ax2.grid(alpha=0.3)
 fig.tight_layout()
 fig.savefig(os.path.join(args.out, "report_renderer.png"), dpi=110)
 
@@ -570,9 +631,12 @@ for volume, preset_name in CASES:
                   ("time s", lambda r: f"{r['seconds']:.2f}"), ("PSNR ref", lambda r: f"{r['psnr']:.2f}"),
                   ("SSIM ref", lambda r: f"{r['ssim']:.4f}"), ("PSNR unseen", lambda r: f"{r['psnr_unseen']:.2f}"),
                   ("SSIM unseen", lambda r: f"{r['ssim_unseen']:.4f}")]), ""]
-md += ["Not measured here: (b) the paper's neural path (analyzer -> neural render at the view -> reconstruction): "
-       "the shipped models are decoders, whose render at a view is the ray cast of their decoded TF, so (b) is "
-       "(b') + reconstruction; (d) a Gaussian-primitive parametric fit of the screenshot alone.", ""]
+md += ["(b), the paper's neural path, needs a U-Net bundle: in the full run the model sweep's Tooth U-Net (1.5 min "
+       "of training, a 2000-design outline); the shipped models are decoders, whose render at a view is the ray "
+       "cast of their decoded TF, so for them (b) is (b') + reconstruction. " +
+       ("" if UNET else "This run has no U-Net (quick run): (b) is not measured. ") +
+       f"(d) fits {PRIMITIVES} Gaussian primitives (mean, width, colour, peak opacity each) through the same "
+       "renderer adjoint.", ""]
 md += ["## Stability: where each method breaks", "", "![stability](report_stability.png)", ""]
 fails = {}
 for volume in CASE_OBJECTS:
@@ -605,7 +669,11 @@ md += ["## Optimisation", "", "![optimisation](report_optimisation.png)", "",
        table(renderer, [("size", lambda r: f"{r['size']}^2"), ("ours ms", lambda r: f"{r['ours_ms']:.1f}"),
                         ("VTK ms", lambda r: f"{r['vtk_ms']:.1f}"), ("ours fwd+adjoint ms", lambda r: f"{r['forward_backward_ms']:.1f}"),
                         ("PyTorch autograd ms", lambda r: f"{r['torch_forward_backward_ms']:.1f}"
-                         if r.get("torch_forward_backward_ms") else "-")]), ""]
+                         if r.get("torch_forward_backward_ms") else "-")]), "",
+       f"Samples per voxel (sample distance = mean spacing / S), {sample_size}^2:", "",
+       table(samples, [("samples/voxel", lambda r: f"{r['samples_per_voxel']:g}"), ("ours ms", lambda r: f"{r['ours_ms']:.1f}"),
+                       ("VTK ms", lambda r: f"{r['vtk_ms']:.1f}"), ("ours fwd+adjoint ms", lambda r: f"{r['forward_backward_ms']:.1f}")]),
+       ""]
 if models:
     md += ["## Model kind and size (Tooth, equal training time)", "", "![models](report_models.png)", "",
            table(models, [("kind", lambda r: r["kind"]), ("width", lambda r: str(r["width"])),
