@@ -328,10 +328,12 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   prim.twoD = opt.twoD;
   prim.lo = { range[0], gradientRange[0] };
   prim.span = { range[1] - range[0], gradientRange[1] - gradientRange[0] };
-  std::vector<double> theta(K > 0 ? 0 : 4 * nBins);
+  std::vector<double> theta;
   if (K > 0)
     prim.initialise(K, theta);
-  for (size_t b = 0; b < (K > 0 ? 0 : nBins); ++b)
+  else
+    theta.resize(4 * nBins);
+  for (size_t b = 0; K == 0 && b < nBins; ++b)
   {
     double init[4] = { 0.5, 0.5, 0.5, 0.02 };
     if (opt.initial1D && !opt.twoD)

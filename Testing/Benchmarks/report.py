@@ -419,16 +419,28 @@ results["tf_resolution"] = resolution
 
 # --- 4. renderer speed ------------------------------------------------------------------------------
 
+_timed = {}
+
+
+def bench_renderer(size, spv=2):
+    """Ours (forward, forward + adjoint) and VTK's fixed-point mapper on Engine at size^2 and spv
+    samples per voxel (ParaView's rule: 2); each (size, spv) is timed once."""
+    if (size, spv) not in _timed:
+        common = ["--size", str(size), "--samples-per-voxel", str(spv)]
+        r = subprocess.run([os.path.join(BIN, "BenchRayCaster"), "--runs", "5", *common], capture_output=True, text=True)
+        d = subprocess.run([os.path.join(BIN, "BenchDifferentiable"), "--runs", "3", "--timing-only", *common],
+                           capture_output=True, text=True)
+        m = re.search(r"forward ([\d.]+) ms, backward ([\d.]+) ms", d.stdout)
+        _timed[(size, spv)] = {
+            "ours_ms": float(re.search(r"ddg RayCaster +([\d.]+) ms", r.stdout).group(1)),
+            "vtk_ms": float(re.search(r"VTK FixedPointVolumeRayCastMapper +([\d.]+) ms", r.stdout).group(1)),
+            "forward_ms": float(m.group(1)), "forward_backward_ms": float(m.group(1)) + float(m.group(2))}
+    return dict(_timed[(size, spv)])
+
+
 renderer = []
 for size in ([64, 128] if args.quick else [64, 128, 256, 512]):
-    r = subprocess.run([os.path.join(BIN, "BenchRayCaster"), "--size", str(size), "--runs", "5"], capture_output=True, text=True)
-    ours = float(re.search(r"ddg RayCaster +([\d.]+) ms", r.stdout).group(1))
-    vtk = float(re.search(r"VTK FixedPointVolumeRayCastMapper +([\d.]+) ms", r.stdout).group(1))
-    d = subprocess.run([os.path.join(BIN, "BenchDifferentiable"), "--size", str(size), "--runs", "3"], capture_output=True,
-                       text=True)
-    m = re.search(r"forward ([\d.]+) ms, backward ([\d.]+) ms", d.stdout)
-    row = {"size": size, "ours_ms": ours, "vtk_ms": vtk, "forward_ms": float(m.group(1)),
-           "forward_backward_ms": float(m.group(1)) + float(m.group(2))}
+    row = dict(size=size, **bench_renderer(size))
     if size <= 128:
         t = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "bench_torch_autograd.py"),
                             "--bench", os.path.join(BIN, "BenchDifferentiable"), "--size", str(size)],
@@ -436,20 +448,13 @@ for size in ([64, 128] if args.quick else [64, 128, 256, 512]):
         m = re.search(r"PyTorch autograd: forward\+backward ([\d.]+) ms", t.stdout)
         row["torch_forward_backward_ms"] = float(m.group(1)) if m else None
     renderer.append(row)
-    log(f"renderer {size}^2: ours {ours:.1f} ms, VTK {vtk:.1f} ms, fwd+bwd {row['forward_backward_ms']:.1f} ms, "
-        f"torch {row.get('torch_forward_backward_ms')}")
+    log(f"renderer {size}^2: ours {row['ours_ms']:.1f} ms, VTK {row['vtk_ms']:.1f} ms, "
+        f"fwd+bwd {row['forward_backward_ms']:.1f} ms, torch {row.get('torch_forward_backward_ms')}")
 results["renderer"] = renderer
 samples = []  # time against samples per voxel (sample distance = mean spacing / S; ParaView: S = 2)
 sample_size = 64 if args.quick else 256
 for spv in ([1, 4] if args.quick else [0.5, 1, 2, 4, 8]):
-    r = subprocess.run([os.path.join(BIN, "BenchRayCaster"), "--size", str(sample_size), "--runs", "5",
-                        "--samples-per-voxel", str(spv)], capture_output=True, text=True)
-    d = subprocess.run([os.path.join(BIN, "BenchDifferentiable"), "--size", str(sample_size), "--runs", "3",
-                        "--samples-per-voxel", str(spv), "--timing-only"], capture_output=True, text=True)
-    m = re.search(r"forward ([\d.]+) ms, backward ([\d.]+) ms", d.stdout)
-    row = {"samples_per_voxel": spv, "ours_ms": float(re.search(r"ddg RayCaster +([\d.]+) ms", r.stdout).group(1)),
-           "vtk_ms": float(re.search(r"VTK FixedPointVolumeRayCastMapper +([\d.]+) ms", r.stdout).group(1)),
-           "forward_ms": float(m.group(1)), "forward_backward_ms": float(m.group(1)) + float(m.group(2))}
+    row = dict(samples_per_voxel=spv, **bench_renderer(sample_size, spv))
     samples.append(row)
     log(f"renderer {sample_size}^2, {spv} samples/voxel: ours {row['ours_ms']:.1f} ms, VTK {row['vtk_ms']:.1f} ms, "
         f"fwd+bwd {row['forward_backward_ms']:.1f} ms")
