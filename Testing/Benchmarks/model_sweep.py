@@ -8,7 +8,7 @@ analyzer width, image size, parameters, bundle size, training iterations and exe
 analyzer and renderer latency (one image, 2 threads), PSNR, SSIM, EMD and invariance.
 
   /usr/bin/python3 Testing/Benchmarks/model_sweep.py --ddg build/bin/ddg --volume tooth \
-      --minutes 4 --out Documentation/Results/model_sweep.md
+      --minutes 4 --out Documentation/Results/model_sweep_tooth.md
 
 Exemplars are generated once per image size into --work (reused when present). Every
 configuration trains with a constant learning rate for the same wall-clock budget (the shipped

@@ -24,8 +24,8 @@ screenshots (viewpoint, zoom, crop, noise, JPEG, gamma, colour shift, background
 another volume, shading); success = ParaView's render at the reference view within
 SUCCESS_DB of the unperturbed reference. Optimisation: random initial TFs and seeds, learning
 rates. TF resolution and smoothness prior. Renderer speed (BenchRayCaster, BenchDifferentiable,
-bench_torch_autograd.py). Model size (Testing/Benchmarks/model_sweep.py; --quick plots its last
-committed table).
+bench_torch_autograd.py). Model size (Testing/Benchmarks/model_sweep.py: every configuration on
+Tooth, the three decoder widths on Engine; --quick plots the last committed tables).
 """
 import argparse
 import json
@@ -232,12 +232,16 @@ def evaluate(case, preset, tag):
 
 # --- 0. model sweep (full run; before the methods, whose (b) uses its U-Net) ---------------------------
 
-sweep_md = os.path.join(args.out, "model_sweep.md")
+SWEEPS = [("tooth", None), ("engine", [0, 1, 2])]  # Engine: the three decoder widths at 64 px (time budget)
+sweep_mds = {v: os.path.join(args.out, f"model_sweep_{v}.md") for v, _ in SWEEPS}
 UNET = None
 if not args.quick:
     sweep_work = os.path.join(work, "sweep")
-    subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "model_sweep.py"), "--ddg", DDG,
-                    "--volume", "tooth", "--minutes", "1.5", "--out", sweep_md, "--work", sweep_work], check=True)
+    for volume, only in SWEEPS:
+        log(f"{volume}: model sweep")
+        subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "model_sweep.py"), "--ddg", DDG,
+                        "--volume", volume, "--minutes", "1.5", "--out", sweep_mds[volume], "--work", sweep_work]
+                       + (["--only"] + [str(k) for k in only] if only else []), check=True)
     UNET = next((os.path.join(sweep_work, d) for d in sorted(os.listdir(sweep_work)) if d.startswith("tooth_unet")),
                 None)
     if UNET:
@@ -462,16 +466,19 @@ results["renderer_samples"] = {"size": sample_size, "rows": samples}
 
 # --- 5. model size (the model sweep) ----------------------------------------------------------------
 
-models = []  # the sweep ran first (section 0)
-if args.quick and not os.path.exists(sweep_md):  # the committed table of the last full run
-    sweep_md = os.path.join(ROOT, "Documentation", "Results", "model_sweep.md")
-if os.path.exists(sweep_md):
-    for line in open(sweep_md):
+models = []  # the sweeps ran first (section 0)
+for volume, md_path in sweep_mds.items():
+    if args.quick and not os.path.exists(md_path):  # the committed tables of the last full run
+        md_path = os.path.join(ROOT, "Documentation", "Results", os.path.basename(md_path))
+    if not os.path.exists(md_path):
+        continue
+    for line in open(md_path):
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) >= 15 and re.match(r"^[\d.]+$", cells[1] or "x"):
-            models.append({"kind": cells[0], "width": int(cells[1]), "image": int(cells[2]), "parameters": int(cells[3]),
-                           "analyzer_ms": float(cells[8]), "renderer_ms": float(cells[9]), "psnr": float(cells[10]),
-                           "ssim": float(cells[11]), "emd": float(cells[12]), "minutes": float(cells[14])})
+            models.append({"volume": volume, "kind": cells[0], "width": int(cells[1]), "image": int(cells[2]),
+                           "parameters": int(cells[3]), "analyzer_ms": float(cells[8]), "renderer_ms": float(cells[9]),
+                           "psnr": float(cells[10]), "ssim": float(cells[11]), "emd": float(cells[12]),
+                           "minutes": float(cells[14])})
 results["models"] = models
 
 # --- charts -------------------------------------------------------------------------------------------
@@ -580,22 +587,45 @@ ax2.grid(alpha=0.3)
 fig.tight_layout()
 fig.savefig(os.path.join(args.out, "report_renderer.png"), dpi=110)
 
+SUFFICES_DB = 0.5  # a model suffices when its held-out PSNR is within this of the best of its scene's sweep
+
+
+def is_shipped(m):
+    return m["kind"].startswith("decoder (image") and m["width"] == 16 and m["image"] == 64
+
+
+def smallest_sufficient(rows):
+    best = max(r["psnr"] for r in rows)
+    return min((r for r in rows if r["psnr"] >= best - SUFFICES_DB), key=lambda r: r["parameters"])
+
+
 if models:
-    fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
-    for m in models:
-        label = f"{m['kind']} w{m['width']} {m['image']}px"
-        shipped = m["kind"].startswith("decoder (image") and m["width"] == 16 and m["image"] == 64
-        axes[0].scatter(m["analyzer_ms"] + m["renderer_ms"], m["psnr"], s=30 + m["parameters"] / 2e4,
-                        marker="*" if shipped else "o")
-        axes[0].annotate(label + (" (shipped)" if shipped else ""), (m["analyzer_ms"] + m["renderer_ms"], m["psnr"]), fontsize=7)
-        axes[1].scatter(m["parameters"], m["ssim"], marker="*" if shipped else "o")
-        axes[1].annotate(label, (m["parameters"], m["ssim"]), fontsize=7)
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for volume, color in zip(sweep_mds, ("tab:blue", "tab:red")):
+        rows = [m for m in models if m["volume"] == volume]
+        if not rows:
+            continue
+        small = smallest_sufficient(rows)
+        for m in rows:
+            label = f"{m['kind'].replace(' (image loss)', '')} w{m['width']} {m['image']}px"
+            label += " (shipped)" if is_shipped(m) else ""
+            label += " (smallest within %g dB)" % SUFFICES_DB if m is small and not is_shipped(m) else ""
+            ms = m["analyzer_ms"] + m["renderer_ms"]
+            axes[0].scatter(ms, m["psnr"], s=30 + m["parameters"] / 2e4, color=color, marker="*" if is_shipped(m) else "o",
+                            label=volume if m is rows[0] else None)
+            axes[0].annotate(label, (ms, m["psnr"]), fontsize=6)
+            axes[1].scatter(m["parameters"], m["ssim"], color=color, marker="*" if is_shipped(m) else "o",
+                            label=volume if m is rows[0] else None)
+            axes[1].annotate(label, (m["parameters"], m["ssim"]), fontsize=6)
     axes[0].set_xlabel("analyzer + renderer ms (one image)")
     axes[0].set_ylabel("held-out PSNR (dB)")
     axes[1].set_xscale("log")
     axes[1].set_xlabel("parameters")
     axes[1].set_ylabel("held-out SSIM")
-    fig.suptitle("model kind and size, equal training time (Tooth)")
+    for ax in axes:
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    fig.suptitle("model kind and size, equal training time (1.5 min each; star: shipped configuration)")
     fig.tight_layout()
     fig.savefig(os.path.join(args.out, "report_models.png"), dpi=110)
 
@@ -603,20 +633,30 @@ if models:
 
 
 def shipped_text(models):
-    """Where the shipped configuration (decoder, image loss, width 16, 64 px) stands, from the sweep."""
-    shipped = [m for m in models if m["kind"].startswith("decoder (image") and m["width"] == 16 and m["image"] == 64]
-    if not shipped:
-        return "The shipped configuration is not in this sweep."
-    s, best = shipped[0], max(models, key=lambda m: m["psnr"])
-    bigger = [m for m in models if m["kind"] == s["kind"] and m["parameters"] > s["parameters"]]
-    text = (f"Shipped: decoder, width 16, 64 px (star): {s['psnr']:.2f} dB / SSIM {s['ssim']:.3f} with "
-            f"{s['parameters']} parameters; best in the sweep {best['psnr']:.2f} dB ({best['kind']}, width "
-            f"{best['width']}, {best['image']} px, {best['parameters']} parameters).")
-    if bigger:
-        b = max(bigger, key=lambda m: m["parameters"])
-        text += (f" The largest decoder ({b['parameters']} parameters) reaches {b['psnr']:.2f} dB: "
-                 f"{b['psnr'] - s['psnr']:+.2f} dB for {b['parameters'] / s['parameters']:.1f}x the parameters.")
-    return text
+    """Per scene: where the shipped configuration (decoder, image loss, width 16, 64 px) stands in the sweep, and
+    the smallest model within SUFFICES_DB of the best."""
+    text = []
+    for volume in sweep_mds:
+        rows = [m for m in models if m["volume"] == volume]
+        if not rows:
+            continue
+        best, small = max(rows, key=lambda m: m["psnr"]), smallest_sufficient(rows)
+        shipped = [m for m in rows if is_shipped(m)]
+        line = f"{volume}: best {best['psnr']:.2f} dB ({best['kind']}, width {best['width']}, {best['image']} px)"
+        if shipped:
+            s = shipped[0]
+            line += f"; shipped width 16, 64 px: {s['psnr']:.2f} dB / SSIM {s['ssim']:.3f}, {s['parameters']} parameters"
+        line += (f"; smallest within {SUFFICES_DB:g} dB of the best: {small['kind']}, width {small['width']}, "
+                 f"{small['image']} px, {small['parameters']} parameters")
+        if shipped and small is shipped[0]:
+            line += " -- the shipped one."
+        elif shipped:
+            line += (f" -- {shipped[0]['parameters'] / small['parameters']:.1f}x fewer parameters than shipped would "
+                     f"suffice at this training time.")
+        else:
+            line += "."
+        text.append("- " + line)
+    return "\n".join(text) or "The shipped configuration is not in this sweep."
 
 
 def table(rows, cols):
@@ -680,8 +720,8 @@ md += ["## Optimisation", "", "![optimisation](report_optimisation.png)", "",
                        ("VTK ms", lambda r: f"{r['vtk_ms']:.1f}"), ("ours fwd+adjoint ms", lambda r: f"{r['forward_backward_ms']:.1f}")]),
        ""]
 if models:
-    md += ["## Model kind and size (Tooth, equal training time)", "", "![models](report_models.png)", "",
-           table(models, [("kind", lambda r: r["kind"]), ("width", lambda r: str(r["width"])),
+    md += ["## Model kind and size (equal training time per configuration)", "", "![models](report_models.png)", "",
+           table(models, [("volume", lambda r: r["volume"]), ("kind", lambda r: r["kind"]), ("width", lambda r: str(r["width"])),
                           ("image", lambda r: str(r["image"])), ("parameters", lambda r: str(r["parameters"])),
                           ("ms (analyzer + renderer)", lambda r: f"{r['analyzer_ms'] + r['renderer_ms']:.1f}"),
                           ("PSNR", lambda r: f"{r['psnr']:.2f}"), ("SSIM", lambda r: f"{r['ssim']:.3f}"),
