@@ -6,11 +6,11 @@
 
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
-#include "TransferFunction/ColorSpace.h"
 #include "Gallery/Export.h"
 #include "Image/Image.h"
 #include "Render/RayCaster.h"
 #include "Render/View.h"
+#include "TransferFunction/ColorSpace.h"
 #include "TransferFunction/TransferFunctionIO.h"
 #ifdef DDG_WITH_TORCH
 #include "Design/ExemplarGenerator.h"
@@ -22,8 +22,8 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
-#include <filesystem>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <sstream>
@@ -131,8 +131,7 @@ int runOutline(const OutlineArgs& a)
   const auto model = ddg::NeuralDesignModel::loadBundle(a.model, ddg::volumeFingerprint(volume));
   const auto t0 = Clock::now();
   int lastPercent = -1;
-  const auto set = ddg::buildOutlineLatents(model, volume, a.count, a.seed, a.firstIndex,
-    a.threads,
+  const auto set = ddg::buildOutlineLatents(model, volume, a.count, a.seed, a.firstIndex, a.threads,
     [&](double f)
     {
       const int p = static_cast<int>(f * 100);
@@ -195,8 +194,8 @@ int runGallery(const GalleryArgs& a)
     state.drillIn(parseBox(a.box));
   const auto view = thumbnailView(g.volume, a.view, a.thumb);
   const auto t0 = Clock::now();
-  const auto rows = ddg::selectThumbnails(
-    g.gallery->outline(), state.current(), state.count, state.seed);
+  const auto rows =
+    ddg::selectThumbnails(g.gallery->outline(), state.current(), state.count, state.seed);
   const double selectMs = msSince(t0);
   const auto t1 = Clock::now();
   const auto lock = makeLock(*g.gallery, a.lock, a.lockFrom);
@@ -206,9 +205,8 @@ int runGallery(const GalleryArgs& a)
   const auto& b = state.current();
   std::printf("outline of %d designs, box [%.3g, %.3g] x [%.3g, %.3g] holds %zu; %zu thumbnails "
               "(dispersion %.3f of the box)\n",
-    g.gallery->outline().count(), b.x0, b.x1, b.y0, b.y1,
-    g.gallery->outline().inside(b).size(), rows.size(),
-    ddg::dispersion(g.gallery->outline(), b, rows));
+    g.gallery->outline().count(), b.x0, b.x1, b.y0, b.y1, g.gallery->outline().inside(b).size(),
+    rows.size(), ddg::dispersion(g.gallery->outline(), b, rows));
   std::printf("times: load %.0f ms, PCA + layout %.0f ms, thumbnail choice %.1f ms, renders + "
               "sheet %.0f ms; wrote %s\n",
     g.loadMs, g.pcaMs, selectMs, sheetMs, a.out.c_str());
@@ -248,8 +246,8 @@ int runQuery(const QueryArgs& a)
   const auto t1 = Clock::now();
   const auto r = g.gallery->query(image, view, a.neighbours);
   const double queryMs = msSince(t1);
-  std::printf("query %s: outline position (%.4f, %.4f)\n", a.image.c_str(), r.position[0],
-    r.position[1]);
+  std::printf(
+    "query %s: outline position (%.4f, %.4f)\n", a.image.c_str(), r.position[0], r.position[1]);
   for (size_t i = 0; i < r.neighbours.size(); ++i)
   {
     const auto& n = r.neighbours[i];
@@ -267,7 +265,8 @@ int runQuery(const QueryArgs& a)
   {
     const auto t2 = Clock::now();
     const auto tf = g.gallery->explicitTransferFunction(r.latent, view);
-    ddg::exportTransferFunction(tf, a.outTF, a.format, g.volume.range(), unitDistance(*g.gallery, view));
+    ddg::exportTransferFunction(
+      tf, a.outTF, a.format, g.volume.range(), unitDistance(*g.gallery, view));
     tfMs = msSince(t2);
   }
   std::printf("times: load %.0f ms (PCA %.0f ms), query (analyzer, neighbours, %dx%d preview) "
@@ -302,7 +301,8 @@ std::vector<float> readLatentFile(const std::string& path)
 std::vector<float> resolveDesign(const ddg::DesignGallery& g, const std::string& ref)
 {
   const auto colon = ref.find(':');
-  const std::string kind = ref.substr(0, colon), arg = colon == std::string::npos ? "" : ref.substr(colon + 1);
+  const std::string kind = ref.substr(0, colon),
+                    arg = colon == std::string::npos ? "" : ref.substr(colon + 1);
   if (colon == std::string::npos || arg.empty())
     throw ddg::Error("design '" + ref + "': use row:N, image:PATH, latent:PATH or history:PATH");
   if (kind == "row")
@@ -333,7 +333,8 @@ std::vector<float> resolveDesign(const ddg::DesignGallery& g, const std::string&
   }
   if (kind == "history")
     return ddg::replayHistory(g, ddg::DesignHistory::read(arg));
-  throw ddg::Error("design '" + ref + "': unknown kind '" + kind + "' (row, image, latent or history)");
+  throw ddg::Error(
+    "design '" + ref + "': unknown kind '" + kind + "' (row, image, latent or history)");
 }
 
 /// The history that leads to a design reference (for --history): row -> [pick], image ->
@@ -365,7 +366,8 @@ ddg::DesignHistory historyOf(const std::string& ref)
   else if (kind == "history")
     h = ddg::DesignHistory::read(arg);
   else
-    throw ddg::Error("--history: a design given as " + kind + ":... has no history to continue; "
+    throw ddg::Error("--history: a design given as " + kind +
+      ":... has no history to continue; "
       "start from row:N, image:PATH, latent:PATH or history:PATH");
   return h;
 }
@@ -460,7 +462,8 @@ int runNavigate(const NavigateArgs& a)
   for (const auto& c : cells)
     images.push_back(c.latent.empty()
         ? ddg::Image(view.width, view.height, 3, 1.0f)
-        : ddg::compositeOverBackground(g.gallery->render(c.latent, view, lock.get()), view.background));
+        : ddg::compositeOverBackground(
+            g.gallery->render(c.latent, view, lock.get()), view.background));
   ddg::writeImage(ddg::tileImages(images, a.cols), a.out);
   std::printf("navigation grid %d x %d between %zu designs, window u [%g, %g] v [%g, %g]%s: %zu "
               "renders in %.0f ms; wrote %s\n",
@@ -529,8 +532,8 @@ int runEdit(const EditArgs& a)
       edited = ddg::recolour(edited, clusters, region, a.hue, a.saturation, a.lightness);
     if (a.visibility != 1)
       edited = ddg::changeVisibility(edited, clusters, region, a.visibility);
-    const std::array<double, 3> bg = a.white ? std::array<double, 3>{ 1, 1, 1 }
-                                             : std::array<double, 3>{ 0, 0, 0 };
+    const std::array<double, 3> bg =
+      a.white ? std::array<double, 3>{ 1, 1, 1 } : std::array<double, 3>{ 0, 0, 0 };
     if (!a.outImage.empty())
       ddg::writeImage(ddg::compositeOverBackground(edited, bg), a.outImage);
     z = g.gallery->analyzeEdit(edited, bg);
@@ -565,7 +568,8 @@ int runEdit(const EditArgs& a)
   const auto p = g.gallery->outline().project(z.data());
   std::printf("edited design: outline position (%.4f, %.4f)\n", p[0], p[1]);
   if (!a.outDesign.empty())
-    ddg::writeImage(ddg::compositeOverBackground(g.gallery->render(z, view, lock.get()), view.background),
+    ddg::writeImage(
+      ddg::compositeOverBackground(g.gallery->render(z, view, lock.get()), view.background),
       a.outDesign);
   if (!a.outLatent.empty())
     writeLatent(z, a.outLatent);
@@ -607,8 +611,9 @@ int runAnimate(const AnimateArgs& a)
   for (int k : anim.keyframes)
   {
     std::snprintf(name, sizeof(name), "/key_%04d.json", k);
-    ddg::exportTransferFunction(g.gallery->explicitTransferFunction(anim.latents[k], view, lock.get()),
-      a.out + name, "paraview", g.volume.range(), unitDistance(*g.gallery, view));
+    ddg::exportTransferFunction(
+      g.gallery->explicitTransferFunction(anim.latents[k], view, lock.get()), a.out + name,
+      "paraview", g.volume.range(), unitDistance(*g.gallery, view));
   }
   std::printf("animation: %d frames (%zu keyframes with explicit TFs, %s easing) in %.1f s; wrote "
               "%s/frame_*.png (ray casts), neural_*.png, key_*.json, preview.gif\n",
@@ -628,8 +633,9 @@ int runFidelity(const FidelityArgs& a)
   LoadedGallery g(a.model, a.volume);
   const ddg::View view = ddg::readView(a.view);
   const auto f = g.gallery->fidelity(resolveDesign(*g.gallery, a.design), view);
-  std::printf("fidelity of %s at %dx%d: neural image vs. ray cast of its exported TF: PSNR %.2f dB, "
-              "SSIM %.4f, largest pixel error %.3f\n",
+  std::printf(
+    "fidelity of %s at %dx%d: neural image vs. ray cast of its exported TF: PSNR %.2f dB, "
+    "SSIM %.4f, largest pixel error %.3f\n",
     a.design.c_str(), view.width, view.height, f.psnr, f.ssim, f.maxError);
   if (!a.outHeat.empty())
     ddg::writeImage(f.heat, a.outHeat);
@@ -657,12 +663,13 @@ int runReplay(const ReplayArgs& a)
     std::printf("step %zu (%s): outline position (%.4f, %.4f)\n", i + 1,
       history.steps[i].action.c_str(), p[0], p[1]);
   }
-  const ddg::View view = a.view.empty() ? ddg::defaultView(g.volume, 256, 256) : ddg::readView(a.view);
+  const ddg::View view =
+    a.view.empty() ? ddg::defaultView(g.volume, 256, 256) : ddg::readView(a.view);
   if (!a.outLatent.empty())
     writeLatent(z, a.outLatent);
   if (!a.outDesign.empty())
-    ddg::writeImage(ddg::compositeOverBackground(g.gallery->render(z, view), view.background),
-      a.outDesign);
+    ddg::writeImage(
+      ddg::compositeOverBackground(g.gallery->render(z, view), view.background), a.outDesign);
   if (!a.outTF.empty())
   {
     ddg::exportTransferFunction(g.gallery->explicitTransferFunction(z, view), a.outTF, a.format,
@@ -743,7 +750,8 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     "property JSON (.vp.json, schema volume-property-schema-v1.0.0).");
   exportCmd->add_option("--tf", ea->tf, "TF file (ParaView preset JSON or DDG 2D TF JSON)")
     ->required();
-  exportCmd->add_option("--volume", ea->volume, "The volume (its range is Slicer's effective range)")
+  exportCmd
+    ->add_option("--volume", ea->volume, "The volume (its range is Slicer's effective range)")
     ->required();
   exportCmd->add_option("--out", ea->out, "Output file")->required();
   exportCmd->add_option("--format", ea->format, "paraview (default) or slicer")
@@ -759,7 +767,8 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     "(each rendered at its own view and analyzed), stored as outline.bin in the bundle.");
   outline->add_option("--model", oa->model, "Model bundle directory")->required();
   outline->add_option("--volume", oa->volume, "The bundle's volume")->required();
-  outline->add_option("--count", oa->count, "Designs (default 50000)")->check(CLI::Range(3, 10000000));
+  outline->add_option("--count", oa->count, "Designs (default 50000)")
+    ->check(CLI::Range(3, 10000000));
   outline->add_option("--seed", oa->seed,
     "Design-space seed (default 1: designs 0..N-1 include the training exemplars)");
   outline->add_option("--first-index", oa->firstIndex, "Index of the first design (default 0)");
@@ -773,13 +782,17 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     "Write the outline sheet (paper 5.1): every design of the bundle's outline as a dot on the "
     "PCA plane and K thumbnails chosen to cover the box shown (farthest-point sampling), "
     "rendered by the model at the view.");
-  gallery->add_option("--model", ga->model, "Model bundle directory (with outline.bin)")->required();
+  gallery->add_option("--model", ga->model, "Model bundle directory (with outline.bin)")
+    ->required();
   gallery->add_option("--volume", ga->volume, "The bundle's volume")->required();
   gallery->add_option("--out", ga->out, "Output sheet (PNG)")->required();
-  gallery->add_option("--view", ga->view, "View JSON of the thumbnails (default: the volume's default view)");
+  gallery->add_option(
+    "--view", ga->view, "View JSON of the thumbnails (default: the volume's default view)");
   gallery->add_option("--box", ga->box, "Drill into x0,y0,x1,y1 on the PCA plane");
-  gallery->add_option("--count", ga->count, "Thumbnails K (default 64)")->check(CLI::Range(1, 1024));
-  gallery->add_option("--seed", ga->seed, "Thumbnail sampling seed; another seed resamples (default 1)");
+  gallery->add_option("--count", ga->count, "Thumbnails K (default 64)")
+    ->check(CLI::Range(1, 1024));
+  gallery->add_option(
+    "--seed", ga->seed, "Thumbnail sampling seed; another seed resamples (default 1)");
   gallery->add_option("--thumb", ga->thumb, "Thumbnail side in pixels (default 96)")
     ->check(CLI::Range(8, 512));
   gallery->add_option("--side", ga->side, "Sheet side in pixels (default 1024)")
@@ -787,9 +800,11 @@ std::function<int()> addGalleryCommands(CLI::App& app)
   gallery->add_option("--state", ga->state,
     "Start from a saved view state JSON ({\"boxes\": [[x0,y0,x1,y1], ...], \"count\", \"seed\"})");
   gallery->add_option("--save-state", ga->saveState, "Write the view state JSON shown");
-  gallery->add_option("--lock", ga->lock, "Feature lock: regions (e.g. 0,2) kept from --lock-from in every thumbnail");
+  gallery->add_option("--lock", ga->lock,
+    "Feature lock: regions (e.g. 0,2) kept from --lock-from in every thumbnail");
   gallery->add_option("--lock-from", ga->lockFrom, "The design the locked regions come from");
-  gallery->add_option("--list", ga->list, "Write the thumbnails' rows, design indices and positions (CSV)");
+  gallery->add_option(
+    "--list", ga->list, "Write the thumbnails' rows, design indices and positions (CSV)");
   commands.push_back({ gallery, [ga] { return runGallery(*ga); } });
 
   auto qa = std::make_shared<QueryArgs>();
@@ -803,12 +818,15 @@ std::function<int()> addGalleryCommands(CLI::App& app)
   query->add_option("--image", qa->image, "Query image")->required();
   query->add_option("--view", qa->view, "View JSON of the preview and the TF (the current camera)")
     ->required();
-  query->add_option("--out-preview", qa->outPreview, "Write the preview (PNG, over the view's background)");
-  query->add_option("--out-tf", qa->outTF, "Write the explicit TF (decoder: its output; U-Net: reconstructed from its render)");
+  query->add_option(
+    "--out-preview", qa->outPreview, "Write the preview (PNG, over the view's background)");
+  query->add_option("--out-tf", qa->outTF,
+    "Write the explicit TF (decoder: its output; U-Net: reconstructed from its render)");
   query->add_option("--format", qa->format, "TF file format: paraview (default) or slicer")
     ->check(CLI::IsMember({ "paraview", "slicer" }));
   query->add_option("--out-input", qa->outInput, "Write what the analyzer saw (PNG)");
-  query->add_option("--history", qa->history, "Start a history file that replays this path (ddg edit --history, ddg replay)");
+  query->add_option("--history", qa->history,
+    "Start a history file that replays this path (ddg edit --history, ddg replay)");
   query->add_option("--neighbours", qa->neighbours, "Nearest designs listed (default 5)")
     ->check(CLI::Range(0, 1000));
   commands.push_back({ query, [qa] { return runQuery(*qa); } });
@@ -818,16 +836,22 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     "Navigate between 2-4 designs (paper 1): a grid of the sub-space they span (2: a line, 3: "
     "barycentric triangle, 4: bilinear), each cell rendered by the model; --window pans and "
     "zooms inside it. Designs: row:N (outline row), image:PATH, latent:PATH.");
-  navigate->add_option("--model", na->model, "Model bundle directory (with outline.bin)")->required();
+  navigate->add_option("--model", na->model, "Model bundle directory (with outline.bin)")
+    ->required();
   navigate->add_option("--volume", na->volume, "The bundle's volume")->required();
-  navigate->add_option("--design", na->designs, "A design (2 to 4 times)")->required()->expected(2, 4);
+  navigate->add_option("--design", na->designs, "A design (2 to 4 times)")
+    ->required()
+    ->expected(2, 4);
   navigate->add_option("--out", na->out, "Output grid (PNG)")->required();
-  navigate->add_option("--rows", na->rows, "Grid rows (default 5; 1 for two designs)")->check(CLI::Range(1, 64));
+  navigate->add_option("--rows", na->rows, "Grid rows (default 5; 1 for two designs)")
+    ->check(CLI::Range(1, 64));
   navigate->add_option("--cols", na->cols, "Grid columns (default 5)")->check(CLI::Range(1, 64));
   navigate->add_option("--window", na->window, "u0,v0,u1,v1 shown (default 0,0,1,1)");
   navigate->add_option("--view", na->view, "View JSON (default: the volume's default view)");
-  navigate->add_option("--thumb", na->thumb, "Cell side in pixels (default 96)")->check(CLI::Range(8, 512));
-  navigate->add_option("--lock", na->lock, "Feature lock: regions (e.g. 0,2) kept from --lock-from");
+  navigate->add_option("--thumb", na->thumb, "Cell side in pixels (default 96)")
+    ->check(CLI::Range(8, 512));
+  navigate->add_option(
+    "--lock", na->lock, "Feature lock: regions (e.g. 0,2) kept from --lock-from");
   navigate->add_option("--lock-from", na->lockFrom, "The design the locked regions come from");
   commands.push_back({ navigate, [na] { return runNavigate(*na); } });
 
@@ -838,18 +862,22 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     "brushed --mask), re-analyzed to a latent; and/or move along the principal axes (--axes).");
   edit->add_option("--model", eda->model, "Model bundle directory (with outline.bin)")->required();
   edit->add_option("--volume", eda->volume, "The bundle's volume")->required();
-  edit->add_option("--design", eda->design, "The design: row:N, image:PATH or latent:PATH")->required();
+  edit->add_option("--design", eda->design, "The design: row:N, image:PATH or latent:PATH")
+    ->required();
   edit->add_option("--view", eda->view, "View JSON the edit is made at")->required();
   edit->add_option("--pick", eda->pick, "x,y: edit the colour cluster under this pixel");
   edit->add_option("--cluster", eda->cluster, "Edit colour cluster N (largest first)");
-  edit->add_option("--clusters", eda->clusters, "Colour clusters found (default 4)")->check(CLI::Range(1, 16));
+  edit->add_option("--clusters", eda->clusters, "Colour clusters found (default 4)")
+    ->check(CLI::Range(1, 16));
   edit->add_option("--mask", eda->mask, "Edit a brushed region: a gray PNG, white = edited");
   edit->add_option("--hue", eda->hue, "Rotate the hue by degrees");
   edit->add_option("--saturation", eda->saturation, "Scale the saturation (default 1)");
   edit->add_option("--lightness", eda->lightness, "Shift the lightness (CIELAB L*, -100..100)");
-  edit->add_option("--visibility", eda->visibility, "Scale the feature's opacity (> 1 more visible)");
+  edit->add_option(
+    "--visibility", eda->visibility, "Scale the feature's opacity (> 1 more visible)");
   edit->add_option("--white", eda->white, "Analyze the edited image over white (default black)");
-  edit->add_option("--axes", eda->axes, "s0,s1,...: move along the principal axes by these standard deviations");
+  edit->add_option(
+    "--axes", eda->axes, "s0,s1,...: move along the principal axes by these standard deviations");
   edit->add_option("--out-image", eda->outImage, "Write the edited image (PNG)");
   edit->add_option("--out-design", eda->outDesign, "Write the edited design's render (PNG)");
   edit->add_option("--out-tf", eda->outTF, "Write the edited design's explicit TF");
@@ -867,19 +895,23 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     "Animate between two designs (paper 1): an eased latent path, neural frames, explicit TFs at "
     "keyframes interpolated so the final frames are real ray casts; writes numbered PNG frames, "
     "the keyframe TFs and an animated GIF preview.");
-  animate->add_option("--model", aa->model, "Model bundle directory (with outline.bin)")->required();
+  animate->add_option("--model", aa->model, "Model bundle directory (with outline.bin)")
+    ->required();
   animate->add_option("--volume", aa->volume, "The bundle's volume")->required();
-  animate->add_option("--from", aa->from, "First design: row:N, image:PATH or latent:PATH")->required();
+  animate->add_option("--from", aa->from, "First design: row:N, image:PATH or latent:PATH")
+    ->required();
   animate->add_option("--to", aa->to, "Last design")->required();
   animate->add_option("--frames", aa->frames, "Frames (default 24)")->check(CLI::Range(2, 10000));
   animate->add_option("--out", aa->out, "Output directory")->required();
   animate->add_option("--view", aa->view, "View JSON (default: the volume's default view)");
-  animate->add_option("--size", aa->size, "Frame side without --view (default 128)")->check(CLI::Range(8, 4096));
+  animate->add_option("--size", aa->size, "Frame side without --view (default 128)")
+    ->check(CLI::Range(8, 4096));
   animate->add_option("--easing", aa->easing, "linear, smoothstep (default) or cosine")
     ->check(CLI::IsMember({ "linear", "smoothstep", "cosine" }));
   animate->add_option("--key-every", aa->keyEvery, "Frames between keyframes (default 6)")
     ->check(CLI::Range(1, 10000));
-  animate->add_option("--fps", aa->fps, "Preview frames per second (default 12)")->check(CLI::Range(0.1, 100.0));
+  animate->add_option("--fps", aa->fps, "Preview frames per second (default 12)")
+    ->check(CLI::Range(0.1, 100.0));
   animate->add_option("--lock", aa->lock, "Feature lock: regions kept from --lock-from");
   animate->add_option("--lock-from", aa->lockFrom, "The design the locked regions come from");
   commands.push_back({ animate, [aa] { return runAnimate(*aa); } });
@@ -888,12 +920,15 @@ std::function<int()> addGalleryCommands(CLI::App& app)
   auto* fidelity = app.add_subcommand("fidelity",
     "How far a design's neural image is from what ParaView will show with its explicit TF: "
     "PSNR, SSIM and a heat map (black: equal, white: 0.25 or more).");
-  fidelity->add_option("--model", fa->model, "Model bundle directory (with outline.bin)")->required();
+  fidelity->add_option("--model", fa->model, "Model bundle directory (with outline.bin)")
+    ->required();
   fidelity->add_option("--volume", fa->volume, "The bundle's volume")->required();
-  fidelity->add_option("--design", fa->design, "The design: row:N, image:PATH or latent:PATH")->required();
+  fidelity->add_option("--design", fa->design, "The design: row:N, image:PATH or latent:PATH")
+    ->required();
   fidelity->add_option("--view", fa->view, "View JSON")->required();
   fidelity->add_option("--out-heat", fa->outHeat, "Write the heat map (PNG)");
-  fidelity->add_option("--out-pair", fa->outPair, "Write neural | ray cast | heat map side by side (PNG)");
+  fidelity->add_option(
+    "--out-pair", fa->outPair, "Write neural | ray cast | heat map side by side (PNG)");
   commands.push_back({ fidelity, [fa] { return runFidelity(*fa); } });
 
   auto ba = std::make_shared<BuildArgs>();
@@ -903,15 +938,23 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     "scripts/train_model.sh, sized for your own volume).");
   build->add_option("--volume", ba->volume, "Volume file")->required();
   build->add_option("--out", ba->out, "Bundle directory to write")->required();
-  build->add_option("--spec", ba->spec, "Design-space spec JSON (default: found from the histogram)");
-  build->add_option("--count", ba->o.count, "Training exemplars (default 2000)")->check(CLI::Range(8, 10000000));
-  build->add_option("--heldout", ba->o.heldout, "Held-out exemplars (default 200)")->check(CLI::Range(1, 100000));
+  build->add_option(
+    "--spec", ba->spec, "Design-space spec JSON (default: found from the histogram)");
+  build->add_option("--count", ba->o.count, "Training exemplars (default 2000)")
+    ->check(CLI::Range(8, 10000000));
+  build->add_option("--heldout", ba->o.heldout, "Held-out exemplars (default 200)")
+    ->check(CLI::Range(1, 100000));
   build->add_option("--size", ba->o.size, "Image side (default 64)")->check(CLI::Range(16, 512));
-  build->add_option("--minutes", ba->o.minutes, "Training budget (default 5)")->check(CLI::PositiveNumber);
-  build->add_option("--iterations", ba->o.iterations, "Training iterations (default 0: the budget decides)")
+  build->add_option("--minutes", ba->o.minutes, "Training budget (default 5)")
+    ->check(CLI::PositiveNumber);
+  build
+    ->add_option(
+      "--iterations", ba->o.iterations, "Training iterations (default 0: the budget decides)")
     ->check(CLI::NonNegativeNumber);
-  build->add_option("--outline", ba->o.outlineCount, "Outline designs (default 10000)")->check(CLI::Range(3, 10000000));
-  build->add_option("--width", ba->o.width, "Analyzer width (default 16)")->check(CLI::Range(2, 256));
+  build->add_option("--outline", ba->o.outlineCount, "Outline designs (default 10000)")
+    ->check(CLI::Range(3, 10000000));
+  build->add_option("--width", ba->o.width, "Analyzer width (default 16)")
+    ->check(CLI::Range(2, 256));
   build->add_option("--seed", ba->o.seed, "Seed (default 1)");
   build->add_option("--threads", ba->o.threads, "Threads (default 0: all cores)");
   build->add_flag("--quiet", ba->quiet, "Do not print progress");
@@ -924,7 +967,8 @@ std::function<int()> addGalleryCommands(CLI::App& app)
   replay->add_option("--model", pa->model, "Model bundle directory (with outline.bin)")->required();
   replay->add_option("--volume", pa->volume, "The bundle's volume")->required();
   replay->add_option("--history", pa->history, "History file")->required();
-  replay->add_option("--view", pa->view, "View JSON of the outputs (default: the volume's default view)");
+  replay->add_option(
+    "--view", pa->view, "View JSON of the outputs (default: the volume's default view)");
   replay->add_option("--out-tf", pa->outTF, "Write the final design's explicit TF");
   replay->add_option("--format", pa->format, "TF file format: paraview (default) or slicer")
     ->check(CLI::IsMember({ "paraview", "slicer" }));
@@ -938,8 +982,10 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     "then each is queried with its own image and with its image from another view; prints the "
     "fraction found among the k nearest.");
   recall->add_option("--model", ra->model, "Model bundle directory (with outline.bin)")->required();
-  recall->add_option("--data", ra->data, "Held-out exemplars (ddg generate, same volume)")->required();
-  recall->add_option("--count", ra->count, "Held-out designs (default 200)")->check(CLI::Range(1, 100000));
+  recall->add_option("--data", ra->data, "Held-out exemplars (ddg generate, same volume)")
+    ->required();
+  recall->add_option("--count", ra->count, "Held-out designs (default 200)")
+    ->check(CLI::Range(1, 100000));
   recall->add_option("--k", ra->k, "Nearest designs that count as found (default 5)")
     ->check(CLI::Range(1, 1000));
   commands.push_back({ recall, [ra] { return runRecall(*ra); } });

@@ -49,14 +49,15 @@ Image filterImage(const std::string& base64, const std::string& file, const std:
   std::copy_if(base64.begin(), base64.end(), std::back_inserter(text),
     [](unsigned char c) { return !std::isspace(c); });
   const bool valid = text.size() % 4 == 0 &&
-    std::all_of(text.begin(), text.end(), [](unsigned char c)
-      { return std::isalnum(c) || c == '+' || c == '/' || c == '='; });
+    std::all_of(text.begin(), text.end(),
+      [](unsigned char c) { return std::isalnum(c) || c == '+' || c == '/' || c == '='; });
   if (!valid)
     throw Error(what + "Data is not base64 text (" + std::to_string(text.size()) + " characters)");
   std::vector<unsigned char> bytes(text.size() / 4 * 3);
   const size_t n = vtkBase64Utilities::DecodeSafely(
     reinterpret_cast<const unsigned char*>(text.data()), text.size(), bytes.data(), bytes.size());
-  return decodeImage(std::string(bytes.begin(), bytes.begin() + static_cast<long>(n)), what + "Data");
+  return decodeImage(
+    std::string(bytes.begin(), bytes.begin() + static_cast<long>(n)), what + "Data");
 }
 
 } // namespace ddg

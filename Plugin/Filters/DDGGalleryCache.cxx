@@ -32,8 +32,8 @@ DesignGallery& GalleryCache::get(
     }
     catch (const Error& e)
     {
-      throw Error(std::string(e.what()) + " (build it with: ddg outline --model " +
-        modelDirectory + " --volume VOLUME)");
+      throw Error(std::string(e.what()) + " (build it with: ddg outline --model " + modelDirectory +
+        " --volume VOLUME)");
     }
     Gallery = std::make_unique<DesignGallery>(*Model, *Vol, std::move(latents));
     Directory = modelDirectory;

@@ -143,7 +143,8 @@ int vtkDDGDesign::RequestData(
     {
       const auto from = this->LockHistory.empty()
         ? z
-        : ddg::replayHistory(gallery, ddg::DesignHistory::fromJson(this->LockHistory, "LockHistory"));
+        : ddg::replayHistory(
+            gallery, ddg::DesignHistory::fromJson(this->LockHistory, "LockHistory"));
       lock = std::make_unique<ddg::FeatureLock>(gallery.lockRegions(from, this->LockedRegions));
     }
     this->UpdateProgress(0.3);
@@ -191,14 +192,17 @@ int vtkDDGDesign::RequestData(
         std::vector<std::string>{ ddg::transferFunction2DToJson(tf.tf2D) });
     else
     {
-      addField<vtkStringArray>(design, "Preset", std::vector<std::string>{ ddg::presetToJson(tf.tf1D) });
+      addField<vtkStringArray>(
+        design, "Preset", std::vector<std::string>{ ddg::presetToJson(tf.tf1D) });
       addField<vtkStringArray>(design, "Slicer",
-        std::vector<std::string>{ ddg::slicerVolumePropertyJson(tf.tf1D, gallery.volume().range(), unit) });
+        std::vector<std::string>{
+          ddg::slicerVolumePropertyJson(tf.tf1D, gallery.volume().range(), unit) });
     }
     if (this->ComputeFidelity)
     {
       const auto f = gallery.fidelity(z, view, lock.get());
-      addField<vtkDoubleArray>(design, "Fidelity", std::vector<double>{ f.psnr, f.ssim, f.maxError });
+      addField<vtkDoubleArray>(
+        design, "Fidelity", std::vector<double>{ f.psnr, f.ssim, f.maxError });
     }
     this->UpdateProgress(1.0);
     this->Internal->Errors.clear();

@@ -73,8 +73,8 @@ int vtkDDGDesignGallery::RequestInformation(
 {
   const int cols = this->columns(), rows = (this->Count + cols - 1) / cols;
   const int gap = 2, cell = this->ThumbnailSize;
-  ddg::setImageInformation(outputVector->GetInformationObject(0), cols * (cell + gap) + gap,
-    rows * (cell + gap) + gap);
+  ddg::setImageInformation(
+    outputVector->GetInformationObject(0), cols * (cell + gap) + gap, rows * (cell + gap) + gap);
   return 1;
 }
 
@@ -104,13 +104,13 @@ int vtkDDGDesignGallery::RequestData(
       ? ddg::defaultView(gallery.volume())
       : ddg::filterView(this->ViewJSON, this->ViewFile);
     view.width = view.height = this->ThumbnailSize;
-    const bool whole = this->Box[0] == 0 && this->Box[1] == 0 && this->Box[2] == 0 &&
-      this->Box[3] == 0;
+    const bool whole =
+      this->Box[0] == 0 && this->Box[1] == 0 && this->Box[2] == 0 && this->Box[3] == 0;
     const ddg::OutlineBox box = whole
       ? outline.bounds()
       : ddg::OutlineBox{ this->Box[0], this->Box[1], this->Box[2], this->Box[3] };
-    const auto rows = ddg::selectThumbnails(
-      outline, box, this->Count, static_cast<std::uint64_t>(this->Seed));
+    const auto rows =
+      ddg::selectThumbnails(outline, box, this->Count, static_cast<std::uint64_t>(this->Seed));
 
     // the sheet: cells row by row, top row first
     const int cols = this->columns(), gridRows = (this->Count + cols - 1) / cols;
@@ -154,7 +154,8 @@ int vtkDDGDesignGallery::RequestData(
     {
       const auto p = outline.point(i);
       row->InsertNextValue(i);
-      index->InsertNextValue(static_cast<double>(outline.latents().indices[static_cast<size_t>(i)]));
+      index->InsertNextValue(
+        static_cast<double>(outline.latents().indices[static_cast<size_t>(i)]));
       px->InsertNextValue(p[0]);
       py->InsertNextValue(p[1]);
       thumb->InsertNextValue(cellOf[static_cast<size_t>(i)]);

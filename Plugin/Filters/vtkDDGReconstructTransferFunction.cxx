@@ -98,7 +98,8 @@ int vtkDDGReconstructTransferFunction::RequestData(
         " x " + std::to_string(target.view.height) + ": save the screenshot at the view's size");
     if (target.image.channels == 1 || target.image.channels == 2)
       target.image = ddg::toChannels(target.image, target.image.channels == 2 ? 4 : 3);
-    const ddg::Volume volume = ddg::toCoreVolume(input, this->GetInputArrayToProcess(0, inputVector));
+    const ddg::Volume volume =
+      ddg::toCoreVolume(input, this->GetInputArrayToProcess(0, inputVector));
     const ddg::DifferentiableRenderer renderer(volume);
     ddg::ReconstructionOptions opt;
     opt.twoD = this->TwoD;

@@ -16,9 +16,9 @@
 #include <pqSaveScreenshotReaction.h>
 #include <pqServer.h>
 
+#include <vtkAlgorithm.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
-#include <vtkAlgorithm.h>
 #include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkFieldData.h>
@@ -112,7 +112,8 @@ QJsonArray fieldArray(vtkTable* table, const char* name)
 
 QString fieldString(vtkTable* table, const char* name)
 {
-  auto* a = table ? vtkStringArray::SafeDownCast(table->GetFieldData()->GetAbstractArray(name)) : nullptr;
+  auto* a =
+    table ? vtkStringArray::SafeDownCast(table->GetFieldData()->GetAbstractArray(name)) : nullptr;
   return a && a->GetNumberOfValues() > 0 ? QString::fromStdString(a->GetValue(0)) : QString();
 }
 
@@ -275,7 +276,8 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
     this->Axes[k]->setRange(-30, 30); // tenths of the axis' standard deviation
     this->Axes[k]->setToolTip(tr("Move along principal axis %1 of the design space").arg(k + 1));
     editForm->addRow(tr("Axis %1").arg(k + 1), this->Axes[k]);
-    QObject::connect(this->Axes[k], &QSlider::sliderReleased, this, &pqDDGDesignGalleryDock::axesReleased);
+    QObject::connect(
+      this->Axes[k], &QSlider::sliderReleased, this, &pqDDGDesignGalleryDock::axesReleased);
   }
   this->LockBox = new QWidget(editBox);
   this->LockBox->setObjectName("locks");
@@ -329,10 +331,12 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
   this->BoxTimer->setSingleShot(true);
   this->BoxTimer->setInterval(400);
 
-  QObject::connect(this->ModelPath, &QLineEdit::returnPressed, this, &pqDDGDesignGalleryDock::loadModel);
+  QObject::connect(
+    this->ModelPath, &QLineEdit::returnPressed, this, &pqDDGDesignGalleryDock::loadModel);
   QObject::connect(browseModel, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::browseModel);
   QObject::connect(buildModel, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::buildModel);
-  QObject::connect(this->CancelButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::cancel);
+  QObject::connect(
+    this->CancelButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::cancel);
   QObject::connect(backButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::back);
   QObject::connect(resampleButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::resample);
   QObject::connect(refreshButton, &QPushButton::clicked, this,
@@ -341,10 +345,12 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
       this->ThumbnailsAtCamera = true;
       this->refreshThumbnails();
     });
-  QObject::connect(this->Outline, &pqDDGOutlineView::rowClicked, this, &pqDDGDesignGalleryDock::pickRow);
-  QObject::connect(this->Outline, &pqDDGOutlineView::drillIn, this, &pqDDGDesignGalleryDock::drillIn);
-  QObject::connect(this->Outline, &pqDDGOutlineView::boxChanged, this->BoxTimer,
-    QOverload<>::of(&QTimer::start));
+  QObject::connect(
+    this->Outline, &pqDDGOutlineView::rowClicked, this, &pqDDGDesignGalleryDock::pickRow);
+  QObject::connect(
+    this->Outline, &pqDDGOutlineView::drillIn, this, &pqDDGDesignGalleryDock::drillIn);
+  QObject::connect(
+    this->Outline, &pqDDGOutlineView::boxChanged, this->BoxTimer, QOverload<>::of(&QTimer::start));
   QObject::connect(this->BoxTimer, &QTimer::timeout, this,
     [this]()
     {
@@ -356,22 +362,28 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
     });
   QObject::connect(browseQuery, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::browseQuery);
   QObject::connect(runQuery, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::runQuery);
-  QObject::connect(this->QueryPath, &QLineEdit::returnPressed, this, &pqDDGDesignGalleryDock::runQuery);
+  QObject::connect(
+    this->QueryPath, &QLineEdit::returnPressed, this, &pqDDGDesignGalleryDock::runQuery);
   QObject::connect(pasteQuery, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::pasteQuery);
   auto* paste = new QShortcut(QKeySequence::Paste, this->Outline);
   QObject::connect(paste, &QShortcut::activated, this, &pqDDGDesignGalleryDock::pasteQuery);
   QObject::connect(applyButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::apply);
   QObject::connect(pinButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::pin);
   QObject::connect(unpinButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::unpin);
-  QObject::connect(this->Pins, &QListWidget::itemSelectionChanged, this, &pqDDGDesignGalleryDock::updatePad);
-  QObject::connect(this->Pad, &pqDDGNavigationPad::moved, this->NavigateTimer, QOverload<>::of(&QTimer::start));
+  QObject::connect(
+    this->Pins, &QListWidget::itemSelectionChanged, this, &pqDDGDesignGalleryDock::updatePad);
+  QObject::connect(
+    this->Pad, &pqDDGNavigationPad::moved, this->NavigateTimer, QOverload<>::of(&QTimer::start));
   QObject::connect(this->NavigateTimer, &QTimer::timeout, this, &pqDDGDesignGalleryDock::navigate);
   QObject::connect(recolourButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::recolour);
   QObject::connect(moreButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::moreVisible);
   QObject::connect(lessButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::lessVisible);
-  QObject::connect(exportPreset, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::exportPreset);
-  QObject::connect(exportSlicer, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::exportSlicer);
-  QObject::connect(exportHistory, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::exportHistory);
+  QObject::connect(
+    exportPreset, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::exportPreset);
+  QObject::connect(
+    exportSlicer, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::exportSlicer);
+  QObject::connect(
+    exportHistory, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::exportHistory);
   QObject::connect(animateButton, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::animate);
 
   pqProgressManager* progress = pqApplicationCore::instance()->getProgressManager();
@@ -450,7 +462,8 @@ void pqDDGDesignGalleryDock::setSource(pqPipelineSource* source)
     if (this->Source)
       QObject::disconnect(this->Source, nullptr, this, nullptr);
     if (source) // the data information arrives with the first update (Apply)
-      QObject::connect(source, QOverload<pqPipelineSource*>::of(&pqPipelineSource::dataUpdated), this,
+      QObject::connect(source, QOverload<pqPipelineSource*>::of(&pqPipelineSource::dataUpdated),
+        this,
         [this](pqPipelineSource* updated)
         {
           if (!this->Loaded && updated == this->Source)
@@ -479,7 +492,8 @@ void pqDDGDesignGalleryDock::setSource(pqPipelineSource* source)
   }
   if (type < 0 || (info && info->GetNumberOfPoints() == 0 && type == VTK_IMAGE_DATA))
   {
-    this->setStatus(tr("'%1' has no data yet (Apply it in the Properties panel).").arg(source->getSMName()));
+    this->setStatus(
+      tr("'%1' has no data yet (Apply it in the Properties panel).").arg(source->getSMName()));
     this->Outline->setMessage(this->Status->text());
     return;
   }
@@ -496,9 +510,11 @@ void pqDDGDesignGalleryDock::setSource(pqPipelineSource* source)
   // the shipped bundle named like the volume's file, if there is one
   QString guess;
   vtkSMProxy* proxy = source->getProxy();
-  if (proxy->GetProperty("FileName") && vtkSMPropertyHelper(proxy, "FileName").GetNumberOfElements() > 0)
+  if (proxy->GetProperty("FileName") &&
+    vtkSMPropertyHelper(proxy, "FileName").GetNumberOfElements() > 0)
   {
-    const QString stem = QFileInfo(vtkSMPropertyHelper(proxy, "FileName").GetAsString(0)).completeBaseName();
+    const QString stem =
+      QFileInfo(vtkSMPropertyHelper(proxy, "FileName").GetAsString(0)).completeBaseName();
     const QString dir = QString(DDG_DATA_DIR) + "/Models/" + stem.toLower();
     if (!stem.isEmpty() && QFileInfo(dir + "/bundle.json").exists())
       guess = dir;
@@ -545,7 +561,8 @@ pqDataRepresentation* pqDDGDesignGalleryDock::representation()
   if (!repr)
   {
     vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
-    controller->Show(vtkSMSourceProxy::SafeDownCast(this->Source->getProxy()), 0, view->getViewProxy());
+    controller->Show(
+      vtkSMSourceProxy::SafeDownCast(this->Source->getProxy()), 0, view->getViewProxy());
     repr = this->Source->getRepresentation(0, view);
   }
   return repr;
@@ -556,7 +573,8 @@ QJsonObject pqDDGDesignGalleryDock::currentView(int maxSide)
   auto* view = qobject_cast<pqRenderView*>(pqActiveObjects::instance().activeView());
   if (!view)
     return {};
-  return ddgpanel::viewJson(view, this->Source ? this->Source->getRepresentation(0, view) : nullptr, maxSide);
+  return ddgpanel::viewJson(
+    view, this->Source ? this->Source->getRepresentation(0, view) : nullptr, maxSide);
 }
 
 QString pqDDGDesignGalleryDock::historyText(const QJsonArray& steps) const
@@ -593,10 +611,12 @@ void pqDDGDesignGalleryDock::loadModel()
       true);
     return;
   }
-  for (vtkSMSourceProxy* p : { this->GalleryProxy.Get(), this->QueryProxy.Get(), this->DesignProxy.Get() })
+  for (vtkSMSourceProxy* p :
+    { this->GalleryProxy.Get(), this->QueryProxy.Get(), this->DesignProxy.Get() })
   {
     vtkSMPropertyHelper(p, "ModelDirectory").Set(dir.toUtf8().constData());
-    vtkSMPropertyHelper(p, "SelectInputScalars").SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
+    vtkSMPropertyHelper(p, "SelectInputScalars")
+      .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
     p->UpdateVTKObjects();
   }
   this->Boxes = { QRectF() }; // the whole outline
@@ -608,7 +628,8 @@ void pqDDGDesignGalleryDock::browseModel()
 {
   if (!this->Source)
     return;
-  pqFileDialog dialog(this->Source->getServer(), this, tr("Model bundle directory"), this->ModelPath->text());
+  pqFileDialog dialog(
+    this->Source->getServer(), this, tr("Model bundle directory"), this->ModelPath->text());
   dialog.setObjectName("ModelDirectoryDialog");
   dialog.setFileMode(pqFileDialog::Directory);
   if (dialog.exec() == QDialog::Accepted && !dialog.getSelectedFiles().isEmpty())
@@ -639,7 +660,8 @@ void pqDDGDesignGalleryDock::buildModel()
     return;
   }
   vtkSMPropertyHelper(this->BuildProxy, "OutputDirectory").Set(dir.toUtf8().constData());
-  vtkSMPropertyHelper(this->BuildProxy, "SelectInputScalars").SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
+  vtkSMPropertyHelper(this->BuildProxy, "SelectInputScalars")
+    .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
   this->BuildProxy->UpdateVTKObjects();
   this->setStatus(tr("Building a design space in %1 (minutes; Cancel stops it)...").arg(dir));
   this->setBusy(true);
@@ -655,7 +677,8 @@ void pqDDGDesignGalleryDock::buildModel()
       if (static_cast<pqDDGDesignGalleryDock*>(self)->Cancelled)
         static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
     });
-  const unsigned long observer = algorithm ? algorithm->AddObserver(vtkCommand::ProgressEvent, onProgress) : 0;
+  const unsigned long observer =
+    algorithm ? algorithm->AddObserver(vtkCommand::ProgressEvent, onProgress) : 0;
   this->BuildProxy->UpdatePipeline();
   if (algorithm)
     algorithm->RemoveObserver(observer);
@@ -665,7 +688,8 @@ void pqDDGDesignGalleryDock::buildModel()
   this->BuildProxy = nullptr;
   if (this->Cancelled || !built)
   {
-    this->setStatus(this->Cancelled ? tr("Build cancelled.") : tr("The build failed: %1").arg(error), true);
+    this->setStatus(
+      this->Cancelled ? tr("Build cancelled.") : tr("The build failed: %1").arg(error), true);
     return;
   }
   this->ModelPath->setText(dir);
@@ -690,14 +714,17 @@ void pqDDGDesignGalleryDock::refreshThumbnails()
   vtkSMPropertyHelper(this->GalleryProxy, "ThumbnailSize").Set(kThumbnailSize);
   vtkSMPropertyHelper(this->GalleryProxy, "Seed").Set(this->Seed);
   // the volume's default view (the whole volume in sight), or the view's camera once asked for
-  const QJsonObject view = this->ThumbnailsAtCamera ? this->currentView(kThumbnailSize) : QJsonObject();
-  vtkSMPropertyHelper(this->GalleryProxy, "ViewJSON").Set(view.isEmpty() ? "" : ddgpanel::jsonText(view).toUtf8().constData());
+  const QJsonObject view =
+    this->ThumbnailsAtCamera ? this->currentView(kThumbnailSize) : QJsonObject();
+  vtkSMPropertyHelper(this->GalleryProxy, "ViewJSON")
+    .Set(view.isEmpty() ? "" : ddgpanel::jsonText(view).toUtf8().constData());
   this->GalleryProxy->UpdateVTKObjects();
   this->setBusy(true);
   this->GalleryProxy->UpdatePipeline();
   this->setBusy(false);
   pqServer* server = this->Source->getServer();
-  vtkSmartPointer<vtkTable> table = vtkTable::SafeDownCast(ddgpanel::fetch(server, this->GalleryProxy, 1));
+  vtkSmartPointer<vtkTable> table =
+    vtkTable::SafeDownCast(ddgpanel::fetch(server, this->GalleryProxy, 1));
   auto sheet = ddgpanel::fetch(server, this->GalleryProxy, 0);
   if (!table)
   {
@@ -730,7 +757,8 @@ void pqDDGDesignGalleryDock::refreshThumbnails()
   const QImage sheetImage = toQImage(sheet);
   QVector<int> rows;
   QVector<QImage> images;
-  const int gap = 2, cols = sheetImage.isNull() ? 0 : (sheetImage.width() - gap) / (kThumbnailSize + gap);
+  const int gap = 2,
+            cols = sheetImage.isNull() ? 0 : (sheetImage.width() - gap) / (kThumbnailSize + gap);
   for (int k = 0; k < kThumbnails && cols > 0; ++k)
   {
     if (thumbRows[k] < 0)
@@ -742,7 +770,8 @@ void pqDDGDesignGalleryDock::refreshThumbnails()
   this->Outline->setPoints(points);
   if (shown.size() == 4)
   {
-    const QRectF b2(QPointF(shown[0].toDouble(), shown[1].toDouble()), QPointF(shown[2].toDouble(), shown[3].toDouble()));
+    const QRectF b2(QPointF(shown[0].toDouble(), shown[1].toDouble()),
+      QPointF(shown[2].toDouble(), shown[3].toDouble()));
     this->Outline->setBox(b2.normalized());
     this->Boxes.last() = b2.normalized();
   }
@@ -807,23 +836,28 @@ bool pqDDGDesignGalleryDock::updateDesign()
     this->setStatus(tr("Open a render view first."), true);
     return false;
   }
-  vtkSMPropertyHelper(this->DesignProxy, "History").Set(this->historyText(this->Steps).toUtf8().constData());
-  vtkSMPropertyHelper(this->DesignProxy, "ViewJSON").Set(ddgpanel::jsonText(this->DesignView).toUtf8().constData());
+  vtkSMPropertyHelper(this->DesignProxy, "History")
+    .Set(this->historyText(this->Steps).toUtf8().constData());
+  vtkSMPropertyHelper(this->DesignProxy, "ViewJSON")
+    .Set(ddgpanel::jsonText(this->DesignView).toUtf8().constData());
   vtkSMPropertyHelper(this->DesignProxy, "ComputeFidelity").Set(1);
   std::vector<int> locked;
   for (int k = 0; k < this->Locks.size(); ++k)
     if (this->Locks[k]->isChecked())
       locked.push_back(k);
-  vtkSMPropertyHelper(this->DesignProxy, "LockedRegions").Set(locked.data(), static_cast<unsigned int>(locked.size()));
+  vtkSMPropertyHelper(this->DesignProxy, "LockedRegions")
+    .Set(locked.data(), static_cast<unsigned int>(locked.size()));
   vtkSMPropertyHelper(this->DesignProxy, "LockHistory")
     .Set(locked.empty() ? "" : this->historyText(this->LockSteps).toUtf8().constData());
   this->DesignProxy->UpdateVTKObjects();
   this->DesignProxy->UpdatePipeline();
   pqServer* server = this->Source->getServer();
-  vtkSmartPointer<vtkTable> table = vtkTable::SafeDownCast(ddgpanel::fetch(server, this->DesignProxy, 1));
+  vtkSmartPointer<vtkTable> table =
+    vtkTable::SafeDownCast(ddgpanel::fetch(server, this->DesignProxy, 1));
   if (!table)
   {
-    this->setStatus(tr("The design could not be made: %1").arg(ddgpanel::lastError(this->DesignProxy)), true);
+    this->setStatus(
+      tr("The design could not be made: %1").arg(ddgpanel::lastError(this->DesignProxy)), true);
     return false;
   }
   this->PreviewImage = toQImage(ddgpanel::fetch(server, this->DesignProxy, 0));
@@ -860,7 +894,8 @@ bool pqDDGDesignGalleryDock::updateDesign()
   {
     QPixmap swatch(16, 16);
     swatch.fill(QColor::fromRgbF(r->GetTuple1(k), g->GetTuple1(k), b->GetTuple1(k)));
-    this->ClusterBox->addItem(QIcon(swatch), tr("colour %1 (%2 %)").arg(k + 1).arg(std::lround(100 * share->GetTuple1(k))));
+    this->ClusterBox->addItem(
+      QIcon(swatch), tr("colour %1 (%2 %)").arg(k + 1).arg(std::lround(100 * share->GetTuple1(k))));
   }
   if (current >= 0 && current < this->ClusterBox->count())
     this->ClusterBox->setCurrentIndex(current);
@@ -889,8 +924,8 @@ bool pqDDGDesignGalleryDock::updateDesign()
 
 void pqDDGDesignGalleryDock::browseQuery()
 {
-  const QString path = QFileDialog::getOpenFileName(this, tr("Query image"), this->QueryPath->text(),
-    tr("Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp);;All files (*)"));
+  const QString path = QFileDialog::getOpenFileName(this, tr("Query image"),
+    this->QueryPath->text(), tr("Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp);;All files (*)"));
   if (!path.isEmpty())
   {
     this->QueryPath->setText(path);
@@ -960,11 +995,13 @@ void pqDDGDesignGalleryDock::queryImage(const QImage& image, const QString& name
     vtkSMPropertyHelper(this->QueryProxy, "ImageData").Set(base64Of(png).toLatin1().constData());
   }
   const QJsonObject view = this->currentView(kPreviewSide);
-  vtkSMPropertyHelper(this->QueryProxy, "ViewJSON").Set(ddgpanel::jsonText(view).toUtf8().constData());
+  vtkSMPropertyHelper(this->QueryProxy, "ViewJSON")
+    .Set(ddgpanel::jsonText(view).toUtf8().constData());
   vtkSMPropertyHelper(this->QueryProxy, "Neighbours").Set(5);
   this->QueryProxy->UpdateVTKObjects();
   this->QueryProxy->UpdatePipeline();
-  vtkSmartPointer<vtkTable> table = vtkTable::SafeDownCast(ddgpanel::fetch(this->Source->getServer(), this->QueryProxy, 1));
+  vtkSmartPointer<vtkTable> table =
+    vtkTable::SafeDownCast(ddgpanel::fetch(this->Source->getServer(), this->QueryProxy, 1));
   vtkSMPropertyHelper(this->QueryProxy, "ImageData").Set(""); // do not keep megabytes around
   this->QueryProxy->UpdateVTKObjects();
   if (!table)
@@ -979,8 +1016,10 @@ void pqDDGDesignGalleryDock::queryImage(const QImage& image, const QString& name
   const QJsonArray position = fieldArray(table, "Position");
   const QJsonArray latent = fieldArray(table, "Latent");
   if (position.size() == 2)
-    this->Outline->setQuery(true, QPointF(position[0].toDouble(), position[1].toDouble()), neighbours);
-  this->setSteps(QJsonArray{ QJsonObject{ { "action", "latent" }, { "latent", latent }, { "image", name } } });
+    this->Outline->setQuery(
+      true, QPointF(position[0].toDouble(), position[1].toDouble()), neighbours);
+  this->setSteps(
+    QJsonArray{ QJsonObject{ { "action", "latent" }, { "latent", latent }, { "image", name } } });
 }
 
 void pqDDGDesignGalleryDock::dragEnterEvent(QDragEnterEvent* e)
@@ -1009,7 +1048,8 @@ void pqDDGDesignGalleryDock::pin()
   if (!this->ready(true) || this->Latent.isEmpty())
     return;
   this->PinList.push_back({ this->Steps, this->Latent, this->PreviewImage });
-  auto* item = new QListWidgetItem(QIcon(QPixmap::fromImage(this->PreviewImage)), QString::number(this->PinList.size()));
+  auto* item = new QListWidgetItem(
+    QIcon(QPixmap::fromImage(this->PreviewImage)), QString::number(this->PinList.size()));
   this->Pins->addItem(item);
   this->updatePad();
 }
@@ -1057,8 +1097,8 @@ void pqDDGDesignGalleryDock::navigate()
   QJsonArray latents;
   for (int k : chosen)
     latents.append(this->PinList[k].latent);
-  this->setSteps(QJsonArray{ QJsonObject{
-    { "action", "blend" }, { "latents", latents }, { "u", this->Pad->u() }, { "v", this->Pad->v() } } });
+  this->setSteps(QJsonArray{ QJsonObject{ { "action", "blend" }, { "latents", latents },
+    { "u", this->Pad->u() }, { "v", this->Pad->v() } } });
 }
 
 // --- edits ------------------------------------------------------------------------------------
@@ -1138,7 +1178,8 @@ void pqDDGDesignGalleryDock::apply()
     return;
   if (this->Preset.contains("\"TransferFunction2D\"") || !this->Preset.contains("RGBPoints"))
   {
-    this->setStatus(tr("2D transfer functions are exported (Export preset...), not applied."), true);
+    this->setStatus(
+      tr("2D transfer functions are exported (Export preset...), not applied."), true);
     return;
   }
   const QString error = ddgpanel::applyPreset(this->representation(), this->Array, this->Preset,
@@ -1158,7 +1199,8 @@ void pqDDGDesignGalleryDock::exportPreset()
 {
   if (!this->ready(true) || this->Preset.isEmpty())
     return;
-  const QString path = QFileDialog::getSaveFileName(this, tr("Export ParaView preset"), "design.json", tr("JSON (*.json)"));
+  const QString path = QFileDialog::getSaveFileName(
+    this, tr("Export ParaView preset"), "design.json", tr("JSON (*.json)"));
   if (!path.isEmpty() && !writeText(path, this->Preset))
     this->setStatus(tr("Cannot write %1.").arg(path), true);
 }
@@ -1172,7 +1214,8 @@ void pqDDGDesignGalleryDock::exportSlicer()
     this->setStatus(tr("3D Slicer's format holds 1D transfer functions only."), true);
     return;
   }
-  const QString path = QFileDialog::getSaveFileName(this, tr("Export 3D Slicer volume property"), "design.vp.json", tr("JSON (*.json)"));
+  const QString path = QFileDialog::getSaveFileName(
+    this, tr("Export 3D Slicer volume property"), "design.vp.json", tr("JSON (*.json)"));
   if (!path.isEmpty() && !writeText(path, this->Slicer))
     this->setStatus(tr("Cannot write %1.").arg(path), true);
 }
@@ -1181,7 +1224,8 @@ void pqDDGDesignGalleryDock::exportHistory()
 {
   if (!this->ready(true))
     return;
-  const QString path = QFileDialog::getSaveFileName(this, tr("Export design history (ddg replay)"), "history.json", tr("JSON (*.json)"));
+  const QString path = QFileDialog::getSaveFileName(
+    this, tr("Export design history (ddg replay)"), "history.json", tr("JSON (*.json)"));
   if (!path.isEmpty() && !writeText(path, this->historyText(this->Steps)))
     this->setStatus(tr("Cannot write %1.").arg(path), true);
 }
@@ -1226,7 +1270,8 @@ void pqDDGDesignGalleryDock::animate()
       }
       error = ddgpanel::applyPreset(repr, this->Array, this->Preset, QString(), false);
       view->forceRender();
-      const QString file = QDir(dir).filePath(QString("frame_%1.png").arg(written, 4, 10, QChar('0')));
+      const QString file =
+        QDir(dir).filePath(QString("frame_%1.png").arg(written, 4, 10, QChar('0')));
       if (error.isEmpty() && !pqSaveScreenshotReaction::saveScreenshot(file, size, -1))
         error = tr("cannot write %1").arg(file);
       ++written;

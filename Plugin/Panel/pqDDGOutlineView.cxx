@@ -300,7 +300,8 @@ void pqDDGOutlineView::mouseReleaseEvent(QMouseEvent* e)
     this->update();
     if (this->Band.width() > 6 && this->Band.height() > 6)
     {
-      const QPointF a = this->toPlane(this->Band.topLeft()), b = this->toPlane(this->Band.bottomRight());
+      const QPointF a = this->toPlane(this->Band.topLeft()),
+                    b = this->toPlane(this->Band.bottomRight());
       Q_EMIT this->drillIn(QRectF(a, b).normalized());
     }
     return;

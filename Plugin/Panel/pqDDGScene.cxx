@@ -66,7 +66,8 @@ QJsonObject viewJson(pqRenderView* view, pqDataRepresentation* repr, int maxSide
   camera["focal_point"] = triple(proxy, "CameraFocalPoint");
   camera["view_up"] = triple(proxy, "CameraViewUp");
   camera["view_angle"] = vtkSMPropertyHelper(proxy, "CameraViewAngle").GetAsDouble();
-  camera["parallel_projection"] = vtkSMPropertyHelper(proxy, "CameraParallelProjection").GetAsInt() != 0;
+  camera["parallel_projection"] =
+    vtkSMPropertyHelper(proxy, "CameraParallelProjection").GetAsInt() != 0;
   camera["parallel_scale"] = vtkSMPropertyHelper(proxy, "CameraParallelScale").GetAsDouble();
   vtkSMPropertyHelper size(proxy, "ViewSize");
   const double w = std::max(1, size.GetAsInt(0)), h = std::max(1, size.GetAsInt(1));
@@ -95,7 +96,8 @@ QString applyPreset(pqDataRepresentation* repr, const QString& array, const QStr
     return "there is no representation of the volume in the active view";
   QJsonParseError error;
   const QJsonDocument doc = QJsonDocument::fromJson(presetText.toUtf8(), &error);
-  QJsonObject preset = doc.isArray() && !doc.array().isEmpty() ? doc.array().at(0).toObject() : doc.object();
+  QJsonObject preset =
+    doc.isArray() && !doc.array().isEmpty() ? doc.array().at(0).toObject() : doc.object();
   const auto rgb = numbers(preset.value("RGBPoints"));
   const auto opacity = numbers(preset.value("Points"));
   if (error.error != QJsonParseError::NoError || rgb.empty() || rgb.size() % 4 != 0 ||
@@ -122,7 +124,8 @@ QString applyPreset(pqDataRepresentation* repr, const QString& array, const QStr
     return "the representation has no colour or opacity map for '" + array + "'";
   }
   vtkSMPropertyHelper(lut, "AutomaticRescaleRangeMode").Set(-1); // Never
-  vtkSMPropertyHelper(lut, "ColorSpace").Set(colorSpace(preset.value("ColorSpace").toString("RGB")));
+  vtkSMPropertyHelper(lut, "ColorSpace")
+    .Set(colorSpace(preset.value("ColorSpace").toString("RGB")));
   vtkSMPropertyHelper(lut, "RGBPoints").Set(rgb.data(), static_cast<unsigned int>(rgb.size()));
   vtkSMPropertyHelper(sof, "Points").Set(opacity.data(), static_cast<unsigned int>(opacity.size()));
   lut->UpdateVTKObjects();
@@ -153,7 +156,8 @@ QString currentPreset(pqDataRepresentation* repr)
   };
   QJsonObject preset;
   preset["Name"] = "before the design gallery";
-  preset["ColorSpace"] = colorSpaces().value(vtkSMPropertyHelper(lut, "ColorSpace").GetAsInt(), "RGB");
+  preset["ColorSpace"] =
+    colorSpaces().value(vtkSMPropertyHelper(lut, "ColorSpace").GetAsInt(), "RGB");
   preset["RGBPoints"] = values(lut, "RGBPoints");
   preset["Points"] = values(sof, "Points");
   return jsonText(preset);
@@ -186,7 +190,10 @@ vtkSmartPointer<vtkDataObject> fetch(pqServer* server, vtkSMSourceProxy* produce
   mover->InvokeCommand("Execute");
   auto* result = vtkPVDataMover::SafeDownCast(mover->GetClientSideObject());
   vtkDataObject* data = result ? result->GetDataSetFromRank(0) : nullptr;
-  if (!data || data->GetNumberOfElements(vtkDataObject::POINT) + data->GetNumberOfElements(vtkDataObject::ROW) == 0)
+  if (!data ||
+    data->GetNumberOfElements(vtkDataObject::POINT) +
+        data->GetNumberOfElements(vtkDataObject::ROW) ==
+      0)
     return nullptr;
   vtkSmartPointer<vtkDataObject> copy;
   copy.TakeReference(data->NewInstance());

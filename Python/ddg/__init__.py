@@ -40,9 +40,26 @@ from vtkmodules.vtkIOImage import vtkPNGWriter, vtkPNGReader
 from vtkmodules.vtkCommonDataModel import vtkImageData
 
 __all__ = [
-    "Model", "Design", "Gallery", "load_model", "build_design_space", "gallery", "query", "pick",
-    "reconstruct", "apply", "interpolate", "edit", "animate", "export", "render", "view_json",
-    "set_camera", "save_image", "data_path", "DDGError",
+    "Model",
+    "Design",
+    "Gallery",
+    "load_model",
+    "build_design_space",
+    "gallery",
+    "query",
+    "pick",
+    "reconstruct",
+    "apply",
+    "interpolate",
+    "edit",
+    "animate",
+    "export",
+    "render",
+    "view_json",
+    "set_camera",
+    "save_image",
+    "data_path",
+    "DDGError",
 ]
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
@@ -61,11 +78,14 @@ def data_path(relative=""):
 def _plugin_file():
     path = os.environ.get("DDG_PLUGIN")
     if not path:
-        path = os.path.join(_ROOT, "build", "lib", "paraview-5.11", "plugins", "DesignGallery",
-                            "DesignGallery.so")
+        path = os.path.join(
+            _ROOT, "build", "lib", "paraview-5.11", "plugins", "DesignGallery", "DesignGallery.so"
+        )
     if not os.path.exists(path):
-        raise ImportError("ddg: the DesignGallery plugin was not found at %s; build it "
-                          "(bash scripts/build.sh) and use build/bin/pvpython, or set DDG_PLUGIN" % path)
+        raise ImportError(
+            "ddg: the DesignGallery plugin was not found at %s; build it "
+            "(bash scripts/build.sh) and use build/bin/pvpython, or set DDG_PLUGIN" % path
+        )
     return path
 
 
@@ -92,6 +112,7 @@ _ensure_plugin()
 
 
 # --- scene --------------------------------------------------------------------------------------
+
 
 def _source(source):
     source = source or simple.GetActiveSource()
@@ -122,12 +143,18 @@ def view_json(view=None, source=None, max_side=None):
     view = view or simple.GetActiveViewOrCreate("RenderView")
     w, h = [max(1, int(v)) for v in view.ViewSize]
     scale = min(1.0, max_side / max(w, h)) if max_side else 1.0
-    out = {"camera": {"position": list(view.CameraPosition), "focal_point": list(view.CameraFocalPoint),
-                      "view_up": list(view.CameraViewUp), "view_angle": view.CameraViewAngle,
-                      "parallel_projection": bool(view.CameraParallelProjection),
-                      "parallel_scale": view.CameraParallelScale},
-           "size": [max(1, round(w * scale)), max(1, round(h * scale))],
-           "background": list(view.Background)}
+    out = {
+        "camera": {
+            "position": list(view.CameraPosition),
+            "focal_point": list(view.CameraFocalPoint),
+            "view_up": list(view.CameraViewUp),
+            "view_angle": view.CameraViewAngle,
+            "parallel_projection": bool(view.CameraParallelProjection),
+            "parallel_scale": view.CameraParallelScale,
+        },
+        "size": [max(1, round(w * scale)), max(1, round(h * scale))],
+        "background": list(view.Background),
+    }
     if source is not None:
         display = simple.GetDisplayProperties(source, view)
         if display is not None and hasattr(display, "ScalarOpacityUnitDistance"):
@@ -163,7 +190,9 @@ def _png(pixels, path=None):
     h, w, c = a.shape
     data = vtkImageData()
     data.SetDimensions(w, h, 1)
-    data.GetPointData().SetScalars(numpy_support.numpy_to_vtk(np.ascontiguousarray(a[::-1]).reshape(-1, c), deep=True))
+    data.GetPointData().SetScalars(
+        numpy_support.numpy_to_vtk(np.ascontiguousarray(a[::-1]).reshape(-1, c), deep=True)
+    )
     writer = vtkPNGWriter()
     writer.SetInputData(data)
     if path:
@@ -211,7 +240,9 @@ def _field_string(table, name):
 
 def _field_numbers(table, name):
     a = table.GetFieldData().GetArray(name)
-    return np.array([a.GetValue(i) for i in range(a.GetNumberOfValues())]) if a is not None else None
+    return (
+        np.array([a.GetValue(i) for i in range(a.GetNumberOfValues())]) if a is not None else None
+    )
 
 
 def _tf_dict(tf, view=None):
@@ -251,6 +282,7 @@ def _proxy(name, source, **props):
 
 # --- models -------------------------------------------------------------------------------------
 
+
 class Model:
     """A model bundle (trained design space with its outline) of one volume."""
 
@@ -271,8 +303,10 @@ def _default_model(source):
         candidate = data_path(os.path.join("Models", stem))
         if stem and os.path.exists(os.path.join(candidate, "bundle.json")):
             return Model(candidate, source)
-    raise ValueError("no model given and no shipped bundle for this source: pass model= "
-                     "(ddg.load_model) or build one (ddg.build_design_space)")
+    raise ValueError(
+        "no model given and no shipped bundle for this source: pass model= "
+        "(ddg.load_model) or build one (ddg.build_design_space)"
+    )
 
 
 def load_model(directory, source=None):
@@ -281,16 +315,29 @@ def load_model(directory, source=None):
     return Model(directory, _source(source))
 
 
-def build_design_space(source=None, directory="design_space", minutes=5.0, count=2000, size=64,
-                       iterations=None, outline=None):
+def build_design_space(
+    source=None,
+    directory="design_space",
+    minutes=5.0,
+    count=2000,
+    size=64,
+    iterations=None,
+    outline=None,
+):
     """Builds a design space for a volume (DDG Build Design Space; progress in ParaView):
     ``count`` exemplars of ``size``^2 pixels, a decoder trained for ``minutes`` (or exactly
     ``iterations`` steps), its evaluation and an outline of ``outline`` designs (default: the
     filter's), written to ``directory`` (where the filters run). Returns the Model."""
     source = _source(source)
     directory = os.path.abspath(directory)
-    build = _proxy("DDGBuildDesignSpace", source, OutputDirectory=directory, Minutes=float(minutes),
-                   Count=int(count), Size=int(size))
+    build = _proxy(
+        "DDGBuildDesignSpace",
+        source,
+        OutputDirectory=directory,
+        Minutes=float(minutes),
+        Count=int(count),
+        Size=int(size),
+    )
     if iterations is not None:
         build.SetPropertyWithName("Iterations", int(iterations))
     if outline is not None:
@@ -303,7 +350,9 @@ def build_design_space(source=None, directory="design_space", minutes=5.0, count
 
 
 def _model(model, source):
-    source = _source(source if source is not None else (model.source if isinstance(model, Model) else None))
+    source = _source(
+        source if source is not None else (model.source if isinstance(model, Model) else None)
+    )
     if model is None:
         return _default_model(source), source
     if isinstance(model, str):
@@ -312,6 +361,7 @@ def _model(model, source):
 
 
 # --- designs ------------------------------------------------------------------------------------
+
 
 class Design:
     """A design of a model's design space: the path that leads to it (a ddg history, the JSON
@@ -333,23 +383,40 @@ class Design:
         a dict with "preview" (numpy image), "latent", "position", "preset", "slicer",
         "clusters" (mean RGB and share of each colour cluster) and with ``fidelity`` "fidelity"
         (PSNR dB, SSIM, max error)."""
-        v = view_json(view, self.model.source, 256) if not isinstance(view, (str, dict)) else view_json(view)
+        v = (
+            view_json(view, self.model.source, 256)
+            if not isinstance(view, (str, dict))
+            else view_json(view)
+        )
         key = (json.dumps(v, sort_keys=True), fidelity)
         if key in self._cache:
             return self._cache[key]
-        proxy = _proxy("DDGDesign", self.model.source, ModelDirectory=self.model.directory,
-                       History=self.history(), ViewJSON=json.dumps(v), ComputeFidelity=int(fidelity))
+        proxy = _proxy(
+            "DDGDesign",
+            self.model.source,
+            ModelDirectory=self.model.directory,
+            History=self.history(),
+            ViewJSON=json.dumps(v),
+            ComputeFidelity=int(fidelity),
+        )
         _run(proxy)
         table = servermanager.Fetch(proxy, idx=1)
         preset = _field_string(table, "Preset") or _field_string(table, "TransferFunction2D")
-        clusters = [{"rgb": [table.GetValueByName(i, c).ToDouble() for c in "RGB"],
-                     "share": table.GetValueByName(i, "Share").ToDouble()}
-                    for i in range(table.GetNumberOfRows())]
-        out = {"preview": _to_numpy(servermanager.Fetch(proxy, idx=0)),
-               "latent": _field_numbers(table, "Latent"),
-               "position": tuple(_field_numbers(table, "Position")),
-               "preset": json.loads(preset), "slicer": _field_string(table, "Slicer"),
-               "clusters": clusters}
+        clusters = [
+            {
+                "rgb": [table.GetValueByName(i, c).ToDouble() for c in "RGB"],
+                "share": table.GetValueByName(i, "Share").ToDouble(),
+            }
+            for i in range(table.GetNumberOfRows())
+        ]
+        out = {
+            "preview": _to_numpy(servermanager.Fetch(proxy, idx=0)),
+            "latent": _field_numbers(table, "Latent"),
+            "position": tuple(_field_numbers(table, "Position")),
+            "preset": json.loads(preset),
+            "slicer": _field_string(table, "Slicer"),
+            "clusters": clusters,
+        }
         if fidelity:
             out["fidelity"] = tuple(_field_numbers(table, "Fidelity"))
         self._cache[key] = out
@@ -389,8 +456,14 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     view's camera). Returns a Design."""
     model, source = _model(model, source)
     v = view_json(view, source, 256)
-    proxy = _proxy("DDGQuery", source, ModelDirectory=model.directory, ViewJSON=json.dumps(v),
-                   ImageData=_image_text(image), Neighbours=int(neighbours))
+    proxy = _proxy(
+        "DDGQuery",
+        source,
+        ModelDirectory=model.directory,
+        ViewJSON=json.dumps(v),
+        ImageData=_image_text(image),
+        Neighbours=int(neighbours),
+    )
     _run(proxy)
     table = servermanager.Fetch(proxy, idx=1)
     rows = [int(table.GetValueByName(i, "Row").ToInt()) for i in range(table.GetNumberOfRows())]
@@ -409,17 +482,33 @@ def interpolate(a, b, t, c=None, d=None, v=0.0):
     return Design(a.model, [{"action": "blend", "latents": latents, "u": float(t), "v": float(v)}])
 
 
-def edit(design, cluster=None, hue=0.0, saturation=1.0, lightness=0.0, visibility=1.0, axes=None,
-         view=None, pick_pixel=None):
+def edit(
+    design,
+    cluster=None,
+    hue=0.0,
+    saturation=1.0,
+    lightness=0.0,
+    visibility=1.0,
+    axes=None,
+    view=None,
+    pick_pixel=None,
+):
     """An edited design: colour cluster ``cluster`` (index into ``design.evaluate()["clusters"]``,
     or the cluster under ``pick_pixel`` = (x, y) of the preview) recoloured (hue degrees,
     saturation factor, lightness in L*) and made more (``visibility`` > 1) or less visible, then
     moved along the principal axes by ``axes`` (standard deviations per axis)."""
     steps = list(design.steps)
     if cluster is not None or pick_pixel is not None:
-        step = {"action": "edit", "view": view_json(view, design.model.source, 256), "clusters": 4,
-                "hue": float(hue), "saturation": float(saturation), "lightness": float(lightness),
-                "visibility": float(visibility), "white": False}
+        step = {
+            "action": "edit",
+            "view": view_json(view, design.model.source, 256),
+            "clusters": 4,
+            "hue": float(hue),
+            "saturation": float(saturation),
+            "lightness": float(lightness),
+            "visibility": float(visibility),
+            "white": False,
+        }
         if pick_pixel is not None:
             step["pick"] = [int(pick_pixel[0]), int(pick_pixel[1])]
         else:
@@ -451,8 +540,15 @@ def gallery(source=None, model=None, count=32, box=None, seed=1, thumbnail_size=
     PCA plane (default: all of it), sampled with ``seed``, rendered at ``view`` (default: the
     volume's default view). Returns a Gallery."""
     model, source = _model(model, source)
-    proxy = _proxy("DDGDesignGallery", source, ModelDirectory=model.directory, Count=int(count),
-                   Seed=int(seed), ThumbnailSize=int(thumbnail_size), Box=list(box or [0, 0, 0, 0]))
+    proxy = _proxy(
+        "DDGDesignGallery",
+        source,
+        ModelDirectory=model.directory,
+        Count=int(count),
+        Seed=int(seed),
+        ThumbnailSize=int(thumbnail_size),
+        Box=list(box or [0, 0, 0, 0]),
+    )
     if view is not None:
         proxy.SetPropertyWithName("ViewJSON", json.dumps(view_json(view)))
     _run(proxy)
@@ -468,16 +564,32 @@ def gallery(source=None, model=None, count=32, box=None, seed=1, thumbnail_size=
 
 # --- transfer functions ---------------------------------------------------------------------------
 
-def reconstruct(image, source=None, view=None, iterations=300, bins=128, smoothness=None,
-                learning_rate=None, two_d=False):
+
+def reconstruct(
+    image,
+    source=None,
+    view=None,
+    iterations=300,
+    bins=128,
+    smoothness=None,
+    learning_rate=None,
+    two_d=False,
+):
     """The TF that renders ``source`` like ``image`` (a screenshot file or numpy image of the
     volume, the view's size) at ``view`` (a view JSON file or dict, or the active view's camera:
     then the image must have the view's size): differentiable reconstruction (DDG Reconstruct
     Transfer Function), ``iterations`` Adam steps. Returns the TF dict (a ParaView preset)."""
     source = _source(source)
     v = view_json(view, source)
-    proxy = _proxy("DDGReconstructTransferFunction", source, TargetImageData=_image_text(image),
-                   ViewJSON=json.dumps(v), Iterations=int(iterations), Bins=int(bins), TwoD=int(two_d))
+    proxy = _proxy(
+        "DDGReconstructTransferFunction",
+        source,
+        TargetImageData=_image_text(image),
+        ViewJSON=json.dumps(v),
+        Iterations=int(iterations),
+        Bins=int(bins),
+        TwoD=int(two_d),
+    )
     if smoothness is not None:
         proxy.SetPropertyWithName("Smoothness", float(smoothness))
     if learning_rate is not None:
@@ -545,8 +657,12 @@ def render(source=None, tf=None, view=None):
     if tf is None:
         raise ValueError("render: give a transfer function")
     v = view_json(view, source)
-    proxy = _proxy("DDGVolumeRender", source, TransferFunctionJSON=json.dumps(_tf_dict(tf, v)),
-                   ViewJSON=json.dumps(v))
+    proxy = _proxy(
+        "DDGVolumeRender",
+        source,
+        TransferFunctionJSON=json.dumps(_tf_dict(tf, v)),
+        ViewJSON=json.dumps(v),
+    )
     proxy.UpdatePipeline()
     image = servermanager.Fetch(proxy, idx=0)
     if image.GetNumberOfPoints() == 0:
@@ -564,8 +680,11 @@ def animate(a, b, frames=30, source=None, view=None, directory=None, easing="smo
     array = _array(source)
     lut, sof = simple.GetColorTransferFunction(array), simple.GetOpacityTransferFunction(array)
     before = (list(lut.RGBPoints), list(sof.Points))
-    ease = {"linear": lambda t: t, "smoothstep": lambda t: t * t * (3 - 2 * t),
-            "cosine": lambda t: (1 - np.cos(np.pi * t)) / 2}[easing]
+    ease = {
+        "linear": lambda t: t,
+        "smoothstep": lambda t: t * t * (3 - 2 * t),
+        "cosine": lambda t: (1 - np.cos(np.pi * t)) / 2,
+    }[easing]
     if directory:
         os.makedirs(directory, exist_ok=True)
     images = []
@@ -574,8 +693,10 @@ def animate(a, b, frames=30, source=None, view=None, directory=None, easing="smo
             t = ease(k / max(1, frames - 1))
             apply(interpolate(a, b, t), source=source, view=view)
             w, h = [int(s) for s in view.ViewSize]
-            path = os.path.join(directory or os.environ.get("TMPDIR", "/tmp"),
-                                "frame_%04d.png" % k if directory else "ddg_frame_%d.png" % os.getpid())
+            path = os.path.join(
+                directory or os.environ.get("TMPDIR", "/tmp"),
+                "frame_%04d.png" % k if directory else "ddg_frame_%d.png" % os.getpid(),
+            )
             simple.SaveScreenshot(path, view, ImageResolution=[w, h])
             reader = vtkPNGReader()
             reader.SetFileName(path)

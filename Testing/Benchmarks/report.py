@@ -46,8 +46,15 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from paraview.simple import (  # noqa: E402
-    ColorBy, CreateView, GetColorTransferFunction, GetOpacityTransferFunction, Render,
-    SaveScreenshot, Show, XMLImageDataReader)
+    ColorBy,
+    CreateView,
+    GetColorTransferFunction,
+    GetOpacityTransferFunction,
+    Render,
+    SaveScreenshot,
+    Show,
+    XMLImageDataReader,
+)
 
 SUCCESS_DB = 30.0
 PRIMITIVES = 12
@@ -89,6 +96,7 @@ def compare(a, b):
 
 # --- views ------------------------------------------------------------------------------------
 
+
 def load_view(volume, name):
     with open(os.path.join(DATA, "Views", f"{volume}_{name}.json")) as f:
         v = json.load(f)
@@ -107,7 +115,11 @@ def rotated(view, azimuth=0.0, elevation=0.0, zoom=1.0):
     def rot(x, axis, deg):
         axis = axis / np.linalg.norm(axis)
         t = math.radians(deg)
-        return x * math.cos(t) + np.cross(axis, x) * math.sin(t) + axis * np.dot(axis, x) * (1 - math.cos(t))
+        return (
+            x * math.cos(t)
+            + np.cross(axis, x) * math.sin(t)
+            + axis * np.dot(axis, x) * (1 - math.cos(t))
+        )
 
     d = rot(d, up, azimuth)
     right = np.cross(d, up)
@@ -125,6 +137,7 @@ def write_json(obj, name):
 
 
 # --- ParaView renders -----------------------------------------------------------------------------
+
 
 class ParaViewScene:
     """One ParaView render view per volume; renders a preset at a view (as pvrender.py does)."""
@@ -166,28 +179,74 @@ class ParaViewScene:
 
 # --- methods (each: screenshot + its view -> preset file, seconds) ---------------------------
 
+
 def method_query(case, shot, view_file, tag):
     out = os.path.join(work, f"{tag}_query.json")
-    _, s = ddg("query", "--model", case["model"], "--volume", case["volume"], "--image", shot, "--view", view_file,
-               "--out-tf", out)
+    _, s = ddg(
+        "query",
+        "--model",
+        case["model"],
+        "--volume",
+        case["volume"],
+        "--image",
+        shot,
+        "--view",
+        view_file,
+        "--out-tf",
+        out,
+    )
     return out, s
 
 
 def method_nearest(case, shot, view_file, tag):
-    r, s1 = ddg("query", "--model", case["model"], "--volume", case["volume"], "--image", shot, "--view", view_file,
-                "--neighbours", "1")
+    r, s1 = ddg(
+        "query",
+        "--model",
+        case["model"],
+        "--volume",
+        case["volume"],
+        "--image",
+        shot,
+        "--view",
+        view_file,
+        "--neighbours",
+        "1",
+    )
     row = int(re.search(r"design row (\d+)", r.stdout).group(1))
-    history = write_json({"format": "ddg-history", "version": 1, "steps": [{"action": "pick", "row": row}]},
-                         f"{tag}_pick.json")
+    history = write_json(
+        {"format": "ddg-history", "version": 1, "steps": [{"action": "pick", "row": row}]},
+        f"{tag}_pick.json",
+    )
     out = os.path.join(work, f"{tag}_nearest.json")
-    _, s2 = ddg("replay", "--model", case["model"], "--volume", case["volume"], "--history", history,
-                "--view", view_file, "--out-tf", out)
+    _, s2 = ddg(
+        "replay",
+        "--model",
+        case["model"],
+        "--volume",
+        case["volume"],
+        "--history",
+        history,
+        "--view",
+        view_file,
+        "--out-tf",
+        out,
+    )
     return out, s1 + s2
 
 
 def reconstruct(case, targets, views, tag, iterations, init=None, extra=()):
     out = os.path.join(work, f"{tag}.json")
-    cmd = ["reconstruct", "--volume", case["volume"], "--out", out, "--iterations", iterations, "--quiet", *extra]
+    cmd = [
+        "reconstruct",
+        "--volume",
+        case["volume"],
+        "--out",
+        out,
+        "--iterations",
+        iterations,
+        "--quiet",
+        *extra,
+    ]
     for t, v in zip(targets, views):
         cmd += ["--target", t, "--view", v]
     if init:
@@ -198,7 +257,9 @@ def reconstruct(case, targets, views, tag, iterations, init=None, extra=()):
 
 def method_refine(case, shot, view_file, tag, iterations):
     init, s1 = method_query(case, shot, view_file, tag)
-    out, s2 = reconstruct(case, [shot], [view_file], f"{tag}_refine{iterations}", iterations, init=init)
+    out, s2 = reconstruct(
+        case, [shot], [view_file], f"{tag}_refine{iterations}", iterations, init=init
+    )
     return out, s1 + s2
 
 
@@ -207,15 +268,32 @@ def method_direct(case, shot, view_file, tag, iterations):
 
 
 def method_primitives(case, shot, view_file, tag, iterations):
-    return reconstruct(case, [shot], [view_file], f"{tag}_prim{iterations}", iterations,
-                       extra=["--primitives", PRIMITIVES])
+    return reconstruct(
+        case,
+        [shot],
+        [view_file],
+        f"{tag}_prim{iterations}",
+        iterations,
+        extra=["--primitives", PRIMITIVES],
+    )
 
 
 def method_neural(case, shot, view_file, tag):
     """(b): the U-Net bundle's analyzer and renderer, then reconstruction from its render."""
     out = os.path.join(work, f"{tag}_neural.json")
-    _, s = ddg("query", "--model", case["unet"], "--volume", case["volume"], "--image", shot, "--view", view_file,
-               "--out-tf", out)
+    _, s = ddg(
+        "query",
+        "--model",
+        case["unet"],
+        "--volume",
+        case["volume"],
+        "--image",
+        shot,
+        "--view",
+        view_file,
+        "--out-tf",
+        out,
+    )
     return out, s
 
 
@@ -232,40 +310,94 @@ def evaluate(case, preset, tag):
 
 # --- 0. model sweep (full run; before the methods, whose (b) uses its U-Net) ---------------------------
 
-SWEEPS = [("tooth", None), ("engine", [0, 1, 2])]  # Engine: the three decoder widths at 64 px (time budget)
+SWEEPS = [
+    ("tooth", None),
+    ("engine", [0, 1, 2]),
+]  # Engine: the three decoder widths at 64 px (time budget)
 sweep_mds = {v: os.path.join(args.out, f"model_sweep_{v}.md") for v, _ in SWEEPS}
 UNET = None
 if not args.quick:
     sweep_work = os.path.join(work, "sweep")
     for volume, only in SWEEPS:
         log(f"{volume}: model sweep")
-        subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "model_sweep.py"), "--ddg", DDG,
-                        "--volume", volume, "--minutes", "1.5", "--out", sweep_mds[volume], "--work", sweep_work]
-                       + (["--only"] + [str(k) for k in only] if only else []), check=True)
-    UNET = next((os.path.join(sweep_work, d) for d in sorted(os.listdir(sweep_work)) if d.startswith("tooth_unet")),
-                None)
+        subprocess.run(
+            [
+                "/usr/bin/python3",
+                os.path.join(ROOT, "Testing", "Benchmarks", "model_sweep.py"),
+                "--ddg",
+                DDG,
+                "--volume",
+                volume,
+                "--minutes",
+                "1.5",
+                "--out",
+                sweep_mds[volume],
+                "--work",
+                sweep_work,
+            ]
+            + (["--only"] + [str(k) for k in only] if only else []),
+            check=True,
+        )
+    UNET = next(
+        (
+            os.path.join(sweep_work, d)
+            for d in sorted(os.listdir(sweep_work))
+            if d.startswith("tooth_unet")
+        ),
+        None,
+    )
     if UNET:
-        ddg("outline", "--model", UNET, "--volume", os.path.join(DATA, "Volumes", "tooth.vti"), "--count", "2000")
+        ddg(
+            "outline",
+            "--model",
+            UNET,
+            "--volume",
+            os.path.join(DATA, "Volumes", "tooth.vti"),
+            "--count",
+            "2000",
+        )
 
 # --- 1. methods: accuracy against time ------------------------------------------------------------
 
 for volume, preset_name in CASES:
     log(f"{volume}: references")
-    case = {"volume": os.path.join(DATA, "Volumes", volume + ".vti"), "model": os.path.join(DATA, "Models", volume),
-            "preset": os.path.join(DATA, "TransferFunctions", preset_name + ".json"), "scene": ParaViewScene(volume)}
-    case["views"] = {"reference": load_view(volume, "oblique"), "unseen": load_view(volume, "side"),
-                     "second": rotated(load_view(volume, "oblique"), elevation=45)}
-    case["view_files"] = {k: write_json(v, f"{volume}_{k}_view.json") for k, v in case["views"].items()}
-    case["refs"] = {k: case["scene"].render(case["preset"], v, os.path.join(work, f"{volume}_ref_{k}.png"))
-                    for k, v in case["views"].items()}
+    case = {
+        "volume": os.path.join(DATA, "Volumes", volume + ".vti"),
+        "model": os.path.join(DATA, "Models", volume),
+        "preset": os.path.join(DATA, "TransferFunctions", preset_name + ".json"),
+        "scene": ParaViewScene(volume),
+    }
+    case["views"] = {
+        "reference": load_view(volume, "oblique"),
+        "unseen": load_view(volume, "side"),
+        "second": rotated(load_view(volume, "oblique"), elevation=45),
+    }
+    case["view_files"] = {
+        k: write_json(v, f"{volume}_{k}_view.json") for k, v in case["views"].items()
+    }
+    case["refs"] = {
+        k: case["scene"].render(case["preset"], v, os.path.join(work, f"{volume}_ref_{k}.png"))
+        for k, v in case["views"].items()
+    }
     shot, vfile = case["refs"]["reference"], case["view_files"]["reference"]
     rows = []
 
     def record(method, budget, preset, seconds):
         e = evaluate(case, preset, f"{volume}_{method}_{budget}")
-        rows.append({"method": method, "budget": budget, "seconds": seconds, "psnr": e["reference"][0],
-                     "ssim": e["reference"][1], "psnr_unseen": e["unseen"][0], "ssim_unseen": e["unseen"][1]})
-        log(f"{volume} {method} {budget}: {seconds:.2f} s, {e['reference'][0]:.1f} dB / {e['unseen'][0]:.1f} dB unseen")
+        rows.append(
+            {
+                "method": method,
+                "budget": budget,
+                "seconds": seconds,
+                "psnr": e["reference"][0],
+                "ssim": e["reference"][1],
+                "psnr_unseen": e["unseen"][0],
+                "ssim_unseen": e["unseen"][1],
+            }
+        )
+        log(
+            f"{volume} {method} {budget}: {seconds:.2f} s, {e['reference'][0]:.1f} dB / {e['unseen'][0]:.1f} dB unseen"
+        )
 
     record("nearest design (a)", 0, *method_nearest(case, shot, vfile, volume))
     if UNET and volume == "tooth":
@@ -276,9 +408,17 @@ for volume, preset_name in CASES:
         record("b' + reconstruction", b, *method_refine(case, shot, vfile, volume, b))
         record("reconstruction (c)", b, *method_direct(case, shot, vfile, volume, b))
         record(f"{PRIMITIVES} primitives (d)", b, *method_primitives(case, shot, vfile, volume, b))
-        record("2-view reconstruction (e)", b, *reconstruct(case, [shot, case["refs"]["second"]],
-                                                           [vfile, case["view_files"]["second"]],
-                                                           f"{volume}_multi{b}", b))
+        record(
+            "2-view reconstruction (e)",
+            b,
+            *reconstruct(
+                case,
+                [shot, case["refs"]["second"]],
+                [vfile, case["view_files"]["second"]],
+                f"{volume}_multi{b}",
+                b,
+            ),
+        )
     results["cases"][volume] = {"preset": preset_name, "methods": rows}
     CASE_OBJECTS[volume] = case
 
@@ -287,7 +427,11 @@ for volume, preset_name in CASES:
 
 def perturbations(case):
     """name -> list of (strength label, numeric strength, image file, view file the method gets)."""
-    ref, vfile, view = case["refs"]["reference"], case["view_files"]["reference"], case["views"]["reference"]
+    ref, vfile, view = (
+        case["refs"]["reference"],
+        case["view_files"]["reference"],
+        case["views"]["reference"],
+    )
     scene, preset = case["scene"], case["preset"]
     img = np.asarray(Image.open(ref).convert("RGB")).astype(float)
     out = {}
@@ -299,50 +443,89 @@ def perturbations(case):
         return path
 
     angles = [0, 15, 30, 60, 90] if not args.quick else [0, 30, 90]
-    out["viewpoint (deg)"] = [(a, a, scene.render(preset, rotated(view, azimuth=a), os.path.join(work, f"{tag}_az{a}.png")),
-                               vfile) for a in angles]
+    out["viewpoint (deg)"] = [
+        (
+            a,
+            a,
+            scene.render(preset, rotated(view, azimuth=a), os.path.join(work, f"{tag}_az{a}.png")),
+            vfile,
+        )
+        for a in angles
+    ]
     zooms = [1.0, 1.15, 1.4, 0.75] if not args.quick else [1.0, 1.4]
-    out["zoom (x)"] = [(z, abs(math.log(z)), scene.render(preset, rotated(view, zoom=z), os.path.join(work, f"{tag}_zoom{z}.png")),
-                        vfile) for z in zooms]
+    out["zoom (x)"] = [
+        (
+            z,
+            abs(math.log(z)),
+            scene.render(preset, rotated(view, zoom=z), os.path.join(work, f"{tag}_zoom{z}.png")),
+            vfile,
+        )
+        for z in zooms
+    ]
     h, w, _ = img.shape
     crops = [0.0, 0.1, 0.25] if not args.quick else [0.0, 0.25]
     out["crop (fraction)"] = []
     for c in crops:
         y0, x0 = int(h * c / 2), int(w * c / 2)
-        part = Image.fromarray(img[y0:h - y0, x0:w - x0].astype(np.uint8)).resize((w, h), Image.BILINEAR)
-        out["crop (fraction)"].append((c, c, save(np.asarray(part).astype(float), f"crop{c}"), vfile))
+        part = Image.fromarray(img[y0 : h - y0, x0 : w - x0].astype(np.uint8)).resize(
+            (w, h), Image.BILINEAR
+        )
+        out["crop (fraction)"].append(
+            (c, c, save(np.asarray(part).astype(float), f"crop{c}"), vfile)
+        )
     rng = np.random.default_rng(1)
     noises = [0, 5, 15, 40] if not args.quick else [0, 15]
-    out["noise (sigma, grey levels)"] = [(s, s, save(img + rng.normal(0, s, img.shape), f"noise{s}"), vfile)
-                                          for s in noises]
+    out["noise (sigma, grey levels)"] = [
+        (s, s, save(img + rng.normal(0, s, img.shape), f"noise{s}"), vfile) for s in noises
+    ]
     out["JPEG (quality)"] = []
-    for q in ([95, 50, 20, 5] if not args.quick else [50, 5]):
+    for q in [95, 50, 20, 5] if not args.quick else [50, 5]:
         path = os.path.join(work, f"{tag}_jpeg{q}.jpg")
         Image.open(ref).convert("RGB").save(path, quality=q)
         out["JPEG (quality)"].append((q, 100 - q, path, vfile))
-    out["gamma"] = [(g, abs(math.log(g)), save(255 * (img / 255) ** g, f"gamma{g}"), vfile)
-                    for g in ([1.0, 1.25, 0.8, 1.6] if not args.quick else [1.0, 1.6])]
+    out["gamma"] = [
+        (g, abs(math.log(g)), save(255 * (img / 255) ** g, f"gamma{g}"), vfile)
+        for g in ([1.0, 1.25, 0.8, 1.6] if not args.quick else [1.0, 1.6])
+    ]
     shift = np.array([1.0, 0.9, 0.8])
-    out["colour shift (warm, x)"] = [(k, k, save(img * (1 - k + k * shift), f"tint{k}"), vfile)
-                                     for k in ([0, 0.5, 1.0, 2.0] if not args.quick else [0, 2.0])]
+    out["colour shift (warm, x)"] = [
+        (k, k, save(img * (1 - k + k * shift), f"tint{k}"), vfile)
+        for k in ([0, 0.5, 1.0, 2.0] if not args.quick else [0, 2.0])
+    ]
     black = dict(view, background=[0.0, 0.0, 0.0])
-    out["wrong background"] = [("white (right)", 0, ref, vfile),
-                               ("black, view says white", 1, scene.render(preset, black, os.path.join(work, f"{tag}_black.png")),
-                                vfile)]
+    out["wrong background"] = [
+        ("white (right)", 0, ref, vfile),
+        (
+            "black, view says white",
+            1,
+            scene.render(preset, black, os.path.join(work, f"{tag}_black.png")),
+            vfile,
+        ),
+    ]
     annotated = Image.open(ref).convert("RGB")
     d = ImageDraw.Draw(annotated)
     d.line([(20, 20), (w // 2, h // 2)], fill=(220, 0, 0), width=4)
     d.rectangle([w - 120, 10, w - 10, 40], outline=(0, 0, 0), width=3)
     d.text((w - 115, 15), "enamel", fill=(0, 0, 0))
-    out["annotation"] = [("none", 0, ref, vfile), ("arrow, box, text", 1, save(np.asarray(annotated).astype(float), "annot"),
-                                                   vfile)]
-    out["shading (lit render)"] = [("unlit", 0, ref, vfile),
-                                   ("lit", 1, scene.render(preset, view, os.path.join(work, f"{tag}_lit.png"), shade=True),
-                                    vfile)]
+    out["annotation"] = [
+        ("none", 0, ref, vfile),
+        ("arrow, box, text", 1, save(np.asarray(annotated).astype(float), "annot"), vfile),
+    ]
+    out["shading (lit render)"] = [
+        ("unlit", 0, ref, vfile),
+        (
+            "lit",
+            1,
+            scene.render(preset, view, os.path.join(work, f"{tag}_lit.png"), shade=True),
+            vfile,
+        ),
+    ]
     other = "engine_block_oblique.png" if tag != "engine" else "tooth_dentin_enamel_oblique.png"
     other_img = Image.open(os.path.join(DATA, "Screenshots", other)).convert("RGB").resize((w, h))
-    out["another volume's screenshot"] = [("own", 0, ref, vfile),
-                                          ("other volume", 1, save(np.asarray(other_img).astype(float), "other"), vfile)]
+    out["another volume's screenshot"] = [
+        ("own", 0, ref, vfile),
+        ("other volume", 1, save(np.asarray(other_img).astype(float), "other"), vfile),
+    ]
     return out
 
 
@@ -351,7 +534,9 @@ STABLE_METHODS = {
     "analyzer -> decoder (b')": lambda c, s, v, t: method_query(c, s, v, t),
     "b' + reconstruction": lambda c, s, v, t: method_refine(c, s, v, t, STABILITY_STEPS),
     "reconstruction (c)": lambda c, s, v, t: method_direct(c, s, v, t, STABILITY_STEPS),
-    f"{PRIMITIVES} primitives (d)": lambda c, s, v, t: method_primitives(c, s, v, t, STABILITY_STEPS),
+    f"{PRIMITIVES} primitives (d)": lambda c, s, v, t: method_primitives(
+        c, s, v, t, STABILITY_STEPS
+    ),
 }
 for volume, case in CASE_OBJECTS.items():
     stability = []
@@ -365,17 +550,33 @@ for volume, case in CASE_OBJECTS.items():
                 tag = f"{volume}_{re.sub('[^a-z0-9]', '', kind.lower())}_{strength}_{re.sub('[^a-z]', '', name)}"
                 try:
                     preset, seconds = run(case, image, vfile, tag)
-                    png = case["scene"].render(preset, case["views"]["reference"], os.path.join(work, tag + ".png"))
+                    png = case["scene"].render(
+                        preset, case["views"]["reference"], os.path.join(work, tag + ".png")
+                    )
                     psnr = compare(png, case["refs"]["reference"])["psnr"]
                     error = ""
                 except RuntimeError as e:
                     psnr, seconds, error = 0.0, 0.0, str(e).splitlines()[-1][:120]
-                stability.append({"perturbation": kind, "label": str(label), "strength": strength, "method": name,
-                                  "psnr": psnr, "success": psnr >= SUCCESS_DB, "error": error})
+                stability.append(
+                    {
+                        "perturbation": kind,
+                        "label": str(label),
+                        "strength": strength,
+                        "method": name,
+                        "psnr": psnr,
+                        "success": psnr >= SUCCESS_DB,
+                        "error": error,
+                    }
+                )
                 if strength == 0:
                     baseline[name] = stability[-1]
-            log(f"{volume} {kind} {label}: " + ", ".join(f"{r['method'].split(' ')[0]} {r['psnr']:.1f}"
-                                                          for r in stability[-len(STABLE_METHODS):]))
+            log(
+                f"{volume} {kind} {label}: "
+                + ", ".join(
+                    f"{r['method'].split(' ')[0]} {r['psnr']:.1f}"
+                    for r in stability[-len(STABLE_METHODS) :]
+                )
+            )
     results["cases"][volume]["stability"] = stability
 
 # --- 3. optimisation stability, learning rate, TF resolution ------------------------------------------
@@ -390,35 +591,76 @@ for k in range(seeds):
     xs = np.sort(rng.uniform(lo, hi, 6))
     rgb = rng.uniform(0, 1, (6, 3))
     alpha = rng.uniform(0, 1, 6)
-    init = write_json([{"Name": f"random {k}", "ColorSpace": "RGB",
-                        "RGBPoints": [float(v) for x, c in zip(xs, rgb) for v in (x, *c)],
-                        "Points": [float(v) for x, a in zip(xs, alpha) for v in (x, a, 0.5, 0.0)]}], f"init{k}.json")
-    preset, seconds = reconstruct(case, [shot], [vfile], f"seed{k}", 300, init=init, extra=["--seed", k + 1])
+    init = write_json(
+        [
+            {
+                "Name": f"random {k}",
+                "ColorSpace": "RGB",
+                "RGBPoints": [float(v) for x, c in zip(xs, rgb) for v in (x, *c)],
+                "Points": [float(v) for x, a in zip(xs, alpha) for v in (x, a, 0.5, 0.0)],
+            }
+        ],
+        f"init{k}.json",
+    )
+    preset, seconds = reconstruct(
+        case, [shot], [vfile], f"seed{k}", 300, init=init, extra=["--seed", k + 1]
+    )
     with open(preset) as f:
         p = json.load(f)[0]
     finite = all(math.isfinite(v) for v in p["RGBPoints"] + p["Points"])
-    psnr = compare(case["scene"].render(preset, case["views"]["reference"], os.path.join(work, f"seed{k}.png")),
-                   case["refs"]["reference"])["psnr"] if finite else float("nan")
+    psnr = (
+        compare(
+            case["scene"].render(
+                preset, case["views"]["reference"], os.path.join(work, f"seed{k}.png")
+            ),
+            case["refs"]["reference"],
+        )["psnr"]
+        if finite
+        else float("nan")
+    )
     runs.append({"seed": k + 1, "psnr": psnr, "finite": finite, "seconds": seconds})
-log(f"random starts: PSNR {min(r['psnr'] for r in runs):.1f}..{max(r['psnr'] for r in runs):.1f} dB, "
-    f"{sum(not r['finite'] for r in runs)} non-finite")
+log(
+    f"random starts: PSNR {min(r['psnr'] for r in runs):.1f}..{max(r['psnr'] for r in runs):.1f} dB, "
+    f"{sum(not r['finite'] for r in runs)} non-finite"
+)
 rates = []
-for lr in ([0.05, 0.2] if args.quick else [0.01, 0.03, 0.1, 0.2, 0.5, 1.0, 3.0]):
+for lr in [0.05, 0.2] if args.quick else [0.01, 0.03, 0.1, 0.2, 0.5, 1.0, 3.0]:
     preset, seconds = reconstruct(case, [shot], [vfile], f"lr{lr}", 300, extra=["--lr", lr])
-    psnr = compare(case["scene"].render(preset, case["views"]["reference"], os.path.join(work, f"lr{lr}.png")),
-                   case["refs"]["reference"])["psnr"]
+    psnr = compare(
+        case["scene"].render(preset, case["views"]["reference"], os.path.join(work, f"lr{lr}.png")),
+        case["refs"]["reference"],
+    )["psnr"]
     rates.append({"lr": lr, "psnr": psnr, "seconds": seconds})
 results["optimisation"] = {"random_starts": runs, "learning_rates": rates}
 resolution = []
-for bins in ([16, 128] if args.quick else [16, 32, 64, 128, 256]):
-    for smooth in ([0.0, 0.01] if args.quick else [0.0, 0.01, 0.1, 1.0]):
-        preset, seconds = reconstruct(case, [shot], [vfile], f"bins{bins}_{smooth}", 300,
-                                      extra=["--bins", bins, "--smoothness", smooth])
+for bins in [16, 128] if args.quick else [16, 32, 64, 128, 256]:
+    for smooth in [0.0, 0.01] if args.quick else [0.0, 0.01, 0.1, 1.0]:
+        preset, seconds = reconstruct(
+            case,
+            [shot],
+            [vfile],
+            f"bins{bins}_{smooth}",
+            300,
+            extra=["--bins", bins, "--smoothness", smooth],
+        )
         e = evaluate(case, preset, f"bins{bins}_{smooth}")
-        resolution.append({"bins": bins, "smoothness": smooth, "seconds": seconds, "psnr": e["reference"][0],
-                           "psnr_unseen": e["unseen"][0]})
-    log(f"bins {bins}: " + ", ".join(f"smoothness {r['smoothness']}: {r['psnr']:.1f}/{r['psnr_unseen']:.1f} dB"
-                                     for r in resolution if r["bins"] == bins))
+        resolution.append(
+            {
+                "bins": bins,
+                "smoothness": smooth,
+                "seconds": seconds,
+                "psnr": e["reference"][0],
+                "psnr_unseen": e["unseen"][0],
+            }
+        )
+    log(
+        f"bins {bins}: "
+        + ", ".join(
+            f"smoothness {r['smoothness']}: {r['psnr']:.1f}/{r['psnr_unseen']:.1f} dB"
+            for r in resolution
+            if r["bins"] == bins
+        )
+    )
 results["tf_resolution"] = resolution
 
 # --- 4. renderer speed ------------------------------------------------------------------------------
@@ -431,37 +673,61 @@ def bench_renderer(size, spv=2):
     samples per voxel (ParaView's rule: 2); each (size, spv) is timed once."""
     if (size, spv) not in _timed:
         common = ["--size", str(size), "--samples-per-voxel", str(spv)]
-        r = subprocess.run([os.path.join(BIN, "BenchRayCaster"), "--runs", "5", *common], capture_output=True, text=True)
-        d = subprocess.run([os.path.join(BIN, "BenchDifferentiable"), "--runs", "3", "--timing-only", *common],
-                           capture_output=True, text=True)
+        r = subprocess.run(
+            [os.path.join(BIN, "BenchRayCaster"), "--runs", "5", *common],
+            capture_output=True,
+            text=True,
+        )
+        d = subprocess.run(
+            [os.path.join(BIN, "BenchDifferentiable"), "--runs", "3", "--timing-only", *common],
+            capture_output=True,
+            text=True,
+        )
         m = re.search(r"forward ([\d.]+) ms, backward ([\d.]+) ms", d.stdout)
         _timed[(size, spv)] = {
             "ours_ms": float(re.search(r"ddg RayCaster +([\d.]+) ms", r.stdout).group(1)),
-            "vtk_ms": float(re.search(r"VTK FixedPointVolumeRayCastMapper +([\d.]+) ms", r.stdout).group(1)),
-            "forward_ms": float(m.group(1)), "forward_backward_ms": float(m.group(1)) + float(m.group(2))}
+            "vtk_ms": float(
+                re.search(r"VTK FixedPointVolumeRayCastMapper +([\d.]+) ms", r.stdout).group(1)
+            ),
+            "forward_ms": float(m.group(1)),
+            "forward_backward_ms": float(m.group(1)) + float(m.group(2)),
+        }
     return dict(_timed[(size, spv)])
 
 
 renderer = []
-for size in ([64, 128] if args.quick else [64, 128, 256, 512]):
+for size in [64, 128] if args.quick else [64, 128, 256, 512]:
     row = dict(size=size, **bench_renderer(size))
     if size <= 128:
-        t = subprocess.run(["/usr/bin/python3", os.path.join(ROOT, "Testing", "Benchmarks", "bench_torch_autograd.py"),
-                            "--bench", os.path.join(BIN, "BenchDifferentiable"), "--size", str(size)],
-                           capture_output=True, text=True)
+        t = subprocess.run(
+            [
+                "/usr/bin/python3",
+                os.path.join(ROOT, "Testing", "Benchmarks", "bench_torch_autograd.py"),
+                "--bench",
+                os.path.join(BIN, "BenchDifferentiable"),
+                "--size",
+                str(size),
+            ],
+            capture_output=True,
+            text=True,
+        )
         m = re.search(r"PyTorch autograd: forward\+backward ([\d.]+) ms", t.stdout)
         row["torch_forward_backward_ms"] = float(m.group(1)) if m else None
     renderer.append(row)
-    log(f"renderer {size}^2: ours {row['ours_ms']:.1f} ms, VTK {row['vtk_ms']:.1f} ms, "
-        f"fwd+bwd {row['forward_backward_ms']:.1f} ms, torch {row.get('torch_forward_backward_ms')}")
+    log(
+        f"renderer {size}^2: ours {row['ours_ms']:.1f} ms, VTK {row['vtk_ms']:.1f} ms, "
+        f"fwd+bwd {row['forward_backward_ms']:.1f} ms, torch {row.get('torch_forward_backward_ms')}"
+    )
 results["renderer"] = renderer
 samples = []  # time against samples per voxel (sample distance = mean spacing / S; ParaView: S = 2)
 sample_size = 64 if args.quick else 256
-for spv in ([1, 4] if args.quick else [0.5, 1, 2, 4, 8]):
+for spv in [1, 4] if args.quick else [0.5, 1, 2, 4, 8]:
     row = dict(samples_per_voxel=spv, **bench_renderer(sample_size, spv))
     samples.append(row)
-    log(f"renderer {sample_size}^2, {spv} samples/voxel: ours {row['ours_ms']:.1f} ms, VTK {row['vtk_ms']:.1f} ms, "
-        f"fwd+bwd {row['forward_backward_ms']:.1f} ms")
+    log(
+        f"renderer {sample_size}^2, {spv} samples/voxel: ours {row['ours_ms']:.1f} ms, VTK {row['vtk_ms']:.1f} ms, "
+        f"fwd+bwd {row['forward_backward_ms']:.1f} ms"
+    )
 results["renderer_samples"] = {"size": sample_size, "rows": samples}
 
 # --- 5. model size (the model sweep) ----------------------------------------------------------------
@@ -475,17 +741,34 @@ for volume, md_path in sweep_mds.items():
     for line in open(md_path):
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) >= 15 and re.match(r"^[\d.]+$", cells[1] or "x"):
-            models.append({"volume": volume, "kind": cells[0], "width": int(cells[1]), "image": int(cells[2]),
-                           "parameters": int(cells[3]), "analyzer_ms": float(cells[8]), "renderer_ms": float(cells[9]),
-                           "psnr": float(cells[10]), "ssim": float(cells[11]), "emd": float(cells[12]),
-                           "minutes": float(cells[14])})
+            models.append(
+                {
+                    "volume": volume,
+                    "kind": cells[0],
+                    "width": int(cells[1]),
+                    "image": int(cells[2]),
+                    "parameters": int(cells[3]),
+                    "analyzer_ms": float(cells[8]),
+                    "renderer_ms": float(cells[9]),
+                    "psnr": float(cells[10]),
+                    "ssim": float(cells[11]),
+                    "emd": float(cells[12]),
+                    "minutes": float(cells[14]),
+                }
+            )
 results["models"] = models
 
 # --- charts -------------------------------------------------------------------------------------------
 
-COLORS = {"nearest design (a)": "tab:gray", "neural path (b)": "tab:brown", "analyzer -> decoder (b')": "tab:purple",
-          "b' + reconstruction": "tab:red", "reconstruction (c)": "tab:blue", f"{PRIMITIVES} primitives (d)": "tab:orange",
-          "2-view reconstruction (e)": "tab:green"}
+COLORS = {
+    "nearest design (a)": "tab:gray",
+    "neural path (b)": "tab:brown",
+    "analyzer -> decoder (b')": "tab:purple",
+    "b' + reconstruction": "tab:red",
+    "reconstruction (c)": "tab:blue",
+    f"{PRIMITIVES} primitives (d)": "tab:orange",
+    "2-view reconstruction (e)": "tab:green",
+}
 MARKERS = {m: k for m, k in zip(COLORS, "o^vsDPX")}
 fig, axes = plt.subplots(len(CASES), 2, figsize=(11, 4.2 * len(CASES)), squeeze=False)
 for i, (volume, _) in enumerate(CASES):
@@ -495,7 +778,13 @@ for i, (volume, _) in enumerate(CASES):
         for method, color in COLORS.items():
             pts = sorted((r["seconds"], r[key]) for r in rows if r["method"] == method)
             if pts:
-                ax.plot(*zip(*pts), "-" if len(pts) > 1 else "", marker=MARKERS[method], color=color, label=method)
+                ax.plot(
+                    *zip(*pts),
+                    "-" if len(pts) > 1 else "",
+                    marker=MARKERS[method],
+                    color=color,
+                    label=method,
+                )
         ax.set_xscale("log")
         ax.set_xlabel("time on 2 cores (s, log)")
         ax.set_ylabel("PSNR of ParaView's render (dB)")
@@ -506,7 +795,9 @@ fig.tight_layout()
 fig.savefig(os.path.join(args.out, "report_methods.png"), dpi=110)
 
 kinds = list(dict.fromkeys(r["perturbation"] for r in results["cases"]["tooth"]["stability"]))
-fig, axes = plt.subplots(int(math.ceil(len(kinds) / 4)), 4, figsize=(16, 3.3 * math.ceil(len(kinds) / 4)), squeeze=False)
+fig, axes = plt.subplots(
+    int(math.ceil(len(kinds) / 4)), 4, figsize=(16, 3.3 * math.ceil(len(kinds) / 4)), squeeze=False
+)
 for k, kind in enumerate(kinds):
     ax = axes[k // 4][k % 4]
     for q, method in enumerate(STABLE_METHODS):
@@ -517,10 +808,23 @@ for k, kind in enumerate(kinds):
                     pts.setdefault(r["strength"], []).append(r["success"])
         xs = sorted(pts)
         shift = (q - (len(STABLE_METHODS) - 1) / 2) * 0.06  # equal rates stay visible side by side
-        ax.plot([i + shift for i in range(len(xs))], [np.mean(pts[x]) + shift / 3 for x in xs], "-",
-                marker=MARKERS[method], color=COLORS[method], label=method, alpha=0.85)
-        labels = [next(r["label"] for r in results["cases"]["tooth"]["stability"] if r["perturbation"] == kind
-                       and r["strength"] == x) for x in xs]
+        ax.plot(
+            [i + shift for i in range(len(xs))],
+            [np.mean(pts[x]) + shift / 3 for x in xs],
+            "-",
+            marker=MARKERS[method],
+            color=COLORS[method],
+            label=method,
+            alpha=0.85,
+        )
+        labels = [
+            next(
+                r["label"]
+                for r in results["cases"]["tooth"]["stability"]
+                if r["perturbation"] == kind and r["strength"] == x
+            )
+            for x in xs
+        ]
         ax.set_xticks(range(len(xs)))
         ax.set_xticklabels(labels, fontsize=7)
     ax.set_ylim(-0.05, 1.05)
@@ -529,8 +833,10 @@ for k, kind in enumerate(kinds):
 for k in range(len(kinds), axes.size):
     axes[k // 4][k % 4].axis("off")
 axes[0][0].legend(fontsize=7)
-fig.suptitle(f"success = ParaView's render at the reference view within {SUCCESS_DB:.0f} dB of the reference "
-             "(lines shifted slightly so that equal rates stay visible)")
+fig.suptitle(
+    f"success = ParaView's render at the reference view within {SUCCESS_DB:.0f} dB of the reference "
+    "(lines shifted slightly so that equal rates stay visible)"
+)
 fig.tight_layout()
 fig.savefig(os.path.join(args.out, "report_stability.png"), dpi=110)
 
@@ -549,8 +855,15 @@ fig.savefig(os.path.join(args.out, "report_optimisation.png"), dpi=110)
 fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
 for smooth in sorted({r["smoothness"] for r in resolution}):
     pts = [r for r in resolution if r["smoothness"] == smooth]
-    axes[0].plot([r["bins"] for r in pts], [r["psnr_unseen"] for r in pts], "o-", label=f"smoothness {smooth}")
-    axes[1].plot([r["bins"] for r in pts], [r["seconds"] for r in pts], "o-", label=f"smoothness {smooth}")
+    axes[0].plot(
+        [r["bins"] for r in pts],
+        [r["psnr_unseen"] for r in pts],
+        "o-",
+        label=f"smoothness {smooth}",
+    )
+    axes[1].plot(
+        [r["bins"] for r in pts], [r["seconds"] for r in pts], "o-", label=f"smoothness {smooth}"
+    )
 for ax, label in zip(axes, ("PSNR at the unseen view (dB)", "time (s)")):
     ax.set_xscale("log", base=2)
     ax.set_xlabel("TF bins")
@@ -565,7 +878,11 @@ sizes = [r["size"] ** 2 for r in renderer]
 ax.plot(sizes, [r["ours_ms"] for r in renderer], "o-", label="ours, forward (block skipping)")
 ax.plot(sizes, [r["forward_backward_ms"] for r in renderer], "o-", label="ours, forward + adjoint")
 ax.plot(sizes, [r["vtk_ms"] for r in renderer], "o-", label="VTK FixedPointVolumeRayCastMapper")
-tp = [(s, r["torch_forward_backward_ms"]) for s, r in zip(sizes, renderer) if r.get("torch_forward_backward_ms")]
+tp = [
+    (s, r["torch_forward_backward_ms"])
+    for s, r in zip(sizes, renderer)
+    if r.get("torch_forward_backward_ms")
+]
 if tp:
     ax.plot(*zip(*tp), "o-", label="PyTorch autograd, forward + backward")
 ax.set_xscale("log")
@@ -587,7 +904,9 @@ ax2.grid(alpha=0.3)
 fig.tight_layout()
 fig.savefig(os.path.join(args.out, "report_renderer.png"), dpi=110)
 
-SUFFICES_DB = 0.5  # a model suffices when its held-out PSNR is within this of the best of its scene's sweep
+SUFFICES_DB = (
+    0.5  # a model suffices when its held-out PSNR is within this of the best of its scene's sweep
+)
 
 
 def is_shipped(m):
@@ -609,13 +928,26 @@ if models:
         for m in rows:
             label = f"{m['kind'].replace(' (image loss)', '')} w{m['width']} {m['image']}px"
             label += " (shipped)" if is_shipped(m) else ""
-            label += " (smallest within %g dB)" % SUFFICES_DB if m is small and not is_shipped(m) else ""
+            label += (
+                " (smallest within %g dB)" % SUFFICES_DB if m is small and not is_shipped(m) else ""
+            )
             ms = m["analyzer_ms"] + m["renderer_ms"]
-            axes[0].scatter(ms, m["psnr"], s=30 + m["parameters"] / 2e4, color=color, marker="*" if is_shipped(m) else "o",
-                            label=volume if m is rows[0] else None)
+            axes[0].scatter(
+                ms,
+                m["psnr"],
+                s=30 + m["parameters"] / 2e4,
+                color=color,
+                marker="*" if is_shipped(m) else "o",
+                label=volume if m is rows[0] else None,
+            )
             axes[0].annotate(label, (ms, m["psnr"]), fontsize=6)
-            axes[1].scatter(m["parameters"], m["ssim"], color=color, marker="*" if is_shipped(m) else "o",
-                            label=volume if m is rows[0] else None)
+            axes[1].scatter(
+                m["parameters"],
+                m["ssim"],
+                color=color,
+                marker="*" if is_shipped(m) else "o",
+                label=volume if m is rows[0] else None,
+            )
             axes[1].annotate(label, (m["parameters"], m["ssim"]), fontsize=6)
     axes[0].set_xlabel("analyzer + renderer ms (one image)")
     axes[0].set_ylabel("held-out PSNR (dB)")
@@ -625,7 +957,9 @@ if models:
     for ax in axes:
         ax.legend(fontsize=7)
         ax.grid(alpha=0.3)
-    fig.suptitle("model kind and size, equal training time (1.5 min each; star: shipped configuration)")
+    fig.suptitle(
+        "model kind and size, equal training time (1.5 min each; star: shipped configuration)"
+    )
     fig.tight_layout()
     fig.savefig(os.path.join(args.out, "report_models.png"), dpi=110)
 
@@ -646,13 +980,17 @@ def shipped_text(models):
         if shipped:
             s = shipped[0]
             line += f"; shipped width 16, 64 px: {s['psnr']:.2f} dB / SSIM {s['ssim']:.3f}, {s['parameters']} parameters"
-        line += (f"; smallest within {SUFFICES_DB:g} dB of the best: {small['kind']}, width {small['width']}, "
-                 f"{small['image']} px, {small['parameters']} parameters")
+        line += (
+            f"; smallest within {SUFFICES_DB:g} dB of the best: {small['kind']}, width {small['width']}, "
+            f"{small['image']} px, {small['parameters']} parameters"
+        )
         if shipped and small is shipped[0]:
             line += " -- the shipped one."
         elif shipped:
-            line += (f" -- {shipped[0]['parameters'] / small['parameters']:.1f}x fewer parameters than shipped would "
-                     f"suffice at this training time.")
+            line += (
+                f" -- {shipped[0]['parameters'] / small['parameters']:.1f}x fewer parameters than shipped would "
+                f"suffice at this training time."
+            )
         else:
             line += "."
         text.append("- " + line)
@@ -666,67 +1004,179 @@ def table(rows, cols):
     return "\n".join(lines)
 
 
-md = [f"# Speed against accuracy, stability, model size{' (quick run)' if args.quick else ''}", "",
-      f"Produced by `Testing/Benchmarks/report.py{' --quick' if args.quick else ''}` on 2 cores in "
-      f"{(time.time() - started) / 60:.1f} min. Raw numbers: `report.json`.", ""]
+md = [
+    f"# Speed against accuracy, stability, model size{' (quick run)' if args.quick else ''}",
+    "",
+    f"Produced by `Testing/Benchmarks/report.py{' --quick' if args.quick else ''}` on 2 cores in "
+    f"{(time.time() - started) / 60:.1f} min. Raw numbers: `report.json`.",
+    "",
+]
 for volume, preset_name in CASES:
-    md += [f"## Screenshot -> TF: {volume} ({preset_name})", "", f"![methods](report_methods.png)", "",
-           table(results["cases"][volume]["methods"],
-                 [("method", lambda r: r["method"]), ("iterations", lambda r: str(r["budget"] or "-")),
-                  ("time s", lambda r: f"{r['seconds']:.2f}"), ("PSNR ref", lambda r: f"{r['psnr']:.2f}"),
-                  ("SSIM ref", lambda r: f"{r['ssim']:.4f}"), ("PSNR unseen", lambda r: f"{r['psnr_unseen']:.2f}"),
-                  ("SSIM unseen", lambda r: f"{r['ssim_unseen']:.4f}")]), ""]
-md += ["(b), the paper's neural path, needs a U-Net bundle: in the full run the model sweep's Tooth U-Net (1.5 min "
-       "of training, a 2000-design outline); the shipped models are decoders, whose render at a view is the ray "
-       "cast of their decoded TF, so for them (b) is (b') + reconstruction. " +
-       ("" if UNET else "This run has no U-Net (quick run): (b) is not measured. ") +
-       f"(d) fits {PRIMITIVES} Gaussian primitives (mean, width, colour, peak opacity each) through the same "
-       "renderer adjoint.", ""]
+    md += [
+        f"## Screenshot -> TF: {volume} ({preset_name})",
+        "",
+        f"![methods](report_methods.png)",
+        "",
+        table(
+            results["cases"][volume]["methods"],
+            [
+                ("method", lambda r: r["method"]),
+                ("iterations", lambda r: str(r["budget"] or "-")),
+                ("time s", lambda r: f"{r['seconds']:.2f}"),
+                ("PSNR ref", lambda r: f"{r['psnr']:.2f}"),
+                ("SSIM ref", lambda r: f"{r['ssim']:.4f}"),
+                ("PSNR unseen", lambda r: f"{r['psnr_unseen']:.2f}"),
+                ("SSIM unseen", lambda r: f"{r['ssim_unseen']:.4f}"),
+            ],
+        ),
+        "",
+    ]
+md += [
+    "(b), the paper's neural path, needs a U-Net bundle: in the full run the model sweep's Tooth U-Net (1.5 min "
+    "of training, a 2000-design outline); the shipped models are decoders, whose render at a view is the ray "
+    "cast of their decoded TF, so for them (b) is (b') + reconstruction. "
+    + ("" if UNET else "This run has no U-Net (quick run): (b) is not measured. ")
+    + f"(d) fits {PRIMITIVES} Gaussian primitives (mean, width, colour, peak opacity each) through the same "
+    "renderer adjoint.",
+    "",
+]
 md += ["## Stability: where each method breaks", "", "![stability](report_stability.png)", ""]
 fails = {}
 for volume in CASE_OBJECTS:
     st = results["cases"][volume]["stability"]
-    md += [f"### {volume}", "", table(st, [("perturbation", lambda r: r["perturbation"]), ("strength", lambda r: r["label"]),
-                                          ("method", lambda r: r["method"]), ("PSNR", lambda r: f"{r['psnr']:.1f}"),
-                                          ("success", lambda r: "yes" if r["success"] else "no")]), ""]
+    md += [
+        f"### {volume}",
+        "",
+        table(
+            st,
+            [
+                ("perturbation", lambda r: r["perturbation"]),
+                ("strength", lambda r: r["label"]),
+                ("method", lambda r: r["method"]),
+                ("PSNR", lambda r: f"{r['psnr']:.1f}"),
+                ("success", lambda r: "yes" if r["success"] else "no"),
+            ],
+        ),
+        "",
+    ]
     for r in st:
         if not r["success"]:
             fails.setdefault((r["perturbation"], r["method"]), []).append(f"{volume} {r['label']}")
 md += ["Failures seen (perturbation, method: cases):", ""]
 md += [f"- {k[0]}, {k[1]}: {', '.join(v)}" for k, v in sorted(fails.items())] or ["- none"]
-rate = {m: np.mean([r["success"] for v in CASE_OBJECTS for r in results["cases"][v]["stability"] if r["method"] == m])
-        for m in STABLE_METHODS}
+rate = {
+    m: np.mean(
+        [
+            r["success"]
+            for v in CASE_OBJECTS
+            for r in results["cases"][v]["stability"]
+            if r["method"] == m
+        ]
+    )
+    for m in STABLE_METHODS
+}
 best = max(rate, key=rate.get)
-md += ["", "Success rate over all perturbations: " + ", ".join(f"{m} {100 * s:.0f} %" for m, s in rate.items()) +
-       f". Most robust here: {best}.", ""]
-md += ["## Optimisation", "", "![optimisation](report_optimisation.png)", "",
-       f"{len(runs)} random initial TFs with their own pixel-sampling seeds, 300 steps: PSNR "
-       f"{np.nanmin([r['psnr'] for r in runs]):.2f}..{np.nanmax([r['psnr'] for r in runs]):.2f} dB "
-       f"(median {np.nanmedian([r['psnr'] for r in runs]):.2f}), non-finite results: "
-       f"{sum(not r['finite'] for r in runs)}.", "",
-       table(rates, [("learning rate", lambda r: f"{r['lr']}"), ("PSNR", lambda r: f"{r['psnr']:.2f}"),
-                     ("time s", lambda r: f"{r['seconds']:.2f}")]), "",
-       "## TF resolution and smoothness prior (Tooth, 300 steps)", "", "![resolution](report_tf_resolution.png)", "",
-       table(resolution, [("bins", lambda r: str(r["bins"])), ("smoothness", lambda r: str(r["smoothness"])),
-                          ("PSNR ref", lambda r: f"{r['psnr']:.2f}"), ("PSNR unseen", lambda r: f"{r['psnr_unseen']:.2f}"),
-                          ("time s", lambda r: f"{r['seconds']:.2f}")]), "",
-       "## Renderer (Engine, engine_block)", "", "![renderer](report_renderer.png)", "",
-       table(renderer, [("size", lambda r: f"{r['size']}^2"), ("ours ms", lambda r: f"{r['ours_ms']:.1f}"),
-                        ("VTK ms", lambda r: f"{r['vtk_ms']:.1f}"), ("ours fwd+adjoint ms", lambda r: f"{r['forward_backward_ms']:.1f}"),
-                        ("PyTorch autograd ms", lambda r: f"{r['torch_forward_backward_ms']:.1f}"
-                         if r.get("torch_forward_backward_ms") else "-")]), "",
-       f"Samples per voxel (sample distance = mean spacing / S), {sample_size}^2:", "",
-       table(samples, [("samples/voxel", lambda r: f"{r['samples_per_voxel']:g}"), ("ours ms", lambda r: f"{r['ours_ms']:.1f}"),
-                       ("VTK ms", lambda r: f"{r['vtk_ms']:.1f}"), ("ours fwd+adjoint ms", lambda r: f"{r['forward_backward_ms']:.1f}")]),
-       ""]
+md += [
+    "",
+    "Success rate over all perturbations: "
+    + ", ".join(f"{m} {100 * s:.0f} %" for m, s in rate.items())
+    + f". Most robust here: {best}.",
+    "",
+]
+md += [
+    "## Optimisation",
+    "",
+    "![optimisation](report_optimisation.png)",
+    "",
+    f"{len(runs)} random initial TFs with their own pixel-sampling seeds, 300 steps: PSNR "
+    f"{np.nanmin([r['psnr'] for r in runs]):.2f}..{np.nanmax([r['psnr'] for r in runs]):.2f} dB "
+    f"(median {np.nanmedian([r['psnr'] for r in runs]):.2f}), non-finite results: "
+    f"{sum(not r['finite'] for r in runs)}.",
+    "",
+    table(
+        rates,
+        [
+            ("learning rate", lambda r: f"{r['lr']}"),
+            ("PSNR", lambda r: f"{r['psnr']:.2f}"),
+            ("time s", lambda r: f"{r['seconds']:.2f}"),
+        ],
+    ),
+    "",
+    "## TF resolution and smoothness prior (Tooth, 300 steps)",
+    "",
+    "![resolution](report_tf_resolution.png)",
+    "",
+    table(
+        resolution,
+        [
+            ("bins", lambda r: str(r["bins"])),
+            ("smoothness", lambda r: str(r["smoothness"])),
+            ("PSNR ref", lambda r: f"{r['psnr']:.2f}"),
+            ("PSNR unseen", lambda r: f"{r['psnr_unseen']:.2f}"),
+            ("time s", lambda r: f"{r['seconds']:.2f}"),
+        ],
+    ),
+    "",
+    "## Renderer (Engine, engine_block)",
+    "",
+    "![renderer](report_renderer.png)",
+    "",
+    table(
+        renderer,
+        [
+            ("size", lambda r: f"{r['size']}^2"),
+            ("ours ms", lambda r: f"{r['ours_ms']:.1f}"),
+            ("VTK ms", lambda r: f"{r['vtk_ms']:.1f}"),
+            ("ours fwd+adjoint ms", lambda r: f"{r['forward_backward_ms']:.1f}"),
+            (
+                "PyTorch autograd ms",
+                lambda r: f"{r['torch_forward_backward_ms']:.1f}"
+                if r.get("torch_forward_backward_ms")
+                else "-",
+            ),
+        ],
+    ),
+    "",
+    f"Samples per voxel (sample distance = mean spacing / S), {sample_size}^2:",
+    "",
+    table(
+        samples,
+        [
+            ("samples/voxel", lambda r: f"{r['samples_per_voxel']:g}"),
+            ("ours ms", lambda r: f"{r['ours_ms']:.1f}"),
+            ("VTK ms", lambda r: f"{r['vtk_ms']:.1f}"),
+            ("ours fwd+adjoint ms", lambda r: f"{r['forward_backward_ms']:.1f}"),
+        ],
+    ),
+    "",
+]
 if models:
-    md += ["## Model kind and size (equal training time per configuration)", "", "![models](report_models.png)", "",
-           table(models, [("volume", lambda r: r["volume"]), ("kind", lambda r: r["kind"]), ("width", lambda r: str(r["width"])),
-                          ("image", lambda r: str(r["image"])), ("parameters", lambda r: str(r["parameters"])),
-                          ("ms (analyzer + renderer)", lambda r: f"{r['analyzer_ms'] + r['renderer_ms']:.1f}"),
-                          ("PSNR", lambda r: f"{r['psnr']:.2f}"), ("SSIM", lambda r: f"{r['ssim']:.3f}"),
-                          ("EMD", lambda r: f"{r['emd']:.2f}")]), "",
-           shipped_text(models), ""]
+    md += [
+        "## Model kind and size (equal training time per configuration)",
+        "",
+        "![models](report_models.png)",
+        "",
+        table(
+            models,
+            [
+                ("volume", lambda r: r["volume"]),
+                ("kind", lambda r: r["kind"]),
+                ("width", lambda r: str(r["width"])),
+                ("image", lambda r: str(r["image"])),
+                ("parameters", lambda r: str(r["parameters"])),
+                (
+                    "ms (analyzer + renderer)",
+                    lambda r: f"{r['analyzer_ms'] + r['renderer_ms']:.1f}",
+                ),
+                ("PSNR", lambda r: f"{r['psnr']:.2f}"),
+                ("SSIM", lambda r: f"{r['ssim']:.3f}"),
+                ("EMD", lambda r: f"{r['emd']:.2f}"),
+            ],
+        ),
+        "",
+        shipped_text(models),
+        "",
+    ]
 with open(os.path.join(args.out, "report.json"), "w") as f:
     json.dump(results, f, indent=1)
 with open(os.path.join(args.out, "report.md"), "w") as f:

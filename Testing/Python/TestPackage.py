@@ -23,19 +23,30 @@ os.makedirs(outdir, exist_ok=True)
 server = None
 if remote:
     import paraview.simple as simple
+
     with socket.socket() as s:
         s.bind(("localhost", 0))
         port = s.getsockname()[1]
-    server = subprocess.Popen(["pvserver", f"--server-port={port}"], stdout=subprocess.PIPE,
-                              stderr=subprocess.STDOUT, text=True)
+    server = subprocess.Popen(
+        ["pvserver", f"--server-port={port}"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
     for line in server.stdout:
         if "Accepting connection" in line or "Waiting for client" in line:
             break
     simple.Connect("localhost", port)
 
 import ddg  # noqa: E402  (loads the plugin, remotely too when connected)
-from paraview.simple import (GetActiveView, GetColorTransferFunction, GetDisplayProperties,  # noqa: E402
-                             GetOpacityTransferFunction, Show, XMLImageDataReader)
+from paraview.simple import (
+    GetActiveView,
+    GetColorTransferFunction,
+    GetDisplayProperties,  # noqa: E402
+    GetOpacityTransferFunction,
+    Show,
+    XMLImageDataReader,
+)
 
 
 def cli(*args):
@@ -43,7 +54,7 @@ def cli(*args):
 
 
 def psnr(a, b):
-    return 10 * np.log10(255.0 ** 2 / max(1e-12, np.mean((a.astype(float) - b.astype(float)) ** 2)))
+    return 10 * np.log10(255.0**2 / max(1e-12, np.mean((a.astype(float) - b.astype(float)) ** 2)))
 
 
 volume = ddg.data_path("Volumes/tooth.vti")
@@ -70,36 +81,91 @@ check("load_model", model.directory == os.path.abspath(model_dir))
 
 g = ddg.gallery(tooth, model, count=16, seed=3)
 listed = os.path.join(outdir, "list.csv")
-cli("gallery", "--model", model_dir, "--volume", volume, "--count", "16", "--seed", "3", "--thumb", "8",
-    "--side", "64", "--list", listed, "--out", os.path.join(outdir, "sheet.png"))
+cli(
+    "gallery",
+    "--model",
+    model_dir,
+    "--volume",
+    volume,
+    "--count",
+    "16",
+    "--seed",
+    "3",
+    "--thumb",
+    "8",
+    "--side",
+    "64",
+    "--list",
+    listed,
+    "--out",
+    os.path.join(outdir, "sheet.png"),
+)
 cli_rows = [int(line.split(",")[0]) for line in open(listed).read().split("\n")[1:] if line]
-check("gallery", g.thumbnails == cli_rows and len(g.x) == 50000 and g.sheet.ndim == 3,
-      f"{len(g.x)} designs, thumbnails {g.thumbnails[:4]}..., sheet {g.sheet.shape}")
+check(
+    "gallery",
+    g.thumbnails == cli_rows and len(g.x) == 50000 and g.sheet.ndim == 3,
+    f"{len(g.x)} designs, thumbnails {g.thumbnails[:4]}..., sheet {g.sheet.shape}",
+)
 
 found = ddg.query(shot, view=view_file)
-out = cli("query", "--model", model_dir, "--volume", volume, "--image", shot, "--view", view_file,
-          "--out-tf", os.path.join(outdir, "query_tf.json"))
+out = cli(
+    "query",
+    "--model",
+    model_dir,
+    "--volume",
+    volume,
+    "--image",
+    shot,
+    "--view",
+    view_file,
+    "--out-tf",
+    os.path.join(outdir, "query_tf.json"),
+)
 cli_tf = json.load(open(os.path.join(outdir, "query_tf.json")))[0]
-check("query", found.neighbours == [int(m) for m in re.findall(r"design row (\d+)", out)]
-      and found.transfer_function(view_file)["RGBPoints"] == cli_tf["RGBPoints"],
-      f"neighbours {found.neighbours}, position {tuple(round(p, 2) for p in found.position)}")
+check(
+    "query",
+    found.neighbours == [int(m) for m in re.findall(r"design row (\d+)", out)]
+    and found.transfer_function(view_file)["RGBPoints"] == cli_tf["RGBPoints"],
+    f"neighbours {found.neighbours}, position {tuple(round(p, 2) for p in found.position)}",
+)
 
 picked = ddg.pick(g.thumbnails[0], model)
 history = os.path.join(outdir, "pick.json")
 ddg.export(picked, history, format="history")
-cli("replay", "--model", model_dir, "--volume", volume, "--history", history, "--view", view_file,
-    "--out-tf", os.path.join(outdir, "pick_tf.json"))
-check("pick + export history", picked.transfer_function(view_file)["RGBPoints"]
-      == json.load(open(os.path.join(outdir, "pick_tf.json")))[0]["RGBPoints"])
+cli(
+    "replay",
+    "--model",
+    model_dir,
+    "--volume",
+    volume,
+    "--history",
+    history,
+    "--view",
+    view_file,
+    "--out-tf",
+    os.path.join(outdir, "pick_tf.json"),
+)
+check(
+    "pick + export history",
+    picked.transfer_function(view_file)["RGBPoints"]
+    == json.load(open(os.path.join(outdir, "pick_tf.json")))[0]["RGBPoints"],
+)
 
 a, b = found, picked
-check("interpolate", np.allclose(ddg.interpolate(a, b, 0).latent, a.latent, atol=1e-6)
-      and np.allclose(ddg.interpolate(a, b, 1).latent, b.latent, atol=1e-6)
-      and not np.allclose(ddg.interpolate(a, b, 0.5).latent, a.latent, atol=1e-3))
+check(
+    "interpolate",
+    np.allclose(ddg.interpolate(a, b, 0).latent, a.latent, atol=1e-6)
+    and np.allclose(ddg.interpolate(a, b, 1).latent, b.latent, atol=1e-6)
+    and not np.allclose(ddg.interpolate(a, b, 0.5).latent, a.latent, atol=1e-3),
+)
 
 edited = ddg.edit(found, cluster=0, hue=90, axes=[0.5], view=view_file)
-check("edit", not np.allclose(edited.latent, found.latent, atol=1e-4) and len(found.evaluate(view_file)["clusters"]) >= 1,
-      f"{edited}")
+check(
+    "edit",
+    not np.allclose(edited.latent, found.latent, atol=1e-4)
+    and len(found.evaluate(view_file)["clusters"]) >= 1,
+    f"{edited}",
+)
 
 tf = ddg.reconstruct(shot, view=white, iterations=300)
 ours = ddg.render(tooth, tf, white)
@@ -107,37 +173,70 @@ reader = vtkPNGReader()
 reader.SetFileName(shot)
 reader.Update()
 w, h, _ = reader.GetOutput().GetDimensions()
-target = numpy_support.vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(h, w, -1)[::-1, :, :3]
-check("reconstruct + render", psnr(ours, target) > 40, f"our render of the TF vs. the screenshot {psnr(ours, target):.1f} dB")
+target = numpy_support.vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(
+    h, w, -1
+)[::-1, :, :3]
+check(
+    "reconstruct + render",
+    psnr(ours, target) > 40,
+    f"our render of the TF vs. the screenshot {psnr(ours, target):.1f} dB",
+)
 
-cli("render", "--volume", volume, "--tf", os.path.join(outdir, "query_tf.json"), "--view", view_file,
-    "--out", os.path.join(outdir, "cli_render.png"))
+cli(
+    "render",
+    "--volume",
+    volume,
+    "--tf",
+    os.path.join(outdir, "query_tf.json"),
+    "--view",
+    view_file,
+    "--out",
+    os.path.join(outdir, "cli_render.png"),
+)
 reader.SetFileName(os.path.join(outdir, "cli_render.png"))
 reader.Update()
-cli_img = numpy_support.vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(h, w, -1)[::-1, :, :3]
+cli_img = numpy_support.vtk_to_numpy(reader.GetOutput().GetPointData().GetScalars()).reshape(
+    h, w, -1
+)[::-1, :, :3]
 check("render", psnr(ddg.render(tooth, found, view_file), cli_img) > 99, "identical to ddg render")
 
 ddg.apply(found, display)
 lut = GetColorTransferFunction(tooth.PointData.keys()[0])
-check("apply", list(lut.RGBPoints) == found.transfer_function(ddg.view_json(GetActiveView(), tooth, 256))["RGBPoints"]
-      and display.Representation == "Volume")
+check(
+    "apply",
+    list(lut.RGBPoints)
+    == found.transfer_function(ddg.view_json(GetActiveView(), tooth, 256))["RGBPoints"]
+    and display.Representation == "Volume",
+)
 
 preset_file = ddg.export(found, os.path.join(outdir, "found.json"), view=view_file)
-slicer_file = ddg.export(found, os.path.join(outdir, "found.vp.json"), format="slicer", view=view_file)
-check("export", json.load(open(preset_file))[0]["RGBPoints"] == cli_tf["RGBPoints"]
-      and "volumeProperties" in json.load(open(slicer_file)))
+slicer_file = ddg.export(
+    found, os.path.join(outdir, "found.vp.json"), format="slicer", view=view_file
+)
+check(
+    "export",
+    json.load(open(preset_file))[0]["RGBPoints"] == cli_tf["RGBPoints"]
+    and "volumeProperties" in json.load(open(slicer_file)),
+)
 
 before = list(lut.RGBPoints)
 frames = ddg.animate(a, b, 3)
-check("animate", len(frames) == 3 and psnr(frames[0], frames[2]) < 40 and list(lut.RGBPoints) == before,
-      f"3 frames, first vs last {psnr(frames[0], frames[2]):.1f} dB, colour map restored")
+check(
+    "animate",
+    len(frames) == 3 and psnr(frames[0], frames[2]) < 40 and list(lut.RGBPoints) == before,
+    f"3 frames, first vs last {psnr(frames[0], frames[2]):.1f} dB, colour map restored",
+)
 
 if not remote:  # the build writes where the filter runs; here the same machine
     small = XMLImageDataReader(FileName=[os.path.join(testdata, "small.vti")])
-    built = ddg.build_design_space(small, os.path.join(outdir, "built"), count=16, size=16, iterations=10,
-                                   outline=20)
-    check("build_design_space", os.path.exists(os.path.join(built.directory, "outline.bin"))
-          and len(ddg.gallery(small, built, count=4, thumbnail_size=16).x) == 20)
+    built = ddg.build_design_space(
+        small, os.path.join(outdir, "built"), count=16, size=16, iterations=10, outline=20
+    )
+    check(
+        "build_design_space",
+        os.path.exists(os.path.join(built.directory, "outline.bin"))
+        and len(ddg.gallery(small, built, count=4, thumbnail_size=16).x) == 20,
+    )
 
 try:
     ddg.query(os.path.join(testdata, "garbage.png"), source=tooth, view=view_file)
@@ -145,7 +244,9 @@ try:
 except ddg.DDGError as e:
     check("bad input raises DDGError", True, str(e).splitlines()[0][:80])
 
-print(f"{len(checks)} checks passed in {time.time() - start:.1f} s ({'client/server' if remote else 'builtin'})")
+print(
+    f"{len(checks)} checks passed in {time.time() - start:.1f} s ({'client/server' if remote else 'builtin'})"
+)
 if server:
     simple.Disconnect()
     try:

@@ -24,10 +24,15 @@ distinct = [states[0]]
 for s in states[1:]:
     if not same(s, distinct[-1]):
         distinct.append(s)
-names = ["initial" if same(s, initial) else "expected" if same(s, expected) else "other" for s in distinct]
+names = [
+    "initial" if same(s, initial) else "expected" if same(s, expected) else "other"
+    for s in distinct
+]
 print("colour map states:", " -> ".join(names), f"({len(expected) // 4} expected control points)")
-want = {"apply": ["initial", "expected"],
-        "apply-undo-apply": ["initial", "expected", "initial", "expected"]}[sequence]
+want = {
+    "apply": ["initial", "expected"],
+    "apply-undo-apply": ["initial", "expected", "initial", "expected"],
+}[sequence]
 if names != want:
     sys.exit(f"the colour map went {names}, expected {want}")
 print("RGBPoints equal the ddg command line's preset (relative tolerance 1e-6)")

@@ -21,7 +21,9 @@ if os.environ.get("DDG_GUI_CASE") == "sphere":
     SetActiveSource(sphere)
     Render()
 else:
-    tooth = XMLImageDataReader(registrationName="tooth.vti", FileName=[os.path.join(data, "Volumes", "tooth.vti")])
+    tooth = XMLImageDataReader(
+        registrationName="tooth.vti", FileName=[os.path.join(data, "Volumes", "tooth.vti")]
+    )
     tooth.UpdatePipeline()
     display = Show(tooth, view)
     display.SetRepresentationType("Volume")
