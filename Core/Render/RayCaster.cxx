@@ -319,6 +319,14 @@ double RayCaster::defaultOpacityUnitDistance() const
   return diag / std::cbrt(cells);
 }
 
+ParaViewTransfer2DMapping RayCaster::paraviewMapping2D(const View& view) const
+{
+  const auto& v = In->Vol;
+  return ParaViewTransfer2DMapping::forVolume(v.dims(), v.spacing(), v.range(),
+    defaultSampleDistance(),
+    view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance());
+}
+
 TransferTable1D RayCaster::paraviewTable(const TransferFunction1D& tf) const
 {
   const auto& r = In->Vol.range();

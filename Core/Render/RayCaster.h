@@ -4,6 +4,7 @@
 
 #include "Image/Image.h"
 #include "Render/View.h"
+#include "TransferFunction/ParaViewTransferFunction2D.h"
 #include "TransferFunction/TransferFunction1D.h"
 #include "TransferFunction/TransferFunction2D.h"
 #include "Volume/Volume.h"
@@ -87,6 +88,10 @@ public:
   double defaultSampleDistance() const;
   /// ParaView's default Scalar Opacity Unit Distance: |bounds diagonal| / cbrt(cell count).
   double defaultOpacityUnitDistance() const;
+
+  /// How ParaView's TransferFunction2D maps onto this volume's 2D TFs at `view` (its opacity
+  /// unit distance, else the default; ParaView's sample distance): for fitParaViewBoxes.
+  ParaViewTransfer2DMapping paraviewMapping2D(const View& view) const;
 
   /// The table ParaView builds for `tf` over this volume's data range.
   TransferTable1D paraviewTable(const TransferFunction1D& tf) const;

@@ -42,6 +42,7 @@ double msSince(Clock::time_point t0)
 struct ExportArgs
 {
   std::string tf, volume, out, format = "paraview", view;
+  int boxIterations = ddg::ParaViewBoxFitOptions().iterations;
 };
 
 int runExport(const ExportArgs& a)
@@ -55,6 +56,23 @@ int runExport(const ExportArgs& a)
     const auto view = ddg::readView(a.view);
     if (view.opacityUnitDistance)
       unit = *view.opacityUnitDistance;
+  }
+  if (a.format == "paraview-2d")
+  {
+    if (!tf.is2D)
+      throw ddg::Error(
+        "--format paraview-2d exports 2D TFs; a 1D TF is a ParaView preset (paraview)");
+    ddg::View view;
+    view.opacityUnitDistance = unit;
+    ddg::ParaViewBoxFitReport report;
+    ddg::ParaViewBoxFitOptions options;
+    options.iterations = a.boxIterations;
+    const auto pv =
+      ddg::fitParaViewBoxes(tf.tf2D, caster.paraviewMapping2D(view), options, &report);
+    ddg::writeFileAtomic(a.out, pv.toJson(&report), "ParaView 2D transfer function");
+    std::printf("wrote %s (paraview-2d: %zu boxes; fit RMSE %.4f, alpha RMSE %.4f, from %.4f)\n",
+      a.out.c_str(), pv.boxes.size(), report.rmse, report.alphaRmse, report.initialRmse);
+    return 0;
   }
   ddg::exportTransferFunction(tf, a.out, a.format, volume.range(), unit);
   std::printf("wrote %s (%s)\n", a.out.c_str(), a.format.c_str());
@@ -754,8 +772,17 @@ std::function<int()> addGalleryCommands(CLI::App& app)
     ->add_option("--volume", ea->volume, "The volume (its range is Slicer's effective range)")
     ->required();
   exportCmd->add_option("--out", ea->out, "Output file")->required();
-  exportCmd->add_option("--format", ea->format, "paraview (default) or slicer")
-    ->check(CLI::IsMember({ "paraview", "slicer" }));
+  exportCmd
+    ->add_option("--format", ea->format,
+      "paraview (default: preset JSON, or the DDG 2D JSON), slicer (1D), or paraview-2d: a 2D\n"
+      "TF as ParaView 5.11's TransferFunction2D properties {\"Boxes\", \"Range\",\n"
+      "\"OutputDimensions\", \"Fit\"}, Gaussian boxes fitted for this volume (UseTransfer2D)")
+    ->check(CLI::IsMember({ "paraview", "slicer", "paraview-2d" }));
+  exportCmd
+    ->add_option("--box-iterations", ea->boxIterations,
+      "paraview-2d: Adam steps refining the boxes (default 400; 0 = one box per primitive as "
+      "placed)")
+    ->check(CLI::Range(0, 100000));
   exportCmd->add_option("--view", ea->view,
     "View JSON whose opacity_unit_distance the TF was designed with (default: ParaView's)");
   commands.push_back({ exportCmd, [ea] { return runExport(*ea); } });

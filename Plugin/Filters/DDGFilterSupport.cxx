@@ -1,7 +1,9 @@
 // DDGFilterSupport.cxx: whole-extent requests, image output information, errors reported once.
 #include "DDGFilterSupport.h"
 
+#include "Render/RayCaster.h"
 #include "Render/View.h"
+#include "TransferFunction/ParaViewTransferFunction2D.h"
 
 #include <vtkAlgorithm.h>
 #include <vtkAlgorithmOutput.h>
@@ -24,6 +26,13 @@ int updatePiece(vtkInformation* info)
     : 0;
 }
 } // namespace
+
+std::string paraViewTransferFunction2DJson(
+  const RayCaster& caster, const TransferFunction2D& tf, const View& view)
+{
+  ParaViewBoxFitReport report;
+  return fitParaViewBoxes(tf, caster.paraviewMapping2D(view), {}, &report).toJson(&report);
+}
 
 void requestWholeInputExtent(vtkInformationVector** inputVector)
 {

@@ -13,6 +13,16 @@ class vtkInformationVector;
 
 namespace ddg
 {
+class RayCaster;
+struct TransferFunction2D;
+struct View;
+
+/// The "ParaViewTransferFunction2D" field of the filters that output a 2D TF: ParaView boxes
+/// fitted to `tf` for `caster`'s volume at `view` (fitParaViewBoxes), as the JSON of the
+/// TransferFunction2D proxy's Boxes, Range and OutputDimensions plus the fit's errors ("Fit").
+/// The panel and the ddg Python package write it into the representation's TransferFunction2D.
+DDGFILTERS_EXPORT std::string paraViewTransferFunction2DJson(
+  const RayCaster& caster, const TransferFunction2D& tf, const View& view);
 
 /// Asks for the input's whole extent (the filters need the whole volume, whatever image extent
 /// is requested downstream). Distributed runs (pvserver under MPI): piece 0 asks for the whole

@@ -188,8 +188,13 @@ int vtkDDGDesign::RequestData(
     const double unit = view.opacityUnitDistance ? *view.opacityUnitDistance
                                                  : gallery.caster().defaultOpacityUnitDistance();
     if (tf.is2D)
+    {
       addField<vtkStringArray>(design, "TransferFunction2D",
         std::vector<std::string>{ ddg::transferFunction2DToJson(tf.tf2D) });
+      addField<vtkStringArray>(design, "ParaViewTransferFunction2D",
+        std::vector<std::string>{
+          ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view) });
+    }
     else
     {
       addField<vtkStringArray>(

@@ -136,6 +136,13 @@ int vtkDDGQuery::RequestData(
     text->InsertNextValue(
       tf.is2D ? ddg::transferFunction2DToJson(tf.tf2D) : ddg::presetToJson(tf.tf1D));
     designs->GetFieldData()->AddArray(text);
+    if (tf.is2D)
+    {
+      auto boxes = vtkSmartPointer<vtkStringArray>::New();
+      boxes->SetName("ParaViewTransferFunction2D");
+      boxes->InsertNextValue(ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view));
+      designs->GetFieldData()->AddArray(boxes);
+    }
     this->UpdateProgress(1.0);
     this->Internal->Errors.clear();
     this->LastError.clear();

@@ -5,6 +5,7 @@
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
 #include "DDGVolumeAdaptor.h"
+#include "Render/RayCaster.h"
 
 #include "Common/FileUtil.h"
 #include "Image/Image.h"
@@ -142,6 +143,8 @@ int vtkDDGReconstructTransferFunction::RequestData(
       tf.table = t;
       json = ddg::transferFunction2DToJson(tf);
       addString(output->GetFieldData(), "TransferFunction2D", json);
+      addString(output->GetFieldData(), "ParaViewTransferFunction2D",
+        ddg::paraViewTransferFunction2DJson(ddg::RayCaster(volume), tf, target.view));
     }
     else
     {

@@ -12,11 +12,14 @@
 #include <vtkDataArray.h>
 #include <vtkDataObject.h>
 #include <vtkDataSetAttributes.h>
+#include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
 #include <vtkInformationVector.h>
 #include <vtkObjectFactory.h>
+#include <vtkSmartPointer.h>
 #include <vtkStreamingDemandDrivenPipeline.h>
+#include <vtkStringArray.h>
 
 vtkStandardNewMacro(vtkDDGVolumeRender);
 
@@ -124,6 +127,13 @@ int vtkDDGVolumeRender::RequestData(
       ? caster.render(tf.tf2D.bake(), view, options, progress)
       : caster.render(caster.paraviewTable(tf.tf1D), view, options, progress);
     ddg::toVTKImage(image, view.background, output);
+    if (tf.is2D) // what ParaView's TransferFunction2D needs to render the same (ddg.apply)
+    {
+      auto boxes = vtkSmartPointer<vtkStringArray>::New();
+      boxes->SetName("ParaViewTransferFunction2D");
+      boxes->InsertNextValue(ddg::paraViewTransferFunction2DJson(caster, tf.tf2D, view));
+      output->GetFieldData()->AddArray(boxes);
+    }
     this->Internal->Errors.clear();
   }
   catch (const ddg::Cancelled&)

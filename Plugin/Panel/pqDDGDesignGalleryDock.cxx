@@ -416,6 +416,7 @@ pqDDGDesignGalleryDock::~pqDDGDesignGalleryDock() = default;
 void pqDDGDesignGalleryDock::setStatus(const QString& text, bool error)
 {
   this->Status->setText(text);
+  this->Status->setToolTip(QString());
   this->Status->setStyleSheet(error ? "color: #b00000;" : "");
 }
 
@@ -437,6 +438,7 @@ void pqDDGDesignGalleryDock::clearModel()
   this->Boxes.clear();
   this->Steps = this->Latent = this->LockSteps = QJsonArray();
   this->Preset.clear();
+  this->ParaView2D.clear();
   this->Slicer.clear();
   this->PreviewImage = QImage();
   this->Preview->clear();
@@ -866,6 +868,7 @@ bool pqDDGDesignGalleryDock::updateDesign()
   this->Preset = fieldString(table, "Preset");
   if (this->Preset.isEmpty())
     this->Preset = fieldString(table, "TransferFunction2D");
+  this->ParaView2D = fieldString(table, "ParaViewTransferFunction2D");
   this->Slicer = fieldString(table, "Slicer");
   const QJsonArray position = fieldArray(table, "Position");
   const QJsonArray fidelity = fieldArray(table, "Fidelity");
@@ -1176,14 +1179,12 @@ void pqDDGDesignGalleryDock::apply()
 {
   if (!this->ready(true) || !this->updateDesign()) // the TF at the current camera
     return;
-  if (this->Preset.contains("\"TransferFunction2D\"") || !this->Preset.contains("RGBPoints"))
-  {
-    this->setStatus(
-      tr("2D transfer functions are exported (Export preset...), not applied."), true);
-    return;
-  }
-  const QString error = ddgpanel::applyPreset(this->representation(), this->Array, this->Preset,
-    tr("Apply Design Gallery Transfer Function"));
+  const bool twoD = !this->ParaView2D.isEmpty();
+  const QString error = twoD
+    ? ddgpanel::applyTransferFunction2D(this->representation(), this->Array, this->ParaView2D,
+        tr("Apply Design Gallery 2D Transfer Function"))
+    : ddgpanel::applyPreset(this->representation(), this->Array, this->Preset,
+        tr("Apply Design Gallery Transfer Function"));
   if (!error.isEmpty())
   {
     this->setStatus(tr("Apply failed: %1").arg(error), true);
@@ -1191,6 +1192,20 @@ void pqDDGDesignGalleryDock::apply()
   }
   if (auto* view = pqActiveObjects::instance().activeView())
     view->render();
+  if (twoD)
+  {
+    const QJsonObject pv = QJsonDocument::fromJson(this->ParaView2D.toUtf8()).object();
+    this->setStatus(tr("Applied to '%1' as ParaView 2D boxes (Edit > Undo takes it back; the Color "
+                       "Map Editor's 2D editor shows them).")
+                      .arg(this->Source->getSMName()));
+    this->Status->setToolTip(
+      tr("%1 Gaussian boxes fitted to the design: RMSE %2 of emission and "
+         "per-sample opacity (largest opacity %3)")
+        .arg(pv.value("Boxes").toArray().size() / 8)
+        .arg(pv.value("Fit").toObject().value("rmse").toDouble(), 0, 'f', 4)
+        .arg(pv.value("Fit").toObject().value("max_alpha").toDouble(), 0, 'f', 3));
+    return;
+  }
   this->setStatus(tr("Applied to '%1' (Edit > Undo takes it back; the Color Map Editor shows it).")
                     .arg(this->Source->getSMName()));
 }

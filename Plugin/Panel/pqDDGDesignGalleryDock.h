@@ -132,6 +132,7 @@ private:
   QJsonArray Steps;
   QJsonArray Latent;
   QString Preset, Slicer;
+  QString ParaView2D; ///< 2D designs: the TransferFunction2D proxy's properties (JSON)
   QJsonObject DesignView;
   QImage PreviewImage;
   QVector<Pin> PinList;

@@ -8,6 +8,7 @@
 #include <pqRenderView.h>
 #include <pqServer.h>
 #include <pqUndoStack.h>
+#include <pqView.h>
 
 #include <vtkDataObject.h>
 #include <vtkPVDataMover.h>
@@ -17,6 +18,7 @@
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
 
+#include <QCoreApplication>
 #include <QJsonArray>
 #include <QJsonDocument>
 
@@ -89,6 +91,59 @@ QString jsonText(const QJsonObject& object)
   return QString::fromUtf8(QJsonDocument(object).toJson(QJsonDocument::Compact));
 }
 
+namespace
+{
+// Shared by the 1D and 2D apply: switches `repr` to Volume coloured by `array` and lets `write`
+// fill its maps (representation, LookupTable, ScalarOpacityFunction), as one undo step.
+template <typename Write>
+QString applyMaps(pqDataRepresentation* repr, const QString& array, const QString& label,
+  bool undoable, bool twoD, Write write)
+{
+  vtkSMProxy* reprProxy = repr->getProxy();
+  if (!reprProxy->GetProperty("LookupTable"))
+    return "the active representation has no colour map";
+  if (undoable)
+    BEGIN_UNDO_SET(label);
+  if (reprProxy->GetProperty("UseTransfer2D")) // 1D or 2D rendering
+    vtkSMPropertyHelper(reprProxy, "UseTransfer2D").Set(twoD ? 1 : 0);
+  if (auto* pv = vtkSMPVRepresentationProxy::SafeDownCast(reprProxy))
+    pv->SetRepresentationType("Volume");
+  vtkSMPVRepresentationProxy::SetScalarColoring(
+    reprProxy, array.toUtf8().constData(), vtkDataObject::POINT);
+  vtkSMProxy* lut = vtkSMPropertyHelper(reprProxy, "LookupTable").GetAsProxy();
+  vtkSMProxy* sof = reprProxy->GetProperty("ScalarOpacityFunction")
+    ? vtkSMPropertyHelper(reprProxy, "ScalarOpacityFunction").GetAsProxy()
+    : nullptr;
+  QString error = !lut || !sof
+    ? "the representation has no colour or opacity map for '" + array + "'"
+    : QString();
+  if (error.isEmpty())
+  {
+    vtkSMPropertyHelper(lut, "AutomaticRescaleRangeMode").Set(-1); // Never
+    error = write(reprProxy, lut, sof);
+    lut->UpdateVTKObjects();
+    sof->UpdateVTKObjects();
+    reprProxy->UpdateVTKObjects();
+    if (error.isEmpty() && twoD)
+    {
+      // ParaView's Color Map Editor follows UseTransfer2D: when it shows its 2D editor it
+      // computes a 2D histogram and sets the TF's Range and OutputDimensions from it (queued,
+      // after a render). Let it happen here, inside this undo step, then write ours again.
+      if (auto* view = repr->getView())
+        view->forceRender();
+      QCoreApplication::processEvents();
+      error = write(reprProxy, lut, sof);
+    }
+  }
+  if (undoable)
+    END_UNDO_SET();
+  if (error.isEmpty())
+    repr->renderViewEventually();
+  return error;
+}
+
+} // namespace
+
 QString applyPreset(pqDataRepresentation* repr, const QString& array, const QString& presetText,
   const QString& label, bool undoable)
 {
@@ -103,38 +158,51 @@ QString applyPreset(pqDataRepresentation* repr, const QString& array, const QStr
   if (error.error != QJsonParseError::NoError || rgb.empty() || rgb.size() % 4 != 0 ||
     opacity.empty() || opacity.size() % 4 != 0)
     return "the design's transfer function is not a ParaView preset with RGBPoints and Points";
+  return applyMaps(repr, array, label, undoable, false,
+    [&](vtkSMProxy*, vtkSMProxy* lut, vtkSMProxy* sof)
+    {
+      vtkSMPropertyHelper(lut, "ColorSpace")
+        .Set(colorSpace(preset.value("ColorSpace").toString("RGB")));
+      vtkSMPropertyHelper(lut, "RGBPoints").Set(rgb.data(), static_cast<unsigned int>(rgb.size()));
+      vtkSMPropertyHelper(sof, "Points")
+        .Set(opacity.data(), static_cast<unsigned int>(opacity.size()));
+      return QString();
+    });
+}
 
-  vtkSMProxy* reprProxy = repr->getProxy();
-  if (!reprProxy->GetProperty("LookupTable"))
-    return "the active representation has no colour map";
-  if (undoable)
-    BEGIN_UNDO_SET(label);
-  if (auto* pv = vtkSMPVRepresentationProxy::SafeDownCast(reprProxy))
-    pv->SetRepresentationType("Volume");
-  vtkSMPVRepresentationProxy::SetScalarColoring(
-    reprProxy, array.toUtf8().constData(), vtkDataObject::POINT);
-  vtkSMProxy* lut = vtkSMPropertyHelper(reprProxy, "LookupTable").GetAsProxy();
-  vtkSMProxy* sof = reprProxy->GetProperty("ScalarOpacityFunction")
-    ? vtkSMPropertyHelper(reprProxy, "ScalarOpacityFunction").GetAsProxy()
-    : nullptr;
-  if (!lut || !sof)
-  {
-    if (undoable)
-      END_UNDO_SET();
-    return "the representation has no colour or opacity map for '" + array + "'";
-  }
-  vtkSMPropertyHelper(lut, "AutomaticRescaleRangeMode").Set(-1); // Never
-  vtkSMPropertyHelper(lut, "ColorSpace")
-    .Set(colorSpace(preset.value("ColorSpace").toString("RGB")));
-  vtkSMPropertyHelper(lut, "RGBPoints").Set(rgb.data(), static_cast<unsigned int>(rgb.size()));
-  vtkSMPropertyHelper(sof, "Points").Set(opacity.data(), static_cast<unsigned int>(opacity.size()));
-  lut->UpdateVTKObjects();
-  sof->UpdateVTKObjects();
-  reprProxy->UpdateVTKObjects();
-  if (undoable)
-    END_UNDO_SET();
-  repr->renderViewEventually();
-  return {};
+QString applyTransferFunction2D(pqDataRepresentation* repr, const QString& array,
+  const QString& boxesText, const QString& label, bool undoable)
+{
+  if (!repr)
+    return "there is no representation of the volume in the active view";
+  const QJsonObject pv = QJsonDocument::fromJson(boxesText.toUtf8()).object();
+  const auto boxes = numbers(pv.value("Boxes"));
+  const auto range = numbers(pv.value("Range"));
+  const auto dims = numbers(pv.value("OutputDimensions"));
+  if (boxes.empty() || boxes.size() % 8 != 0 || range.size() != 4 || dims.size() != 2)
+    return "the design's 2D transfer function has no ParaView boxes (Boxes, Range, "
+           "OutputDimensions)";
+  if (!repr->getProxy()->GetProperty("UseTransfer2D") ||
+    !repr->getProxy()->GetProperty("TransferFunction2D"))
+    return "the active representation has no 2D transfer function (ParaView 5.11's volume "
+           "representation of image data has)";
+  return applyMaps(repr, array, label, undoable, true,
+    [&](vtkSMProxy* reprProxy, vtkSMProxy*, vtkSMProxy*)
+    {
+      vtkSMProxy* tf2 = vtkSMPropertyHelper(reprProxy, "TransferFunction2D").GetAsProxy();
+      if (!tf2)
+        return QString("the representation has no TransferFunction2D for '%1'").arg(array);
+      vtkSMPropertyHelper(reprProxy, "UseGradientForTransfer2D").Set(1);
+      vtkSMPropertyHelper mode(reprProxy, "VolumeRenderingMode");
+      if (mode.GetAsInt() == 1) // Ray Cast Only: vtkFixedPointVolumeRayCastMapper has no 2D TFs
+        mode.Set(0);            // Smart
+      vtkSMPropertyHelper(tf2, "Range").Set(range.data(), 4);
+      const int size[2] = { static_cast<int>(dims[0]), static_cast<int>(dims[1]) };
+      vtkSMPropertyHelper(tf2, "OutputDimensions").Set(size, 2);
+      vtkSMPropertyHelper(tf2, "Boxes").Set(boxes.data(), static_cast<unsigned int>(boxes.size()));
+      tf2->UpdateVTKObjects();
+      return QString();
+    });
 }
 
 QString currentPreset(pqDataRepresentation* repr)

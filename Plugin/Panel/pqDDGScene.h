@@ -32,11 +32,19 @@ QString jsonText(const QJsonObject& object);
 /// Writes a ParaView preset (JSON text: a preset object or a list whose first element is one,
 /// with "RGBPoints", "Points" and "ColorSpace") into the LookupTable and ScalarOpacityFunction
 /// of `repr`, colouring it by its input's point scalars `array` and switching it to the Volume
-/// representation; the LUT is set not to rescale itself. Recorded on ParaView's undo stack as
-/// one step named `label` when `undoable`. Returns an empty string or the reason it failed (the
-/// scene is then untouched).
+/// representation; the LUT is set not to rescale itself and 2D rendering is turned off. Recorded on
+/// ParaView's undo stack as one step named `label` when `undoable`. Returns an empty string or the
+/// reason it failed (the scene is then untouched).
 QString applyPreset(pqDataRepresentation* repr, const QString& array, const QString& presetText,
   const QString& label, bool undoable = true);
+
+/// Writes a 2D design into `repr`'s TransferFunction2D: `boxesText` is the filters'
+/// "ParaViewTransferFunction2D" field ({"Boxes", "Range", "OutputDimensions"}). Switches the
+/// representation to Volume coloured by `array`, turns UseTransfer2D on (gradient magnitude as
+/// Y; "Ray Cast Only" becomes "Smart", the fixed-point mapper has no 2D TFs) and shows the boxes
+/// in the Color Map Editor's 2D editor. One undo step; returns an empty string or the reason.
+QString applyTransferFunction2D(pqDataRepresentation* repr, const QString& array,
+  const QString& boxesText, const QString& label, bool undoable = true);
 
 /// The current RGBPoints and opacity Points of `repr`'s maps as a preset text (to restore them).
 QString currentPreset(pqDataRepresentation* repr);

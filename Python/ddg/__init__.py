@@ -59,6 +59,7 @@ __all__ = [
     "set_camera",
     "save_image",
     "data_path",
+    "paraview_2d",
     "DDGError",
 ]
 
@@ -382,7 +383,8 @@ class Design:
         """Runs DDG Design at ``view`` (default: the active view's camera, at most 256 pixels):
         a dict with "preview" (numpy image), "latent", "position", "preset", "slicer",
         "clusters" (mean RGB and share of each colour cluster) and with ``fidelity`` "fidelity"
-        (PSNR dB, SSIM, max error)."""
+        (PSNR dB, SSIM, max error); 2D models add "paraview_2d" (the TransferFunction2D proxy's
+        Boxes, Range and OutputDimensions fitted to the design, with the fit's errors)."""
         v = (
             view_json(view, self.model.source, 256)
             if not isinstance(view, (str, dict))
@@ -417,6 +419,9 @@ class Design:
             "slicer": _field_string(table, "Slicer"),
             "clusters": clusters,
         }
+        boxes = _field_string(table, "ParaViewTransferFunction2D")
+        if boxes:
+            out["paraview_2d"] = json.loads(boxes)
         if fidelity:
             out["fidelity"] = tuple(_field_numbers(table, "Fidelity"))
         self._cache[key] = out
@@ -603,25 +608,75 @@ def reconstruct(
     return p[0] if isinstance(p, list) else p
 
 
+def paraview_2d(tf, source=None, view=None):
+    """ParaView 5.11's TransferFunction2D for a 2D TF (Design, DDG 2D JSON dict or file) on
+    ``source``: a dict of the proxy's ``Boxes`` (8 numbers per Gaussian box: lower-left x, y,
+    width, height, r, g, b, a), ``Range`` and ``OutputDimensions``, fitted on the server so that
+    ParaView's 2D rendering matches the project's (its axes are value and gradient magnitude in
+    value units per voxel; alpha per ray sample), and ``Fit`` (rmse, initial_rmse, alpha_rmse,
+    max_alpha on the fit grid). ``view`` gives the opacity unit distance."""
+    source = _source(source)
+    if isinstance(tf, Design):
+        out = tf.evaluate(
+            view_json(view, source, 256) if not isinstance(view, (str, dict)) else view
+        )
+        if "paraview_2d" not in out:
+            raise ValueError("paraview_2d: the design is 1D (apply it as a ParaView preset)")
+        return out["paraview_2d"]
+    d = _tf_dict(tf)
+    if d.get("Format") != "ddg-transfer-function-2d":
+        raise ValueError(
+            'paraview_2d: not a DDG 2D transfer function ("Format": "ddg-transfer-function-2d")'
+        )
+    v = view_json(view, source, 16) if not isinstance(view, (str, dict)) else view_json(view)
+    v["size"] = [8, 8]  # the fit is what is wanted, not the image
+    proxy = _proxy(
+        "DDGVolumeRender", source, TransferFunctionJSON=json.dumps(d), ViewJSON=json.dumps(v)
+    )
+    proxy.UpdatePipeline()
+    boxes = _field_string(servermanager.Fetch(proxy, idx=0), "ParaViewTransferFunction2D")
+    if not boxes:
+        raise DDGError("the 2D transfer function could not be converted (see the Output Messages)")
+    return json.loads(boxes)
+
+
 def apply(tf, display=None, source=None, view=None):
-    """Writes a TF (Design, preset dict or file) into ``display``'s colour and opacity maps
-    (default: the active source's display in the active view; shown first if needed), switches it
-    to the Volume representation and renders. A Design's TF is made at the view's camera.
-    Returns the display."""
+    """Writes a TF (Design, preset dict or file, DDG 2D JSON) into ``display``'s maps (default:
+    the active source's display in the active view; shown first if needed), switches it to the
+    Volume representation and renders. A Design's TF is made at the view's camera. 1D TFs go
+    into the colour and opacity maps (2D rendering off); 2D TFs into ParaView's
+    TransferFunction2D (``paraview_2d``) with UseTransfer2D on. Returns the display."""
     view = view or simple.GetActiveViewOrCreate("RenderView")
     source = _source(source)
     display = display or simple.Show(source, view)
     preset = _tf_dict(tf, view_json(view, source, 256) if isinstance(tf, Design) else None)
-    if "RGBPoints" not in preset:
-        raise ValueError("apply: only 1D transfer functions (ParaView presets) can be applied")
+    two_d = preset.get("Format") == "ddg-transfer-function-2d"
+    if not two_d and "RGBPoints" not in preset:
+        raise ValueError(
+            "apply: a ParaView preset (RGBPoints, Points) or a DDG 2D transfer function"
+        )
+    if two_d and display.GetProperty("UseTransfer2D") is None:
+        raise ValueError("apply: this representation has no 2D transfer function (image data has)")
+    boxes = paraview_2d(tf, source, view) if two_d else None
     display.SetRepresentationType("Volume")
     array = _array(source)
     simple.ColorBy(display, ("POINTS", array))
     lut = simple.GetColorTransferFunction(array)
     lut.AutomaticRescaleRangeMode = "Never"
-    lut.ColorSpace = preset.get("ColorSpace", "RGB")
-    lut.RGBPoints = preset["RGBPoints"]
-    simple.GetOpacityTransferFunction(array).Points = preset["Points"]
+    if display.GetProperty("UseTransfer2D") is not None:
+        display.UseTransfer2D = int(two_d)
+    if two_d:
+        display.UseGradientForTransfer2D = 1
+        if display.VolumeRenderingMode == "Ray Cast Only":  # the fixed-point mapper has no 2D TFs
+            display.VolumeRenderingMode = "Smart"
+        tf2 = display.TransferFunction2D  # the LUT's too: the Color Map Editor's 2D editor shows it
+        tf2.Range = boxes["Range"]
+        tf2.OutputDimensions = boxes["OutputDimensions"]
+        tf2.Boxes = boxes["Boxes"]
+    else:
+        lut.ColorSpace = preset.get("ColorSpace", "RGB")
+        lut.RGBPoints = preset["RGBPoints"]
+        simple.GetOpacityTransferFunction(array).Points = preset["Points"]
     simple.Render(view)
     return display
 

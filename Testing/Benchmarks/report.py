@@ -65,6 +65,11 @@ parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
 parser.add_argument("--quick", action="store_true", help="CI size: Tooth only, fewer points")
 parser.add_argument("--out", default=os.path.join(ROOT, "Documentation", "Results"))
 parser.add_argument("--build", default=os.path.join(ROOT, "build"))
+parser.add_argument(
+    "--models-only",
+    action="store_true",
+    help="only redraw the model-size chart and section of the report in --out from its sweep tables",
+)
 args = parser.parse_args()
 DDG = os.environ.get("DDG_EXE", os.path.join(args.build, "bin", "ddg"))
 BIN = os.path.dirname(DDG)
@@ -308,13 +313,193 @@ def evaluate(case, preset, tag):
     return out
 
 
-# --- 0. model sweep (full run; before the methods, whose (b) uses its U-Net) ---------------------------
+# --- model size: the sweep tables, their chart and section (also alone: --models-only) ---------------
 
 SWEEPS = [
     ("tooth", None),
     ("engine", [0, 1, 2]),
 ]  # Engine: the three decoder widths at 64 px (time budget)
 sweep_mds = {v: os.path.join(args.out, f"model_sweep_{v}.md") for v, _ in SWEEPS}
+# a model suffices when its held-out PSNR and SSIM are this close to the best of its scene's sweep
+SUFFICES_DB, SUFFICES_SSIM = 0.5, 0.01
+
+
+def read_sweeps():
+    """The rows of model_sweep.py's tables, one per configuration and volume (the committed tables
+    of the last full run when --quick has none of its own)."""
+    models = []
+    for volume, md_path in sweep_mds.items():
+        if not os.path.exists(md_path):
+            md_path = os.path.join(ROOT, "Documentation", "Results", os.path.basename(md_path))
+        if not os.path.exists(md_path):
+            continue
+        for line in open(md_path):
+            cells = [c.strip() for c in line.strip().strip("|").split("|")]
+            if len(cells) >= 15 and re.match(r"^[\d.]+$", cells[1] or "x"):
+                models.append(
+                    {
+                        "volume": volume,
+                        "kind": cells[0],
+                        "width": int(cells[1]),
+                        "image": int(cells[2]),
+                        "parameters": int(cells[3]),
+                        "analyzer_ms": float(cells[8]),
+                        "renderer_ms": float(cells[9]),
+                        "psnr": float(cells[10]),
+                        "ssim": float(cells[11]),
+                        "emd": float(cells[12]),
+                        "minutes": float(cells[14]),
+                    }
+                )
+    return models
+
+
+def is_shipped(m):
+    return m["kind"].startswith("decoder (image") and m["width"] == 16 and m["image"] == 64
+
+
+def smallest_sufficient(rows):
+    best_psnr, best_ssim = max(r["psnr"] for r in rows), max(r["ssim"] for r in rows)
+    enough = [
+        r
+        for r in rows
+        if r["psnr"] >= best_psnr - SUFFICES_DB and r["ssim"] >= best_ssim - SUFFICES_SSIM
+    ]
+    return min(enough, key=lambda r: r["parameters"])
+
+
+def plot_models(models):
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
+    for volume, color in zip(sweep_mds, ("tab:blue", "tab:red")):
+        rows = [m for m in models if m["volume"] == volume]
+        if not rows:
+            continue
+        small = smallest_sufficient(rows)
+        for m in rows:
+            label = f"{m['kind'].replace(' (image loss)', '')} w{m['width']} {m['image']}px"
+            label += " (shipped)" if is_shipped(m) else ""
+            label += " (smallest sufficient)" if m is small and not is_shipped(m) else ""
+            ms = m["analyzer_ms"] + m["renderer_ms"]
+            axes[0].scatter(
+                ms,
+                m["psnr"],
+                s=30 + m["parameters"] / 2e4,
+                color=color,
+                marker="*" if is_shipped(m) else "o",
+                label=volume if m is rows[0] else None,
+            )
+            axes[0].annotate(label, (ms, m["psnr"]), fontsize=6)
+            axes[1].scatter(
+                m["parameters"],
+                m["ssim"],
+                color=color,
+                marker="*" if is_shipped(m) else "o",
+                label=volume if m is rows[0] else None,
+            )
+            axes[1].annotate(label, (m["parameters"], m["ssim"]), fontsize=6)
+    axes[0].set_xlabel("analyzer + renderer ms (one image)")
+    axes[0].set_ylabel("held-out PSNR (dB)")
+    axes[1].set_xscale("log")
+    axes[1].set_xlabel("parameters")
+    axes[1].set_ylabel("held-out SSIM")
+    for ax in axes:
+        ax.legend(fontsize=7)
+        ax.grid(alpha=0.3)
+    fig.suptitle(
+        "model kind and size, equal training time (1.5 min each; star: shipped configuration; "
+        f"sufficient: within {SUFFICES_DB:g} dB and {SUFFICES_SSIM:g} SSIM of the scene's best)",
+        fontsize=10,
+    )
+    fig.tight_layout()
+    fig.savefig(os.path.join(args.out, "report_models.png"), dpi=110)
+
+
+def shipped_text(models):
+    """Per scene: where the shipped configuration (decoder, image loss, width 16, 64 px) stands in the sweep, and
+    the smallest model within SUFFICES_DB and SUFFICES_SSIM of the best."""
+    text = []
+    for volume in sweep_mds:
+        rows = [m for m in models if m["volume"] == volume]
+        if not rows:
+            continue
+        best, small = max(rows, key=lambda m: m["psnr"]), smallest_sufficient(rows)
+        shipped = [m for m in rows if is_shipped(m)]
+        line = f"{volume}: best {best['psnr']:.2f} dB ({best['kind']}, width {best['width']}, {best['image']} px)"
+        if shipped:
+            s = shipped[0]
+            line += f"; shipped width 16, 64 px: {s['psnr']:.2f} dB / SSIM {s['ssim']:.3f}, {s['parameters']} parameters"
+        line += (
+            f"; smallest within {SUFFICES_DB:g} dB and {SUFFICES_SSIM:g} SSIM of the best: {small['kind']}, width {small['width']}, "
+            f"{small['image']} px, {small['parameters']} parameters"
+        )
+        if shipped and small is shipped[0]:
+            line += " -- the shipped one."
+        elif shipped:
+            line += (
+                f" -- {shipped[0]['parameters'] / small['parameters']:.1f}x fewer parameters than shipped would "
+                f"suffice at this training time."
+            )
+        else:
+            line += "."
+        text.append("- " + line)
+    return "\n".join(text) or "The shipped configuration is not in this sweep."
+
+
+def table(rows, cols):
+    lines = ["| " + " | ".join(c for c, _ in cols) + " |", "|" + "---|" * len(cols)]
+    for r in rows:
+        lines.append("| " + " | ".join(f(r) for _, f in cols) + " |")
+    return "\n".join(lines)
+
+
+def models_markdown(models):
+    if not models:
+        return []
+    return [
+        "## Model kind and size (equal training time per configuration)",
+        "",
+        "![models](report_models.png)",
+        "",
+        table(
+            models,
+            [
+                ("volume", lambda r: r["volume"]),
+                ("kind", lambda r: r["kind"]),
+                ("width", lambda r: str(r["width"])),
+                ("image", lambda r: str(r["image"])),
+                ("parameters", lambda r: str(r["parameters"])),
+                (
+                    "ms (analyzer + renderer)",
+                    lambda r: f"{r['analyzer_ms'] + r['renderer_ms']:.1f}",
+                ),
+                ("PSNR", lambda r: f"{r['psnr']:.2f}"),
+                ("SSIM", lambda r: f"{r['ssim']:.3f}"),
+                ("EMD", lambda r: f"{r['emd']:.2f}"),
+            ],
+        ),
+        "",
+        shipped_text(models),
+        "",
+    ]
+
+
+if args.models_only:  # redraw the model-size chart and section of an existing report
+    models = read_sweeps()
+    plot_models(models)
+    with open(os.path.join(args.out, "report.json")) as f:
+        results = json.load(f)
+    results["models"] = models
+    with open(os.path.join(args.out, "report.json"), "w") as f:
+        json.dump(results, f, indent=1)
+    with open(os.path.join(args.out, "report.md")) as f:
+        head = f.read().split("## Model kind and size")[0]
+    with open(os.path.join(args.out, "report.md"), "w") as f:
+        f.write(head + "\n".join(models_markdown(models)) + "\n")
+    log(f"redrew {args.out}/report_models.png and the model section of report.md")
+    sys.exit(0)
+
+# --- 0. model sweep (full run; before the methods, whose (b) uses its U-Net) ---------------------------
+
 UNET = None
 if not args.quick:
     sweep_work = os.path.join(work, "sweep")
@@ -732,30 +917,7 @@ results["renderer_samples"] = {"size": sample_size, "rows": samples}
 
 # --- 5. model size (the model sweep) ----------------------------------------------------------------
 
-models = []  # the sweeps ran first (section 0)
-for volume, md_path in sweep_mds.items():
-    if args.quick and not os.path.exists(md_path):  # the committed tables of the last full run
-        md_path = os.path.join(ROOT, "Documentation", "Results", os.path.basename(md_path))
-    if not os.path.exists(md_path):
-        continue
-    for line in open(md_path):
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) >= 15 and re.match(r"^[\d.]+$", cells[1] or "x"):
-            models.append(
-                {
-                    "volume": volume,
-                    "kind": cells[0],
-                    "width": int(cells[1]),
-                    "image": int(cells[2]),
-                    "parameters": int(cells[3]),
-                    "analyzer_ms": float(cells[8]),
-                    "renderer_ms": float(cells[9]),
-                    "psnr": float(cells[10]),
-                    "ssim": float(cells[11]),
-                    "emd": float(cells[12]),
-                    "minutes": float(cells[14]),
-                }
-            )
+models = read_sweeps()  # the sweeps ran first (section 0)
 results["models"] = models
 
 # --- charts -------------------------------------------------------------------------------------------
@@ -904,104 +1066,10 @@ ax2.grid(alpha=0.3)
 fig.tight_layout()
 fig.savefig(os.path.join(args.out, "report_renderer.png"), dpi=110)
 
-SUFFICES_DB = (
-    0.5  # a model suffices when its held-out PSNR is within this of the best of its scene's sweep
-)
-
-
-def is_shipped(m):
-    return m["kind"].startswith("decoder (image") and m["width"] == 16 and m["image"] == 64
-
-
-def smallest_sufficient(rows):
-    best = max(r["psnr"] for r in rows)
-    return min((r for r in rows if r["psnr"] >= best - SUFFICES_DB), key=lambda r: r["parameters"])
-
-
 if models:
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    for volume, color in zip(sweep_mds, ("tab:blue", "tab:red")):
-        rows = [m for m in models if m["volume"] == volume]
-        if not rows:
-            continue
-        small = smallest_sufficient(rows)
-        for m in rows:
-            label = f"{m['kind'].replace(' (image loss)', '')} w{m['width']} {m['image']}px"
-            label += " (shipped)" if is_shipped(m) else ""
-            label += (
-                " (smallest within %g dB)" % SUFFICES_DB if m is small and not is_shipped(m) else ""
-            )
-            ms = m["analyzer_ms"] + m["renderer_ms"]
-            axes[0].scatter(
-                ms,
-                m["psnr"],
-                s=30 + m["parameters"] / 2e4,
-                color=color,
-                marker="*" if is_shipped(m) else "o",
-                label=volume if m is rows[0] else None,
-            )
-            axes[0].annotate(label, (ms, m["psnr"]), fontsize=6)
-            axes[1].scatter(
-                m["parameters"],
-                m["ssim"],
-                color=color,
-                marker="*" if is_shipped(m) else "o",
-                label=volume if m is rows[0] else None,
-            )
-            axes[1].annotate(label, (m["parameters"], m["ssim"]), fontsize=6)
-    axes[0].set_xlabel("analyzer + renderer ms (one image)")
-    axes[0].set_ylabel("held-out PSNR (dB)")
-    axes[1].set_xscale("log")
-    axes[1].set_xlabel("parameters")
-    axes[1].set_ylabel("held-out SSIM")
-    for ax in axes:
-        ax.legend(fontsize=7)
-        ax.grid(alpha=0.3)
-    fig.suptitle(
-        "model kind and size, equal training time (1.5 min each; star: shipped configuration)"
-    )
-    fig.tight_layout()
-    fig.savefig(os.path.join(args.out, "report_models.png"), dpi=110)
+    plot_models(models)
 
 # --- report.md ------------------------------------------------------------------------------------------
-
-
-def shipped_text(models):
-    """Per scene: where the shipped configuration (decoder, image loss, width 16, 64 px) stands in the sweep, and
-    the smallest model within SUFFICES_DB of the best."""
-    text = []
-    for volume in sweep_mds:
-        rows = [m for m in models if m["volume"] == volume]
-        if not rows:
-            continue
-        best, small = max(rows, key=lambda m: m["psnr"]), smallest_sufficient(rows)
-        shipped = [m for m in rows if is_shipped(m)]
-        line = f"{volume}: best {best['psnr']:.2f} dB ({best['kind']}, width {best['width']}, {best['image']} px)"
-        if shipped:
-            s = shipped[0]
-            line += f"; shipped width 16, 64 px: {s['psnr']:.2f} dB / SSIM {s['ssim']:.3f}, {s['parameters']} parameters"
-        line += (
-            f"; smallest within {SUFFICES_DB:g} dB of the best: {small['kind']}, width {small['width']}, "
-            f"{small['image']} px, {small['parameters']} parameters"
-        )
-        if shipped and small is shipped[0]:
-            line += " -- the shipped one."
-        elif shipped:
-            line += (
-                f" -- {shipped[0]['parameters'] / small['parameters']:.1f}x fewer parameters than shipped would "
-                f"suffice at this training time."
-            )
-        else:
-            line += "."
-        text.append("- " + line)
-    return "\n".join(text) or "The shipped configuration is not in this sweep."
-
-
-def table(rows, cols):
-    lines = ["| " + " | ".join(c for c, _ in cols) + " |", "|" + "---|" * len(cols)]
-    for r in rows:
-        lines.append("| " + " | ".join(f(r) for _, f in cols) + " |")
-    return "\n".join(lines)
 
 
 md = [
@@ -1150,33 +1218,8 @@ md += [
     ),
     "",
 ]
-if models:
-    md += [
-        "## Model kind and size (equal training time per configuration)",
-        "",
-        "![models](report_models.png)",
-        "",
-        table(
-            models,
-            [
-                ("volume", lambda r: r["volume"]),
-                ("kind", lambda r: r["kind"]),
-                ("width", lambda r: str(r["width"])),
-                ("image", lambda r: str(r["image"])),
-                ("parameters", lambda r: str(r["parameters"])),
-                (
-                    "ms (analyzer + renderer)",
-                    lambda r: f"{r['analyzer_ms'] + r['renderer_ms']:.1f}",
-                ),
-                ("PSNR", lambda r: f"{r['psnr']:.2f}"),
-                ("SSIM", lambda r: f"{r['ssim']:.3f}"),
-                ("EMD", lambda r: f"{r['emd']:.2f}"),
-            ],
-        ),
-        "",
-        shipped_text(models),
-        "",
-    ]
+md += models_markdown(models)
+results["minutes"] = (time.time() - started) / 60
 with open(os.path.join(args.out, "report.json"), "w") as f:
     json.dump(results, f, indent=1)
 with open(os.path.join(args.out, "report.md"), "w") as f:

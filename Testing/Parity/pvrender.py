@@ -13,7 +13,9 @@ from paraview.simple import (
 )
 
 
-def paraview_render(volume_path, preset, view_json, out_png):
+def paraview_render(volume_path, preset, view_json, out_png, boxes_2d=None):
+    """Renders with a 1D ``preset`` or, when ``boxes_2d`` is given (the TransferFunction2D
+    properties of `ddg export --format paraview-2d`), with ParaView's 2D TF (UseTransfer2D)."""
     reader = XMLImageDataReader(FileName=[volume_path])
     view = CreateView("RenderView")
     view.OrientationAxesVisibility = 0
@@ -29,10 +31,18 @@ def paraview_render(volume_path, preset, view_json, out_png):
     lut = GetColorTransferFunction(array)
     pwf = GetOpacityTransferFunction(array)
     lut.AutomaticRescaleRangeMode = "Never"
-    lut.ColorSpace = preset.get("ColorSpace", "RGB")
-    lut.HSVWrap = int(preset.get("HSVWrap", 0))
-    lut.RGBPoints = preset["RGBPoints"]
-    pwf.Points = preset["Points"]
+    if boxes_2d:
+        display.UseTransfer2D = 1
+        display.UseGradientForTransfer2D = 1
+        tf2 = display.TransferFunction2D
+        tf2.Range = boxes_2d["Range"]
+        tf2.OutputDimensions = boxes_2d["OutputDimensions"]
+        tf2.Boxes = boxes_2d["Boxes"]
+    else:
+        lut.ColorSpace = preset.get("ColorSpace", "RGB")
+        lut.HSVWrap = int(preset.get("HSVWrap", 0))
+        lut.RGBPoints = preset["RGBPoints"]
+        pwf.Points = preset["Points"]
     if view_json.get("opacity_unit_distance"):
         display.ScalarOpacityUnitDistance = view_json["opacity_unit_distance"]
     Render(view)  # the first render resets the camera: set ours afterwards

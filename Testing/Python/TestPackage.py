@@ -44,6 +44,7 @@ from paraview.simple import (
     GetColorTransferFunction,
     GetDisplayProperties,  # noqa: E402
     GetOpacityTransferFunction,
+    Hide,
     Show,
     XMLImageDataReader,
 )
@@ -208,6 +209,147 @@ check(
     == found.transfer_function(ddg.view_json(GetActiveView(), tooth, 256))["RGBPoints"]
     and display.Representation == "Volume",
 )
+
+# 2D: a TF file, a 2D model's design and a 2D reconstruction into ParaView's TransferFunction2D
+tf2d = ddg.data_path("TransferFunctions/tooth_2d_boundaries.json")
+cli(
+    "export",
+    "--tf",
+    tf2d,
+    "--volume",
+    volume,
+    "--view",
+    view_file,
+    "--format",
+    "paraview-2d",
+    "--out",
+    os.path.join(outdir, "tooth_2d_boxes.json"),
+)
+cli_boxes = json.load(open(os.path.join(outdir, "tooth_2d_boxes.json")))
+boxes = ddg.paraview_2d(tf2d, tooth, view_file)
+check(
+    "paraview_2d",
+    np.allclose(boxes["Boxes"], cli_boxes["Boxes"], rtol=1e-9, atol=1e-12)
+    and boxes["Range"] == cli_boxes["Range"]
+    and boxes["OutputDimensions"] == [1024, 1024],
+    f"{len(boxes['Boxes']) // 8} boxes (fit RMSE {boxes['Fit']['rmse']:.4f}), as ddg export --format paraview-2d",
+)
+
+
+def applied_2d(disp, expected):
+    tf2 = disp.TransferFunction2D
+    return (
+        disp.UseTransfer2D == 1
+        and disp.Representation == "Volume"
+        and np.allclose(list(tf2.Boxes), expected["Boxes"])
+        and list(tf2.Range) == expected["Range"]
+        and list(tf2.OutputDimensions) == expected["OutputDimensions"]
+    )
+
+
+ddg.apply(tf2d, display)
+check("apply 2D file", applied_2d(display, ddg.paraview_2d(tf2d, tooth, GetActiveView())))
+try:
+    ddg.apply(
+        {
+            "Format": "ddg-transfer-function-2d",
+            "Version": 1,
+            "ValueRange": [0, 255],
+            "GradientRange": [0, 80],
+            "Primitives": [],
+        },
+        display,
+    )
+    raise AssertionError("a 2D TF without primitives should raise")
+except ddg.DDGError as e:
+    check(
+        "apply 2D bad input",
+        applied_2d(display, ddg.paraview_2d(tf2d, tooth, GetActiveView())),
+        f"raised '{e}', the 2D TF applied before is untouched",
+    )
+small_vti, small_view = os.path.join(testdata, "small.vti"), os.path.join(
+    testdata, "small_view.json"
+)
+bundle_2d = os.path.join(outdir, "bundle_2d")
+if not os.path.exists(os.path.join(bundle_2d, "outline.bin")):
+    cli(
+        "generate",
+        "--volume",
+        small_vti,
+        "--spec",
+        os.path.join(testdata, "spec_2d.json"),
+        "--count",
+        "8",
+        "--size",
+        "16",
+        "--out",
+        os.path.join(outdir, "gen_2d"),
+        "--quiet",
+    )
+    cli(
+        "train",
+        "--kind",
+        "decoder",
+        "--volume",
+        small_vti,
+        "--data",
+        os.path.join(outdir, "gen_2d"),
+        "--eval-data",
+        os.path.join(outdir, "gen_2d"),
+        "--out",
+        bundle_2d,
+        "--max-iterations",
+        "10",
+        "--width",
+        "4",
+        "--latent",
+        "8",
+        "--batch",
+        "4",
+        "--threads",
+        "1",
+        "--image-weight",
+        "10",
+        "--image-rays",
+        "64",
+        "--quiet",
+    )
+    cli("outline", "--model", bundle_2d, "--volume", small_vti, "--count", "50")
+small = XMLImageDataReader(FileName=[small_vti])
+small_display = Show(small)
+design_2d = ddg.query(
+    os.path.join(testdata, "small_target.png"), small, small_view, ddg.load_model(bundle_2d, small)
+)
+ddg.apply(design_2d, small_display, small)
+expected = design_2d.evaluate(ddg.view_json(GetActiveView(), small, 256))["paraview_2d"]
+check(
+    "apply 2D design",
+    applied_2d(small_display, expected)
+    and design_2d.transfer_function(small_view)["Format"] == "ddg-transfer-function-2d",
+    f"{len(expected['Boxes']) // 8} boxes from the 2D model's design",
+)
+rec_2d = ddg.reconstruct(
+    os.path.join(testdata, "small_target.png"),
+    small,
+    small_view,
+    iterations=20,
+    bins=16,
+    two_d=True,
+)
+ddg.apply(rec_2d, small_display, small)
+check(
+    "apply 2D reconstruction",
+    applied_2d(small_display, ddg.paraview_2d(rec_2d, small, GetActiveView())),
+    f"table {rec_2d.get('Size')} as {len(small_display.TransferFunction2D.Boxes) // 8} boxes",
+)
+ddg.apply(found, display)
+check(
+    "apply 1D after 2D",
+    display.UseTransfer2D == 0
+    and list(lut.RGBPoints)
+    == found.transfer_function(ddg.view_json(GetActiveView(), tooth, 256))["RGBPoints"],
+)
+Hide(small)
 
 preset_file = ddg.export(found, os.path.join(outdir, "found.json"), view=view_file)
 slicer_file = ddg.export(

@@ -1,9 +1,12 @@
 """Scene of a Design Gallery GUI test, run by `paraview --script` before the XML events.
 
 Environment: DDG_GUI_CASE ("tooth": the Tooth volume as a Volume representation at
-Data/Views/tooth_oblique.json's camera; "sphere": a Sphere source, not a volume), DDG_DATA_DIR,
+Data/Views/tooth_oblique.json's camera; "small2d": Testing/Data/small.vti (DDG_TEST_DATA) at
+small_view.json's camera, for a 2D model; "sphere": a Sphere source, not a volume), DDG_DATA_DIR,
 DDG_GUI_RECORD (a file that gets one JSON line per change of the volume's colour map RGBPoints,
-starting with the initial one: what the panel wrote, read back from the LUT proxy).
+starting with the initial one: what the panel wrote, read back from the LUT proxy; "small2d":
+per change of UseTransfer2D or the TransferFunction2D's Boxes, Range or OutputDimensions,
+{"use2d": 0/1, "boxes": [...], "range": [...], "dims": [...]}).
 """
 import json
 import os
@@ -21,15 +24,24 @@ if os.environ.get("DDG_GUI_CASE") == "sphere":
     SetActiveSource(sphere)
     Render()
 else:
-    tooth = XMLImageDataReader(
-        registrationName="tooth.vti", FileName=[os.path.join(data, "Volumes", "tooth.vti")]
+    small = os.environ.get("DDG_GUI_CASE") == "small2d"
+    path = (
+        os.path.join(os.environ["DDG_TEST_DATA"], "small.vti")
+        if small
+        else os.path.join(data, "Volumes", "tooth.vti")
     )
-    tooth.UpdatePipeline()
-    display = Show(tooth, view)
+    volume = XMLImageDataReader(registrationName=os.path.basename(path), FileName=[path])
+    volume.UpdatePipeline()
+    display = Show(volume, view)
     display.SetRepresentationType("Volume")
-    array = tooth.PointData.keys()[0]
+    array = volume.PointData.keys()[0]
     ColorBy(display, ("POINTS", array))
-    camera = json.load(open(os.path.join(data, "Views", "tooth_oblique.json")))["camera"]
+    view_file = (
+        os.path.join(os.environ["DDG_TEST_DATA"], "small_view.json")
+        if small
+        else os.path.join(data, "Views", "tooth_oblique.json")
+    )
+    camera = json.load(open(view_file))["camera"]
     view.CameraPosition = camera["position"]
     view.CameraFocalPoint = camera["focal_point"]
     view.CameraViewUp = camera["view_up"]
@@ -39,10 +51,24 @@ else:
 
     def write(*_):
         with open(record, "a") as f:
-            f.write(json.dumps(list(lut.RGBPoints)) + "\n")
+            if small:
+                state = {
+                    "use2d": display.UseTransfer2D,
+                    "boxes": list(display.TransferFunction2D.Boxes),
+                    "range": list(display.TransferFunction2D.Range),
+                    "dims": list(display.TransferFunction2D.OutputDimensions),
+                }
+            else:
+                state = list(lut.RGBPoints)
+            f.write(json.dumps(state) + "\n")
 
     open(record, "w").close()
     write()
-    lut.SMProxy.GetProperty("RGBPoints").AddObserver("ModifiedEvent", write)
-    SetActiveSource(tooth)
+    if small:
+        display.SMProxy.GetProperty("UseTransfer2D").AddObserver("ModifiedEvent", write)
+        for name in ("Boxes", "Range", "OutputDimensions"):
+            display.TransferFunction2D.SMProxy.GetProperty(name).AddObserver("ModifiedEvent", write)
+    else:
+        lut.SMProxy.GetProperty("RGBPoints").AddObserver("ModifiedEvent", write)
+    SetActiveSource(volume)
     Render()

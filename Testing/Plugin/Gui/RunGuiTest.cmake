@@ -5,6 +5,7 @@
 string(REPLACE "|" ";" XVFB "${XVFB}")
 set(ENV{DDG_GUI_CASE} "${CASE}")
 set(ENV{DDG_DATA_DIR} "${DATA}")
+set(ENV{DDG_TEST_DATA} "${TESTDATA}")
 set(ENV{DDG_GUI_RECORD} "${OUT}/record.txt")
 file(REMOVE_RECURSE "${OUT}")
 file(MAKE_DIRECTORY "${OUT}")
