@@ -10,8 +10,9 @@
 #   KIND: unet (the paper's renderer) or decoder (explicit TF, ray cast) [decoder]
 #   IMAGE_WEIGHT: decoder's image loss through the differentiable ray caster [100]; the decoder
 #   also gets a cosine learning-rate schedule over ITERATIONS
-#   DDG (the ddg program) [build/bin/ddg] and WORK (scratch folder) [build/models/VOLUME] may be
-#   set in the environment.
+#   DDG (the ddg program) [build/bin/ddg], WORK (scratch folder) [build/models/VOLUME], OUT (the
+#   bundle written) [Data/Models/VOLUME] and OUTLINE (designs in the outline; 0: no outline)
+#   [50000] may be set in the environment.
 #   e.g. scripts/train_model.sh tooth        -> Data/Models/tooth/
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -30,8 +31,9 @@ if [ "$KIND" = decoder ]; then
 fi
 DDG=${DDG:-build/bin/ddg}
 WORK=${WORK:-build/models/$VOLUME}
-OUT=Data/Models/$VOLUME
-mkdir -p "$WORK" Data/Models
+OUT=${OUT:-Data/Models/$VOLUME}
+OUTLINE=${OUTLINE:-50000}
+mkdir -p "$WORK" "$(dirname "$OUT")"
 # generation is deterministic: a complete dataset of the same volume, count, size, seed and first
 # index is reused
 generate() { # DIR COUNT FIRST
@@ -51,8 +53,10 @@ $DDG train --kind "$KIND" --volume "Data/Volumes/$VOLUME.vti" --data "$WORK/trai
   --eval-data "$WORK/heldout" --eval-count 1000 --out "$WORK/bundle" --lr "$LR" \
   --max-iterations "$ITERATIONS" --minutes 30 --width "$WIDTH" --seed 1 --threads 2 \
   --checkpoint "$WORK/checkpoint.pt" "${EXTRA[@]}"
-$DDG outline --model "$WORK/bundle" --volume "Data/Volumes/$VOLUME.vti" --count 50000 --seed 1 \
-  --threads 2 --quiet
+if [ "$OUTLINE" != 0 ]; then
+  $DDG outline --model "$WORK/bundle" --volume "Data/Volumes/$VOLUME.vti" --count "$OUTLINE" \
+    --seed 1 --threads 2 --quiet
+fi
 rm -rf "$OUT.tmp"
 cp -r "$WORK/bundle" "$OUT.tmp"
 rm -rf "$OUT"

@@ -6,7 +6,9 @@ Writes DIR (default Documentation/Results) report.md (tables of the raw numbers,
 which method to use), report.json, and the charts report_methods.png, report_stability.png,
 report_optimisation.png, report_tf_resolution.png, report_renderer.png, report_models.png.
 --quick (CI: Tooth only, fewer budgets, strengths and seeds) runs in a few minutes; the full run
-(Tooth and Engine) in about half an hour on 2 cores.
+(Tooth and Engine) in under 45 minutes on 2 cores. --confirm adds, for each scene whose smallest
+sufficient model in the sweep is smaller than the shipped one, that model trained with the shipped
+bundle's recipe (about 25 min for Engine), so that the model-size verdict holds at full training.
 
 What is measured. A reference: ParaView renders a shipped preset on a shipped volume at the
 reference view and at an unseen view (white background, as the shipped screenshots). Each
@@ -70,7 +72,19 @@ parser.add_argument(
     action="store_true",
     help="only redraw the model-size chart and section of the report in --out from its sweep tables",
 )
+parser.add_argument(
+    "--confirm",
+    action="store_true",
+    help="train each scene's smallest sufficient model, when smaller than the shipped one, with the "
+    "shipped bundle's recipe (scripts/train_model.sh; about 25 min for Engine) and compare it with "
+    "the shipped bundle; writes model_confirm_VOLUME.json (with --models-only: only this and the "
+    "model section)",
+)
 args = parser.parse_args()
+if args.confirm and args.quick:
+    parser.error(
+        "--confirm trains full-size models (about 25 min each); it does not go with --quick"
+    )
 DDG = os.environ.get("DDG_EXE", os.path.join(args.build, "bin", "ddg"))
 BIN = os.path.dirname(DDG)
 os.makedirs(args.out, exist_ok=True)
@@ -84,6 +98,20 @@ CASE_OBJECTS = {}  # volume -> its scene, views, references
 
 def log(text):
     print(f"[{time.time() - started:7.1f} s] {text}", flush=True)
+
+
+SECTION_STARTS = []  # (name, seconds since start)
+
+
+def section(name):
+    SECTION_STARTS.append((name, time.time() - started))
+    log(f"section: {name}")
+
+
+def section_minutes():
+    """Minutes spent in each section, up to now."""
+    ends = [t for _, t in SECTION_STARTS[1:]] + [time.time() - started]
+    return {name: (end - t) / 60 for (name, t), end in zip(SECTION_STARTS, ends)}
 
 
 def ddg(*a, check=True):
@@ -437,12 +465,211 @@ def shipped_text(models):
         elif shipped:
             line += (
                 f" -- {shipped[0]['parameters'] / small['parameters']:.1f}x fewer parameters than shipped would "
-                f"suffice at this training time."
+                f"suffice at this training time.\n" + confirmation_text(volume, small)
             )
         else:
             line += "."
         text.append("- " + line)
     return "\n".join(text) or "The shipped configuration is not in this sweep."
+
+
+# issue 4's bar for a shipped bundle, on its 1000 held-out exemplars (Testing/Models/CheckBundle.cmake)
+BAR_PSNR, BAR_SSIM, BAR_INVARIANCE = 28.0, 0.90, 0.95
+
+
+def confirm_path(volume):
+    return os.path.join(args.out, f"model_confirm_{volume}.json")
+
+
+def read_confirmation(volume, candidate):
+    """The recorded full-recipe training of `candidate` (a sweep row), if there is one for it."""
+    for path in (
+        confirm_path(volume),
+        os.path.join(ROOT, "Documentation", "Results", f"model_confirm_{volume}.json"),
+    ):
+        if os.path.exists(path):
+            with open(path) as f:
+                c = json.load(f)
+            if (c["kind"], c["width"], c["image"]) == (
+                candidate["kind"],
+                candidate["width"],
+                candidate["image"],
+            ):
+                return c
+    return None
+
+
+def confirm(volume, candidate):
+    """Trains `candidate` with the shipped bundle's recipe (exemplars, iterations, seeds, schedule:
+    scripts/train_model.sh) and records its held-out metrics next to the shipped bundle's."""
+    shipped_path = os.path.join(DATA, "Models", volume, "bundle.json")
+    with open(shipped_path) as f:
+        shipped = json.load(f)
+    iterations = shipped["metrics"]["train_iterations"]
+    exemplars = shipped["training_exemplars"]
+    weight = "100" if candidate["kind"].startswith("decoder (image") else "0"
+    kind = candidate["kind"].split()[0]
+    out = os.path.join(work, f"confirm_{volume}")
+    cmd = [
+        "bash",
+        os.path.join(ROOT, "scripts", "train_model.sh"),
+        volume,
+        str(iterations),
+        str(exemplars),
+        str(candidate["image"]),
+        str(candidate["width"]),
+        kind,
+        weight,
+    ]
+    log(
+        f"{volume}: confirming width {candidate['width']}, {candidate['image']} px at the shipped recipe"
+    )
+    t0 = time.time()
+    subprocess.run(
+        cmd, check=True, env=dict(os.environ, DDG=DDG, WORK=out + "_work", OUT=out, OUTLINE="0")
+    )
+    with open(os.path.join(out, "bundle.json")) as f:
+        metrics = json.load(f)["metrics"]
+    keys = (
+        "psnr",
+        "ssim",
+        "emd",
+        "invariance",
+        "heldout_count",
+        "parameters",
+        "analyzer_ms",
+        "renderer_ms",
+        "train_seconds",
+        "train_iterations",
+    )
+    record = {
+        "volume": volume,
+        "kind": candidate["kind"],
+        "width": candidate["width"],
+        "image": candidate["image"],
+        "command": "scripts/train_model.sh " + " ".join(cmd[2:]),
+        "exemplars": exemplars,
+        "wall_minutes": (time.time() - t0) / 60,
+        "candidate": {k: metrics[k] for k in keys},
+        "shipped": {k: shipped["metrics"][k] for k in keys},
+    }
+    with open(confirm_path(volume), "w") as f:
+        json.dump(record, f, indent=1)
+    return record
+
+
+def confirmation_verdict(c):
+    """Whether the candidate, trained like the shipped bundle, suffices: issue 4's bar and within
+    SUFFICES_DB / SUFFICES_SSIM of the better of the two."""
+    a, s = c["candidate"], c["shipped"]
+    meets_bar = (
+        a["psnr"] >= BAR_PSNR and a["ssim"] >= BAR_SSIM and a["invariance"] >= BAR_INVARIANCE
+    )
+    close = (
+        a["psnr"] >= max(a["psnr"], s["psnr"]) - SUFFICES_DB
+        and a["ssim"] >= max(a["ssim"], s["ssim"]) - SUFFICES_SSIM
+    )
+    return meets_bar and close, meets_bar, close
+
+
+def confirmation_text(volume, small):
+    c = read_confirmation(volume, small)
+    if c is None:
+        return (
+            f"  Not yet trained with the shipped recipe: `report.py --models-only --confirm` does it and "
+            f"says whether it would replace the shipped bundle."
+        )
+    a, s = c["candidate"], c["shipped"]
+    ok, meets_bar, close = confirmation_verdict(c)
+    text = (
+        f"  Trained with the shipped recipe (`{c['command']}`: {c['exemplars']} exemplars, "
+        f"{a['train_iterations']} steps, {a['train_seconds'] / 60:.1f} min of training), on the same "
+        f"{a['heldout_count']} held-out exemplars: {a['psnr']:.2f} dB / SSIM {a['ssim']:.4f} / EMD {a['emd']:.2f}, "
+        f"renderer {a['renderer_ms']:.1f} ms, against the shipped bundle's {s['psnr']:.2f} dB / {s['ssim']:.4f} / "
+        f"{s['emd']:.2f}, {s['renderer_ms']:.1f} ms ({s['train_seconds'] / 60:.1f} min of training): "
+        f"{a['psnr'] - s['psnr']:+.2f} dB, {a['ssim'] - s['ssim']:+.4f} SSIM (`--confirm` took "
+        f"{c['wall_minutes']:.1f} min). "
+    )
+    if ok:
+        text += "It suffices at full training too: the smaller model should be shipped."
+    else:
+        why = []
+        if not close:
+            why.append(
+                f"more than {SUFFICES_DB:g} dB or {SUFFICES_SSIM:g} SSIM below the shipped bundle"
+            )
+        if not meets_bar:
+            why.append(
+                f"below the shipped models' bar (PSNR {BAR_PSNR:g} dB, SSIM {BAR_SSIM:g}, invariance {BAR_INVARIANCE:g})"
+            )
+        text += (
+            "With full training it is "
+            + " and ".join(why)
+            + ", so the shipped configuration is the smallest that "
+            "suffices for this scene."
+        )
+    return text
+
+
+# advice for a screenshot problem beyond what the methods withstand (not measured by this report)
+REMEDIES = {
+    "viewpoint (deg)": "match ParaView's camera to the screenshot, or `ddg reconstruct --estimate-view`",
+    "zoom (x)": "match ParaView's camera to the screenshot, or `ddg reconstruct --estimate-view`",
+    "crop (fraction)": "use the uncropped screenshot, or `ddg reconstruct --estimate-view`",
+    "gamma": "use the screenshot as ParaView saved it, without colour management",
+    "colour shift (warm, x)": "use the screenshot as ParaView saved it, without colour management",
+    "wrong background": "`--background` with the screenshot's background colour",
+    "annotation": "`--mask` over the annotations",
+    "shading (lit render)": "take the screenshot with the volume's Shade off",
+    "another volume's screenshot": "none: the TF of another volume's picture is not this volume's",
+}
+
+
+def method_guide():
+    """Markdown table: per perturbation kind, each method's success rate on the perturbed cases and
+    the one to use, how far it held and where it broke."""
+    kinds = list(
+        dict.fromkeys(
+            r["perturbation"] for v in CASE_OBJECTS for r in results["cases"][v]["stability"]
+        )
+    )
+    methods = list(STABLE_METHODS)
+    rows = []
+    for kind in kinds:
+        cases = [
+            r
+            for v in CASE_OBJECTS
+            for r in results["cases"][v]["stability"]
+            if r["perturbation"] == kind and r["strength"] != 0
+        ]
+        if not cases:
+            continue
+        stats = {
+            m: (
+                np.mean([r["success"] for r in cases if r["method"] == m]),
+                np.mean([r["psnr"] for r in cases if r["method"] == m]),
+            )
+            for m in methods
+        }
+        use = max(methods, key=lambda m: stats[m])
+        held, broke = "-", "-"
+        for strength in sorted({r["strength"] for r in cases}):
+            mine = [r for r in cases if r["method"] == use and r["strength"] == strength]
+            if all(r["success"] for r in mine):
+                held = mine[0]["label"]
+            else:
+                broke = mine[0]["label"]
+                break
+        rows.append(
+            [kind]
+            + [f"{100 * stats[m][0]:.0f} %" for m in methods]
+            + [use if stats[use][0] > 0 else "none succeeds", held, broke]
+            + [REMEDIES.get(kind, "-") if broke != "-" else "-"]
+        )
+    head = ["screenshot problem"] + methods + ["use", "withstood up to", "broke at", "beyond that"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    lines += ["| " + " | ".join(r) + " |" for r in rows]
+    return "\n".join(lines)
 
 
 def table(rows, cols):
@@ -483,22 +710,52 @@ def models_markdown(models):
     ]
 
 
-if args.models_only:  # redraw the model-size chart and section of an existing report
-    models = read_sweeps()
+def run_confirmations(models):
+    """--confirm: each scene whose smallest sufficient model is smaller than the shipped one gets it
+    trained with the shipped recipe (model_confirm_VOLUME.json). Returns the minutes it took."""
+    t0 = time.time()
+    for volume in sweep_mds if args.confirm else ():
+        rows = [m for m in models if m["volume"] == volume]
+        if rows and not is_shipped(smallest_sufficient(rows)):
+            confirm(volume, smallest_sufficient(rows))
+    return (time.time() - t0) / 60
+
+
+def confirmations(models):
+    found = []
+    for volume in sweep_mds:
+        rows = [m for m in models if m["volume"] == volume]
+        c = read_confirmation(volume, smallest_sufficient(rows)) if rows else None
+        if c is not None and not is_shipped(smallest_sufficient(rows)):
+            found.append(dict(c, suffices=confirmation_verdict(c)[0]))
+    return found
+
+
+def rewrite_models_section(models):
+    """Redraws the model-size chart and replaces the model section of report.md and report.json."""
     plot_models(models)
     with open(os.path.join(args.out, "report.json")) as f:
-        results = json.load(f)
-    results["models"] = models
+        saved = json.load(f)
+    saved["models"] = models
+    saved["model_confirmations"] = confirmations(models)
     with open(os.path.join(args.out, "report.json"), "w") as f:
-        json.dump(results, f, indent=1)
+        json.dump(saved, f, indent=1)
     with open(os.path.join(args.out, "report.md")) as f:
         head = f.read().split("## Model kind and size")[0]
     with open(os.path.join(args.out, "report.md"), "w") as f:
         f.write(head + "\n".join(models_markdown(models)) + "\n")
     log(f"redrew {args.out}/report_models.png and the model section of report.md")
+
+
+if args.models_only:  # redraw the model-size chart and section of an existing report
+    models = read_sweeps()
+    run_confirmations(models)
+    rewrite_models_section(models)
     sys.exit(0)
 
 # --- 0. model sweep (full run; before the methods, whose (b) uses its U-Net) ---------------------------
+
+section("model sweep")
 
 UNET = None
 if not args.quick:
@@ -543,6 +800,8 @@ if not args.quick:
         )
 
 # --- 1. methods: accuracy against time ------------------------------------------------------------
+
+section("methods")
 
 for volume, preset_name in CASES:
     log(f"{volume}: references")
@@ -608,6 +867,8 @@ for volume, preset_name in CASES:
     CASE_OBJECTS[volume] = case
 
 # --- 2. stability: perturbed screenshots ------------------------------------------------------------
+
+section("stability")
 
 
 def perturbations(case):
@@ -766,6 +1027,8 @@ for volume, case in CASE_OBJECTS.items():
 
 # --- 3. optimisation stability, learning rate, TF resolution ------------------------------------------
 
+section("optimisation and TF resolution")
+
 case = CASE_OBJECTS["tooth"]
 shot, vfile = case["refs"]["reference"], case["view_files"]["reference"]
 rng = np.random.default_rng(7)
@@ -850,6 +1113,8 @@ results["tf_resolution"] = resolution
 
 # --- 4. renderer speed ------------------------------------------------------------------------------
 
+section("renderer")
+
 _timed = {}
 
 
@@ -921,6 +1186,8 @@ models = read_sweeps()  # the sweeps ran first (section 0)
 results["models"] = models
 
 # --- charts -------------------------------------------------------------------------------------------
+
+section("charts")
 
 COLORS = {
     "nearest design (a)": "tab:gray",
@@ -1071,12 +1338,22 @@ if models:
 
 # --- report.md ------------------------------------------------------------------------------------------
 
+charts_minutes = (time.time() - started) / 60
+results["section_minutes"] = section_minutes()
+results["model_confirmations"] = confirmations(models)
+
 
 md = [
     f"# Speed against accuracy, stability, model size{' (quick run)' if args.quick else ''}",
     "",
     f"Produced by `Testing/Benchmarks/report.py{' --quick' if args.quick else ''}` on 2 cores in "
-    f"{(time.time() - started) / 60:.1f} min. Raw numbers: `report.json`.",
+    f"{charts_minutes:.1f} min"
+    + (" (before --confirm, whose time is in its section)" if args.confirm else "")
+    + ". Raw numbers: `report.json`.",
+    "",
+    "Minutes per section: "
+    + ", ".join(f"{name} {m:.1f}" for name, m in results["section_minutes"].items())
+    + ".",
     "",
 ]
 for volume, preset_name in CASES:
@@ -1150,6 +1427,16 @@ md += [
     + ", ".join(f"{m} {100 * s:.0f} %" for m, s in rate.items())
     + f". Most robust here: {best}.",
     "",
+    "### Which method to use when",
+    "",
+    "Per kind of screenshot problem, over its perturbed cases on "
+    + " and ".join(CASE_OBJECTS)
+    + ": each method's success rate, the method to use (highest success, then mean PSNR), the "
+    "strongest perturbation it withstood on every volume and the first it did not. The last column "
+    "is advice for what no method withstands (not measured here).",
+    "",
+    method_guide(),
+    "",
 ]
 md += [
     "## Optimisation",
@@ -1219,12 +1506,15 @@ md += [
     "",
 ]
 md += models_markdown(models)
-results["minutes"] = (time.time() - started) / 60
+results["minutes"] = charts_minutes
 with open(os.path.join(args.out, "report.json"), "w") as f:
     json.dump(results, f, indent=1)
 with open(os.path.join(args.out, "report.md"), "w") as f:
     f.write("\n".join(md) + "\n")
 log(f"wrote {args.out}/report.md, report.json and the report_*.png charts")
+if args.confirm:  # after the report is safely written: this trains for a while
+    run_confirmations(models)
+    rewrite_models_section(models)
 nonfinite = sum(not r["finite"] for r in runs)
 if nonfinite:
     sys.exit(f"{nonfinite} reconstructions from random starts ended with non-finite values")
