@@ -10,9 +10,9 @@
 #   KIND: unet (the paper's renderer) or decoder (explicit TF, ray cast) [decoder]
 #   IMAGE_WEIGHT: decoder's image loss through the differentiable ray caster [100]; the decoder
 #   also gets a cosine learning-rate schedule over ITERATIONS
-#   DDG (the ddg program) [build/bin/ddg], WORK (scratch folder) [build/models/VOLUME], OUT (the
-#   bundle written) [Data/Models/VOLUME] and OUTLINE (designs in the outline; 0: no outline)
-#   [50000] may be set in the environment.
+#   DDG (the ddg program) [build/bin/ddg], WORK (scratch folder) [build/models/VOLUME], MODEL_OUT
+#   (the bundle folder written, replaced if present) [Data/Models/VOLUME] and OUTLINE (designs in
+#   the outline; 0: no outline) [50000] may be set in the environment.
 #   e.g. scripts/train_model.sh tooth        -> Data/Models/tooth/
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -31,7 +31,12 @@ if [ "$KIND" = decoder ]; then
 fi
 DDG=${DDG:-build/bin/ddg}
 WORK=${WORK:-build/models/$VOLUME}
-OUT=${OUT:-Data/Models/$VOLUME}
+OUT=${MODEL_OUT:-Data/Models/$VOLUME}
+OUT=${OUT%/}
+if [ -z "$OUT" ] || [ "$OUT" = . ] || [ "$OUT" = .. ]; then
+  echo "train_model: MODEL_OUT must name a bundle folder" >&2
+  exit 1
+fi
 OUTLINE=${OUTLINE:-50000}
 mkdir -p "$WORK" "$(dirname "$OUT")"
 # generation is deterministic: a complete dataset of the same volume, count, size, seed and first

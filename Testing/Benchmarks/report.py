@@ -462,11 +462,13 @@ def shipped_text(models):
         )
         if shipped and small is shipped[0]:
             line += " -- the shipped one."
-        elif shipped:
+        elif shipped and small["parameters"] < shipped[0]["parameters"]:
             line += (
                 f" -- {shipped[0]['parameters'] / small['parameters']:.1f}x fewer parameters than shipped would "
                 f"suffice at this training time.\n" + confirmation_text(volume, small)
             )
+        elif shipped:
+            line += " -- larger than the shipped one, which falls short of this sweep's best."
         else:
             line += "."
         text.append("- " + line)
@@ -481,30 +483,68 @@ def confirm_path(volume):
     return os.path.join(args.out, f"model_confirm_{volume}.json")
 
 
+# the held-out metrics a confirmation records for the candidate and the shipped bundle
+CONFIRM_KEYS = (
+    "psnr",
+    "ssim",
+    "emd",
+    "invariance",
+    "heldout_count",
+    "parameters",
+    "analyzer_ms",
+    "renderer_ms",
+    "train_seconds",
+    "train_iterations",
+)
+
+
+def shipped_bundle(volume):
+    """The shipped bundle.json of `volume` (None when it ships no model)."""
+    path = os.path.join(DATA, "Models", volume, "bundle.json")
+    if not os.path.exists(path):
+        return None
+    with open(path) as f:
+        return json.load(f)
+
+
 def read_confirmation(volume, candidate):
-    """The recorded full-recipe training of `candidate` (a sweep row), if there is one for it."""
+    """The recorded full-recipe training of `candidate` (a sweep row), if there is one for it and
+    for the current shipped bundle (same metrics and recipe); None for an unreadable record."""
+    shipped = shipped_bundle(volume)
     for path in (
-        confirm_path(volume),
-        os.path.join(ROOT, "Documentation", "Results", f"model_confirm_{volume}.json"),
+        ()
+        if shipped is None
+        else (
+            confirm_path(volume),
+            os.path.join(ROOT, "Documentation", "Results", f"model_confirm_{volume}.json"),
+        )
     ):
-        if os.path.exists(path):
+        if not os.path.exists(path):
+            continue
+        try:
             with open(path) as f:
                 c = json.load(f)
-            if (c["kind"], c["width"], c["image"]) == (
+            same_candidate = (c["kind"], c["width"], c["image"]) == (
                 candidate["kind"],
                 candidate["width"],
                 candidate["image"],
-            ):
+            )
+            same_shipped = (
+                c["exemplars"] == shipped["training_exemplars"]
+                and c["iterations"] == shipped["metrics"]["train_iterations"]
+                and all(c["shipped"][k] == shipped["metrics"][k] for k in CONFIRM_KEYS)
+            )
+            if same_candidate and same_shipped:
                 return c
+        except (KeyError, TypeError, ValueError) as e:
+            log(f"ignoring {path}: {e!r}")
     return None
 
 
 def confirm(volume, candidate):
     """Trains `candidate` with the shipped bundle's recipe (exemplars, iterations, seeds, schedule:
     scripts/train_model.sh) and records its held-out metrics next to the shipped bundle's."""
-    shipped_path = os.path.join(DATA, "Models", volume, "bundle.json")
-    with open(shipped_path) as f:
-        shipped = json.load(f)
+    shipped = shipped_bundle(volume)
     iterations = shipped["metrics"]["train_iterations"]
     exemplars = shipped["training_exemplars"]
     weight = "100" if candidate["kind"].startswith("decoder (image") else "0"
@@ -526,32 +566,23 @@ def confirm(volume, candidate):
     )
     t0 = time.time()
     subprocess.run(
-        cmd, check=True, env=dict(os.environ, DDG=DDG, WORK=out + "_work", OUT=out, OUTLINE="0")
+        cmd,
+        check=True,
+        env=dict(os.environ, DDG=DDG, WORK=out + "_work", MODEL_OUT=out, OUTLINE="0"),
     )
     with open(os.path.join(out, "bundle.json")) as f:
         metrics = json.load(f)["metrics"]
-    keys = (
-        "psnr",
-        "ssim",
-        "emd",
-        "invariance",
-        "heldout_count",
-        "parameters",
-        "analyzer_ms",
-        "renderer_ms",
-        "train_seconds",
-        "train_iterations",
-    )
     record = {
         "volume": volume,
         "kind": candidate["kind"],
         "width": candidate["width"],
         "image": candidate["image"],
-        "command": "scripts/train_model.sh " + " ".join(cmd[2:]),
+        "command": "MODEL_OUT=DIR OUTLINE=0 scripts/train_model.sh " + " ".join(cmd[2:]),
         "exemplars": exemplars,
+        "iterations": iterations,
         "wall_minutes": (time.time() - t0) / 60,
-        "candidate": {k: metrics[k] for k in keys},
-        "shipped": {k: shipped["metrics"][k] for k in keys},
+        "candidate": {k: metrics[k] for k in CONFIRM_KEYS},
+        "shipped": {k: shipped["metrics"][k] for k in CONFIRM_KEYS},
     }
     with open(confirm_path(volume), "w") as f:
         json.dump(record, f, indent=1)
@@ -581,10 +612,17 @@ def confirmation_text(volume, small):
         )
     a, s = c["candidate"], c["shipped"]
     ok, meets_bar, close = confirmation_verdict(c)
+    if a["train_iterations"] < c["iterations"]:  # train_model.sh's 30-minute cap stopped it
+        return (
+            f"  Trained with the shipped recipe (`{c['command']}`), it stopped at "
+            f"{a['train_iterations']} of {c['iterations']} steps (the 30-minute cap): no verdict."
+        )
     text = (
         f"  Trained with the shipped recipe (`{c['command']}`: {c['exemplars']} exemplars, "
         f"{a['train_iterations']} steps, {a['train_seconds'] / 60:.1f} min of training), on the same "
-        f"{a['heldout_count']} held-out exemplars: {a['psnr']:.2f} dB / SSIM {a['ssim']:.4f} / EMD {a['emd']:.2f}, "
+        f"{a['heldout_count']} held-out exemplars"
+        + (f" ({c['image']} px, the shipped bundle's are 64 px)" if c["image"] != 64 else "")
+        + f": {a['psnr']:.2f} dB / SSIM {a['ssim']:.4f} / EMD {a['emd']:.2f}, "
         f"renderer {a['renderer_ms']:.1f} ms, against the shipped bundle's {s['psnr']:.2f} dB / {s['ssim']:.4f} / "
         f"{s['emd']:.2f}, {s['renderer_ms']:.1f} ms ({s['train_seconds'] / 60:.1f} min of training): "
         f"{a['psnr'] - s['psnr']:+.2f} dB, {a['ssim'] - s['ssim']:+.4f} SSIM (`--confirm` took "
@@ -716,8 +754,12 @@ def run_confirmations(models):
     t0 = time.time()
     for volume in sweep_mds if args.confirm else ():
         rows = [m for m in models if m["volume"] == volume]
-        if rows and not is_shipped(smallest_sufficient(rows)):
-            confirm(volume, smallest_sufficient(rows))
+        small, shipped = smallest_sufficient(rows) if rows else None, [
+            m for m in rows if is_shipped(m)
+        ]
+        smaller = small and shipped and small["parameters"] < shipped[0]["parameters"]
+        if smaller and shipped_bundle(volume) is not None:
+            confirm(volume, small)
     return (time.time() - t0) / 60
 
 
