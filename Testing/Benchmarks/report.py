@@ -386,12 +386,21 @@ def is_shipped(m):
     return m["kind"].startswith("decoder (image") and m["width"] == 16 and m["image"] == 64
 
 
+def reference_model(rows):
+    """The scene's best model: the highest PSNR among the models within SUFFICES_SSIM of the best
+    SSIM (the best PSNR and the best SSIM can belong to different models)."""
+    best_ssim = max(r["ssim"] for r in rows)
+    return max((r for r in rows if r["ssim"] >= best_ssim - SUFFICES_SSIM), key=lambda r: r["psnr"])
+
+
 def smallest_sufficient(rows):
-    best_psnr, best_ssim = max(r["psnr"] for r in rows), max(r["ssim"] for r in rows)
+    """The fewest parameters within SUFFICES_DB and SUFFICES_SSIM of the reference model (which is
+    one of them)."""
+    ref = reference_model(rows)
     enough = [
         r
         for r in rows
-        if r["psnr"] >= best_psnr - SUFFICES_DB and r["ssim"] >= best_ssim - SUFFICES_SSIM
+        if r["psnr"] >= ref["psnr"] - SUFFICES_DB and r["ssim"] >= ref["ssim"] - SUFFICES_SSIM
     ]
     return min(enough, key=lambda r: r["parameters"])
 
@@ -450,9 +459,12 @@ def shipped_text(models):
         rows = [m for m in models if m["volume"] == volume]
         if not rows:
             continue
-        best, small = max(rows, key=lambda m: m["psnr"]), smallest_sufficient(rows)
+        best, small = reference_model(rows), smallest_sufficient(rows)
         shipped = [m for m in rows if is_shipped(m)]
-        line = f"{volume}: best {best['psnr']:.2f} dB ({best['kind']}, width {best['width']}, {best['image']} px)"
+        line = (
+            f"{volume}: best {best['psnr']:.2f} dB / SSIM {best['ssim']:.3f} ({best['kind']}, width "
+            f"{best['width']}, {best['image']} px; the highest PSNR within {SUFFICES_SSIM:g} of the best SSIM)"
+        )
         if shipped:
             s = shipped[0]
             line += f"; shipped width 16, 64 px: {s['psnr']:.2f} dB / SSIM {s['ssim']:.3f}, {s['parameters']} parameters"
