@@ -643,11 +643,11 @@ def confirmation_text(volume, candidate):
         f"{a['train_iterations']} steps, {a['train_seconds'] / 60:.1f} min of training), on the same "
         f"{a['heldout_count']} held-out exemplars"
         + (f" ({c['image']} px, the shipped bundle's are 64 px)" if c["image"] != 64 else "")
-        + f": {a['psnr']:.2f} dB / SSIM {a['ssim']:.4f} / EMD {a['emd']:.2f}, "
-        f"renderer {a['renderer_ms']:.1f} ms, against the shipped bundle's {s['psnr']:.2f} dB / {s['ssim']:.4f} / "
-        f"{s['emd']:.2f}, {s['renderer_ms']:.1f} ms ({s['train_seconds'] / 60:.1f} min of training): "
-        f"{a['psnr'] - s['psnr']:+.2f} dB, {a['ssim'] - s['ssim']:+.4f} SSIM (`--confirm` took "
-        f"{c['wall_minutes']:.1f} min). "
+        + f": {a['psnr']:.2f} dB / SSIM {a['ssim']:.4f} / EMD {a['emd']:.2f} / invariance "
+        f"{a['invariance']:.3f}, against the shipped bundle's {s['psnr']:.2f} dB / {s['ssim']:.4f} / "
+        f"{s['emd']:.2f} / {s['invariance']:.3f} ({s['train_seconds'] / 60:.1f} min of training on the "
+        f"machine that trained it): {a['psnr'] - s['psnr']:+.2f} dB, {a['ssim'] - s['ssim']:+.4f} SSIM "
+        f"(`--confirm` took {c['wall_minutes']:.1f} min; latencies: the sweep table, one machine). "
     )
     if ok:
         text += "It suffices at full training: the smaller model should be shipped."
