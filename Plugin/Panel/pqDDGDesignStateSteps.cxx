@@ -44,7 +44,7 @@ QJsonArray pqDDGDesignState::appendStep(QJsonArray steps, const QJsonObject& ste
 {
   const bool axes = step.value("action") == "axes";
   if (axes && !steps.isEmpty() && steps.last().toObject().value("action") == "axes")
-    steps.last() = step; // the sliders move one step
+    steps[steps.size() - 1] = step; // the sliders move one step (QJsonArray::last() is a copy)
   else
     steps.append(step);
   return steps;
