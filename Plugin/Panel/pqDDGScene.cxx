@@ -1,22 +1,30 @@
 // pqDDGScene.cxx: scene access for the Design Gallery panel.
 #include "pqDDGScene.h"
 
+#include <pqActiveObjects.h>
 #include <pqApplicationCore.h>
 #include <pqDataRepresentation.h>
 #include <pqOutputPort.h>
 #include <pqPipelineSource.h>
 #include <pqRenderView.h>
-#include <pqServer.h>
+#include <pqServerManagerModel.h>
 #include <pqUndoStack.h>
 #include <pqView.h>
 
+#include <vtkDataArray.h>
 #include <vtkDataObject.h>
+#include <vtkFieldData.h>
+#include <vtkImageData.h>
 #include <vtkPVDataMover.h>
+#include <vtkPointData.h>
 #include <vtkSMPVRepresentationProxy.h>
+#include <vtkSMParaViewPipelineControllerWithRendering.h>
 #include <vtkSMPropertyHelper.h>
 #include <vtkSMRenderViewProxy.h>
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
+#include <vtkStringArray.h>
+#include <vtkTable.h>
 
 #include <QCoreApplication>
 #include <QJsonArray>
@@ -84,6 +92,24 @@ QJsonObject viewJson(pqRenderView* view, pqDataRepresentation* repr, int maxSide
     out["opacity_unit_distance"] =
       vtkSMPropertyHelper(repr->getProxy(), "ScalarOpacityUnitDistance").GetAsDouble();
   return out;
+}
+
+pqDataRepresentation* representation(vtkSMSourceProxy* source)
+{
+  auto* view = qobject_cast<pqRenderView*>(pqActiveObjects::instance().activeView());
+  auto* pipelineSource = source
+    ? pqApplicationCore::instance()->getServerManagerModel()->findItem<pqPipelineSource*>(source)
+    : nullptr;
+  if (!view || !pipelineSource)
+    return nullptr;
+  pqDataRepresentation* repr = pipelineSource->getRepresentation(0, view);
+  if (!repr)
+  {
+    vtkNew<vtkSMParaViewPipelineControllerWithRendering> controller;
+    controller->Show(source, 0, view->getViewProxy());
+    repr = pipelineSource->getRepresentation(0, view);
+  }
+  return repr;
 }
 
 QString jsonText(const QJsonObject& object)
@@ -231,12 +257,11 @@ QString currentPreset(pqDataRepresentation* repr)
   return jsonText(preset);
 }
 
-vtkSmartPointer<vtkSMSourceProxy> newFilter(
-  pqServer* server, const char* name, vtkSMSourceProxy* input, int port)
+vtkSmartPointer<vtkSMSourceProxy> newFilter(const char* name, vtkSMSourceProxy* input, int port)
 {
   vtkSmartPointer<vtkSMSourceProxy> filter;
   filter.TakeReference(
-    vtkSMSourceProxy::SafeDownCast(server->proxyManager()->NewProxy("filters", name)));
+    vtkSMSourceProxy::SafeDownCast(input->GetSessionProxyManager()->NewProxy("filters", name)));
   if (filter)
   {
     vtkSMPropertyHelper(filter, "Input").Set(input, static_cast<unsigned int>(port));
@@ -245,10 +270,10 @@ vtkSmartPointer<vtkSMSourceProxy> newFilter(
   return filter;
 }
 
-vtkSmartPointer<vtkDataObject> fetch(pqServer* server, vtkSMSourceProxy* producer, int port)
+vtkSmartPointer<vtkDataObject> fetch(vtkSMSourceProxy* producer, int port)
 {
   vtkSmartPointer<vtkSMProxy> mover;
-  mover.TakeReference(server->proxyManager()->NewProxy("misc", "DataMover"));
+  mover.TakeReference(producer->GetSessionProxyManager()->NewProxy("misc", "DataMover"));
   if (!mover)
     return nullptr;
   vtkSMPropertyHelper(mover, "Producer").Set(producer);
@@ -275,6 +300,47 @@ QString lastError(vtkSMProxy* filter)
     return {};
   filter->UpdatePropertyInformation();
   return QString::fromUtf8(vtkSMPropertyHelper(filter, "LastError").GetAsString());
+}
+
+QImage imageOf(vtkDataObject* data)
+{
+  auto* image = vtkImageData::SafeDownCast(data);
+  vtkDataArray* rgb = image ? image->GetPointData()->GetArray("Image") : nullptr;
+  if (!rgb || rgb->GetNumberOfComponents() < 3)
+    return {};
+  int dims[3];
+  image->GetDimensions(dims);
+  const bool unit = rgb->GetDataType() == VTK_FLOAT || rgb->GetDataType() == VTK_DOUBLE;
+  QImage out(dims[0], dims[1], QImage::Format_RGB32);
+  for (int y = 0; y < dims[1]; ++y)
+    for (int x = 0; x < dims[0]; ++x)
+    {
+      const vtkIdType i = static_cast<vtkIdType>(dims[1] - 1 - y) * dims[0] + x; // VTK rows go up
+      int c[3];
+      for (int k = 0; k < 3; ++k)
+      {
+        const double v = rgb->GetComponent(i, k);
+        c[k] = static_cast<int>(std::lround(std::clamp(unit ? 255 * v : v, 0.0, 255.0)));
+      }
+      out.setPixel(x, y, qRgb(c[0], c[1], c[2]));
+    }
+  return out;
+}
+
+QJsonArray fieldNumbers(vtkTable* table, const char* name)
+{
+  QJsonArray out;
+  vtkDataArray* a = table ? table->GetFieldData()->GetArray(name) : nullptr;
+  for (vtkIdType i = 0; a && i < a->GetNumberOfValues(); ++i)
+    out.append(a->GetVariantValue(i).ToDouble());
+  return out;
+}
+
+QString fieldText(vtkTable* table, const char* name)
+{
+  auto* a =
+    table ? vtkStringArray::SafeDownCast(table->GetFieldData()->GetAbstractArray(name)) : nullptr;
+  return a && a->GetNumberOfValues() > 0 ? QString::fromStdString(a->GetValue(0)) : QString();
 }
 
 } // namespace ddgpanel

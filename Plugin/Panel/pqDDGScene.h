@@ -4,6 +4,8 @@
 // fetching their (small) results.
 #pragma once
 
+#include <QImage>
+#include <QJsonArray>
 #include <QJsonObject>
 #include <QString>
 
@@ -13,10 +15,10 @@ class pqDataRepresentation;
 class pqOutputPort;
 class pqPipelineSource;
 class pqRenderView;
-class pqServer;
 class vtkDataObject;
 class vtkSMProxy;
 class vtkSMSourceProxy;
+class vtkTable;
 
 namespace ddgpanel
 {
@@ -25,6 +27,10 @@ namespace ddgpanel
 /// SynchronizeCameraProperties), its background and the representation's Scalar Opacity Unit
 /// Distance (when given), with the view's aspect and `maxSide` pixels on its longer side.
 QJsonObject viewJson(pqRenderView* view, pqDataRepresentation* repr, int maxSide);
+
+/// The representation of `source` (port 0) in the active render view, shown there first when it
+/// is not yet; nullptr without a render view or source.
+pqDataRepresentation* representation(vtkSMSourceProxy* source);
 
 /// Compact text of a JSON object.
 QString jsonText(const QJsonObject& object);
@@ -49,15 +55,25 @@ QString applyTransferFunction2D(pqDataRepresentation* repr, const QString& array
 /// The current RGBPoints and opacity Points of `repr`'s maps as a preset text (to restore them).
 QString currentPreset(pqDataRepresentation* repr);
 
-/// A new, unregistered server-side filter `name` of the "filters" group on `input`'s port.
-vtkSmartPointer<vtkSMSourceProxy> newFilter(
-  pqServer* server, const char* name, vtkSMSourceProxy* input, int port);
+/// A new, unregistered server-side filter `name` of the "filters" group on `input`'s port, in
+/// `input`'s session.
+vtkSmartPointer<vtkSMSourceProxy> newFilter(const char* name, vtkSMSourceProxy* input, int port);
 
 /// Fetches output `port` of `producer` (already updated) from the first process: a copy on the
 /// client (nullptr when it is empty).
-vtkSmartPointer<vtkDataObject> fetch(pqServer* server, vtkSMSourceProxy* producer, int port);
+vtkSmartPointer<vtkDataObject> fetch(vtkSMSourceProxy* producer, int port);
 
 /// The filter's LastError information property (empty when it has none).
 QString lastError(vtkSMProxy* filter);
+
+/// The "Image" array (RGB over the background) of a filter's image output as a QImage (null
+/// when there is none).
+QImage imageOf(vtkDataObject* data);
+
+/// The numbers of field array `name` of a filter's table output (empty when it has none).
+QJsonArray fieldNumbers(vtkTable* table, const char* name);
+
+/// The first value of string field array `name` of a filter's table output (empty if none).
+QString fieldText(vtkTable* table, const char* name);
 
 } // namespace ddgpanel

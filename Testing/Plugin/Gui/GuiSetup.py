@@ -2,11 +2,12 @@
 
 Environment: DDG_GUI_CASE ("tooth": the Tooth volume as a Volume representation at
 Data/Views/tooth_oblique.json's camera; "small2d": Testing/Data/small.vti (DDG_TEST_DATA) at
-small_view.json's camera, for a 2D model; "sphere": a Sphere source, not a volume), DDG_DATA_DIR,
-DDG_GUI_RECORD (a file that gets one JSON line per change of the volume's colour map RGBPoints,
-starting with the initial one: what the panel wrote, read back from the LUT proxy; "small2d":
-per change of UseTransfer2D or the TransferFunction2D's Boxes, Range or OutputDimensions,
-{"use2d": 0/1, "boxes": [...], "range": [...], "dims": [...]}).
+small_view.json's camera, for a 2D model; "constant": Testing/Data/constant.vti at the same
+camera, a volume no design space can be built for; "sphere": a Sphere source, not a volume),
+DDG_DATA_DIR, DDG_GUI_RECORD (a file that gets one JSON line per change of the volume's colour
+map RGBPoints, starting with the initial one: what the panel wrote, read back from the LUT proxy;
+"small2d" and "constant": per change of UseTransfer2D or the TransferFunction2D's Boxes, Range or
+OutputDimensions, {"use2d": 0/1, "boxes": [...], "range": [...], "dims": [...]}).
 """
 import json
 import os
@@ -24,9 +25,12 @@ if os.environ.get("DDG_GUI_CASE") == "sphere":
     SetActiveSource(sphere)
     Render()
 else:
-    small = os.environ.get("DDG_GUI_CASE") == "small2d"
+    case = os.environ.get("DDG_GUI_CASE")
+    small = case in ("small2d", "constant")
     path = (
-        os.path.join(os.environ["DDG_TEST_DATA"], "small.vti")
+        os.path.join(
+            os.environ["DDG_TEST_DATA"], "constant.vti" if case == "constant" else "small.vti"
+        )
         if small
         else os.path.join(data, "Volumes", "tooth.vti")
     )

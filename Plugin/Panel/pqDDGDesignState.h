@@ -1,0 +1,191 @@
+// pqDDGDesignState.h: the Design Gallery panel's state without any widget: the volume, the
+// server-side filter proxies on it, the outline being browsed, the history steps of the current
+// design and what DDG Design made of them, the pins and the lock. The dock panel shows it and
+// forwards the user's actions; a test drives it directly (Testing/Plugin/TestDesignState.cxx).
+#pragma once
+
+#include <QColor>
+#include <QImage>
+#include <QJsonArray>
+#include <QJsonObject>
+#include <QObject>
+#include <QPointF>
+#include <QRectF>
+#include <QVector>
+
+#include <vtkSmartPointer.h>
+#include <vtkWeakPointer.h>
+
+#include <functional>
+
+class vtkSMSourceProxy;
+
+class pqDDGDesignState : public QObject
+{
+  Q_OBJECT
+
+public:
+  /// What DDG Design made of the current steps at the camera it was asked at.
+  struct Design
+  {
+    QJsonArray Latent;
+    QString Preset;     ///< ParaView preset (1D) or DDG 2D TF JSON (2D models)
+    QString ParaView2D; ///< 2D models: the TransferFunction2D proxy's properties (JSON)
+    QString Slicer;     ///< 3D Slicer's .vp.json (1D models)
+    QJsonObject View;   ///< the view JSON it was made at (edits refer to it)
+    QImage Preview;
+    QJsonArray Position; ///< on the outline plane (2 numbers)
+    QJsonArray Fidelity; ///< PSNR dB, SSIM, max error
+    QJsonArray Regions;  ///< feature regions: (low, high) value pairs
+    QVector<QColor> ClusterColours;
+    QVector<double> ClusterShares;
+    int Row = -1; ///< the outline row when the steps are a single pick, else -1
+  };
+  /// A pinned design: its steps, its latent vector and its preview as icon.
+  struct Pin
+  {
+    QJsonArray Steps;
+    QJsonArray Latent;
+    QImage Icon;
+  };
+  /// The outline part shown: every outline design and thumbnails of a sample of them.
+  struct Outline
+  {
+    QVector<QPointF> Points;    ///< plane position of every outline row
+    QVector<int> ThumbnailRows; ///< the outline row of each thumbnail
+    QVector<QImage> Thumbnails; ///< their images
+    QRectF Box;                 ///< the plane part shown (when BoxKnown)
+    bool BoxKnown = false;
+  };
+  /// Makes the view JSON of the current camera with `maxSide` pixels on its longer side (empty
+  /// when there is no view).
+  using ViewFunction = std::function<QJsonObject(int maxSide)>;
+
+  static constexpr int PreviewSide = 192;
+  static constexpr int ThumbnailCount = 32;
+  static constexpr int ThumbnailSize = 64;
+
+  explicit pqDDGDesignState(QObject* parent = nullptr);
+  ~pqDDGDesignState() override;
+
+  // --- the volume and its model -----------------------------------------------------------------
+  /// The volume (`array`: its point scalars) the panel works on; clears the model. nullptr or
+  /// an empty `array`: none.
+  void setVolume(vtkSMSourceProxy* source, const QString& array);
+  vtkSMSourceProxy* volume() const;
+  const QString& array() const { return this->Array; }
+  /// The volume's name in the pipeline (its registration name).
+  QString volumeName() const;
+  void setViewFunction(ViewFunction view) { this->View = std::move(view); }
+  /// The view JSON of the current camera (ViewFunction).
+  QJsonObject currentView(int maxSide) const;
+
+  /// Creates the filters on the volume for the bundle in `directory` (on the server) and shows
+  /// the whole outline; false when there is no volume or the plugin is missing on the server.
+  bool loadModel(const QString& directory);
+  void clearModel();
+  bool isLoaded() const { return this->Loaded; }
+  const QString& modelDirectory() const { return this->ModelDirectory; }
+  /// Builds a design space for the volume into `directory` (DDG Build Design Space; Cancel
+  /// stops it); true when it was built (then load it), false with a message when it failed.
+  bool buildModel(const QString& directory);
+
+  bool isBusy() const { return this->Busy; }
+  void setBusy(bool busy);
+  bool isCancelled() const { return this->Cancelled; }
+  /// Asks the running build or animation to stop.
+  void cancel() { this->Cancelled = true; }
+
+  /// True when there is a volume, a model and (`needDesign`) a design; else says what is missing.
+  bool ready(bool needDesign = false);
+
+  // --- the outline ---------------------------------------------------------------------------
+  /// Renders the thumbnails of the outline part shown (outlineChanged or a message).
+  void refreshOutline();
+  void drillIn(const QRectF& box);
+  void back();
+  void resample();
+  /// The part shown changed by zoom or pan.
+  void setShownBox(const QRectF& box);
+  /// Thumbnails at the view's camera (else the volume's default view, the first time).
+  void setThumbnailsAtCamera(bool atCamera) { this->ThumbnailsAtCamera = atCamera; }
+
+  // --- designs -------------------------------------------------------------------------------
+  /// Queries with an image file's bytes (PNG, JPEG or TIFF); `name` is recorded in the step.
+  void query(const QByteArray& imageFile, const QString& name);
+  void pick(int row);
+  /// The blend of pins `pins` (2-4) at (u, v).
+  void navigate(const QList<int>& pins, double u, double v);
+  /// Recolours colour cluster `cluster` of the design by `hue` degrees and scales its visibility.
+  void edit(int cluster, double hue, double visibility);
+  /// Moves along the principal axes (standard deviations); consecutive moves are one step.
+  void moveAlongAxes(const QVector<double>& steps);
+  /// Locks feature regions `regions` as they are in the design shown now (empty: unlocks).
+  void setLockedRegions(const QVector<int>& regions);
+  /// Makes `steps` the current design's path (`newPath`: a new path, the axes start at 0).
+  bool setSteps(const QJsonArray& steps, bool newPath = true);
+  /// Runs DDG Design on the steps at the current camera; false (and a message) on error.
+  bool updateDesign();
+  const QJsonArray& steps() const { return this->Steps; }
+  const QJsonArray& lockSteps() const { return this->LockSteps; }
+  const Design& design() const { return this->Current; }
+
+  // --- pins ----------------------------------------------------------------------------------
+  /// Pins the current design (pinAdded).
+  void pin();
+  /// Removes the pins at `rows`.
+  void unpin(QVector<int> rows);
+  const QVector<Pin>& pins() const { return this->Pins; }
+
+  /// Says `text` in the panel (statusChanged); `error` shows it as one.
+  void report(const QString& text, bool error = false);
+  /// The last text reported.
+  const QString& lastMessage() const { return this->LastMessage; }
+
+  // --- history steps: the ddg history JSON (README "File contracts"), built only here ----------
+  static QJsonObject pickStep(int row);
+  static QJsonObject latentStep(const QJsonArray& latent, const QString& image);
+  static QJsonObject blendStep(const QJsonArray& latents, double u, double v);
+  static QJsonObject editStep(const QJsonObject& view, int cluster, double hue, double visibility);
+  static QJsonObject axesStep(const QVector<double>& steps);
+  /// `steps` with `step` appended; an axes step after an axes step replaces it (one move).
+  static QJsonArray appendStep(QJsonArray steps, const QJsonObject& step);
+  /// The history file's text of `steps` (what `ddg replay` reads).
+  static QString historyText(const QJsonArray& steps);
+
+Q_SIGNALS:
+  void statusChanged(const QString& text, bool error);
+  void busyChanged(bool busy);
+  /// The model was dropped (new volume, new bundle): clear what shows it.
+  void modelCleared();
+  void outlineChanged(const pqDDGDesignState::Outline& outline);
+  /// The outline could not be shown (`message` says why; the model is not usable).
+  void outlineFailed(const QString& message);
+  /// A query landed at `position` with its nearest outline rows.
+  void queried(const QPointF& position, const QVector<int>& neighbours);
+  /// A new path starts (the axes sliders go back to 0).
+  void pathStarted();
+  void designChanged();
+  void pinAdded();
+
+private:
+  vtkWeakPointer<vtkSMSourceProxy> Source;
+  QString Array;
+  ViewFunction View;
+  QString ModelDirectory;
+  vtkSmartPointer<vtkSMSourceProxy> GalleryProxy, QueryProxy, DesignProxy, BuildProxy;
+  bool Loaded = false;
+  bool Busy = false;
+  bool Cancelled = false;
+  QString LastMessage;
+
+  QVector<QRectF> Boxes; ///< drill-in stack; the last is shown
+  int Seed = 1;
+  bool ThumbnailsAtCamera = false;
+
+  QJsonArray Steps;
+  QJsonArray LockSteps;
+  QVector<int> Locked;
+  Design Current;
+  QVector<Pin> Pins;
+};

@@ -1,0 +1,101 @@
+// pqDDGQueryBox.cxx: reading the query image of the Design Gallery panel.
+#include "pqDDGQueryBox.h"
+#include "ui_pqDDGQueryBox.h"
+
+#include "pqDDGDesignState.h"
+
+#include <QApplication>
+#include <QBuffer>
+#include <QClipboard>
+#include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QImage>
+
+pqDDGQueryBox::pqDDGQueryBox(QWidget* parent)
+  : QGroupBox(parent)
+  , Ui(new Ui::pqDDGQueryBox)
+{
+  this->Ui->setupUi(this);
+  QObject::connect(this->Ui->browseQuery, &QPushButton::clicked, this, &pqDDGQueryBox::browse);
+  QObject::connect(this->Ui->query, &QPushButton::clicked, this, &pqDDGQueryBox::run);
+  QObject::connect(this->Ui->queryPath, &QLineEdit::returnPressed, this, &pqDDGQueryBox::run);
+  QObject::connect(this->Ui->paste, &QPushButton::clicked, this, &pqDDGQueryBox::paste);
+}
+
+pqDDGQueryBox::~pqDDGQueryBox() = default;
+
+void pqDDGQueryBox::browse()
+{
+  const QString path =
+    QFileDialog::getOpenFileName(this, tr("Query image"), this->Ui->queryPath->text(),
+      tr("Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp);;All files (*)"));
+  if (!path.isEmpty())
+    this->queryPath(path);
+}
+
+void pqDDGQueryBox::run()
+{
+  const QString path = this->Ui->queryPath->text().trimmed();
+  if (path.isEmpty())
+    this->browse();
+  else
+    this->queryFile(path);
+}
+
+void pqDDGQueryBox::paste()
+{
+  const QImage image = QApplication::clipboard()->image();
+  if (image.isNull())
+  {
+    this->State->report(tr("The clipboard holds no image."), true);
+    return;
+  }
+  this->queryImage(image, tr("clipboard"));
+}
+
+void pqDDGQueryBox::queryPath(const QString& path)
+{
+  this->Ui->queryPath->setText(path);
+  this->queryFile(path);
+}
+
+void pqDDGQueryBox::queryFile(const QString& path)
+{
+  QFile file(path);
+  if (!file.open(QIODevice::ReadOnly))
+  {
+    this->State->report(tr("Cannot open the query image '%1'.").arg(path), true);
+    return;
+  }
+  const QByteArray bytes = file.readAll();
+  const bool direct = bytes.startsWith("\x89PNG") || bytes.startsWith("\xff\xd8\xff") ||
+    bytes.startsWith("II*") || bytes.startsWith("MM");
+  if (direct && bytes.size() < 32 * 1024 * 1024)
+  {
+    // the file as it is: the server reads it exactly as `ddg query` reads the file
+    this->State->query(bytes, QFileInfo(path).fileName());
+    return;
+  }
+  const QImage image = QImage::fromData(bytes);
+  if (image.isNull())
+  {
+    this->State->report(tr("'%1' is not an image this panel can read.").arg(path), true);
+    return;
+  }
+  this->queryImage(image, QFileInfo(path).fileName());
+}
+
+void pqDDGQueryBox::queryImage(const QImage& image, const QString& name)
+{
+  if (!this->State->ready())
+    return;
+  QByteArray png;
+  if (!image.isNull())
+  {
+    QBuffer buffer(&png);
+    buffer.open(QIODevice::WriteOnly);
+    image.save(&buffer, "PNG");
+  }
+  this->State->query(png, name);
+}

@@ -1,0 +1,275 @@
+// TestDesignState.cxx: the Design Gallery panel's state (pqDDGDesignState) driven without any
+// widget or GUI event script, on the shipped Tooth model.
+//
+// How (the cheapest robust way found): a plain ParaView client process, like pvpython:
+// vtkInitializationHelper (client), a builtin session (vtkSMSession::ConnectToSelf), the plugin
+// loaded with vtkSMPluginManager for its filter proxies, and an XML reader of tooth.vti
+// registered as "tooth.vti". No pqApplicationCore, no QApplication (the state is a QObject with
+// signals; QImage needs no GUI), no render view: the state's ViewFunction returns
+// Data/Views/tooth_oblique.json scaled to the asked size, so nothing renders with OpenGL and no
+// X display is needed. The state's sources are compiled into this program (the plugin is a
+// MODULE library one cannot link to).
+//
+// Compared: the history steps the state writes against literal ddg history JSON (README "File
+// contracts"): pick, latent (with the query image's name), blend of two pins, edit (at the
+// design's view), axes (consecutive moves merged into one step), lock (the steps at lock time);
+// the outline (50 000 designs, 32 thumbnails of 64 px), the query's 5 neighbours, the preview
+// (192 px on the longer side), the blend corner u = v = 0 reproducing the first pin's latent
+// (tolerance 1e-5: float latents through JSON), a failing edit dropped with its message, the
+// messages of a state without a model, and a failed build (constant volume) reported as failed.
+//
+// Usage: TestDesignState PLUGIN DATA TESTDATA OUTDIR
+#include "pqDDGDesignState.h"
+
+#include <vtkDataSetAttributes.h>
+#include <vtkInitializationHelper.h>
+#include <vtkNew.h>
+#include <vtkPVArrayInformation.h>
+#include <vtkPVDataInformation.h>
+#include <vtkPVDataSetAttributesInformation.h>
+#include <vtkProcessModule.h>
+#include <vtkSMPluginManager.h>
+#include <vtkSMPropertyHelper.h>
+#include <vtkSMProxyManager.h>
+#include <vtkSMSession.h>
+#include <vtkSMSessionProxyManager.h>
+#include <vtkSMSourceProxy.h>
+
+#include <QCoreApplication>
+#include <QDir>
+#include <QFile>
+#include <QFileInfo>
+#include <QJsonDocument>
+
+#include <cmath>
+#include <iostream>
+
+namespace
+{
+int Failures = 0;
+
+void check(bool ok, const QString& what)
+{
+  std::cout << (ok ? "ok   " : "FAIL ") << what.toStdString() << std::endl;
+  if (!ok)
+    ++Failures;
+}
+
+QJsonObject object(const char* text)
+{
+  return QJsonDocument::fromJson(text).object();
+}
+
+QString compact(const QJsonValue& v)
+{
+  return QString::fromUtf8((v.isArray() ? QJsonDocument(v.toArray()) : QJsonDocument(v.toObject()))
+                             .toJson(QJsonDocument::Compact));
+}
+
+QByteArray readFile(const QString& path)
+{
+  QFile f(path);
+  return f.open(QIODevice::ReadOnly) ? f.readAll() : QByteArray();
+}
+
+vtkSmartPointer<vtkSMSourceProxy> reader(vtkSMSessionProxyManager* pxm, const QString& path)
+{
+  vtkSmartPointer<vtkSMSourceProxy> r;
+  r.TakeReference(vtkSMSourceProxy::SafeDownCast(pxm->NewProxy("sources", "XMLImageDataReader")));
+  vtkSMPropertyHelper(r, "FileName").Set(path.toUtf8().constData());
+  r->UpdateVTKObjects();
+  r->UpdatePipeline();
+  pxm->RegisterProxy("sources", QFileInfo(path).fileName().toUtf8().constData(), r);
+  return r;
+}
+
+QString pointScalars(vtkSMSourceProxy* source)
+{
+  vtkPVArrayInformation* a =
+    source->GetDataInformation(0)->GetPointDataInformation()->GetAttributeInformation(
+      vtkDataSetAttributes::SCALARS);
+  return a ? QString::fromUtf8(a->GetName()) : QString();
+}
+
+void run(const QString& data, const QString& testdata, const QString& outdir)
+{
+  vtkSMSessionProxyManager* pxm =
+    vtkSMProxyManager::GetProxyManager()->GetActiveSessionProxyManager();
+  auto tooth = reader(pxm, data + "/Volumes/tooth.vti");
+  const QJsonObject viewFile =
+    QJsonDocument::fromJson(readFile(data + "/Views/tooth_oblique.json")).object();
+
+  pqDDGDesignState state;
+  QStringList messages;
+  QObject::connect(
+    &state, &pqDDGDesignState::statusChanged, [&](const QString& text, bool) { messages << text; });
+  pqDDGDesignState::Outline outline;
+  QObject::connect(&state, &pqDDGDesignState::outlineChanged,
+    [&](const pqDDGDesignState::Outline& o) { outline = o; });
+  QVector<int> neighbours;
+  QObject::connect(&state, &pqDDGDesignState::queried,
+    [&](const QPointF&, const QVector<int>& rows) { neighbours = rows; });
+  state.setViewFunction(
+    [&](int maxSide)
+    {
+      QJsonObject v = viewFile;
+      const QJsonArray size = v.value("size").toArray();
+      const double w = size[0].toDouble(), h = size[1].toDouble();
+      const double scale = std::min(1.0, maxSide / std::max(w, h));
+      v["size"] = QJsonArray{ static_cast<int>(std::lround(w * scale)),
+        static_cast<int>(std::lround(h * scale)) };
+      return v;
+    });
+
+  // --- no model yet: the state says what is missing ---
+  state.setVolume(tooth, pointScalars(tooth));
+  check(state.volumeName() == "tooth.vti", "volume name " + state.volumeName());
+  state.pick(0);
+  check(state.lastMessage() == "Load or build a model for this volume first." &&
+      state.steps().isEmpty(),
+    "pick without a model: " + state.lastMessage());
+
+  // --- the model and its outline ---
+  if (!state.loadModel(data + "/Models/tooth"))
+  {
+    check(false, "load the Tooth model: " + state.lastMessage());
+    return;
+  }
+  check(outline.Points.size() == 50000 && outline.ThumbnailRows.size() == 32 &&
+      outline.Thumbnails.size() == 32 && outline.Thumbnails[0].width() == 64,
+    QString("outline: %1 designs, %2 thumbnails")
+      .arg(outline.Points.size())
+      .arg(outline.ThumbnailRows.size()));
+  check(state.lastMessage() ==
+      "50000 designs of 'tooth.vti'; 32 thumbnails. Click one, or query with a picture.",
+    "outline message: " + state.lastMessage());
+
+  // --- pick ---
+  state.pick(4725);
+  check(
+    compact(state.steps()) == compact(QJsonArray{ object(R"({"action": "pick", "row": 4725})") }),
+    "pick steps " + compact(state.steps()));
+  const pqDDGDesignState::Design& d = state.design();
+  const int latentSize = static_cast<int>(d.Latent.size());
+  check(d.Row == 4725 && latentSize > 0 && std::max(d.Preview.width(), d.Preview.height()) == 192 &&
+      !QJsonDocument::fromJson(d.Preset.toUtf8()).isNull() && d.Preset.contains("RGBPoints") &&
+      d.Fidelity.size() == 3,
+    QString("pick design: row %1, latent %2, preview %3x%4")
+      .arg(d.Row)
+      .arg(latentSize)
+      .arg(d.Preview.width())
+      .arg(d.Preview.height()));
+  check(state.lastMessage().startsWith("Design ready"), "pick message: " + state.lastMessage());
+  state.pin();
+
+  // --- query with the shipped screenshot ---
+  const QString shot = "tooth_dentin_enamel_oblique.png";
+  state.query(readFile(data + "/Screenshots/" + shot), shot);
+  const QJsonObject latentStep = state.steps().at(0).toObject();
+  check(state.steps().size() == 1 && latentStep.value("action") == "latent" &&
+      latentStep.value("image") == shot &&
+      latentStep.value("latent").toArray().size() == latentSize && latentStep.keys().size() == 3,
+    "query step: action latent, image " + latentStep.value("image").toString());
+  check(neighbours.size() == 5, QString("query neighbours: %1").arg(neighbours.size()));
+  state.pin();
+  check(state.pins().size() == 2 && state.pins()[1].Steps == state.steps() &&
+      !state.pins()[1].Icon.isNull(),
+    QString("pins: %1").arg(state.pins().size()));
+
+  // --- blend between the two pins ---
+  state.navigate({ 0, 1 }, 0.25, 0.0);
+  QJsonObject blend{ { "action", "blend" },
+    { "latents", QJsonArray{ state.pins()[0].Latent, state.pins()[1].Latent } }, { "u", 0.25 },
+    { "v", 0 } };
+  check(compact(state.steps()) == compact(QJsonArray{ blend }), "blend step at u = 0.25");
+  state.navigate({ 0, 1 }, 0.0, 0.0);
+  double worst = 0;
+  for (int k = 0; k < latentSize; ++k)
+    worst = std::max(
+      worst, std::abs(state.design().Latent[k].toDouble() - state.pins()[0].Latent[k].toDouble()));
+  check(worst < 1e-5, QString("blend corner (0, 0) = first pin, max |dz| %1").arg(worst));
+  state.navigate({ 0 }, 0.5, 0.0); // one pin: nothing to blend
+  check(state.steps().at(0).toObject().value("u") == 0.0, "navigate with one pin does nothing");
+
+  // --- edit at the design's view ---
+  const QJsonObject designView = state.design().View;
+  const QJsonArray latentBefore = state.design().Latent;
+  state.edit(0, 60, 1.0);
+  QJsonObject edit = object(R"({"action": "edit", "cluster": 0, "clusters": 4, "hue": 60,
+    "saturation": 1, "lightness": 0, "visibility": 1, "white": false})");
+  edit["view"] = designView;
+  check(state.steps().size() == 2 && compact(state.steps()[1]) == compact(edit),
+    "edit step " + compact(state.steps().last()).left(80) + "...");
+  check(state.design().Latent != latentBefore, "the edit changes the design");
+  // a failing edit (no cluster 99) is dropped with its message; the design stays
+  const QJsonArray beforeBad = state.steps();
+  messages.clear();
+  state.edit(99, 30, 1.0);
+  check(messages.size() == 2 && messages[0].startsWith("The design could not be made: ") &&
+      state.steps() == beforeBad,
+    "bad edit dropped: " + messages.value(0));
+
+  // --- axes: consecutive moves are one step ---
+  state.moveAlongAxes({ 0.5, 0, 0 });
+  state.moveAlongAxes({ 1.0, -0.5, 0 });
+  check(state.steps().size() == 3 &&
+      compact(state.steps()[2]) == compact(object(R"({"action": "axes", "steps": [1, -0.5, 0]})")),
+    "axes merged: " + compact(state.steps().last()));
+
+  // --- lock: the regions stay as in the design shown at lock time ---
+  check(state.design().Regions.size() >= 2,
+    QString("regions: %1").arg(state.design().Regions.size() / 2));
+  const QJsonArray atLock = state.steps();
+  state.setLockedRegions({ 0 });
+  state.moveAlongAxes({ 2.0, 0, 0 });
+  check(state.lockSteps() == atLock && state.steps().size() == 3 &&
+      state.lastMessage().startsWith("Design ready"),
+    "locked at " + QString::number(atLock.size()) + " steps, then moved: " + state.lastMessage());
+  state.setLockedRegions({});
+  check(state.lockSteps().isEmpty(), "unlocked");
+
+  // --- the history file ---
+  const QJsonObject history =
+    QJsonDocument::fromJson(pqDDGDesignState::historyText(state.steps()).toUtf8()).object();
+  check(history.value("format") == "ddg-history" && history.value("version") == 1 &&
+      history.value("steps").toArray() == state.steps(),
+    "history text");
+
+  // --- unpin ---
+  state.unpin({ 0 });
+  check(
+    state.pins().size() == 1 && state.pins()[0].Steps.at(0).toObject().value("action") == "latent",
+    "unpin the first pin");
+
+  // --- a build that fails (constant volume) is reported as failed, no model loaded ---
+  auto constant = reader(pxm, testdata + "/constant.vti");
+  state.setVolume(constant, pointScalars(constant));
+  QDir(outdir).removeRecursively();
+  const bool built = state.buildModel(outdir + "/constant_bundle");
+  check(!built && !state.isLoaded() && state.lastMessage().startsWith("The build failed: ") &&
+      !QFile::exists(outdir + "/constant_bundle/bundle.json"),
+    "failed build: " + state.lastMessage());
+}
+} // namespace
+
+int main(int argc, char* argv[])
+{
+  if (argc != 5)
+  {
+    std::cerr << "usage: TestDesignState PLUGIN DATA TESTDATA OUTDIR\n";
+    return 2;
+  }
+  QCoreApplication app(argc, argv);
+  vtkInitializationHelper::SetLoadSettingsFilesDuringInitialization(false);
+  vtkInitializationHelper::Initialize(argv[0], vtkProcessModule::PROCESS_CLIENT);
+  vtkSMSession::ConnectToSelf();
+  if (!vtkSMProxyManager::GetProxyManager()->GetPluginManager()->LoadLocalPlugin(argv[1]))
+  {
+    std::cerr << "cannot load the plugin " << argv[1] << "\n";
+    return 1;
+  }
+  run(argv[2], argv[3], argv[4]);
+  vtkInitializationHelper::Finalize();
+  std::cout << (Failures ? "FAILED" : "all passed") << std::endl;
+  return Failures ? 1 : 0;
+}
