@@ -6,7 +6,7 @@
 #include "Gallery/Navigation.h"
 #include "Gallery/Outline.h"
 #include "Gallery/QueryImage.h"
-#include "Neural/NeuralModel.h"
+#include "Neural/NeuralDesignModel.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
 #include <functional>

@@ -13,7 +13,7 @@
 
 #ifdef DDG_WITH_TORCH
 #include "Gallery/BundleSession.h"
-#include "Neural/NeuralModel.h"
+#include "Neural/NeuralDesignModel.h"
 #endif
 
 namespace ddg

@@ -9,7 +9,7 @@
 #include "Common/FileUtil.h"
 #include "Design/ExemplarGenerator.h"
 #include "Gallery/BuildDesignSpace.h"
-#include "Neural/NeuralModel.h"
+#include "Neural/NeuralDesignModel.h"
 
 #include <cmath>
 #include <cstdio>

@@ -7,7 +7,7 @@
 #include "Common/Error.h"
 #include "Image/Image.h"
 #include "Neural/DesignValidity.h"
-#include "Neural/NeuralModel.h"
+#include "Neural/NeuralDesignModel.h"
 #include "Render/View.h"
 
 #include <cmath>

@@ -3,7 +3,9 @@
 Compared: the filter builds a tiny design space for the small test volume (16 exemplars of 16 px,
 10 iterations, 20 outline designs); the bundle must hold bundle.json and outline.bin, the output
 table its held-out figures, and DDG Design Gallery must read it (20 designs, 4 thumbnails). Bad
-input (no output directory, a constant volume): one error, empty output, no bundle.json.
+input (no output directory, a constant volume): one error, empty output, no bundle.json, and the
+reason in the filter's LastError (empty again after a build that finished), which is what the
+panel reads to report a failed build as failed.
 
 Usage: pvpython TestBuildFilter.py PLUGIN DDG DATA TESTDATA OUTDIR
 """
@@ -36,6 +38,14 @@ assert os.path.exists(os.path.join(bundle, "bundle.json")) and os.path.exists(
     os.path.join(bundle, "outline.bin")
 )
 print(f"built {bundle}: held-out PSNR {psnr:.2f} dB")
+
+
+def last_error():
+    build.UpdatePropertyInformation()
+    return build.GetPropertyValue("LastError")
+
+
+assert last_error() == "", last_error()
 
 gal = simple.DDGDesignGallery(Input=reader)
 gal.ModelDirectory = bundle
@@ -78,6 +88,7 @@ for label, expected, setup in (
     build.UpdatePipeline()
     assert servermanager.Fetch(build).GetNumberOfRows() == 0, label
     assert len(messages) == 1 and expected in messages[0], (label, messages)
+    assert expected in last_error(), (label, last_error())
     print(f"{label}: {messages[0].strip().splitlines()[-1]}")
 assert not os.path.exists(os.path.join(outdir, "built_constant", "bundle.json"))
 print("ok")
