@@ -1,12 +1,13 @@
 // NeuralDesignModel.cxx: a neural design model's construction, inference (analyze, render,
 // decode), its volume, and its evaluation on held-out exemplars. Training is in
-// NeuralTraining.cxx, bundles in NeuralModelBundle.cxx, the networks in NeuralNetworks.cxx.
+// NeuralDesignModelTraining.cxx, bundles in NeuralDesignModelBundle.cxx, the networks in
+// NeuralNetworks.cxx.
 #include "Neural/NeuralDesignModel.h"
 
 #include "Common/Error.h"
 #include "Gallery/Outline.h"
 #include "Image/ImageMetrics.h"
-#include "Neural/NeuralModelInternals.h"
+#include "Neural/NeuralDesignModelInternals.h"
 
 #include <algorithm>
 #include <chrono>

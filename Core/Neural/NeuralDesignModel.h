@@ -1,7 +1,7 @@
 // NeuralDesignModel.h: the neural design model — the paper's Neural DVR Analyzer, Renderer
 // (U-Net) and PatchGAN Discriminator, or the lean decoder — its training on design exemplars,
 // and model bundles. libtorch stays inside Core/Neural's .cxx files (and its private headers
-// NeuralNetworks.h, NeuralModelInternals.h); this header does not include it.
+// NeuralNetworks.h, NeuralDesignModelInternals.h); this header does not include it.
 #pragma once
 
 #include "Design/ExemplarGenerator.h"
@@ -158,7 +158,8 @@ public:
   const DesignSpaceSpec& spec() const;
 
   /// The model's networks and state: opaque here, defined in Core/Neural's private
-  /// NeuralModelInternals.h (libtorch), shared by the model's inference, training and bundles.
+  /// NeuralDesignModelInternals.h (libtorch), shared by the model's inference, training and
+  /// bundles.
   struct Internals;
 
 private:

@@ -13,7 +13,6 @@
 #include <cmath>
 #include <limits>
 #include <memory>
-#include <numeric>
 #include <random>
 #include <sstream>
 

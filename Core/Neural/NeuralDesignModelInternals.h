@@ -1,4 +1,4 @@
-// NeuralModelInternals.h: what a NeuralDesignModel holds (its networks, the decoder's layout
+// NeuralDesignModelInternals.h: what a NeuralDesignModel holds (its networks, the decoder's layout
 // and volume, a loaded bundle's designs). PRIVATE to Core/Neural (includes libtorch through
 // NeuralNetworks.h): shared by the model, its training and its bundle I/O.
 #pragma once

@@ -1,5 +1,5 @@
-// NeuralTraining.cxx: NeuralDesignModel::train — one loop (batches, learning-rate schedule,
-// checkpoints, progress and cancel) over a training strategy per model kind: the U-Net's
+// NeuralDesignModelTraining.cxx: NeuralDesignModel::train — one loop (batches, learning-rate
+// schedule, checkpoints, progress and cancel) over a training strategy per model kind: the U-Net's
 // adversarial training (pix2pix) and the decoder's TF-parameter regression (with the optional
 // image loss through the ray caster).
 #include "Neural/NeuralDesignModel.h"
@@ -7,7 +7,7 @@
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
 #include "Common/Parallel.h"
-#include "Neural/NeuralModelInternals.h"
+#include "Neural/NeuralDesignModelInternals.h"
 
 #include <algorithm>
 #include <chrono>

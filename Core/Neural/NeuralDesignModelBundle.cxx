@@ -1,4 +1,4 @@
-// NeuralModelBundle.cxx: model bundles on disk — saveBundle writes model.pt (weights),
+// NeuralDesignModelBundle.cxx: model bundles on disk — saveBundle writes model.pt (weights),
 // latents.bin, exemplars.json and bundle.json (last); loadBundle reads and checks them.
 #include "Neural/NeuralDesignModel.h"
 
@@ -6,7 +6,7 @@
 #include "Common/FileUtil.h"
 #include "Design/DesignJson.h"
 #include "Gallery/Outline.h"
-#include "Neural/NeuralModelInternals.h"
+#include "Neural/NeuralDesignModelInternals.h"
 
 #include <nlohmann/json.hpp>
 
