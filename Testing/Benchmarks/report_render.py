@@ -271,9 +271,12 @@ def method_guide(results):
 
 
 def confirmed_in_this_run(results):
-    """Whether the measuring run went on with --confirm (report.json's "confirm"; a report.json
-    written before that key existed: whether it holds confirmations)."""
-    return results.get("confirm", bool(results.get("model_confirmations")))
+    """Whether the measuring run went on with --confirm: report.json's "confirm". A report.json
+    written before that key existed: a full run (--confirm does not go with --quick) that holds
+    confirmations (the committed one of the last full run was one)."""
+    if "confirm" in results:
+        return results["confirm"]
+    return not results["quick"] and bool(results.get("model_confirmations"))
 
 
 def methods_markdown(results):
