@@ -3,11 +3,9 @@
 
     /usr/bin/python3 Testing/Benchmarks/report_render.py [--out DIR] [--json REPORT_JSON]
 
-Reads REPORT_JSON (default DIR/report.json; DIR defaults to Documentation/Results), the model
-confirmations (DIR's and the committed model_confirm_VOLUME.json, Testing/Models/confirm.py) and
-the shipped bundles, and writes DIR/report.md and the charts report_methods.png,
-report_stability.png, report_optimisation.png, report_tf_resolution.png, report_renderer.png and
-report_models.png. report.py (which measures) calls it after writing report.json.
+Reads REPORT_JSON (default DIR/report.json; DIR: Documentation/Results), the model confirmations
+(DIR's and the committed ones) and the shipped bundles; writes DIR/report.md and report_*.png
+(methods, stability, optimisation, tf_resolution, renderer, models). report.py calls it too.
 """
 import argparse
 import math
