@@ -1,0 +1,67 @@
+"""report_common.py: what the report's measurement (report_measure.py) and its rendering
+(report_render.py) share: paths, the methods' names, the success bar, the log and report.json.
+"""
+import json
+import os
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+DATA = os.path.join(ROOT, "Data")
+RESULTS = os.path.join(ROOT, "Documentation", "Results")  # the committed report and its records
+
+SUCCESS_DB = 30.0  # a perturbed screenshot's TF succeeds within this PSNR of the reference
+PRIMITIVES = 12  # Gaussian primitives of method (d)
+
+# the screenshot -> TF methods as report.json and report.md name them, in the charts' order
+NEAREST = "nearest design (a)"
+NEURAL = "neural path (b)"
+QUERY = "analyzer -> decoder (b')"
+REFINE = "b' + reconstruction"
+DIRECT = "reconstruction (c)"
+PRIMITIVE_FIT = f"{PRIMITIVES} primitives (d)"
+TWO_VIEW = "2-view reconstruction (e)"
+METHODS = [NEAREST, NEURAL, QUERY, REFINE, DIRECT, PRIMITIVE_FIT, TWO_VIEW]
+STABLE_METHODS = [QUERY, REFINE, DIRECT, PRIMITIVE_FIT]  # the ones run on perturbed screenshots
+
+# --- the log and the minutes of each section ----------------------------------------------------
+
+started = time.time()
+_section_starts = []  # (name, seconds since start)
+
+
+def log(text):
+    print(f"[{time.time() - started:7.1f} s] {text}", flush=True)
+
+
+def section(name):
+    _section_starts.append((name, time.time() - started))
+    log(f"section: {name}")
+
+
+def section_minutes():
+    """Minutes spent in each section, up to now."""
+    ends = [t for _, t in _section_starts[1:]] + [time.time() - started]
+    return {name: (end - t) / 60 for (name, t), end in zip(_section_starts, ends)}
+
+
+def minutes():
+    """Minutes since the start."""
+    return (time.time() - started) / 60
+
+
+# --- report.json --------------------------------------------------------------------------------
+
+
+def report_json(out):
+    return os.path.join(out, "report.json")
+
+
+def read_report(path):
+    """The content of a report.json file."""
+    with open(path) as f:
+        return json.load(f)
+
+
+def write_report(results, out):
+    with open(report_json(out), "w") as f:
+        json.dump(results, f, indent=1)
