@@ -9,7 +9,8 @@ from paraview import servermanager
 import paraview.simple as simple
 from vtkmodules.util import numpy_support
 
-from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _run, _tf_text, data_path
+from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _history, _run, _tf_text
+from .plugin import _vtk_module, data_path
 from .scene import _image_text, _proxy, _read_png, _source, _to_numpy, _view, apply, view_json
 from .scene import volume_array
 
@@ -101,15 +102,27 @@ class Design:
     that ``ddg replay`` reads) evaluated by DDG Design. ``position`` (outline plane), ``latent``
     (numpy), ``neighbours`` (nearest outline rows, for queries)."""
 
-    def __init__(self, model, steps, neighbours=None):
+    def __init__(self, model, history, neighbours=None):
         self.model = model
-        self.steps = list(steps)
+        self._history = history  # a vtkDDGDesignHistory: its steps are written by Core
         self.neighbours = list(neighbours or [])
         self._cache = {}
 
+    @property
+    def steps(self):
+        """The steps of the design's history (dicts as in the history JSON)."""
+        return json.loads(self._history.GetJSON())["steps"]
+
     def history(self):
         """The design's history as JSON text (``export(design, path, format="history")``)."""
-        return json.dumps({"format": "ddg-history", "version": 1, "steps": self.steps}, indent=1)
+        return self._history.GetJSON()
+
+    def _then(self, add, *args):
+        """A new design: this one's history plus the step ``add(*args)`` builds."""
+        history = _history(self._history.GetJSON())
+        if getattr(history, add)(*args) is False:
+            raise DDGError(history.GetError())
+        return Design(self.model, history)
 
     def evaluate(self, view=None, fidelity=False):
         """Runs DDG Design at ``view`` (default: the active view's camera, at most 256 pixels):
@@ -177,7 +190,9 @@ class Design:
 def pick(row, model=None, source=None):
     """Outline design ``row`` of the model (rows as in ``gallery()``)."""
     model, source = _model(model, source)
-    return Design(model, [{"action": "pick", "row": int(row)}])
+    history = _history()
+    history.AddPick(int(row))
+    return Design(model, history)
 
 
 def query(image, source=None, view=None, model=None, neighbours=5):
@@ -199,10 +214,11 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     table = servermanager.Fetch(proxy, idx=1)
     rows = [int(table.GetValueByName(i, "Row").ToInt()) for i in range(table.GetNumberOfRows())]
     latent = [float(x) for x in _field_numbers(table, "Latent")]
-    step = {"action": "latent", "latent": latent}
-    if isinstance(image, str):
-        step["image"] = os.path.basename(image)
-    return Design(model, [step], rows)
+    history = _history()
+    name = os.path.basename(image) if isinstance(image, str) else ""
+    if not history.AddLatent(json.dumps(latent), name):
+        raise DDGError(history.GetError())
+    return Design(model, history, rows)
 
 
 def interpolate(a, b, t, c=None, d=None, v=0.0):
@@ -210,7 +226,7 @@ def interpolate(a, b, t, c=None, d=None, v=0.0):
     ``d``) the barycentric (bilinear) blend at (t, v), as Core's blendLatents)."""
     anchors = [x for x in (a, b, c, d) if x is not None]
     latents = [[float(z) for z in x.latent] for x in anchors]
-    return Design(a.model, [{"action": "blend", "latents": latents, "u": float(t), "v": float(v)}])
+    return Design(a.model, _history())._then("AddBlend", json.dumps(latents), float(t), float(v))
 
 
 def edit(
@@ -228,28 +244,27 @@ def edit(
     or the cluster under ``pick_pixel`` = (x, y) of the preview) recoloured (hue degrees,
     saturation factor, lightness in L*) and made more (``visibility`` > 1) or less visible, then
     moved along the principal axes by ``axes`` (standard deviations per axis)."""
-    steps = list(design.steps)
-    if cluster is not None or pick_pixel is not None:
-        step = {
-            "action": "edit",
-            "view": view_json(view, design.model.source, 256),
-            "clusters": 4,
-            "hue": float(hue),
-            "saturation": float(saturation),
-            "lightness": float(lightness),
-            "visibility": float(visibility),
-            "white": False,
-        }
-        if pick_pixel is not None:
-            step["pick"] = [int(pick_pixel[0]), int(pick_pixel[1])]
-        else:
-            step["cluster"] = int(cluster)
-        steps.append(step)
-    if axes is not None:
-        steps.append({"action": "axes", "steps": [float(s) for s in axes]})
-    if len(steps) == len(design.steps):
+    if cluster is None and pick_pixel is None and axes is None:
         raise ValueError("edit: give a cluster (or pick_pixel) or axes")
-    return Design(design.model, steps)
+    out = design
+    if cluster is not None or pick_pixel is not None:
+        x, y = (int(pick_pixel[0]), int(pick_pixel[1])) if pick_pixel is not None else (-1, -1)
+        out = out._then(
+            "AddEdit",
+            json.dumps(view_json(view, design.model.source, 256)),
+            int(cluster) if pick_pixel is None else -1,
+            x,
+            y,
+            4,
+            float(hue),
+            float(saturation),
+            float(lightness),
+            float(visibility),
+            False,
+        )
+    if axes is not None:
+        out = out._then("SetAxes", json.dumps([float(s) for s in axes]))
+    return out
 
 
 # --- the outline ----------------------------------------------------------------------------------
@@ -298,13 +313,6 @@ def gallery(source=None, model=None, count=32, box=None, seed=1, thumbnail_size=
 
 # --- animation ------------------------------------------------------------------------------------
 
-# t in [0, 1] -> eased t, as `ddg animate --easing`
-_EASINGS = {
-    "linear": lambda t: t,
-    "smoothstep": lambda t: t * t * (3 - 2 * t),
-    "cosine": lambda t: (1 - np.cos(np.pi * t)) / 2,
-}
-
 
 def animate(a, b, frames=30, source=None, view=None, directory=None, easing="smoothstep"):
     """ParaView renders of the designs from ``a`` to ``b``: ``frames`` blends on an eased path
@@ -316,13 +324,15 @@ def animate(a, b, frames=30, source=None, view=None, directory=None, easing="smo
     array = volume_array(source, view)
     lut, sof = simple.GetColorTransferFunction(array), simple.GetOpacityTransferFunction(array)
     before = (list(lut.RGBPoints), list(sof.Points))
-    ease = _EASINGS[easing]
+    ease = _vtk_module("DDGFilters").vtkDDGDesignHistory.Ease  # Core's easing, as `ddg animate`
+    if ease(0.5, easing) < 0:
+        raise ValueError("animate: unknown easing %r (linear, smoothstep or cosine)" % easing)
     if directory:
         os.makedirs(directory, exist_ok=True)
     images = []
     try:
         for k in range(int(frames)):
-            t = ease(k / max(1, frames - 1))
+            t = ease(k / max(1, frames - 1), easing)
             apply(interpolate(a, b, t), source=source, view=view)
             w, h = [int(s) for s in view.ViewSize]
             path = os.path.join(

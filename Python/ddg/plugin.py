@@ -4,7 +4,9 @@ Loading is once per connection, on the client and, when connected to a ``pvserve
 server too (the filters' proxy definitions come from the server). The helpers below update a
 filter and read its outputs' field data; the package's other modules build on them.
 """
+import importlib
 import os
+import sys
 
 import numpy as np
 from paraview import servermanager
@@ -54,6 +56,28 @@ def _ensure_plugin():
         simple.LoadPlugin(path, remote=True)
     simple.LoadPlugin(path, remote=False)
     _loaded.add(key)
+
+
+def _vtk_module(name):
+    """The plugin's Python-wrapped VTK module ``ddg_vtk.<name>`` (DDGFilters, DDGScene): on the
+    path already (build/bin/pvpython), else found beside the plugin (build/python)."""
+    try:
+        return importlib.import_module("ddg_vtk." + name)
+    except ImportError:
+        build = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(_plugin_file()))))
+        python = os.path.join(os.path.dirname(build), "python")
+        if python not in sys.path:
+            sys.path.insert(0, python)
+        return importlib.import_module("ddg_vtk." + name)
+
+
+def _history(json_text=""):
+    """A vtkDDGDesignHistory (the one writer of history steps: Core's, through the plugin) holding
+    the history ``json_text``; raises DDGError for a history it refuses."""
+    history = _vtk_module("DDGFilters").vtkDDGDesignHistory()
+    if not history.SetJSON(json_text):
+        raise DDGError(history.GetError())
+    return history
 
 
 # --- running filters and reading their outputs ------------------------------------------------
