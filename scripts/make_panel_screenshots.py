@@ -42,18 +42,33 @@ shots = {"panel_overview.png": [], "panel_query.png": query, "panel_applied.png"
 
 os.makedirs(out_dir, exist_ok=True)
 with tempfile.TemporaryDirectory() as tmp:
-    env = dict(os.environ, DDG_GUI_CASE="tooth", DDG_DATA_DIR=data,
-               DDG_GUI_RECORD=os.path.join(tmp, "record.txt"))
+    env = dict(
+        os.environ,
+        DDG_GUI_CASE="tooth",
+        DDG_DATA_DIR=data,
+        DDG_GUI_RECORD=os.path.join(tmp, "record.txt"),
+    )
     for name, events in shots.items():
         script = os.path.join(tmp, name + ".xml")
         with open(script, "w") as f:
-            f.write('<?xml version="1.0" ?>\n<pqevents>\n  ' + "\n  ".join(events) + "\n</pqevents>\n")
+            f.write(
+                '<?xml version="1.0" ?>\n<pqevents>\n  ' + "\n  ".join(events) + "\n</pqevents>\n"
+            )
         start = time.time()
         gui = subprocess.Popen(
-            ["paraview", "--dr", f"--plugin-search-paths={plugin_dir}", "--plugins=DesignGallery",
-             f"--script={os.path.join(root, 'Testing', 'Plugin', 'Gui', 'GuiSetup.py')}",
-             f"--test-script={script}"],
-            env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            [
+                "paraview",
+                "--dr",
+                f"--plugin-search-paths={plugin_dir}",
+                "--plugins=DesignGallery",
+                f"--script={os.path.join(root, 'Testing', 'Plugin', 'Gui', 'GuiSetup.py')}",
+                f"--test-script={script}",
+            ],
+            env=env,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.STDOUT,
+            text=True,
+        )
         finished = False
         try:
             for line in gui.stdout:

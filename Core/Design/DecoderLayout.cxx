@@ -54,8 +54,8 @@ std::vector<float> DecoderLayout::targets(const Exemplar& e) const
   {
     const int r = e.active[q];
     if (r < 0 || r >= static_cast<int>(regions.size()) || q >= e.primitives.size())
-      throw Error("an exemplar uses region " + std::to_string(r) + " of " +
-        std::to_string(regions.size()));
+      throw Error(
+        "an exemplar uses region " + std::to_string(r) + " of " + std::to_string(regions.size()));
     const auto& reg = regions[static_cast<size_t>(r)];
     const auto base = basePrimitive(reg);
     const auto& g = e.primitives[q];
@@ -114,11 +114,12 @@ double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, cons
   const std::vector<S> table(rgbaTable.begin(), rgbaTable.end());
   RenderOptions ropt;
   ropt.threads = 1; // callers parallelize over exemplars
-  std::vector<S> rgba, dRGBA(4 * pixels.size()), dTable(4 * static_cast<size_t>(kWidth) * height, S(0));
+  std::vector<S> rgba, dRGBA(4 * pixels.size()),
+    dTable(4 * static_cast<size_t>(kWidth) * height, S(0));
   std::vector<RayRecord> records;
   if (twoD())
-    renderer.forward2D(table.data(), kWidth, kHeight, range, gradientRange, view, ropt, pixels,
-      rgba, records);
+    renderer.forward2D(
+      table.data(), kWidth, kHeight, range, gradientRange, view, ropt, pixels, rgba, records);
   else
     renderer.forward(table.data(), kWidth, range[0], range[1], view, ropt, pixels, rgba, records);
   double loss = 0;
@@ -126,8 +127,8 @@ double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, cons
   for (size_t q = 0; q < pixels.size(); ++q)
     for (int c = 0; c < 4; ++c)
     {
-      const double d =
-        static_cast<double>(rgba[4 * q + c]) - truth[4 * static_cast<size_t>(pixels[q]) + c] / 255.0;
+      const double d = static_cast<double>(rgba[4 * q + c]) -
+        truth[4 * static_cast<size_t>(pixels[q]) + c] / 255.0;
       loss += std::abs(d) * norm;
       dRGBA[4 * q + c] = static_cast<S>(d > 0 ? norm : (d < 0 ? -norm : 0.0));
     }
@@ -163,8 +164,8 @@ double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, cons
   return loss;
 }
 
-template double DecoderLayout::imageLoss<float>(const DifferentiableRendererT<float>&,
-  const float*, const View&, const std::uint8_t*, const std::vector<int>&, float*) const;
+template double DecoderLayout::imageLoss<float>(const DifferentiableRendererT<float>&, const float*,
+  const View&, const std::uint8_t*, const std::vector<int>&, float*) const;
 template double DecoderLayout::imageLoss<double>(const DifferentiableRendererT<double>&,
   const float*, const View&, const std::uint8_t*, const std::vector<int>&, float*) const;
 

@@ -25,8 +25,8 @@ constexpr int kBins = 256;
 struct ValueHistogram
 {
   std::vector<double> hist, smooth;
-  int start = 0;      // first non-air bin
-  double width = 0;   // bin width in data values
+  int start = 0;    // first non-air bin
+  double width = 0; // bin width in data values
 };
 
 ValueHistogram valueHistogram(const Volume& volume)
@@ -291,7 +291,8 @@ std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxReg
   }
   if (regions.empty())
     throw Error("feature regions: no 2D histogram peak above the air and noise level");
-  std::sort(regions.begin(), regions.end(), [](const FeatureRegion& a, const FeatureRegion& b)
+  std::sort(regions.begin(), regions.end(),
+    [](const FeatureRegion& a, const FeatureRegion& b)
     { return a.peak < b.peak || (a.peak == b.peak && a.gradientPeak < b.gradientPeak); });
   return regions;
 }
@@ -376,8 +377,8 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
   if (!j.is_object())
     throw Error(origin + ": expected a JSON object");
   DesignSpaceSpec s;
-  static const char* known[] = { "regions", "dimensions", "max_regions", "min_active", "saturation", "lightness",
-    "opacity", "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity" };
+  static const char* known[] = { "regions", "dimensions", "max_regions", "min_active", "saturation",
+    "lightness", "opacity", "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity" };
   for (auto it = j.begin(); it != j.end(); ++it)
   {
     if (std::find_if(std::begin(known), std::end(known),
@@ -538,7 +539,8 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
     g.opacity = in(spec.opacity);
     if (regions[r].twoD())
     {
-      g.mean[1] += (2 * u(rng) - 1) * spec.meanShift * (regions[r].gradientHi - regions[r].gradientLo);
+      g.mean[1] +=
+        (2 * u(rng) - 1) * spec.meanShift * (regions[r].gradientHi - regions[r].gradientLo);
       g.stddev[1] *= in(spec.stddevScale);
     }
     e.primitives.push_back(g);

@@ -59,7 +59,8 @@ struct DesignSpaceSpec
   std::array<double, 2> saturation{ 0.2, 1.0 }; ///< ["saturation"] [0.2, 1]
   std::array<double, 2> lightness{ 0.3, 0.9 };  ///< ["lightness"] [0.3, 0.9]
   std::array<double, 2> opacity{ 0.05, 0.9 };   ///< ["opacity"] peak opacity [0.05, 0.9]
-  double meanShift = 0.25; ///< ["mean_shift"] +- fraction of the region width (2D: both axes) [0.25]
+  double meanShift =
+    0.25; ///< ["mean_shift"] +- fraction of the region width (2D: both axes) [0.25]
   std::array<double, 2> stddevScale{ 0.4, 1.6 }; ///< ["stddev_scale"] x base stddev [0.4, 1.6]
   std::array<double, 2> elevation{ -60, 60 };    ///< ["elevation"] degrees [-60, 60]
   std::array<double, 2> zoom{ 0.9, 1.4 };        ///< ["zoom"] [0.9, 1.4]
@@ -90,7 +91,8 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size);
 
 /// Ray casts a TF of primitives (none: an empty image) as the generator does: a 256-entry 1D
-/// table, or (dimensions 2) a 256 x 64 table over the value range x Volume::gradientMagnitudeRange().
+/// table, or (dimensions 2) a 256 x 64 table over the value range x
+/// Volume::gradientMagnitudeRange().
 Image renderDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
   int dimensions, const std::array<double, 2>& gradientRange, const View& view,
   const RenderOptions& options = {});

@@ -71,10 +71,9 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
   fs::remove(fs::path(dir) / "dataset.json", ec);
   GenerateReport report;
   const bool twoD = spec.dimensions == 2;
-  report.regions = !spec.regions.empty()
-    ? spec.regions
-    : (twoD ? findFeatureRegions2D(volume, spec.maxRegions)
-            : findFeatureRegions(volume, spec.maxRegions));
+  report.regions = !spec.regions.empty() ? spec.regions
+                                         : (twoD ? findFeatureRegions2D(volume, spec.maxRegions)
+                                                 : findFeatureRegions(volume, spec.maxRegions));
   const RayCaster caster(volume);
   const auto aux = auxiliaryPrimitives(spec, report.regions);
   const auto gradientRange =

@@ -20,9 +20,9 @@ struct GenerateOptions
   int size = 64;          ///< square image side [64]
   std::uint64_t seed = 1; ///< the dataset is a deterministic function of (volume, spec, seed) [1]
   std::uint64_t firstIndex =
-    0;                 ///< index of the first exemplar (held-out sets use another range) [0]
-  int shardSize = 256; ///< exemplars per shard file [256]
-  int threads = 0;     ///< 0 = all cores
+    0;                    ///< index of the first exemplar (held-out sets use another range) [0]
+  int shardSize = 256;    ///< exemplars per shard file [256]
+  int threads = 0;        ///< 0 = all cores
   std::string volumeFile; ///< recorded in dataset.json ("volume_file") so training finds it [""]
 };
 

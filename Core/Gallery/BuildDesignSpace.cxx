@@ -86,7 +86,8 @@ BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile
   if (r.training.cancelled)
     throw Cancelled();
   r.evaluation = model.evaluate(heldout, o.heldout);
-  model.saveBundle(bundleDir, train, metricsToJson(r.evaluation, &r.training, model.parameterCount()));
+  model.saveBundle(
+    bundleDir, train, metricsToJson(r.evaluation, &r.training, model.parameterCount()));
   // 3. the outline (10 %)
   t0 = Clock::now();
   try

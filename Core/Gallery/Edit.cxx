@@ -66,7 +66,8 @@ void checkRegion(const ColorClusters& cl, const EditRegion& region, const Image&
 int ColorClusters::at(int x, int y) const
 {
   if (x < 0 || y < 0 || x >= width || y >= height)
-    throw Error("pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the image");
+    throw Error(
+      "pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") is outside the image");
   return labels[static_cast<size_t>(y) * width + x];
 }
 
@@ -159,8 +160,8 @@ ColorClusters colorClusters(const Image& rgba, int k)
   {
     const int r = remap[label[i]];
     cl.labels[where[i]] = r;
-    const RGB c = straight(rgba, static_cast<int>(where[i] % rgba.width),
-      static_cast<int>(where[i] / rgba.width));
+    const RGB c = straight(
+      rgba, static_cast<int>(where[i] % rgba.width), static_cast<int>(where[i] / rgba.width));
     for (int q = 0; q < 3; ++q)
       cl.rgb[r][q] += c[q] / n[order[r]];
   }
@@ -173,7 +174,8 @@ Image recolour(const Image& rgba, const ColorClusters& clusters, const EditRegio
   checkRegion(clusters, region, rgba);
   if (!std::isfinite(dHue) || !(satScale >= 0) || !std::isfinite(satScale) ||
     !std::isfinite(dLightness))
-    throw Error("a recolour needs a finite hue shift and lightness shift and a saturation scale >= 0");
+    throw Error(
+      "a recolour needs a finite hue shift and lightness shift and a saturation scale >= 0");
   Image out = rgba;
   for (int y = 0; y < rgba.height; ++y)
     for (int x = 0; x < rgba.width; ++x)

@@ -19,8 +19,8 @@ struct ColorClusters
 {
   std::vector<std::array<double, 3>> lab; ///< cluster centres
   std::vector<std::array<double, 3>> rgb; ///< mean straight sRGB of each cluster's pixels
-  std::vector<double> share;             ///< fraction of the visible pixels in each
-  std::vector<int> labels;               ///< width x height
+  std::vector<double> share;              ///< fraction of the visible pixels in each
+  std::vector<int> labels;                ///< width x height
   int width = 0, height = 0;
   int count() const { return static_cast<int>(lab.size()); }
   /// The cluster under pixel (x, y) (-1 when that pixel is not visible). Throws outside the image.

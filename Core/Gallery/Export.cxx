@@ -3,11 +3,14 @@
 
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
+#include "Render/RayCaster.h"
+#include "Render/View.h"
 #include "TransferFunction/TransferFunction2D.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 
 namespace ddg
 {
@@ -97,7 +100,39 @@ void exportTransferFunction(const TransferFunctionFile& tf, const std::string& p
       "Slicer volume property");
   }
   else
-    throw Error("unknown export format '" + format + "' (paraview or slicer)");
+    throw Error("unknown export format '" + format + "' (paraview, paraview-2d or slicer)");
+}
+
+std::string paraViewTransferFunction2DJson(const RayCaster& caster, const TransferFunction2D& tf,
+  const View& view, const ParaViewBoxFitOptions& options, ParaViewBoxFitReport* report)
+{
+  ParaViewBoxFitReport own;
+  ParaViewBoxFitReport& r = report ? *report : own;
+  const auto boxes = fitParaViewBoxes(tf, caster.paraviewMapping2D(view), options, &r);
+  return boxes.toJson(&r);
+}
+
+std::string exportTransferFunction(const TransferFunctionFile& tf, const std::string& path,
+  const std::string& format, const RayCaster& caster, const View& view, int boxIterations)
+{
+  if (format != "paraview-2d")
+  {
+    exportTransferFunction(
+      tf, path, format, caster.volume().range(), caster.opacityUnitDistance(view));
+    return format;
+  }
+  if (!tf.is2D)
+    throw Error("--format paraview-2d exports 2D TFs; a 1D TF is a ParaView preset (paraview)");
+  ParaViewBoxFitOptions options;
+  options.iterations = boxIterations;
+  ParaViewBoxFitReport report;
+  const auto boxes = fitParaViewBoxes(tf.tf2D, caster.paraviewMapping2D(view), options, &report);
+  writeFileAtomic(path, boxes.toJson(&report), "ParaView 2D transfer function");
+  char text[160];
+  std::snprintf(text, sizeof(text),
+    "paraview-2d: %zu boxes; fit RMSE %.4f, alpha RMSE %.4f, from %.4f", boxes.boxes.size(),
+    report.rmse, report.alphaRmse, report.initialRmse);
+  return text;
 }
 
 } // namespace ddg

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "TransferFunction/GaussianPrimitive.h"
+#include "TransferFunction/ParaViewTransferFunction2D.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
 #include <array>
@@ -11,6 +12,8 @@
 
 namespace ddg
 {
+class RayCaster;
+struct View;
 
 /// The TF of Gaussian primitives as ParaView holds it. 1D: rasterized at 1024 entries over
 /// valueRange and converted to control points (tableToTransferFunction, tolerance 1/512), so
@@ -34,5 +37,22 @@ std::string slicerVolumePropertyJson(
 /// Writes atomically. Throws ddg::Error for an unknown format or a 2D TF to Slicer.
 void exportTransferFunction(const TransferFunctionFile& tf, const std::string& path,
   const std::string& format, std::array<double, 2> valueRange, double opacityUnitDistance);
+
+/// The JSON of ParaView 5.11's TransferFunction2D for a 2D TF (Boxes, Range, OutputDimensions
+/// and the fit's errors under "Fit"): boxes fitted to `tf` for `caster`'s volume at `view`
+/// (fitParaViewBoxes with ParaView's mapping of that volume and view). What the filters' field
+/// "ParaViewTransferFunction2D" and `ddg export --format paraview-2d` hold.
+std::string paraViewTransferFunction2DJson(const RayCaster& caster, const TransferFunction2D& tf,
+  const View& view, const ParaViewBoxFitOptions& options = {},
+  ParaViewBoxFitReport* report = nullptr);
+
+/// Exports `tf` for `caster`'s volume at `view` (its opacity unit distance, else ParaView's
+/// default) as "paraview", "slicer" (as above) or "paraview-2d" (a 2D TF as ParaView's boxes,
+/// fitted in `boxIterations` steps). Returns a short description of what was written (the
+/// format, and the box count and fit errors for paraview-2d). Throws ddg::Error as above and
+/// for a 1D TF to paraview-2d.
+std::string exportTransferFunction(const TransferFunctionFile& tf, const std::string& path,
+  const std::string& format, const RayCaster& caster, const View& view,
+  int boxIterations = ParaViewBoxFitOptions().iterations);
 
 } // namespace ddg

@@ -173,10 +173,15 @@ Image DesignGallery::render(const std::vector<float>& latent, const View& view) 
 
 const Image& DesignGallery::thumbnail(int row, const View& view)
 {
-  const auto key = std::make_pair(row, viewToJson(view));
-  auto it = Cache.find(key);
+  const std::string key = viewToJson(view);
+  if (key != CacheView) // the cache holds one view's thumbnails: a new camera starts it anew
+  {
+    Cache.clear();
+    CacheView = key;
+  }
+  auto it = Cache.find(row);
   if (it == Cache.end())
-    it = Cache.emplace(key, render(latent(row), view)).first;
+    it = Cache.emplace(row, render(latent(row), view)).first;
   return it->second;
 }
 

@@ -32,11 +32,11 @@ std::string outlineFile(const std::string& bundleDir);
 /// What a query returns.
 struct QueryResult
 {
-  Image input;                      ///< what the analyzer saw (RGB, model size)
-  std::vector<float> latent;        ///< its latent TF
-  std::array<double, 2> position{}; ///< on the outline plane
+  Image input;                       ///< what the analyzer saw (RGB, model size)
+  std::vector<float> latent;         ///< its latent TF
+  std::array<double, 2> position{};  ///< on the outline plane
   std::vector<Neighbour> neighbours; ///< nearest outline designs, nearest first
-  Image preview;                    ///< neural render at the view (premultiplied RGBA)
+  Image preview;                     ///< neural render at the view (premultiplied RGBA)
 };
 
 /// How often a query finds the design it shows (the retrieval check of the gallery).
@@ -78,10 +78,10 @@ struct Fidelity
 /// Frames of an animation between two designs.
 struct Animation
 {
-  std::vector<Latent> latents;       ///< per frame (eased path)
-  std::vector<Image> neural;         ///< the model's render per frame (RGB over the background)
-  std::vector<Image> real;           ///< ray casts of the interpolated explicit TFs (RGB)
-  std::vector<int> keyframes;        ///< frames whose TF was made explicit
+  std::vector<Latent> latents; ///< per frame (eased path)
+  std::vector<Image> neural;   ///< the model's render per frame (RGB over the background)
+  std::vector<Image> real;     ///< ray casts of the interpolated explicit TFs (RGB)
+  std::vector<int> keyframes;  ///< frames whose TF was made explicit
 };
 
 /// A model with its outline. Renders are premultiplied RGBA at a view's size: for the decoder
@@ -107,9 +107,9 @@ public:
 
   /// Neural render of a latent at `view`.
   Image render(const std::vector<float>& latent, const View& view) const;
-  /// Thumbnail of a row at `view`, cached (by row and view) until clearCache().
+  /// Thumbnail of a row at `view`, cached by row for the last view asked (a thumbnail at another
+  /// view empties the cache: it holds at most one view's thumbnails, never one per camera).
   const Image& thumbnail(int row, const View& view);
-  void clearCache() { Cache.clear(); }
 
   /// The analyzer's latent of any image, framed as a query (prepareQueryImage).
   std::vector<float> analyzeImage(const Image& image) const;
@@ -145,8 +145,8 @@ public:
 
   /// Fidelity of a design at `view`: its neural image against the ray cast of its explicit TF
   /// as ParaView builds the table from the exported file (RayCaster::paraviewTable).
-  Fidelity fidelity(const std::vector<float>& latent, const View& view,
-    const FeatureLock* lock = nullptr) const;
+  Fidelity fidelity(
+    const std::vector<float>& latent, const View& view, const FeatureLock* lock = nullptr) const;
 
   /// Animation from a to b: `frames` latents on an eased path; neural frames; explicit TFs at
   /// every `keyEvery`-th frame and the last, tables linearly interpolated between keyframes,
@@ -170,7 +170,8 @@ private:
   DesignOutline Outline;
   mutable Image Viewport; ///< U-Net only: the auxiliary TF at the last view (model size)
   mutable std::string ViewportKey;
-  std::map<std::pair<int, std::string>, Image> Cache;
+  std::map<int, Image> Cache; ///< thumbnails by row, at CacheView
+  std::string CacheView;
   const Image& viewport(const View& view) const;
 };
 

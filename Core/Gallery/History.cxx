@@ -32,7 +32,8 @@ void validateStep(const HistoryStep& s, size_t i, const std::string& origin)
   if (s.action == "latent" && s.latent.empty())
     throw Error(where + " needs \"latent\"");
   const size_t anchors = s.rows.empty() ? s.latents.size() : s.rows.size();
-  if (s.action == "blend" && (anchors < 2 || anchors > 4 || (!s.rows.empty() && !s.latents.empty())))
+  if (s.action == "blend" &&
+    (anchors < 2 || anchors > 4 || (!s.rows.empty() && !s.latents.empty())))
     throw Error(where + " needs 2 to 4 \"rows\" or 2 to 4 \"latents\"");
   if (s.action == "edit")
   {
@@ -50,6 +51,79 @@ void validateStep(const HistoryStep& s, size_t i, const std::string& origin)
       origin + ": a history starts with query, pick, latent or blend (not " + s.action + ")");
 }
 } // namespace
+
+// --- steps as the front ends record them --------------------------------------------------
+
+HistoryStep HistoryStep::query(const std::string& image)
+{
+  HistoryStep s;
+  s.action = "query";
+  s.image = image;
+  return s;
+}
+
+HistoryStep HistoryStep::pick(int row)
+{
+  HistoryStep s;
+  s.action = "pick";
+  s.row = row;
+  return s;
+}
+
+HistoryStep HistoryStep::latentDesign(const std::vector<float>& latent, const std::string& image)
+{
+  HistoryStep s;
+  s.action = "latent";
+  s.latent = latent;
+  s.image = image;
+  return s;
+}
+
+HistoryStep HistoryStep::blend(const std::vector<std::vector<float>>& latents, double u, double v)
+{
+  HistoryStep s;
+  s.action = "blend";
+  s.latents = latents;
+  s.u = u;
+  s.v = v;
+  return s;
+}
+
+HistoryStep HistoryStep::edit(const std::string& viewJson, int cluster, int pickX, int pickY,
+  int clusters, double hue, double saturation, double lightness, double visibility, bool white)
+{
+  HistoryStep s;
+  s.action = "edit";
+  s.viewJson = viewJson;
+  s.cluster = cluster;
+  s.pickX = pickX;
+  s.pickY = pickY;
+  s.clusters = clusters;
+  s.hue = hue;
+  s.saturation = saturation;
+  s.lightness = lightness;
+  s.visibility = visibility;
+  s.white = white;
+  return s;
+}
+
+HistoryStep HistoryStep::axes(const std::vector<double>& steps)
+{
+  HistoryStep s;
+  s.action = "axes";
+  s.steps = steps;
+  return s;
+}
+
+void DesignHistory::setAxes(const std::vector<double>& values)
+{
+  if (!steps.empty() && steps.back().action == "axes")
+    steps.back() = HistoryStep::axes(values);
+  else
+    steps.push_back(HistoryStep::axes(values));
+}
+
+// --- JSON -----------------------------------------------------------------------------------
 
 std::string DesignHistory::toJson() const
 {
@@ -191,23 +265,66 @@ std::vector<float> applyHistoryStep(
   if (s.action == "axes")
     return gallery.outline().moveAlongAxes(current, s.steps);
   if (s.action == "edit")
-  {
-    const View view = parseView(s.viewJson, "history edit view");
-    const Image image = gallery.render(current, view);
-    const auto clusters = colorClusters(image, s.clusters);
-    EditRegion region;
-    region.cluster = s.cluster >= 0 ? s.cluster : clusters.at(s.pickX, s.pickY);
-    if (region.cluster < 0)
-      throw Error("a history's edit picks a background pixel");
-    Image edited = image;
-    if (s.hue != 0 || s.saturation != 1 || s.lightness != 0)
-      edited = recolour(edited, clusters, region, s.hue, s.saturation, s.lightness);
-    if (s.visibility != 1)
-      edited = changeVisibility(edited, clusters, region, s.visibility);
-    return gallery.analyzeEdit(edited,
-      s.white ? std::array<double, 3>{ 1, 1, 1 } : std::array<double, 3>{ 0, 0, 0 });
-  }
+    return editDesign(gallery, current, DesignEdit::fromStep(s)).latent;
   throw Error("unknown history action '" + s.action + "'");
+}
+
+DesignEdit DesignEdit::fromStep(const HistoryStep& s)
+{
+  DesignEdit e;
+  e.view = parseView(s.viewJson, "history edit view");
+  e.clusters = s.clusters;
+  e.cluster = s.cluster;
+  e.pickX = s.pickX;
+  e.pickY = s.pickY;
+  e.hue = s.hue;
+  e.saturation = s.saturation;
+  e.lightness = s.lightness;
+  e.visibility = s.visibility;
+  e.white = s.white;
+  return e;
+}
+
+HistoryStep DesignEdit::toStep() const
+{
+  if (!mask.empty())
+    throw Error("a history does not record brushed masks; edit a cluster or a picked pixel");
+  return HistoryStep::edit(viewToJson(view), pickX >= 0 ? -1 : cluster, pickX, pickY, clusters, hue,
+    saturation, lightness, visibility, white);
+}
+
+DesignEditResult editDesign(const DesignGallery& gallery, const std::vector<float>& latent,
+  const DesignEdit& e, const FeatureLock* lock)
+{
+  DesignEditResult r;
+  r.before = gallery.render(latent, e.view, lock);
+  r.clusters = colorClusters(r.before, e.clusters);
+  EditRegion region;
+  if (!e.mask.empty())
+  {
+    region.mask = e.mask;
+    if (region.mask.width != e.view.width || region.mask.height != e.view.height)
+      region.mask = resizeImage(region.mask, e.view.width, e.view.height);
+  }
+  else if (e.pickX >= 0 && e.pickY >= 0)
+  {
+    region.cluster = r.clusters.at(e.pickX, e.pickY);
+    if (region.cluster < 0)
+      throw Error("the picked pixel shows no feature (it is background)");
+  }
+  else
+    region.cluster = e.cluster;
+  if (region.mask.empty() && region.cluster < 0)
+    throw Error("an image edit needs what to edit: a cluster, a picked pixel or a mask");
+  r.cluster = region.cluster;
+  r.edited = r.before;
+  if (e.hue != 0 || e.saturation != 1 || e.lightness != 0)
+    r.edited = recolour(r.edited, r.clusters, region, e.hue, e.saturation, e.lightness);
+  if (e.visibility != 1)
+    r.edited = changeVisibility(r.edited, r.clusters, region, e.visibility);
+  r.latent = gallery.analyzeEdit(
+    r.edited, e.white ? std::array<double, 3>{ 1, 1, 1 } : std::array<double, 3>{ 0, 0, 0 });
+  return r;
 }
 
 std::vector<float> replayHistory(const DesignGallery& gallery, const DesignHistory& history)

@@ -18,19 +18,32 @@ struct HistoryStep
   /// "blend" (rows or latents, u, v: a cell of a navigation grid), "edit" (view, cluster or
   /// pick, hue, saturation, lightness, visibility, clusters, white), "axes" (steps).
   std::string action;
-  std::string image;           ///< query: the image file
-  int row = -1;                ///< pick: the outline row
-  std::vector<int> rows;       ///< blend: 2-4 outline rows
-  std::vector<float> latent;   ///< latent: the design
+  std::string image;                       ///< query: the image file
+  int row = -1;                            ///< pick: the outline row
+  std::vector<int> rows;                   ///< blend: 2-4 outline rows
+  std::vector<float> latent;               ///< latent: the design
   std::vector<std::vector<float>> latents; ///< blend: 2-4 latents (instead of rows)
-  double u = 0, v = 0;         ///< blend
-  std::string viewJson;        ///< edit: the view the edit was made at (view JSON)
-  int cluster = -1;            ///< edit: the colour cluster (or -1 with pickX/pickY)
-  int pickX = -1, pickY = -1;  ///< edit: the pixel whose cluster was edited
-  int clusters = 4;            ///< edit: clusters found
+  double u = 0, v = 0;                     ///< blend
+  std::string viewJson;                    ///< edit: the view the edit was made at (view JSON)
+  int cluster = -1;                        ///< edit: the colour cluster (or -1 with pickX/pickY)
+  int pickX = -1, pickY = -1;              ///< edit: the pixel whose cluster was edited
+  int clusters = 4;                        ///< edit: clusters found
   double hue = 0, saturation = 1, lightness = 0, visibility = 1; ///< edit
-  bool white = false;          ///< edit: re-analyzed over white instead of black
-  std::vector<double> steps;   ///< axes
+  bool white = false;        ///< edit: re-analyzed over white instead of black
+  std::vector<double> steps; ///< axes
+
+  /// The steps as the front ends record them (the one place that builds each kind).
+  static HistoryStep query(const std::string& image);
+  static HistoryStep pick(int row);
+  /// A design given by its latent; `image` may name the picture it was queried with.
+  static HistoryStep latentDesign(const std::vector<float>& latent, const std::string& image = "");
+  /// A cell (u, v) of the navigation grid between 2-4 latents.
+  static HistoryStep blend(const std::vector<std::vector<float>>& latents, double u, double v);
+  /// An edit of a colour cluster (cluster >= 0) or of the cluster under pixel (pickX, pickY), at
+  /// the view given as view JSON.
+  static HistoryStep edit(const std::string& viewJson, int cluster, int pickX, int pickY,
+    int clusters, double hue, double saturation, double lightness, double visibility, bool white);
+  static HistoryStep axes(const std::vector<double>& steps);
 };
 
 /// A replayable path. JSON file: {"format": "ddg-history", "version": 1, "steps": [...]}.
@@ -45,7 +58,44 @@ struct DesignHistory
   static DesignHistory fromJson(const std::string& text, const std::string& origin = "history");
   static DesignHistory read(const std::string& path);
   void write(const std::string& path) const;
+
+  /// Appends an "axes" step, or replaces the last step when it is one (the principal-axis
+  /// sliders move one design, not a chain of them).
+  void setAxes(const std::vector<double>& steps);
 };
+
+/// An edit of a design's image (what an "edit" step does, plus a brushed mask, which histories
+/// do not record): colour clusters of its render at `view`, one of them (or the mask) recoloured
+/// and made more or less visible, the result re-analyzed over black or white.
+struct DesignEdit
+{
+  View view;
+  int clusters = 4;           ///< colour clusters found in the render
+  int cluster = -1;           ///< the cluster edited, or -1 with pickX/pickY or a mask
+  int pickX = -1, pickY = -1; ///< the pixel whose cluster is edited
+  Image mask;                 ///< a brushed mask (one channel at the view's size), or empty
+  double hue = 0, saturation = 1, lightness = 0, visibility = 1;
+  bool white = false; ///< re-analyzed over white instead of black
+
+  /// The edit of a history step.
+  static DesignEdit fromStep(const HistoryStep& step);
+  /// The history step of this edit (throws ddg::Error for a masked edit: not recordable).
+  HistoryStep toStep() const;
+};
+
+/// What an edit gives.
+struct DesignEditResult
+{
+  std::vector<float> latent; ///< the re-analyzed design
+  Image before, edited;      ///< the render and the edited image (premultiplied RGBA)
+  ColorClusters clusters;    ///< the render's colour clusters
+  int cluster = -1;          ///< the cluster edited (-1 for a mask)
+};
+
+/// Applies `edit` to the design `latent` (under `lock`, if any). Throws ddg::Error when the edit
+/// names nothing (no cluster, pick or mask) or picks a background pixel.
+DesignEditResult editDesign(const DesignGallery& gallery, const std::vector<float>& latent,
+  const DesignEdit& edit, const FeatureLock* lock = nullptr);
 
 /// Applies one step to the current latent (empty before the first step) and returns the new
 /// one. Image paths in query steps are read as given (relative to the working directory).

@@ -12,8 +12,8 @@ Latent blendLatents(const std::vector<Latent>& anchors, double u, double v)
 {
   const size_t n = anchors.size();
   if (n < 2 || n > 4)
-    throw Error("a navigation sub-space is spanned by 2 to 4 designs (got " + std::to_string(n) +
-      ")");
+    throw Error(
+      "a navigation sub-space is spanned by 2 to 4 designs (got " + std::to_string(n) + ")");
   if (!std::isfinite(u) || !std::isfinite(v))
     throw Error("navigation coordinates must be finite");
   for (const auto& a : anchors)
@@ -68,8 +68,8 @@ std::vector<NavigationCell> navigationGrid(
       NavigationCell cell;
       cell.u = cols == 1 ? 0.5 * (w.u0 + w.u1) : w.u0 + (w.u1 - w.u0) * c / (cols - 1);
       cell.v = rows == 1 ? 0.5 * (w.v0 + w.v1) : w.v0 + (w.v1 - w.v0) * r / (rows - 1);
-      const bool outside = anchors.size() == 3 &&
-        (cell.u < -1e-9 || cell.v < -1e-9 || cell.u + cell.v > 1 + 1e-9);
+      const bool outside =
+        anchors.size() == 3 && (cell.u < -1e-9 || cell.v < -1e-9 || cell.u + cell.v > 1 + 1e-9);
       if (!outside)
         cell.latent = blendLatents(anchors, cell.u, cell.v);
       cells.push_back(std::move(cell));
@@ -88,7 +88,8 @@ double ease(double t, const std::string& easing)
   throw Error("unknown easing '" + easing + "' (linear, smoothstep or cosine)");
 }
 
-std::vector<Latent> latentPath(const Latent& a, const Latent& b, int frames, const std::string& easing)
+std::vector<Latent> latentPath(
+  const Latent& a, const Latent& b, int frames, const std::string& easing)
 {
   if (frames < 2)
     throw Error("an animation needs at least 2 frames");

@@ -81,7 +81,8 @@ LatentSet readLatentSet(const std::string& path)
   std::memcpy(&seed, data.data() + 24, 8);
   if (version != 1)
     throw Error(path + ": latent set version " + std::to_string(version) + " is not supported");
-  const size_t expected = header + static_cast<size_t>(count) * 8 + static_cast<size_t>(count) * dim * 2;
+  const size_t expected =
+    header + static_cast<size_t>(count) * 8 + static_cast<size_t>(count) * dim * 2;
   if (dim < 1 || data.size() != expected)
     throw Error(path + " is truncated or corrupt: " + std::to_string(data.size()) + " bytes, " +
       std::to_string(expected) + " expected for " + std::to_string(count) + " latents of " +

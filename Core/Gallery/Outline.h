@@ -18,8 +18,8 @@ struct LatentSet
 {
   int dim = 0;
   std::uint64_t seed = 1;
-  std::vector<float> values;           ///< count x dim
-  std::vector<std::uint64_t> indices;  ///< count
+  std::vector<float> values;          ///< count x dim
+  std::vector<std::uint64_t> indices; ///< count
   int count() const { return static_cast<int>(indices.size()); }
   const float* row(int i) const { return values.data() + static_cast<size_t>(i) * dim; }
   /// Throws ddg::Error unless values.size() == count * dim, dim >= 1 and every value is finite.
@@ -78,7 +78,8 @@ public:
   double explainedVariance(int k) const;
   /// latent + sum_k steps[k] * axisStddev(k) * e_k: sliders along the principal axes, steps in
   /// standard deviations (steps may be shorter than dim).
-  std::vector<float> moveAlongAxes(const std::vector<float>& latent, const std::vector<double>& steps) const;
+  std::vector<float> moveAlongAxes(
+    const std::vector<float>& latent, const std::vector<double>& steps) const;
 
   /// The k rows nearest to `latent` (nearestLatents over its latents).
   std::vector<Neighbour> nearest(const float* latent, int k) const
@@ -88,8 +89,8 @@ public:
 
 private:
   LatentSet Latents;
-  std::vector<double> Mean;       ///< dim
-  std::vector<double> Axes;       ///< dim x dim, row k = e_k
+  std::vector<double> Mean;        ///< dim
+  std::vector<double> Axes;        ///< dim x dim, row k = e_k
   std::vector<double> Eigenvalues; ///< dim, descending
   std::vector<float> Points;
 };
@@ -98,12 +99,13 @@ private:
 /// starting from a point drawn with `seed` (another seed = "resample"), so that every point of
 /// the box is near a thumbnail (small dispersion), not only the dense middle. Returns rows,
 /// min(k, points inside) of them; k = 0 gives none. Throws ddg::Error for k < 0 or an invalid box.
-std::vector<int> selectThumbnails(const DesignOutline& outline, const OutlineBox& box, int k,
-  std::uint64_t seed = 1);
+std::vector<int> selectThumbnails(
+  const DesignOutline& outline, const OutlineBox& box, int k, std::uint64_t seed = 1);
 
 /// Dispersion of a selection: the largest plane distance from a point inside `box` to its
 /// nearest selected point (lower = better coverage; infinity when nothing is selected).
-double dispersion(const DesignOutline& outline, const OutlineBox& box, const std::vector<int>& rows);
+double dispersion(
+  const DesignOutline& outline, const OutlineBox& box, const std::vector<int>& rows);
 
 /// The outline view's state as plain data (what a panel saves and restores): the stack of boxes
 /// (the first is the whole outline; drill-in pushes, back pops), the thumbnail count and the

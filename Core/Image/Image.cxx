@@ -16,6 +16,31 @@
 namespace ddg
 {
 
+Image unpremultiplyAlpha(const Image& in)
+{
+  if (in.channels != 4)
+    throw Error("unpremultiplyAlpha needs RGBA, not " + std::to_string(in.channels) + " channels");
+  Image out = in;
+  for (size_t i = 0; i < out.pixels.size(); i += 4)
+  {
+    const float a = out.pixels[i + 3];
+    for (int c = 0; c < 3; ++c)
+      out.pixels[i + c] = a > 0 ? std::min(1.0f, out.pixels[i + c] / a) : 0.0f;
+  }
+  return out;
+}
+
+Image premultiplyAlpha(const Image& in)
+{
+  if (in.channels != 4)
+    throw Error("premultiplyAlpha needs RGBA, not " + std::to_string(in.channels) + " channels");
+  Image out = in;
+  for (size_t i = 0; i < out.pixels.size(); i += 4)
+    for (int c = 0; c < 3; ++c)
+      out.pixels[i + c] *= out.pixels[i + 3];
+  return out;
+}
+
 Image compositeOverBackground(const Image& in, const std::array<double, 3>& background)
 {
   if (in.channels != 4)
@@ -110,8 +135,8 @@ Image decodeImage(const std::string& bytes, const std::string& origin)
   else if (starts("II*\0", 4) || starts("MM\0*", 4))
     ext = ".tif";
   else
-    throw Error(origin + " is not a PNG, JPEG or TIFF file (" + std::to_string(bytes.size()) +
-      " bytes)");
+    throw Error(
+      origin + " is not a PNG, JPEG or TIFF file (" + std::to_string(bytes.size()) + " bytes)");
   OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
   // the name only tells OpenImageIO the format; errors name the origin
   try
@@ -197,9 +222,11 @@ void writeAnimation(const std::vector<Image>& frames, const std::string& path, d
     path.substr(slash == std::string::npos ? 0 : slash + 1);
   auto out = OIIO::ImageOutput::create(path);
   if (!out || !out->supports("multiimage") || !out->supports("appendsubimage"))
-    throw Error("cannot write animation '" + path + "': its format holds no frame sequence (use .gif)");
+    throw Error(
+      "cannot write animation '" + path + "': its format holds no frame sequence (use .gif)");
   OIIO::ImageSpec spec(frames[0].width, frames[0].height, 3, OIIO::TypeDesc::UINT8);
-  spec.attribute("FramesPerSecond", OIIO::TypeRational, std::vector<int>{ static_cast<int>(std::lround(fps * 100)), 100 }.data());
+  spec.attribute("FramesPerSecond", OIIO::TypeRational,
+    std::vector<int>{ static_cast<int>(std::lround(fps * 100)), 100 }.data());
   spec.attribute("oiio:LoopCount", 0);
   std::vector<OIIO::ImageSpec> specs(frames.size(), spec);
   bool ok = out->open(tmp, static_cast<int>(specs.size()), specs.data());
@@ -218,7 +245,8 @@ void writeAnimation(const std::vector<Image>& frames, const std::string& path, d
   if (!ok || std::rename(tmp.c_str(), path.c_str()) != 0)
   {
     std::remove(tmp.c_str());
-    throw Error("cannot write animation '" + path + "': " + (reason.empty() ? "write failed" : reason));
+    throw Error(
+      "cannot write animation '" + path + "': " + (reason.empty() ? "write failed" : reason));
   }
 }
 

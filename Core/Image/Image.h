@@ -44,6 +44,13 @@ struct Image
 Image compositeOverBackground(
   const Image& premultipliedRGBA, const std::array<double, 3>& background);
 
+/// Straight (unpremultiplied) alpha from premultiplied RGBA, as PNG stores it: C / A clamped to
+/// 1, and 0 where A = 0. Throws ddg::Error for an image without 4 channels.
+Image unpremultiplyAlpha(const Image& premultipliedRGBA);
+/// Premultiplied RGBA from straight alpha: C * A. Throws ddg::Error for an image without 4
+/// channels.
+Image premultiplyAlpha(const Image& straightRGBA);
+
 /// Reads any image OpenImageIO reads (PNG, JPEG, TIFF, EXR, ...) as float in [0, 1] for
 /// integer formats, alpha exactly as stored (straight alpha for PNG; no premultiplication).
 /// Throws ddg::Error with the path and OpenImageIO's reason.
@@ -82,6 +89,7 @@ Image toChannels(const Image& image, int channels);
 /// A contact sheet: RGB images (RGBA: alpha dropped; gray: spread) row by row, `columns` per
 /// row, cells the size of the largest image, `gap` pixels of `background` between and around
 /// them. Throws ddg::Error for no images or columns < 1.
-Image tileImages(const std::vector<Image>& images, int columns, int gap = 2, float background = 1.0f);
+Image tileImages(
+  const std::vector<Image>& images, int columns, int gap = 2, float background = 1.0f);
 
 } // namespace ddg

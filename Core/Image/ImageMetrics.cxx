@@ -1,11 +1,18 @@
-// ImageMetrics.cxx: PSNR and Gaussian-window SSIM.
+// ImageMetrics.cxx: PSNR, Gaussian-window SSIM (with its gradient) and the colour-histogram
+// EMD (LEMON's network simplex).
 #include "Image/ImageMetrics.h"
 
 #include "TransferFunction/ColorSpace.h"
 
+#include <lemon/network_simplex.h>
+#include <lemon/static_graph.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <numeric>
+#include <utility>
 #include <vector>
 
 namespace ddg
@@ -182,10 +189,11 @@ int binOf(double v, const double r[2], int n)
   return std::clamp(static_cast<int>((v - r[0]) / (r[1] - r[0]) * n), 0, n - 1);
 }
 
-std::vector<double> labHistogram(const Image& img0)
+// Pixel counts per Lab bin.
+std::vector<std::int64_t> labHistogram(const Image& img0)
 {
   const Image img = toChannels(img0, 3);
-  std::vector<double> h(static_cast<size_t>(kBinsL) * kBinsA * kBinsB, 0.0);
+  std::vector<std::int64_t> h(static_cast<size_t>(kBinsL) * kBinsA * kBinsB, 0);
   const size_t n = static_cast<size_t>(img.width) * img.height;
   for (size_t i = 0; i < n; ++i)
   {
@@ -194,7 +202,7 @@ std::vector<double> labHistogram(const Image& img0)
       std::clamp<double>(img.pixels[3 * i + 2], 0, 1) });
     const int l = binOf(lab[0], kL, kBinsL), a = binOf(lab[1], kA, kBinsA),
               b = binOf(lab[2], kB, kBinsB);
-    h[(static_cast<size_t>(l) * kBinsA + a) * kBinsB + b] += 1.0 / static_cast<double>(n);
+    ++h[(static_cast<size_t>(l) * kBinsA + a) * kBinsB + b];
   }
   return h;
 }
@@ -207,131 +215,11 @@ std::array<double, 3> binCentre(size_t index)
     kA[0] + (a + 0.5) * (kA[1] - kA[0]) / kBinsA, kB[0] + (b + 0.5) * (kB[1] - kB[0]) / kBinsB };
 }
 
-// Exact transportation cost between two distributions (equal total mass) with ground cost
-// cost[i][j]: successive shortest paths with potentials (Dijkstra on the dense residual graph).
-double transport(const std::vector<double>& supply, const std::vector<double>& demand,
-  const std::vector<std::vector<double>>& cost)
-{
-  const size_t n = supply.size(), m = demand.size();
-  std::vector<double> left = supply, need = demand;
-  std::vector<std::vector<double>> flow(n, std::vector<double>(m, 0.0));
-  std::vector<double> potS(n, 0.0), potD(m, 0.0); // potentials of supply and demand nodes
-  constexpr double eps = 1e-12;
-  const double inf = std::numeric_limits<double>::infinity();
-  double total = 0;
-  for (int guard = 0; guard < static_cast<int>(4 * (n + m) + 100); ++guard)
-  {
-    double remaining = 0;
-    for (double v : left)
-      remaining += v;
-    if (remaining <= 1e-9)
-    {
-      break;
-    }
-    // Dijkstra from the virtual source (to every supply node with mass left, cost 0).
-    std::vector<double> distS(n, inf), distD(m, inf);
-    std::vector<int> prevS(n, -1),
-      prevD(m, -1); // prevD[j] = supply i; prevS[i] = demand j (backward arc)
-    std::vector<char> doneS(n, 0), doneD(m, 0);
-    for (size_t i = 0; i < n; ++i)
-      if (left[i] > eps)
-        distS[i] = 0;
-    while (true)
-    {
-      double best = inf;
-      int which = -1;
-      bool isSupply = true;
-      for (size_t i = 0; i < n; ++i)
-        if (!doneS[i] && distS[i] < best)
-        {
-          best = distS[i];
-          which = static_cast<int>(i);
-          isSupply = true;
-        }
-      for (size_t j = 0; j < m; ++j)
-        if (!doneD[j] && distD[j] < best)
-        {
-          best = distD[j];
-          which = static_cast<int>(j);
-          isSupply = false;
-        }
-      if (which < 0)
-        break;
-      if (isSupply)
-      {
-        doneS[which] = 1;
-        for (size_t j = 0; j < m; ++j)
-        {
-          const double r = cost[which][j] + potS[which] - potD[j];
-          if (!doneD[j] && distS[which] + r < distD[j])
-          {
-            distD[j] = distS[which] + r;
-            prevD[j] = which;
-          }
-        }
-      }
-      else
-      {
-        doneD[which] = 1;
-        for (size_t i = 0; i < n; ++i)
-        {
-          if (flow[i][which] <= eps)
-            continue;
-          const double r = -cost[i][which] + potD[which] - potS[i];
-          if (!doneS[i] && distD[which] + r < distS[i])
-          {
-            distS[i] = distD[which] + r;
-            prevS[i] = which;
-          }
-        }
-      }
-    }
-    // nearest demand node with unmet demand
-    int sink = -1;
-    for (size_t j = 0; j < m; ++j)
-      if (need[j] > eps && distD[j] < inf && (sink < 0 || distD[j] < distD[sink]))
-        sink = static_cast<int>(j);
-    if (sink < 0)
-      break;
-    for (size_t i = 0; i < n; ++i)
-      if (distS[i] < inf)
-        potS[i] += distS[i];
-    for (size_t j = 0; j < m; ++j)
-      if (distD[j] < inf)
-        potD[j] += distD[j];
-    // bottleneck along the path sink <- i <- j <- i ... <- source supply
-    double amount = need[sink];
-    int j = sink;
-    while (true)
-    {
-      const int i = prevD[j];
-      if (prevS[i] < 0)
-      {
-        amount = std::min(amount, left[i]);
-        break;
-      }
-      amount = std::min(amount, flow[i][prevS[i]]);
-      j = prevS[i];
-    }
-    j = sink;
-    need[sink] -= amount;
-    while (true)
-    {
-      const int i = prevD[j];
-      flow[i][j] += amount;
-      total += amount * cost[i][j];
-      if (prevS[i] < 0)
-      {
-        left[i] -= amount;
-        break;
-      }
-      flow[i][prevS[i]] -= amount;
-      total -= amount * cost[i][prevS[i]];
-      j = prevS[i];
-    }
-  }
-  return total;
-}
+// LEMON's network simplex needs integer costs (its documented requirement): distances are
+// scaled by 2^40 and rounded (at most 290 Lab units: < 2^49, far from overflowing its int64
+// potentials). The flow it returns is optimal for the rounded costs, so its true cost is within
+// 2^-40 (per unit of mass) of the exact optimum; the EMD is that flow's cost in double.
+constexpr double kCostScale = 1099511627776.0; // 2^40
 
 } // namespace
 
@@ -342,33 +230,61 @@ double colorHistogramEMD(const Image& a, const Image& b)
     throw Error("cannot compare empty images");
   }
   const auto ha = labHistogram(a), hb = labHistogram(b);
+  // Integer masses with equal totals: a's bin carries count * nb / g, b's count * na / g
+  // (n = pixel counts, g = gcd), so both sum to F = na nb / g and mass / F is the normalised
+  // histogram.
+  const std::int64_t na = static_cast<std::int64_t>(a.width) * a.height,
+                     nb = static_cast<std::int64_t>(b.width) * b.height, g = std::gcd(na, nb);
   std::vector<size_t> ia, ib;
-  std::vector<double> sa, sb;
   for (size_t i = 0; i < ha.size(); ++i)
   {
     if (ha[i] > 0)
-    {
       ia.push_back(i);
-      sa.push_back(ha[i]);
-    }
     if (hb[i] > 0)
-    {
       ib.push_back(i);
-      sb.push_back(hb[i]);
-    }
   }
-  std::vector<std::vector<double>> cost(ia.size(), std::vector<double>(ib.size()));
-  for (size_t i = 0; i < ia.size(); ++i)
+  // Complete bipartite graph: nodes 0..I-1 are a's occupied bins, I..I+J-1 b's; arc i * J + j
+  // goes from a's bin i to b's bin j (arcs sorted by source, as StaticDigraph::build needs).
+  const int I = static_cast<int>(ia.size()), J = static_cast<int>(ib.size());
+  std::vector<std::pair<int, int>> arcs;
+  arcs.reserve(static_cast<size_t>(I) * J);
+  for (int i = 0; i < I; ++i)
+    for (int j = 0; j < J; ++j)
+      arcs.emplace_back(i, I + j);
+  lemon::StaticDigraph graph;
+  graph.build(I + J, arcs.begin(), arcs.end());
+  lemon::StaticDigraph::NodeMap<std::int64_t> supply(graph);
+  for (int i = 0; i < I; ++i)
+    supply[graph.node(i)] = ha[ia[i]] * (nb / g);
+  for (int j = 0; j < J; ++j)
+    supply[graph.node(I + j)] = -hb[ib[j]] * (na / g);
+  std::vector<double> distance(arcs.size());
+  lemon::StaticDigraph::ArcMap<std::int64_t> cost(graph);
+  for (int i = 0; i < I; ++i)
   {
     const auto ci = binCentre(ia[i]);
-    for (size_t j = 0; j < ib.size(); ++j)
+    for (int j = 0; j < J; ++j)
     {
       const auto cj = binCentre(ib[j]);
-      cost[i][j] = std::sqrt((ci[0] - cj[0]) * (ci[0] - cj[0]) + (ci[1] - cj[1]) * (ci[1] - cj[1]) +
-        (ci[2] - cj[2]) * (ci[2] - cj[2]));
+      const size_t e = static_cast<size_t>(i) * J + j;
+      distance[e] = std::sqrt((ci[0] - cj[0]) * (ci[0] - cj[0]) +
+        (ci[1] - cj[1]) * (ci[1] - cj[1]) + (ci[2] - cj[2]) * (ci[2] - cj[2]));
+      cost[graph.arc(static_cast<int>(e))] = std::llround(distance[e] * kCostScale);
     }
   }
-  return transport(sa, sb, cost);
+  lemon::NetworkSimplex<lemon::StaticDigraph, std::int64_t, std::int64_t> simplex(graph);
+  if (simplex.costMap(cost).supplyMap(supply).run() != decltype(simplex)::OPTIMAL)
+  {
+    throw Error("colour-histogram EMD: the transport problem has no optimal solution");
+  }
+  double total = 0;
+  for (size_t e = 0; e < arcs.size(); ++e)
+  {
+    const std::int64_t flow = simplex.flow(graph.arc(static_cast<int>(e)));
+    if (flow != 0)
+      total += static_cast<double>(flow) * distance[e];
+  }
+  return total / (static_cast<double>(na / g) * static_cast<double>(nb));
 }
 
 } // namespace ddg

@@ -4,7 +4,7 @@
 // maps random latents to designs like the ones it was trained on.
 #pragma once
 
-#include "Neural/NeuralModel.h"
+#include "Neural/NeuralDesignModel.h"
 
 namespace ddg
 {

@@ -1,13 +1,18 @@
-// Reconstruction.cxx: Adam on logit-parameterised TF bins, losses, prior, convergence.
+// Reconstruction.cxx: the targets and their image loss, the rendering stage, and the one
+// optimisation loop (Adam, progress and cancel, early stop) over a TransferParameterisation.
 #include "Reconstruct/Reconstruction.h"
 
 #include "Common/Error.h"
 #include "Image/ImageMetrics.h"
+#include "Numerics/Adam.h"
+#include "Reconstruct/TransferParameterisation.h"
 #include "Render/RayCaster.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
+#include <memory>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -17,15 +22,7 @@ namespace ddg
 namespace
 {
 
-double sigmoid(double x)
-{
-  return 1.0 / (1.0 + std::exp(-x));
-}
-double logit(double p)
-{
-  p = std::clamp(p, 1e-6, 1.0 - 1e-6);
-  return std::log(p / (1.0 - p));
-}
+// --- targets and the image loss --------------------------------------------------------
 
 // A target prepared for the loss: what each pixel should be, in the render's terms.
 struct PreparedTarget
@@ -173,6 +170,8 @@ double pixelLoss(const PreparedTarget& t, int pixel, const float* rgba, Reconstr
   return w * scale * L;
 }
 
+// --- the rendering stage: TF entries -> the renderer's table, forward and adjoint ----------
+
 // 1D: the render table (ParaView's width) as a linear function of the bins.
 struct BinsToTable
 {
@@ -212,70 +211,288 @@ struct BinsToTable
   }
 };
 
-// The parametric fit: K Gaussian primitives of 8 unconstrained numbers each: mean and log width
-// per axis in units of that axis' range, then colour and peak-opacity logits.
-struct PrimitiveParameters
+// The TF entries (bins x gradientBins RGBA) as the table the renderer reads: in 1D resampled
+// to ParaView's table width (BinsToTable), in 2D the entries themselves. Holds dL/dTable.
+class TableStage
 {
-  static constexpr int kPer = 8;
-  bool twoD = false;
-  std::array<double, 2> lo{ 0, 0 }, span{ 1, 1 };
+public:
+  TableStage(const DifferentiableRenderer& renderer, const ReconstructionOptions& opt,
+    std::array<double, 2> range, std::array<double, 2> gradientRange)
+    : Renderer(renderer)
+    , TwoD(opt.twoD)
+    , Bins(opt.bins)
+    , GradientBins(opt.twoD ? opt.gradientBins : 1)
+    , Range(range)
+    , GradientRange(gradientRange)
+    , Render(opt.render)
+  {
+    Render.jitter = false;
+    if (!TwoD)
+    {
+      // ParaView's table width for nodes every (max - min) / (B - 1)
+      TransferFunction1D spacingProbe;
+      spacingProbe.color = { { range[0], 0, 0, 0 },
+        { range[0] + (range[1] - range[0]) / (Bins - 1), 0, 0, 0 } };
+      spacingProbe.opacity = { { range[0], 0 } };
+      Map.setup(Bins, paraviewTableWidth(spacingProbe, range[0], range[1]));
+    }
+  }
 
-  void initialise(int count, std::vector<double>& theta) const
+  // The table of `values`; clears dL/dTable.
+  void setValues(const std::vector<double>& values)
   {
-    theta.assign(static_cast<size_t>(count) * kPer, 0.0);
-    for (int k = 0; k < count; ++k)
+    if (TwoD)
+      Table.assign(values.begin(), values.end());
+    else
+      Map.forward(values, Table);
+    DTable.assign(Table.size(), 0.0f);
+  }
+
+  // OVERWRITES rgba and records of the listed pixels.
+  void forward(const View& view, const std::vector<int>& px, std::vector<float>& rgba,
+    std::vector<RayRecord>& records) const
+  {
+    if (TwoD)
+      Renderer.forward2D(
+        Table.data(), Bins, GradientBins, Range, GradientRange, view, Render, px, rgba, records);
+    else
+      Renderer.forward(
+        Table.data(), Map.width, Range[0], Range[1], view, Render, px, rgba, records);
+  }
+
+  // ACCUMULATES dL/dTable from dL/d(rgba) of the listed pixels.
+  void backward(const View& view, const std::vector<int>& px, const std::vector<RayRecord>& records,
+    const std::vector<float>& dL_dRGBA)
+  {
+    if (TwoD)
+      Renderer.backward2D(Table.data(), Bins, GradientBins, Range, GradientRange, view, Render, px,
+        records, dL_dRGBA, DTable);
+    else
+      Renderer.backward(
+        Table.data(), Map.width, Range[0], Range[1], view, Render, px, records, dL_dRGBA, DTable);
+  }
+
+  // OVERWRITES dL_dValues (4 per entry) from dL/dTable.
+  void pullback(std::vector<double>& dL_dValues) const
+  {
+    std::fill(dL_dValues.begin(), dL_dValues.end(), 0.0);
+    if (TwoD)
     {
-      double* t = &theta[static_cast<size_t>(k) * kPer];
-      t[0] = (k + 0.5) / count;
-      t[1] = 0.5;
-      t[2] = std::log(0.5 / count);
-      t[3] = std::log(0.5);
-      t[4] = t[5] = t[6] = logit(0.5);
-      t[7] = logit(0.05);
+      for (size_t i = 0; i < dL_dValues.size(); ++i)
+        dL_dValues[i] = DTable[i];
+    }
+    else
+    {
+      Map.backward(DTable, dL_dValues);
     }
   }
-  std::vector<GaussianPrimitive> decode(const std::vector<double>& theta) const
+
+private:
+  const DifferentiableRenderer& Renderer;
+  bool TwoD;
+  int Bins, GradientBins;
+  std::array<double, 2> Range, GradientRange;
+  RenderOptions Render;
+  BinsToTable Map;
+  std::vector<float> Table, DTable;
+};
+
+// The data term over all targets: per target, the pixel loss on a random subset of its
+// candidate pixels (mean over pixels and channels), plus (ssimWeight > 0) (1 - SSIM) on a
+// random patch; mean over targets. Draws from rng in a fixed order: target by target, the
+// pixel subset, then the patch.
+class ImageLoss
+{
+public:
+  ImageLoss(std::vector<PreparedTarget> targets, const ReconstructionOptions& opt)
+    : Targets(std::move(targets))
+    , Opt(opt)
   {
-    std::vector<GaussianPrimitive> out(theta.size() / kPer);
-    for (size_t k = 0; k < out.size(); ++k)
+  }
+
+  // Loss of the stage's current table; ACCUMULATES its gradient into the stage.
+  double evaluate(TableStage& stage, std::mt19937& rng)
+  {
+    double loss = 0;
+    for (auto& t : Targets)
     {
-      const double* t = &theta[k * kPer];
-      for (int a = 0; a < 2; ++a)
+      // random subset of the candidate pixels
+      const size_t want = Opt.raysPerIteration > 0
+        ? std::min(t.candidates.size(), static_cast<size_t>(Opt.raysPerIteration))
+        : t.candidates.size();
+      if (want < t.candidates.size())
       {
-        out[k].mean[a] = lo[a] + t[a] * span[a];
-        out[k].stddev[a] = std::exp(std::clamp(t[2 + a], -12.0, 3.0)) * span[a];
+        for (size_t i = 0; i < want; ++i)
+        {
+          std::uniform_int_distribution<size_t> pick(i, t.candidates.size() - 1);
+          std::swap(t.candidates[i], t.candidates[pick(rng)]);
+        }
       }
-      for (int c = 0; c < 3; ++c)
-        out[k].rgb[c] = sigmoid(t[4 + c]);
-      out[k].opacity = sigmoid(t[7]);
-    }
-    return out;
-  }
-  // dL/dtheta from dL/d(primitive parameters).
-  void chain(const std::vector<GaussianPrimitive>& p,
-    const std::vector<GaussianPrimitiveGradient>& g, std::vector<double>& dTheta) const
-  {
-    for (size_t k = 0; k < p.size(); ++k)
-    {
-      double* d = &dTheta[k * kPer];
-      for (int a = 0; a < (twoD ? 2 : 1); ++a)
+      Pixels.assign(t.candidates.begin(), t.candidates.begin() + static_cast<std::ptrdiff_t>(want));
+      std::sort(Pixels.begin(), Pixels.end()); // neighbouring rays together: cache locality
+      const View& view = t.source->view;
+      stage.forward(view, Pixels, RGBA, Records);
+      DRGBA.assign(RGBA.size(), 0.0f);
+      const double scale = 1.0 / (static_cast<double>(want) * (t.alpha ? 4 : 3) * Targets.size());
+      for (size_t q = 0; q < Pixels.size(); ++q)
       {
-        d[a] = g[k].mean[a] * span[a];
-        d[2 + a] = g[k].stddev[a] * p[k].stddev[a];
+        loss += pixelLoss(t, Pixels[q], &RGBA[4 * q], Opt.loss, scale, &DRGBA[4 * q]);
       }
-      for (int c = 0; c < 3; ++c)
-        d[4 + c] = g[k].rgb[c] * p[k].rgb[c] * (1 - p[k].rgb[c]);
-      d[7] = g[k].opacity * p[k].opacity * (1 - p[k].opacity);
+      stage.backward(view, Pixels, Records, DRGBA);
+      if (Opt.ssimWeight > 0)
+      {
+        loss += ssimPatchTerm(stage, t, rng);
+      }
     }
+    return loss;
   }
-  // Adam step of each slot relative to the learning rate: positions and widths move in units
-  // of the range, so more slowly than logits.
-  static double stepScale(size_t i)
+
+private:
+  // (1 - SSIM) on a random patch of a target, rendered in full; adds its gradient to the stage.
+  double ssimPatchTerm(TableStage& stage, const PreparedTarget& t, std::mt19937& gen) const
   {
-    const size_t slot = i % kPer;
-    return slot < 2 ? 0.1 : slot < 4 ? 0.25 : 1.0;
+    const View& view = t.source->view;
+    const int pw = std::min(Opt.ssimPatch, view.width), ph = std::min(Opt.ssimPatch, view.height);
+    std::uniform_int_distribution<int> px(0, view.width - pw), py(0, view.height - ph);
+    const int x0 = px(gen), y0 = py(gen);
+    std::vector<int> patch;
+    for (int y = y0; y < y0 + ph; ++y)
+      for (int x = x0; x < x0 + pw; ++x)
+        patch.push_back(y * view.width + x);
+    std::vector<float> prgba, pd;
+    std::vector<RayRecord> prec;
+    stage.forward(view, patch, prgba, prec);
+    // the images SSIM compares: over the background (opaque targets) or premultiplied rgb
+    std::vector<float> ours(patch.size() * 3), theirs(patch.size() * 3);
+    for (size_t q = 0; q < patch.size(); ++q)
+      for (int c = 0; c < 3; ++c)
+      {
+        ours[3 * q + c] = t.alpha
+          ? prgba[4 * q + c]
+          : static_cast<float>(prgba[4 * q + c] + (1 - prgba[4 * q + 3]) * t.background[c]);
+        theirs[3 * q + c] = t.value[(t.alpha ? 4 : 3) * static_cast<size_t>(patch[q]) + c];
+      }
+    std::vector<double> dS(ours.size());
+    const double sVal = ssimWithGradient(ours.data(), theirs.data(), pw, ph, dS.data());
+    const double k = Opt.ssimWeight / static_cast<double>(Targets.size());
+    pd.assign(prgba.size(), 0.0f);
+    for (size_t q = 0; q < patch.size(); ++q)
+      for (int c = 0; c < 3; ++c)
+      {
+        const double g = -k * dS[3 * q + c]; // d(k (1 - S)) / d(image)
+        pd[4 * q + c] += static_cast<float>(g);
+        if (!t.alpha)
+          pd[4 * q + 3] -= static_cast<float>(g * t.background[c]);
+      }
+    stage.backward(view, patch, prec, pd);
+    return k * (1.0 - sVal);
+  }
+
+  std::vector<PreparedTarget> Targets; // their candidate lists are shuffled in place, step by step
+  const ReconstructionOptions& Opt;
+  std::vector<int> Pixels;
+  std::vector<float> RGBA, DRGBA;
+  std::vector<RayRecord> Records;
+};
+
+// --- the optimisation loop ---------------------------------------------------------------
+
+// What a result holds of the TF: its entries as table1D or table2D, and its primitives.
+struct ResultLayout
+{
+  bool twoD = false;
+  std::array<double, 2> range{ 0, 1 }, gradientRange{ 0, 1 };
+  int bins = 0, gradientBins = 1;
+
+  void store(ReconstructionResult& r, const std::vector<double>& values,
+    std::vector<GaussianPrimitive> primitives) const
+  {
+    std::vector<float> current(values.begin(), values.end());
+    r.primitives = std::move(primitives);
+    if (twoD)
+    {
+      r.table2D.valueRange = range;
+      r.table2D.gradientRange = gradientRange;
+      r.table2D.width = bins;
+      r.table2D.height = gradientBins;
+      r.table2D.rgba = std::move(current);
+    }
+    else
+    {
+      r.table1D.min = range[0];
+      r.table1D.max = range[1];
+      r.table1D.width = bins;
+      r.table1D.rgba = std::move(current);
+    }
   }
 };
+
+// Adam on theta for at most opt.iterations steps: forward (parameters -> entries -> table),
+// image loss and its adjoint, the parameterisation's prior, backward to theta, one Adam step.
+// After each step: the loss is recorded, progress is called (with the current TF every
+// snapshotEvery steps; false cancels: throws Cancelled), and the run stops once the smoothed
+// loss (EMA 0.9) improved by less than `tolerance` (relative) for `patience` steps.
+void optimise(TransferParameterisation& param, TableStage& stage, ImageLoss& data,
+  const ResultLayout& layout, const ReconstructionOptions& opt,
+  const ReconstructionProgress& progress, ReconstructionResult& result)
+{
+  std::vector<double> theta = param.initial();
+  const std::vector<double> rates = param.learningRates(opt.learningRate);
+  Adam adam(AdamOptions{ 0.9, 0.999, 1e-8 }, theta.size());
+  std::mt19937 rng(opt.seed);
+  std::vector<double> values, dValues, dTheta;
+  auto storeCurrent = [&]
+  {
+    std::vector<double> v;
+    param.forward(theta, v);
+    layout.store(result, v, param.primitives());
+  };
+  double ema = 0, bestEma = std::numeric_limits<double>::infinity();
+  int sinceImprovement = 0;
+  for (int step = 0; step < opt.iterations; ++step)
+  {
+    param.forward(theta, values);
+    stage.setValues(values);
+    double loss = data.evaluate(stage, rng);
+    dValues.resize(values.size());
+    stage.pullback(dValues);
+    param.addPrior(values, loss, dValues);
+    if (!std::isfinite(loss))
+    {
+      throw Error("the loss became NaN or infinite at step " + std::to_string(step) +
+        " (try a smaller learning rate)");
+    }
+    param.backward(values, dValues, dTheta);
+    adam.step(theta, dTheta, rates);
+    result.loss.push_back(loss);
+    result.iterations = step + 1;
+    if (progress)
+    {
+      const bool snapshot = opt.snapshotEvery > 0 && (step + 1) % opt.snapshotEvery == 0;
+      if (snapshot)
+      {
+        storeCurrent();
+      }
+      if (!progress(step, loss, snapshot ? &result : nullptr))
+      {
+        throw Cancelled();
+      }
+    }
+    // Convergence on the smoothed minibatch loss.
+    ema = step == 0 ? loss : 0.9 * ema + 0.1 * loss;
+    if (ema < bestEma * (1.0 - opt.tolerance))
+    {
+      bestEma = ema;
+      sinceImprovement = 0;
+    }
+    else if (++sinceImprovement >= opt.patience)
+    {
+      result.converged = true;
+      break;
+    }
+  }
+  storeCurrent();
+}
 
 } // namespace
 
@@ -314,300 +531,29 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
 
   const Volume& vol = renderer.caster().volume();
   const auto range = vol.range();
+  ResultLayout layout;
+  layout.twoD = opt.twoD;
+  layout.range = { range[0], range[1] };
+  layout.gradientRange = opt.twoD ? vol.gradientMagnitudeRange() : std::array<double, 2>{ 0, 1 };
+  layout.bins = opt.bins;
+  layout.gradientBins = opt.twoD ? opt.gradientBins : 1;
+
+  // What is optimised: free bins (logits of every entry) or Gaussian primitives.
+  std::unique_ptr<TransferParameterisation> param;
+  if (opt.primitives > 0)
+    param = std::make_unique<GaussianPrimitiveParameters>(
+      opt.primitives, opt.twoD, layout.range, layout.gradientRange, opt.bins, opt.gradientBins);
+  else if (opt.twoD)
+    param = std::make_unique<FreeBins>(FreeBins::twoD(opt.bins, opt.gradientBins, opt.smoothness));
+  else
+    param = std::make_unique<FreeBins>(
+      FreeBins::oneD(opt.bins, layout.range, opt.smoothness, opt.initial1D));
+
+  TableStage stage(renderer, opt, layout.range, layout.gradientRange);
+  ImageLoss data(std::move(prepared), opt);
   ReconstructionResult result;
   result.twoD = opt.twoD;
-  const int B = opt.bins;
-  const int G = opt.twoD ? opt.gradientBins : 1;
-  const size_t nBins = static_cast<size_t>(B) * G;
-  const std::array<double, 2> gradientRange =
-    opt.twoD ? vol.gradientMagnitudeRange() : std::array<double, 2>{ 0, 1 };
-
-  // Parameters: logits of rgb and opacity per bin, or the primitives' parameters.
-  const int K = opt.primitives;
-  PrimitiveParameters prim;
-  prim.twoD = opt.twoD;
-  prim.lo = { range[0], gradientRange[0] };
-  prim.span = { range[1] - range[0], gradientRange[1] - gradientRange[0] };
-  std::vector<double> theta;
-  if (K > 0)
-    prim.initialise(K, theta);
-  else
-    theta.resize(4 * nBins);
-  for (size_t b = 0; K == 0 && b < nBins; ++b)
-  {
-    double init[4] = { 0.5, 0.5, 0.5, 0.02 };
-    if (opt.initial1D && !opt.twoD)
-    {
-      const double x = range[0] + (b % B) * (range[1] - range[0]) / (B - 1);
-      const auto v = opt.initial1D->lookup(x);
-      for (int c = 0; c < 4; ++c)
-        init[c] = v[c];
-    }
-    for (int c = 0; c < 4; ++c)
-      theta[4 * b + c] = logit(init[c]);
-  }
-  BinsToTable map;
-  TransferFunction1D spacingProbe;
-  if (!opt.twoD)
-  {
-    // ParaView's table width for nodes every (max - min) / (B - 1)
-    spacingProbe.color = { { range[0], 0, 0, 0 },
-      { range[0] + (range[1] - range[0]) / (B - 1), 0, 0, 0 } };
-    spacingProbe.opacity = { { range[0], 0 } };
-    map.setup(B, paraviewTableWidth(spacingProbe, range[0], range[1]));
-  }
-
-  // The current TF's bins (RGBA, uncorrected opacity): sigmoid of the parameters, or the
-  // primitives rasterized.
-  std::vector<GaussianPrimitive> primitives;
-  auto currentValues = [&](std::vector<double>& out)
-  {
-    out.resize(4 * nBins);
-    if (K == 0)
-    {
-      for (size_t i = 0; i < theta.size(); ++i)
-        out[i] = sigmoid(theta[i]);
-      return;
-    }
-    primitives = prim.decode(theta);
-    const std::vector<float> raster = opt.twoD
-      ? rasterize2D(primitives, { range[0], range[1] }, gradientRange, B, G).rgba
-      : rasterize1D(primitives, range[0], range[1], B).rgba;
-    std::copy(raster.begin(), raster.end(), out.begin());
-  };
-
-  // The current TF into result's tables.
-  auto fillTables = [&](ReconstructionResult& r)
-  {
-    std::vector<double> v;
-    currentValues(v);
-    std::vector<float> current(v.begin(), v.end());
-    r.primitives = primitives;
-    if (opt.twoD)
-    {
-      r.table2D.valueRange = { range[0], range[1] };
-      r.table2D.gradientRange = gradientRange;
-      r.table2D.width = B;
-      r.table2D.height = G;
-      r.table2D.rgba = std::move(current);
-    }
-    else
-    {
-      r.table1D.min = range[0];
-      r.table1D.max = range[1];
-      r.table1D.width = B;
-      r.table1D.rgba = std::move(current);
-    }
-  };
-
-  std::vector<double> m(theta.size(), 0.0), v2(theta.size(), 0.0);
-  const double beta1 = 0.9, beta2 = 0.999, eps = 1e-8;
-  std::mt19937 rng(opt.seed);
-  RenderOptions ropt = opt.render;
-  ropt.jitter = false;
-
-  std::vector<double> values(4 * nBins);
-  std::vector<float> table, dTable;
-  std::vector<double> dValues(4 * nBins), dTheta(theta.size());
-  std::vector<GaussianPrimitiveGradient> dPrimitives;
-  std::vector<int> pixels;
-  std::vector<float> rgba, dRGBA;
-  std::vector<RayRecord> records;
-  double ema = 0, bestEma = std::numeric_limits<double>::infinity();
-  int sinceImprovement = 0;
-
-  // Forward and backward passes of the current table (1D through the bins map, or 2D).
-  auto renderOn = [&](const View& view, const std::vector<int>& px, std::vector<float>& out,
-                    std::vector<RayRecord>& rec)
-  {
-    if (opt.twoD)
-      renderer.forward2D(
-        table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, px, out, rec);
-    else
-      renderer.forward(table.data(), map.width, range[0], range[1], view, ropt, px, out, rec);
-  };
-  auto backpropagate = [&](const View& view, const std::vector<int>& px,
-                         const std::vector<RayRecord>& rec, const std::vector<float>& dOut)
-  {
-    if (opt.twoD)
-      renderer.backward2D(table.data(), B, G, { range[0], range[1] }, gradientRange, view, ropt, px,
-        rec, dOut, dTable);
-    else
-      renderer.backward(
-        table.data(), map.width, range[0], range[1], view, ropt, px, rec, dOut, dTable);
-  };
-
-  // (1 - SSIM) on a random patch of a target, rendered in full; adds its gradient to dTable.
-  auto ssimPatchTerm = [&](const PreparedTarget& t, std::mt19937& gen)
-  {
-    const View& view = t.source->view;
-    const int pw = std::min(opt.ssimPatch, view.width), ph = std::min(opt.ssimPatch, view.height);
-    std::uniform_int_distribution<int> px(0, view.width - pw), py(0, view.height - ph);
-    const int x0 = px(gen), y0 = py(gen);
-    std::vector<int> patch;
-    for (int y = y0; y < y0 + ph; ++y)
-      for (int x = x0; x < x0 + pw; ++x)
-        patch.push_back(y * view.width + x);
-    std::vector<float> prgba, pd;
-    std::vector<RayRecord> prec;
-    renderOn(view, patch, prgba, prec);
-    // the images SSIM compares: over the background (opaque targets) or premultiplied rgb
-    std::vector<float> ours(patch.size() * 3), theirs(patch.size() * 3);
-    for (size_t q = 0; q < patch.size(); ++q)
-      for (int c = 0; c < 3; ++c)
-      {
-        ours[3 * q + c] = t.alpha
-          ? prgba[4 * q + c]
-          : static_cast<float>(prgba[4 * q + c] + (1 - prgba[4 * q + 3]) * t.background[c]);
-        theirs[3 * q + c] = t.value[(t.alpha ? 4 : 3) * static_cast<size_t>(patch[q]) + c];
-      }
-    std::vector<double> dS(ours.size());
-    const double sVal = ssimWithGradient(ours.data(), theirs.data(), pw, ph, dS.data());
-    const double k = opt.ssimWeight / static_cast<double>(prepared.size());
-    pd.assign(prgba.size(), 0.0f);
-    for (size_t q = 0; q < patch.size(); ++q)
-      for (int c = 0; c < 3; ++c)
-      {
-        const double g = -k * dS[3 * q + c]; // d(k (1 - S)) / d(image)
-        pd[4 * q + c] += static_cast<float>(g);
-        if (!t.alpha)
-          pd[4 * q + 3] -= static_cast<float>(g * t.background[c]);
-      }
-    backpropagate(view, patch, prec, pd);
-    return k * (1.0 - sVal);
-  };
-
-  for (int step = 0; step < opt.iterations; ++step)
-  {
-    currentValues(values);
-    if (opt.twoD)
-    {
-      table.assign(values.begin(), values.end());
-    }
-    else
-    {
-      map.forward(values, table);
-    }
-    dTable.assign(table.size(), 0.0f);
-    double loss = 0;
-    for (auto& t : prepared)
-    {
-      // random subset of the candidate pixels
-      const size_t want = opt.raysPerIteration > 0
-        ? std::min(t.candidates.size(), static_cast<size_t>(opt.raysPerIteration))
-        : t.candidates.size();
-      if (want < t.candidates.size())
-      {
-        for (size_t i = 0; i < want; ++i)
-        {
-          std::uniform_int_distribution<size_t> pick(i, t.candidates.size() - 1);
-          std::swap(t.candidates[i], t.candidates[pick(rng)]);
-        }
-      }
-      pixels.assign(t.candidates.begin(), t.candidates.begin() + static_cast<std::ptrdiff_t>(want));
-      std::sort(pixels.begin(), pixels.end()); // neighbouring rays together: cache locality
-      const View& view = t.source->view;
-      renderOn(view, pixels, rgba, records);
-      dRGBA.assign(rgba.size(), 0.0f);
-      const double scale = 1.0 / (static_cast<double>(want) * (t.alpha ? 4 : 3) * prepared.size());
-      for (size_t q = 0; q < pixels.size(); ++q)
-      {
-        loss += pixelLoss(t, pixels[q], &rgba[4 * q], opt.loss, scale, &dRGBA[4 * q]);
-      }
-      backpropagate(view, pixels, records, dRGBA);
-      if (opt.ssimWeight > 0)
-      {
-        loss += ssimPatchTerm(t, rng);
-      }
-    }
-    std::fill(dValues.begin(), dValues.end(), 0.0);
-    if (opt.twoD)
-    {
-      for (size_t i = 0; i < dValues.size(); ++i)
-        dValues[i] = dTable[i];
-    }
-    else
-    {
-      map.backward(dTable, dValues);
-    }
-    // Smoothness prior: lambda * mean over neighbour pairs of squared differences (all channels).
-    if (opt.smoothness > 0 && K == 0)
-    {
-      std::vector<std::pair<size_t, size_t>> pairs;
-      for (int g = 0; g < G; ++g)
-        for (int b = 0; b < B; ++b)
-        {
-          const size_t i = static_cast<size_t>(g) * B + b;
-          if (b + 1 < B)
-            pairs.push_back({ i, i + 1 });
-          if (g + 1 < G)
-            pairs.push_back({ i, i + B });
-        }
-      const double k = opt.smoothness / static_cast<double>(pairs.size());
-      for (const auto& [a, b] : pairs)
-        for (int c = 0; c < 4; ++c)
-        {
-          const double d = values[4 * b + c] - values[4 * a + c];
-          loss += k * d * d;
-          dValues[4 * b + c] += 2 * k * d;
-          dValues[4 * a + c] -= 2 * k * d;
-        }
-    }
-    if (!std::isfinite(loss))
-    {
-      throw Error("the loss became NaN or infinite at step " + std::to_string(step) +
-        " (try a smaller learning rate)");
-    }
-    // Adam on the unconstrained parameters (logits of the bins, or the primitives').
-    if (K == 0)
-    {
-      for (size_t i = 0; i < theta.size(); ++i)
-        dTheta[i] = dValues[i] * values[i] * (1.0 - values[i]);
-    }
-    else
-    {
-      rasterizeAdjoint(primitives, opt.twoD, { range[0], range[1] }, gradientRange, B, G, dValues,
-        dPrimitives);
-      prim.chain(primitives, dPrimitives, dTheta);
-    }
-    const double c1 = 1.0 - std::pow(beta1, step + 1), c2 = 1.0 - std::pow(beta2, step + 1);
-    for (size_t i = 0; i < theta.size(); ++i)
-    {
-      const double g = dTheta[i];
-      const double lr = K == 0 ? opt.learningRate : opt.learningRate * PrimitiveParameters::stepScale(i);
-      m[i] = beta1 * m[i] + (1 - beta1) * g;
-      v2[i] = beta2 * v2[i] + (1 - beta2) * g * g;
-      theta[i] -= lr * (m[i] / c1) / (std::sqrt(v2[i] / c2) + eps);
-    }
-    result.loss.push_back(loss);
-    result.iterations = step + 1;
-    if (progress)
-    {
-      const bool snapshot = opt.snapshotEvery > 0 && (step + 1) % opt.snapshotEvery == 0;
-      if (snapshot)
-      {
-        fillTables(result);
-      }
-      if (!progress(step, loss, snapshot ? &result : nullptr))
-      {
-        throw Cancelled();
-      }
-    }
-    // Convergence on the smoothed minibatch loss.
-    ema = step == 0 ? loss : 0.9 * ema + 0.1 * loss;
-    if (ema < bestEma * (1.0 - opt.tolerance))
-    {
-      bestEma = ema;
-      sinceImprovement = 0;
-    }
-    else if (++sinceImprovement >= opt.patience)
-    {
-      result.converged = true;
-      break;
-    }
-  }
-
-  fillTables(result);
+  optimise(*param, stage, data, layout, opt, progress, result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -308,8 +308,7 @@ struct DifferentiableRendererT<S>::Internals
       s.spacing[a] = vol.spacing()[a];
     }
     s.d = opt.sampleDistance > 0 ? opt.sampleDistance : Caster.defaultSampleDistance();
-    s.unit =
-      view.opacityUnitDistance ? *view.opacityUnitDistance : Caster.defaultOpacityUnitDistance();
+    s.unit = Caster.opacityUnitDistance(view);
     s.offset = opt.sampleOffset;
     s.jitter = opt.jitter;
     s.termination = static_cast<S>(opt.terminationOpacity);

@@ -319,12 +319,16 @@ double RayCaster::defaultOpacityUnitDistance() const
   return diag / std::cbrt(cells);
 }
 
+double RayCaster::opacityUnitDistance(const View& view) const
+{
+  return view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
+}
+
 ParaViewTransfer2DMapping RayCaster::paraviewMapping2D(const View& view) const
 {
   const auto& v = In->Vol;
-  return ParaViewTransfer2DMapping::forVolume(v.dims(), v.spacing(), v.range(),
-    defaultSampleDistance(),
-    view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance());
+  return ParaViewTransfer2DMapping::forVolume(
+    v.dims(), v.spacing(), v.range(), defaultSampleDistance(), opacityUnitDistance(view));
 }
 
 TransferTable1D RayCaster::paraviewTable(const TransferFunction1D& tf) const
@@ -754,8 +758,7 @@ Image RayCaster::render(const TransferTable1D& table, const View& view,
     {
       March<std::decay_t<decltype(field)>> m;
       m.setup(In->Vol, field, defaultSampleDistance(), view, options);
-      const double unit =
-        view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
+      const double unit = opacityUnitDistance(view);
       Classify1D c;
       c.prepare(table, In->TextureScale, m.d / unit);
       m.c1 = &c;
@@ -785,8 +788,7 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
     {
       March<std::decay_t<decltype(field)>> m;
       m.setup(In->Vol, field, defaultSampleDistance(), view, options);
-      const double unit =
-        view.opacityUnitDistance ? *view.opacityUnitDistance : defaultOpacityUnitDistance();
+      const double unit = opacityUnitDistance(view);
       Classify2D c;
       c.prepare(table, m.d / unit);
       m.c2 = &c;

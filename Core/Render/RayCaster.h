@@ -88,6 +88,9 @@ public:
   double defaultSampleDistance() const;
   /// ParaView's default Scalar Opacity Unit Distance: |bounds diagonal| / cbrt(cell count).
   double defaultOpacityUnitDistance() const;
+  /// The opacity unit distance a TF is rendered and exported with at `view`: the view's, else
+  /// ParaView's default (defaultOpacityUnitDistance).
+  double opacityUnitDistance(const View& view) const;
 
   /// How ParaView's TransferFunction2D maps onto this volume's 2D TFs at `view` (its opacity
   /// unit distance, else the default; ParaView's sample distance): for fitParaViewBoxes.

@@ -2,6 +2,8 @@
 #include "TransferFunction/ParaViewTransferFunction2D.h"
 
 #include "Common/Error.h"
+#include "Numerics/Adam.h"
+#include "Numerics/Logistic.h"
 
 #include <nlohmann/json.hpp>
 
@@ -175,16 +177,8 @@ void checkRange(const std::array<double, 4>& r)
   }
 }
 
-double sigmoid(double z)
-{
-  return 1.0 / (1.0 + std::exp(-z));
-}
-
-double logit(double p)
-{
-  p = std::clamp(p, 1e-4, 1 - 1e-4);
-  return std::log(p / (1 - p));
-}
+// Colour and opacity logits start from values clamped to [1e-4, 1 - 1e-4].
+constexpr double kLogitMargin = 1e-4;
 
 } // namespace
 
@@ -395,7 +389,7 @@ ParaViewTransferFunction2D fitParaViewBoxes(const TransferFunction2D& tf,
   // --- joint refinement: Adam on (centre, log size, colour and opacity logits) ---
   const double RX = R[1] - R[0], RY = R[3] - R[2];
   const size_t n = 8 * boxes.size();
-  std::vector<double> theta(n), m(n, 0.0), v(n, 0.0), grad;
+  std::vector<double> theta(n), grad;
   auto unpack = [&](std::vector<Box>& out)
   {
     out.resize(boxes.size());
@@ -416,14 +410,20 @@ ParaViewTransferFunction2D fitParaViewBoxes(const TransferFunction2D& tf,
     t[3] = std::log(std::max(b.h, 1e-6 * RY) / RY);
     for (int q = 0; q < 3; ++q)
     {
-      t[4 + q] = logit(b.rgb[q]);
+      t[4 + q] = logit(b.rgb[q], kLogitMargin);
     }
-    t[7] = logit(b.a);
+    t[7] = logit(b.a, kLogitMargin);
   }
   unpack(boxes);
   const double initial = loss(boxes, R, gw, gh, target, nullptr);
+  // per-parameter learning rates: centres, log sizes, colour and opacity logits
   const double rates[8] = { 0.005, 0.005, 0.02, 0.02, 0.05, 0.05, 0.05, 0.05 };
-  const double b1 = 0.9, b2 = 0.999;
+  std::vector<double> learningRates(n);
+  for (size_t i = 0; i < n; ++i)
+  {
+    learningRates[i] = rates[i % 8];
+  }
+  Adam adam(AdamOptions{ 0.9, 0.999, 1e-12 }, n);
   double best = initial;
   std::vector<Box> bestBoxes = boxes, current = boxes;
   for (int it = 1; it <= options.iterations && !boxes.empty(); ++it)
@@ -448,14 +448,10 @@ ParaViewTransferFunction2D fitParaViewBoxes(const TransferFunction2D& tf,
         g[4 + q] *= b.rgb[q] * (1 - b.rgb[q]);
       }
       g[7] *= b.a * (1 - b.a);
-      for (int q = 0; q < 8; ++q)
-      {
-        const size_t i = 8 * k + q;
-        m[i] = b1 * m[i] + (1 - b1) * g[q];
-        v[i] = b2 * v[i] + (1 - b2) * g[q] * g[q];
-        const double mh = m[i] / (1 - std::pow(b1, it)), vh = v[i] / (1 - std::pow(b2, it));
-        theta[i] -= rates[q] * mh / (std::sqrt(vh) + 1e-12);
-      }
+    }
+    adam.step(theta, grad, learningRates);
+    for (size_t k = 0; k < current.size(); ++k)
+    {
       theta[8 * k + 2] = std::clamp(theta[8 * k + 2], std::log(1.0 / gw), std::log(4.0));
       theta[8 * k + 3] = std::clamp(theta[8 * k + 3], std::log(1.0 / gh), std::log(4.0));
       for (int q = 4; q < 8; ++q)

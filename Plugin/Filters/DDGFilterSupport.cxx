@@ -1,10 +1,6 @@
 // DDGFilterSupport.cxx: whole-extent requests, image output information, errors reported once.
 #include "DDGFilterSupport.h"
 
-#include "Render/RayCaster.h"
-#include "Render/View.h"
-#include "TransferFunction/ParaViewTransferFunction2D.h"
-
 #include <vtkAlgorithm.h>
 #include <vtkAlgorithmOutput.h>
 #include <vtkDataObject.h>
@@ -26,13 +22,6 @@ int updatePiece(vtkInformation* info)
     : 0;
 }
 } // namespace
-
-std::string paraViewTransferFunction2DJson(
-  const RayCaster& caster, const TransferFunction2D& tf, const View& view)
-{
-  ParaViewBoxFitReport report;
-  return fitParaViewBoxes(tf, caster.paraviewMapping2D(view), {}, &report).toJson(&report);
-}
 
 void requestWholeInputExtent(vtkInformationVector** inputVector)
 {
@@ -79,23 +68,6 @@ void setImageInformation(vtkInformation* outInfo, int width, int height)
   double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
   outInfo->Set(vtkDataObject::ORIGIN(), origin, 3);
   outInfo->Set(vtkDataObject::SPACING(), spacing, 3);
-}
-
-void viewFileSize(const std::string& viewFile, int& width, int& height)
-{
-  width = height = 0;
-  if (viewFile.empty())
-    return;
-  try
-  {
-    const View view = readView(viewFile);
-    width = view.width;
-    height = view.height;
-  }
-  catch (const std::exception&)
-  {
-    // reported once, in RequestData; the output stays empty
-  }
 }
 
 bool ErrorOnce::report(vtkAlgorithm* filter, const std::string& message)

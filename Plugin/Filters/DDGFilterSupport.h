@@ -13,16 +13,6 @@ class vtkInformationVector;
 
 namespace ddg
 {
-class RayCaster;
-struct TransferFunction2D;
-struct View;
-
-/// The "ParaViewTransferFunction2D" field of the filters that output a 2D TF: ParaView boxes
-/// fitted to `tf` for `caster`'s volume at `view` (fitParaViewBoxes), as the JSON of the
-/// TransferFunction2D proxy's Boxes, Range and OutputDimensions plus the fit's errors ("Fit").
-/// The panel and the ddg Python package write it into the representation's TransferFunction2D.
-DDGFILTERS_EXPORT std::string paraViewTransferFunction2DJson(
-  const RayCaster& caster, const TransferFunction2D& tf, const View& view);
 
 /// Asks for the input's whole extent (the filters need the whole volume, whatever image extent
 /// is requested downstream). Distributed runs (pvserver under MPI): piece 0 asks for the whole
@@ -37,10 +27,6 @@ DDGFILTERS_EXPORT bool skipPiece(vtkInformationVector* outputVector);
 /// Sets a 2D image output's whole extent (width x height; empty when either is < 1), origin 0
 /// and spacing 1.
 DDGFILTERS_EXPORT void setImageInformation(vtkInformation* outInfo, int width, int height);
-
-/// The (width, height) of a view file, or (0, 0) when it is empty or unreadable (the error is
-/// reported by RequestData).
-DDGFILTERS_EXPORT void viewFileSize(const std::string& viewFile, int& width, int& height);
 
 /// Reports each failure once: the pipeline may re-run a failed request (an empty image never
 /// satisfies the update extent), so the same error for the same state (the filter's and its

@@ -17,11 +17,7 @@
 
 vtkStandardNewMacro(vtkDDGBuildDesignSpace);
 
-vtkDDGBuildDesignSpace::vtkDDGBuildDesignSpace()
-{
-  this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
-}
+vtkDDGBuildDesignSpace::vtkDDGBuildDesignSpace() {}
 
 vtkDDGBuildDesignSpace::~vtkDDGBuildDesignSpace() = default;
 
@@ -38,74 +34,49 @@ void vtkDDGBuildDesignSpace::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Seed: " << this->Seed << "\n";
 }
 
-int vtkDDGBuildDesignSpace::FillInputPortInformation(int, vtkInformation* info)
+int vtkDDGBuildDesignSpace::FillOutputPortInformation(int, vtkInformation* info)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
   return 1;
 }
 
-int vtkDDGBuildDesignSpace::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+void vtkDDGBuildDesignSpace::Execute(
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  ddg::requestWholeInputExtent(inputVector);
-  return 1;
-}
-
-int vtkDDGBuildDesignSpace::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
-    return 1;
-  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkTable* output = vtkTable::GetData(outputVector);
-  output->Initialize();
-  try
-  {
-    if (this->OutputDirectory.empty())
-      throw ddg::Error("no OutputDirectory set");
-    const ddg::Volume volume =
-      ddg::toCoreVolume(input, this->GetInputArrayToProcess(0, inputVector));
-    ddg::BuildOptions o;
-    if (!this->SpecFile.empty())
-      o.spec = ddg::readDesignSpaceSpec(this->SpecFile);
-    o.count = this->Count;
-    o.size = this->Size;
-    o.minutes = this->Minutes;
-    o.iterations = this->Iterations;
-    o.outlineCount = this->OutlineCount;
-    o.seed = static_cast<std::uint64_t>(this->Seed);
-    const auto r = ddg::buildDesignSpace(volume, "", this->OutputDirectory, o,
-      [this](const std::string&, double f)
-      {
-        this->UpdateProgress(f);
-        return !this->GetAbortExecute();
-      });
-    auto add = [output](const char* name, double v)
+  if (this->OutputDirectory.empty())
+    throw ddg::Error("no OutputDirectory set");
+  const ddg::Volume volume = ddg::toCoreVolume(input, array);
+  ddg::BuildOptions o;
+  if (!this->SpecFile.empty())
+    o.spec = ddg::readDesignSpaceSpec(this->SpecFile);
+  o.count = this->Count;
+  o.size = this->Size;
+  o.minutes = this->Minutes;
+  o.iterations = this->Iterations;
+  o.outlineCount = this->OutlineCount;
+  o.seed = static_cast<std::uint64_t>(this->Seed);
+  const auto r = ddg::buildDesignSpace(volume, "", this->OutputDirectory, o,
+    [this](const std::string&, double f)
     {
-      auto a = vtkSmartPointer<vtkDoubleArray>::New();
-      a->SetName(name);
-      a->InsertNextValue(v);
-      output->AddColumn(a);
-    };
-    add("PSNR", r.evaluation.psnr);
-    add("SSIM", r.evaluation.ssim);
-    add("EMD", r.evaluation.emd);
-    add("Invariance", r.evaluation.invariance);
-    add("TrainingSeconds", r.training.seconds);
-    add("Iterations", r.training.iterations);
-    auto dir = vtkSmartPointer<vtkStringArray>::New();
-    dir->SetName("ModelDirectory");
-    dir->InsertNextValue(this->OutputDirectory);
-    output->GetFieldData()->AddArray(dir);
-  }
-  catch (const ddg::Cancelled&)
+      this->UpdateProgress(f);
+      return !this->GetAbortExecute();
+    });
+  auto add = [output](const char* name, double v)
   {
-    output->Initialize();
-  }
-  catch (const std::exception& e)
-  {
-    output->Initialize();
-    vtkErrorMacro(<< e.what());
-  }
-  return 1;
+    auto a = vtkSmartPointer<vtkDoubleArray>::New();
+    a->SetName(name);
+    a->InsertNextValue(v);
+    output->AddColumn(a);
+  };
+  add("PSNR", r.evaluation.psnr);
+  add("SSIM", r.evaluation.ssim);
+  add("EMD", r.evaluation.emd);
+  add("Invariance", r.evaluation.invariance);
+  add("TrainingSeconds", r.training.seconds);
+  add("Iterations", r.training.iterations);
+  auto dir = vtkSmartPointer<vtkStringArray>::New();
+  dir->SetName("ModelDirectory");
+  dir->InsertNextValue(this->OutputDirectory);
+  output->GetFieldData()->AddArray(dir);
 }

@@ -3,7 +3,7 @@
 #define vtkDDGBuildDesignSpace_h
 
 #include "DDGFiltersModule.h" // export macro
-#include "vtkTableAlgorithm.h"
+#include "vtkDDGAlgorithm.h"
 
 #include <string>
 
@@ -21,11 +21,11 @@
  * Progress covers the three stages; Abort cancels (no bundle.json written). Bad input gives one
  * error and an empty output.
  */
-class DDGFILTERS_EXPORT vtkDDGBuildDesignSpace : public vtkTableAlgorithm
+class DDGFILTERS_EXPORT vtkDDGBuildDesignSpace : public vtkDDGAlgorithm
 {
 public:
   static vtkDDGBuildDesignSpace* New();
-  vtkTypeMacro(vtkDDGBuildDesignSpace, vtkTableAlgorithm);
+  vtkTypeMacro(vtkDDGBuildDesignSpace, vtkDDGAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -80,9 +80,9 @@ protected:
   vtkDDGBuildDesignSpace();
   ~vtkDDGBuildDesignSpace() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  void Execute(
+    vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 
 private:
   vtkDDGBuildDesignSpace(const vtkDDGBuildDesignSpace&) = delete;

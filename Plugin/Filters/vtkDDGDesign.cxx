@@ -1,9 +1,9 @@
 // vtkDDGDesign.cxx: replays the history on the cached gallery, renders, exports the TF.
 #include "vtkDDGDesign.h"
 
+#include "DDGBundleSession.h"
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
-#include "DDGGalleryCache.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Gallery/Export.h"
@@ -28,16 +28,13 @@ vtkStandardNewMacro(vtkDDGDesign);
 
 struct vtkDDGDesign::Internals
 {
-  ddg::GalleryCache Cache;
-  ddg::ErrorOnce Errors;
+  ddg::BundleSessionCache Sessions;
 };
 
 vtkDDGDesign::vtkDDGDesign()
   : Internal(new Internals)
 {
   this->SetNumberOfOutputPorts(2);
-  this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
 
 vtkDDGDesign::~vtkDDGDesign() = default;
@@ -76,32 +73,15 @@ void vtkDDGDesign::SetLockedRegion(int i, int region)
   }
 }
 
-int vtkDDGDesign::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-  return 1;
-}
-
 int vtkDDGDesign::FillOutputPortInformation(int port, vtkInformation* info)
 {
   info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkImageData" : "vtkTable");
   return 1;
 }
 
-int vtkDDGDesign::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+void vtkDDGDesign::PreviewSize(int& width, int& height)
 {
-  int width, height;
   ddg::filterViewSize(this->ViewJSON, this->ViewFile, width, height);
-  ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
-  return 1;
-}
-
-int vtkDDGDesign::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
-{
-  ddg::requestWholeInputExtent(inputVector);
-  return 1;
 }
 
 namespace
@@ -117,109 +97,87 @@ void addField(vtkTable* table, const char* name, const Values& values)
 }
 } // namespace
 
-int vtkDDGDesign::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+void vtkDDGDesign::Execute(
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
-    return 1;
-  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
   vtkTable* design = vtkTable::GetData(outputVector, 1);
-  preview->Initialize();
-  design->Initialize();
-  try
+  if (this->ModelDirectory.empty())
+    throw ddg::Error("no ModelDirectory set");
+  if (this->History.empty())
+    throw ddg::Error("no History set: the design is a ddg history JSON");
+  const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
+  ddg::DesignGallery& gallery =
+    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array);
+  const auto z =
+    ddg::replayHistory(gallery, ddg::DesignHistory::fromJson(this->History, "History"));
+  std::unique_ptr<ddg::FeatureLock> lock;
+  if (!this->LockedRegions.empty())
   {
-    if (this->ModelDirectory.empty())
-      throw ddg::Error("no ModelDirectory set");
-    if (this->History.empty())
-      throw ddg::Error("no History set: the design is a ddg history JSON");
-    const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
-    ddg::DesignGallery& gallery = this->Internal->Cache.get(
-      this->ModelDirectory, input, this->GetInputArrayToProcess(0, inputVector));
-    const auto z =
-      ddg::replayHistory(gallery, ddg::DesignHistory::fromJson(this->History, "History"));
-    std::unique_ptr<ddg::FeatureLock> lock;
-    if (!this->LockedRegions.empty())
-    {
-      const auto from = this->LockHistory.empty()
-        ? z
-        : ddg::replayHistory(
-            gallery, ddg::DesignHistory::fromJson(this->LockHistory, "LockHistory"));
-      lock = std::make_unique<ddg::FeatureLock>(gallery.lockRegions(from, this->LockedRegions));
-    }
-    this->UpdateProgress(0.3);
-    const ddg::Image image = gallery.render(z, view, lock.get());
-    const auto tf = gallery.explicitTransferFunction(z, view, lock.get());
-    this->UpdateProgress(0.6);
+    const auto from = this->LockHistory.empty()
+      ? z
+      : ddg::replayHistory(gallery, ddg::DesignHistory::fromJson(this->LockHistory, "LockHistory"));
+    lock = std::make_unique<ddg::FeatureLock>(gallery.lockRegions(from, this->LockedRegions));
+  }
+  this->UpdateProgress(0.3);
+  const ddg::Image image = gallery.render(z, view, lock.get());
+  const auto tf = gallery.explicitTransferFunction(z, view, lock.get());
+  this->UpdateProgress(0.6);
 
-    ddg::toVTKImage(image, view.background, preview);
-    const auto clusters = ddg::colorClusters(image, this->Clusters);
-    auto id = vtkSmartPointer<vtkIntArray>::New();
-    id->SetName("Cluster");
-    auto share = vtkSmartPointer<vtkDoubleArray>::New();
-    share->SetName("Share");
-    design->AddColumn(id);
-    design->AddColumn(share);
-    vtkSmartPointer<vtkDoubleArray> rgb[3];
-    const char* names[3] = { "R", "G", "B" };
+  ddg::toVTKImage(image, view.background, preview);
+  const auto clusters = ddg::colorClusters(image, this->Clusters);
+  auto id = vtkSmartPointer<vtkIntArray>::New();
+  id->SetName("Cluster");
+  auto share = vtkSmartPointer<vtkDoubleArray>::New();
+  share->SetName("Share");
+  design->AddColumn(id);
+  design->AddColumn(share);
+  vtkSmartPointer<vtkDoubleArray> rgb[3];
+  const char* names[3] = { "R", "G", "B" };
+  for (int c = 0; c < 3; ++c)
+  {
+    rgb[c] = vtkSmartPointer<vtkDoubleArray>::New();
+    rgb[c]->SetName(names[c]);
+    design->AddColumn(rgb[c]);
+  }
+  for (int k = 0; k < clusters.count(); ++k)
+  {
+    id->InsertNextValue(k);
+    share->InsertNextValue(clusters.share[static_cast<size_t>(k)]);
     for (int c = 0; c < 3; ++c)
-    {
-      rgb[c] = vtkSmartPointer<vtkDoubleArray>::New();
-      rgb[c]->SetName(names[c]);
-      design->AddColumn(rgb[c]);
-    }
-    for (int k = 0; k < clusters.count(); ++k)
-    {
-      id->InsertNextValue(k);
-      share->InsertNextValue(clusters.share[static_cast<size_t>(k)]);
-      for (int c = 0; c < 3; ++c)
-        rgb[c]->InsertNextValue(clusters.rgb[static_cast<size_t>(k)][c]);
-    }
+      rgb[c]->InsertNextValue(clusters.rgb[static_cast<size_t>(k)][c]);
+  }
 
-    addField<vtkFloatArray>(design, "Latent", z);
-    addField<vtkDoubleArray>(design, "Position", gallery.outline().project(z.data()));
-    std::vector<double> regions;
-    for (const auto& r : gallery.model().regions())
-    {
-      regions.push_back(r.lo);
-      regions.push_back(r.hi);
-    }
-    addField<vtkDoubleArray>(design, "Regions", regions);
-    const double unit = view.opacityUnitDistance ? *view.opacityUnitDistance
-                                                 : gallery.caster().defaultOpacityUnitDistance();
-    if (tf.is2D)
-    {
-      addField<vtkStringArray>(design, "TransferFunction2D",
-        std::vector<std::string>{ ddg::transferFunction2DToJson(tf.tf2D) });
-      addField<vtkStringArray>(design, "ParaViewTransferFunction2D",
-        std::vector<std::string>{
-          ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view) });
-    }
-    else
-    {
-      addField<vtkStringArray>(
-        design, "Preset", std::vector<std::string>{ ddg::presetToJson(tf.tf1D) });
-      addField<vtkStringArray>(design, "Slicer",
-        std::vector<std::string>{
-          ddg::slicerVolumePropertyJson(tf.tf1D, gallery.volume().range(), unit) });
-    }
-    if (this->ComputeFidelity)
-    {
-      const auto f = gallery.fidelity(z, view, lock.get());
-      addField<vtkDoubleArray>(
-        design, "Fidelity", std::vector<double>{ f.psnr, f.ssim, f.maxError });
-    }
-    this->UpdateProgress(1.0);
-    this->Internal->Errors.clear();
-    this->LastError.clear();
-  }
-  catch (const std::exception& e)
+  addField<vtkFloatArray>(design, "Latent", z);
+  addField<vtkDoubleArray>(design, "Position", gallery.outline().project(z.data()));
+  std::vector<double> regions;
+  for (const auto& r : gallery.model().regions())
   {
-    preview->Initialize();
-    design->Initialize();
-    this->LastError = e.what();
-    if (this->Internal->Errors.report(this, e.what()))
-      vtkErrorMacro(<< e.what());
+    regions.push_back(r.lo);
+    regions.push_back(r.hi);
   }
-  return 1;
+  addField<vtkDoubleArray>(design, "Regions", regions);
+  const double unit = gallery.caster().opacityUnitDistance(view);
+  if (tf.is2D)
+  {
+    addField<vtkStringArray>(design, "TransferFunction2D",
+      std::vector<std::string>{ ddg::transferFunction2DToJson(tf.tf2D) });
+    addField<vtkStringArray>(design, "ParaViewTransferFunction2D",
+      std::vector<std::string>{
+        ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view) });
+  }
+  else
+  {
+    addField<vtkStringArray>(
+      design, "Preset", std::vector<std::string>{ ddg::presetToJson(tf.tf1D) });
+    addField<vtkStringArray>(design, "Slicer",
+      std::vector<std::string>{
+        ddg::slicerVolumePropertyJson(tf.tf1D, gallery.volume().range(), unit) });
+  }
+  if (this->ComputeFidelity)
+  {
+    const auto f = gallery.fidelity(z, view, lock.get());
+    addField<vtkDoubleArray>(design, "Fidelity", std::vector<double>{ f.psnr, f.ssim, f.maxError });
+  }
+  this->UpdateProgress(1.0);
 }

@@ -5,7 +5,7 @@
 #define vtkDDGDesign_h
 
 #include "DDGFiltersModule.h" // export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkDDGAlgorithm.h"
 
 #include <memory>
 #include <string>
@@ -33,11 +33,11 @@
  * Bad input (no history, an invalid step, another model's latent, another volume, a lock on a
  * region the model does not have) gives one error message and empty outputs.
  */
-class DDGFILTERS_EXPORT vtkDDGDesign : public vtkImageAlgorithm
+class DDGFILTERS_EXPORT vtkDDGDesign : public vtkDDGAlgorithm
 {
 public:
   static vtkDDGDesign* New();
-  vtkTypeMacro(vtkDDGDesign, vtkImageAlgorithm);
+  vtkTypeMacro(vtkDDGDesign, vtkDDGAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -82,18 +82,14 @@ public:
   vtkBooleanMacro(ComputeFidelity, bool);
   ///@}
 
-  /// The last error message (empty after a run without error): the panel shows it.
-  vtkGetCharFromStdStringMacro(LastError);
-
 protected:
   vtkDDGDesign();
   ~vtkDDGDesign() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  void PreviewSize(int& width, int& height) override;
+  void Execute(
+    vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 
 private:
   vtkDDGDesign(const vtkDDGDesign&) = delete;
@@ -107,8 +103,6 @@ private:
   std::vector<int> LockedRegions;
   int Clusters = 4;
   bool ComputeFidelity = false;
-
-  std::string LastError;
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

@@ -1,9 +1,9 @@
 // vtkDDGDesignGallery.cxx: outline table and thumbnail sheet of a model bundle.
 #include "vtkDDGDesignGallery.h"
 
+#include "DDGBundleSession.h"
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
-#include "DDGGalleryCache.h"
 #include "DDGVolumeAdaptor.h"
 
 #include <vtkAlgorithmOutput.h>
@@ -24,16 +24,13 @@ vtkStandardNewMacro(vtkDDGDesignGallery);
 
 struct vtkDDGDesignGallery::Internals
 {
-  ddg::GalleryCache Cache;
-  ddg::ErrorOnce Errors;
+  ddg::BundleSessionCache Sessions;
 };
 
 vtkDDGDesignGallery::vtkDDGDesignGallery()
   : Internal(new Internals)
 {
   this->SetNumberOfOutputPorts(2);
-  this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
 
 vtkDDGDesignGallery::~vtkDDGDesignGallery() = default;
@@ -51,12 +48,6 @@ void vtkDDGDesignGallery::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ThumbnailSize: " << this->ThumbnailSize << "\n";
 }
 
-int vtkDDGDesignGallery::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-  return 1;
-}
-
 int vtkDDGDesignGallery::FillOutputPortInformation(int port, vtkInformation* info)
 {
   info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkImageData" : "vtkTable");
@@ -68,124 +59,89 @@ int vtkDDGDesignGallery::columns() const
   return static_cast<int>(std::ceil(std::sqrt(static_cast<double>(this->Count))));
 }
 
-int vtkDDGDesignGallery::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+void vtkDDGDesignGallery::PreviewSize(int& width, int& height)
 {
   const int cols = this->columns(), rows = (this->Count + cols - 1) / cols;
   const int gap = 2, cell = this->ThumbnailSize;
-  ddg::setImageInformation(
-    outputVector->GetInformationObject(0), cols * (cell + gap) + gap, rows * (cell + gap) + gap);
-  return 1;
+  width = cols * (cell + gap) + gap;
+  height = rows * (cell + gap) + gap;
 }
 
-int vtkDDGDesignGallery::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+void vtkDDGDesignGallery::Execute(
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  ddg::requestWholeInputExtent(inputVector);
-  return 1;
-}
-
-int vtkDDGDesignGallery::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
-    return 1;
-  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* sheet = vtkImageData::GetData(outputVector, 0);
   vtkTable* designs = vtkTable::GetData(outputVector, 1);
-  sheet->Initialize();
-  designs->Initialize();
-  try
-  {
-    ddg::DesignGallery& gallery = this->Internal->Cache.get(
-      this->ModelDirectory, input, this->GetInputArrayToProcess(0, inputVector));
-    const auto& outline = gallery.outline();
-    ddg::View view = this->ViewFile.empty() && this->ViewJSON.empty()
-      ? ddg::defaultView(gallery.volume())
-      : ddg::filterView(this->ViewJSON, this->ViewFile);
-    view.width = view.height = this->ThumbnailSize;
-    const bool whole =
-      this->Box[0] == 0 && this->Box[1] == 0 && this->Box[2] == 0 && this->Box[3] == 0;
-    const ddg::OutlineBox box = whole
-      ? outline.bounds()
-      : ddg::OutlineBox{ this->Box[0], this->Box[1], this->Box[2], this->Box[3] };
-    const auto rows =
-      ddg::selectThumbnails(outline, box, this->Count, static_cast<std::uint64_t>(this->Seed));
+  ddg::DesignGallery& gallery =
+    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array);
+  const auto& outline = gallery.outline();
+  ddg::View view = this->ViewFile.empty() && this->ViewJSON.empty()
+    ? ddg::defaultView(gallery.volume())
+    : ddg::filterView(this->ViewJSON, this->ViewFile);
+  view.width = view.height = this->ThumbnailSize;
+  const bool whole =
+    this->Box[0] == 0 && this->Box[1] == 0 && this->Box[2] == 0 && this->Box[3] == 0;
+  const ddg::OutlineBox box = whole
+    ? outline.bounds()
+    : ddg::OutlineBox{ this->Box[0], this->Box[1], this->Box[2], this->Box[3] };
+  const auto rows =
+    ddg::selectThumbnails(outline, box, this->Count, static_cast<std::uint64_t>(this->Seed));
 
-    // the sheet: cells row by row, top row first
-    const int cols = this->columns(), gridRows = (this->Count + cols - 1) / cols;
-    const int gap = 2, cell = this->ThumbnailSize;
-    ddg::Image canvas(cols * (cell + gap) + gap, gridRows * (cell + gap) + gap, 4, 0.0f);
-    for (size_t k = 0; k < rows.size(); ++k)
-    {
-      const ddg::Image& t = gallery.thumbnail(rows[k], view);
-      const int x0 = gap + static_cast<int>(k % cols) * (cell + gap);
-      const int y0 = gap + static_cast<int>(k / cols) * (cell + gap);
-      for (int y = 0; y < cell; ++y)
-        for (int x = 0; x < cell; ++x)
-          for (int c = 0; c < 4; ++c)
-            canvas.at(x0 + x, y0 + y, c) = t.at(x, y, c);
-      this->UpdateProgress(static_cast<double>(k + 1) / rows.size());
-      if (this->GetAbortExecute())
-        throw ddg::Cancelled();
-    }
-    ddg::toVTKImage(canvas, view.background, sheet);
+  // the sheet: cells row by row, top row first
+  const int cols = this->columns(), gridRows = (this->Count + cols - 1) / cols;
+  const int gap = 2, cell = this->ThumbnailSize;
+  ddg::Image canvas(cols * (cell + gap) + gap, gridRows * (cell + gap) + gap, 4, 0.0f);
+  for (size_t k = 0; k < rows.size(); ++k)
+  {
+    const ddg::Image& t = gallery.thumbnail(rows[k], view);
+    const int x0 = gap + static_cast<int>(k % cols) * (cell + gap);
+    const int y0 = gap + static_cast<int>(k / cols) * (cell + gap);
+    for (int y = 0; y < cell; ++y)
+      for (int x = 0; x < cell; ++x)
+        for (int c = 0; c < 4; ++c)
+          canvas.at(x0 + x, y0 + y, c) = t.at(x, y, c);
+    this->UpdateProgress(static_cast<double>(k + 1) / rows.size());
+    if (this->GetAbortExecute())
+      throw ddg::Cancelled();
+  }
+  ddg::toVTKImage(canvas, view.background, sheet);
 
-    auto column = [designs](vtkDataArray* a, const char* name)
-    {
-      a->SetName(name);
-      a->SetNumberOfTuples(0);
-      designs->AddColumn(a);
-    };
-    auto row = vtkSmartPointer<vtkIntArray>::New();
-    auto index = vtkSmartPointer<vtkDoubleArray>::New();
-    auto px = vtkSmartPointer<vtkDoubleArray>::New();
-    auto py = vtkSmartPointer<vtkDoubleArray>::New();
-    auto thumb = vtkSmartPointer<vtkIntArray>::New();
-    column(row, "Row");
-    column(index, "DesignIndex");
-    column(px, "X");
-    column(py, "Y");
-    column(thumb, "Thumbnail");
-    std::vector<int> cellOf(static_cast<size_t>(outline.count()), -1);
-    for (size_t k = 0; k < rows.size(); ++k)
-      cellOf[static_cast<size_t>(rows[k])] = static_cast<int>(k);
-    for (int i = 0; i < outline.count(); ++i)
-    {
-      const auto p = outline.point(i);
-      row->InsertNextValue(i);
-      index->InsertNextValue(
-        static_cast<double>(outline.latents().indices[static_cast<size_t>(i)]));
-      px->InsertNextValue(p[0]);
-      py->InsertNextValue(p[1]);
-      thumb->InsertNextValue(cellOf[static_cast<size_t>(i)]);
-    }
-    auto boxArray = vtkSmartPointer<vtkDoubleArray>::New();
-    boxArray->SetName("Box");
-    for (double v : { box.x0, box.y0, box.x1, box.y1 })
-      boxArray->InsertNextValue(v);
-    designs->GetFieldData()->AddArray(boxArray);
-    auto explained = vtkSmartPointer<vtkDoubleArray>::New();
-    explained->SetName("ExplainedVariance");
-    explained->InsertNextValue(outline.explainedVariance(0));
-    explained->InsertNextValue(outline.explainedVariance(1));
-    designs->GetFieldData()->AddArray(explained);
-    this->Internal->Errors.clear();
-    this->LastError.clear();
-  }
-  catch (const ddg::Cancelled&)
+  auto column = [designs](vtkDataArray* a, const char* name)
   {
-    this->LastError = "cancelled";
-    sheet->Initialize();
-    designs->Initialize();
-  }
-  catch (const std::exception& e)
+    a->SetName(name);
+    a->SetNumberOfTuples(0);
+    designs->AddColumn(a);
+  };
+  auto row = vtkSmartPointer<vtkIntArray>::New();
+  auto index = vtkSmartPointer<vtkDoubleArray>::New();
+  auto px = vtkSmartPointer<vtkDoubleArray>::New();
+  auto py = vtkSmartPointer<vtkDoubleArray>::New();
+  auto thumb = vtkSmartPointer<vtkIntArray>::New();
+  column(row, "Row");
+  column(index, "DesignIndex");
+  column(px, "X");
+  column(py, "Y");
+  column(thumb, "Thumbnail");
+  std::vector<int> cellOf(static_cast<size_t>(outline.count()), -1);
+  for (size_t k = 0; k < rows.size(); ++k)
+    cellOf[static_cast<size_t>(rows[k])] = static_cast<int>(k);
+  for (int i = 0; i < outline.count(); ++i)
   {
-    sheet->Initialize();
-    designs->Initialize();
-    this->LastError = e.what();
-    if (this->Internal->Errors.report(this, e.what()))
-      vtkErrorMacro(<< e.what());
+    const auto p = outline.point(i);
+    row->InsertNextValue(i);
+    index->InsertNextValue(static_cast<double>(outline.latents().indices[static_cast<size_t>(i)]));
+    px->InsertNextValue(p[0]);
+    py->InsertNextValue(p[1]);
+    thumb->InsertNextValue(cellOf[static_cast<size_t>(i)]);
   }
-  return 1;
+  auto boxArray = vtkSmartPointer<vtkDoubleArray>::New();
+  boxArray->SetName("Box");
+  for (double v : { box.x0, box.y0, box.x1, box.y1 })
+    boxArray->InsertNextValue(v);
+  designs->GetFieldData()->AddArray(boxArray);
+  auto explained = vtkSmartPointer<vtkDoubleArray>::New();
+  explained->SetName("ExplainedVariance");
+  explained->InsertNextValue(outline.explainedVariance(0));
+  explained->InsertNextValue(outline.explainedVariance(1));
+  designs->GetFieldData()->AddArray(explained);
 }

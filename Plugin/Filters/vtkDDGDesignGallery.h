@@ -4,7 +4,7 @@
 #define vtkDDGDesignGallery_h
 
 #include "DDGFiltersModule.h" // export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkDDGAlgorithm.h"
 
 #include <memory>
 #include <string>
@@ -25,11 +25,11 @@
  * "X", "Y" (plane coordinates) and "Thumbnail" (its cell in port 0, -1 for none); field data
  * "Box" (the box shown) and "ExplainedVariance" (of the two plane axes).
  */
-class DDGFILTERS_EXPORT vtkDDGDesignGallery : public vtkImageAlgorithm
+class DDGFILTERS_EXPORT vtkDDGDesignGallery : public vtkDDGAlgorithm
 {
 public:
   static vtkDDGDesignGallery* New();
-  vtkTypeMacro(vtkDDGDesignGallery, vtkImageAlgorithm);
+  vtkTypeMacro(vtkDDGDesignGallery, vtkDDGAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -75,18 +75,14 @@ public:
   vtkGetMacro(ThumbnailSize, int);
   ///@}
 
-  /// The last error message (empty after a run without error): the panel shows it.
-  vtkGetCharFromStdStringMacro(LastError);
-
 protected:
   vtkDDGDesignGallery();
   ~vtkDDGDesignGallery() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  void PreviewSize(int& width, int& height) override;
+  void Execute(
+    vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 
 private:
   vtkDDGDesignGallery(const vtkDDGDesignGallery&) = delete;
@@ -101,8 +97,6 @@ private:
   int Count = 64;
   int Seed = 1;
   int ThumbnailSize = 64;
-
-  std::string LastError;
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

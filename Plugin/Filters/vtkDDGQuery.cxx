@@ -2,11 +2,12 @@
 // and the designs table.
 #include "vtkDDGQuery.h"
 
+#include "DDGBundleSession.h"
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
-#include "DDGGalleryCache.h"
 #include "DDGVolumeAdaptor.h"
 
+#include "Gallery/Export.h"
 #include "Gallery/Gallery.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
@@ -29,16 +30,13 @@ vtkStandardNewMacro(vtkDDGQuery);
 
 struct vtkDDGQuery::Internals
 {
-  ddg::GalleryCache Cache;
-  ddg::ErrorOnce Errors;
+  ddg::BundleSessionCache Sessions;
 };
 
 vtkDDGQuery::vtkDDGQuery()
   : Internal(new Internals)
 {
   this->SetNumberOfOutputPorts(2);
-  this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
 
 vtkDDGQuery::~vtkDDGQuery() = default;
@@ -54,106 +52,70 @@ void vtkDDGQuery::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Neighbours: " << this->Neighbours << "\n";
 }
 
-int vtkDDGQuery::FillInputPortInformation(int, vtkInformation* info)
-{
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
-  return 1;
-}
-
 int vtkDDGQuery::FillOutputPortInformation(int port, vtkInformation* info)
 {
   info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkImageData" : "vtkTable");
   return 1;
 }
 
-int vtkDDGQuery::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+void vtkDDGQuery::PreviewSize(int& width, int& height)
 {
-  int width, height;
   ddg::filterViewSize(this->ViewJSON, this->ViewFile, width, height);
-  ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
-  return 1;
 }
 
-int vtkDDGQuery::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+void vtkDDGQuery::Execute(
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  ddg::requestWholeInputExtent(inputVector);
-  return 1;
-}
-
-int vtkDDGQuery::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
-    return 1;
-  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
   vtkTable* designs = vtkTable::GetData(outputVector, 1);
-  preview->Initialize();
-  designs->Initialize();
-  try
-  {
-    if (this->ModelDirectory.empty())
-      throw ddg::Error("no ModelDirectory set");
-    const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
-    const ddg::Image image = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
-    ddg::DesignGallery& gallery = this->Internal->Cache.get(
-      this->ModelDirectory, input, this->GetInputArrayToProcess(0, inputVector));
-    this->UpdateProgress(0.5);
-    const auto r = gallery.query(image, view, this->Neighbours);
-    const auto tf = gallery.explicitTransferFunction(r.latent, view);
+  if (this->ModelDirectory.empty())
+    throw ddg::Error("no ModelDirectory set");
+  const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
+  const ddg::Image image = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
+  ddg::DesignGallery& gallery =
+    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array);
+  this->UpdateProgress(0.5);
+  const auto r = gallery.query(image, view, this->Neighbours);
+  const auto tf = gallery.explicitTransferFunction(r.latent, view);
 
-    ddg::toVTKImage(r.preview, view.background, preview);
-    auto row = vtkSmartPointer<vtkIntArray>::New();
-    row->SetName("Row");
-    auto index = vtkSmartPointer<vtkDoubleArray>::New(); // uint64 indices fit a double exactly
-    index->SetName("DesignIndex");
-    auto distance = vtkSmartPointer<vtkDoubleArray>::New();
-    distance->SetName("Distance");
-    for (const auto& n : r.neighbours)
-    {
-      row->InsertNextValue(n.row);
-      index->InsertNextValue(
-        static_cast<double>(gallery.outline().latents().indices[static_cast<size_t>(n.row)]));
-      distance->InsertNextValue(n.distance);
-    }
-    designs->AddColumn(row);
-    designs->AddColumn(index);
-    designs->AddColumn(distance);
-    auto latent = vtkSmartPointer<vtkFloatArray>::New();
-    latent->SetName("Latent");
-    for (float v : r.latent)
-      latent->InsertNextValue(v);
-    designs->GetFieldData()->AddArray(latent);
-    auto position = vtkSmartPointer<vtkDoubleArray>::New();
-    position->SetName("Position");
-    position->InsertNextValue(r.position[0]);
-    position->InsertNextValue(r.position[1]);
-    designs->GetFieldData()->AddArray(position);
-    auto text = vtkSmartPointer<vtkStringArray>::New();
-    text->SetName(tf.is2D ? "TransferFunction2D" : "Preset");
-    text->InsertNextValue(
-      tf.is2D ? ddg::transferFunction2DToJson(tf.tf2D) : ddg::presetToJson(tf.tf1D));
-    designs->GetFieldData()->AddArray(text);
-    if (tf.is2D)
-    {
-      auto boxes = vtkSmartPointer<vtkStringArray>::New();
-      boxes->SetName("ParaViewTransferFunction2D");
-      boxes->InsertNextValue(ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view));
-      designs->GetFieldData()->AddArray(boxes);
-    }
-    this->UpdateProgress(1.0);
-    this->Internal->Errors.clear();
-    this->LastError.clear();
-  }
-  catch (const std::exception& e)
+  ddg::toVTKImage(r.preview, view.background, preview);
+  auto row = vtkSmartPointer<vtkIntArray>::New();
+  row->SetName("Row");
+  auto index = vtkSmartPointer<vtkDoubleArray>::New(); // uint64 indices fit a double exactly
+  index->SetName("DesignIndex");
+  auto distance = vtkSmartPointer<vtkDoubleArray>::New();
+  distance->SetName("Distance");
+  for (const auto& n : r.neighbours)
   {
-    preview->Initialize();
-    designs->Initialize();
-    this->LastError = e.what();
-    if (this->Internal->Errors.report(this, e.what()))
-      vtkErrorMacro(<< e.what());
+    row->InsertNextValue(n.row);
+    index->InsertNextValue(
+      static_cast<double>(gallery.outline().latents().indices[static_cast<size_t>(n.row)]));
+    distance->InsertNextValue(n.distance);
   }
-  return 1;
+  designs->AddColumn(row);
+  designs->AddColumn(index);
+  designs->AddColumn(distance);
+  auto latent = vtkSmartPointer<vtkFloatArray>::New();
+  latent->SetName("Latent");
+  for (float v : r.latent)
+    latent->InsertNextValue(v);
+  designs->GetFieldData()->AddArray(latent);
+  auto position = vtkSmartPointer<vtkDoubleArray>::New();
+  position->SetName("Position");
+  position->InsertNextValue(r.position[0]);
+  position->InsertNextValue(r.position[1]);
+  designs->GetFieldData()->AddArray(position);
+  auto text = vtkSmartPointer<vtkStringArray>::New();
+  text->SetName(tf.is2D ? "TransferFunction2D" : "Preset");
+  text->InsertNextValue(
+    tf.is2D ? ddg::transferFunction2DToJson(tf.tf2D) : ddg::presetToJson(tf.tf1D));
+  designs->GetFieldData()->AddArray(text);
+  if (tf.is2D)
+  {
+    auto boxes = vtkSmartPointer<vtkStringArray>::New();
+    boxes->SetName("ParaViewTransferFunction2D");
+    boxes->InsertNextValue(ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view));
+    designs->GetFieldData()->AddArray(boxes);
+  }
+  this->UpdateProgress(1.0);
 }

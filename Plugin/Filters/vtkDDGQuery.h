@@ -3,7 +3,7 @@
 #define vtkDDGQuery_h
 
 #include "DDGFiltersModule.h" // export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkDDGAlgorithm.h"
 
 #include <memory>
 #include <string>
@@ -28,11 +28,11 @@
  * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one
  * error message and empty outputs.
  */
-class DDGFILTERS_EXPORT vtkDDGQuery : public vtkImageAlgorithm
+class DDGFILTERS_EXPORT vtkDDGQuery : public vtkDDGAlgorithm
 {
 public:
   static vtkDDGQuery* New();
-  vtkTypeMacro(vtkDDGQuery, vtkImageAlgorithm);
+  vtkTypeMacro(vtkDDGQuery, vtkDDGAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -73,18 +73,14 @@ public:
   vtkGetMacro(Neighbours, int);
   ///@}
 
-  /// The last error message (empty after a run without error): the panel shows it.
-  vtkGetCharFromStdStringMacro(LastError);
-
 protected:
   vtkDDGQuery();
   ~vtkDDGQuery() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
   int FillOutputPortInformation(int port, vtkInformation* info) override;
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  void PreviewSize(int& width, int& height) override;
+  void Execute(
+    vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 
 private:
   vtkDDGQuery(const vtkDDGQuery&) = delete;
@@ -96,8 +92,6 @@ private:
   std::string ViewJSON;
   std::string ImageData;
   int Neighbours = 5;
-
-  std::string LastError;
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

@@ -4,7 +4,7 @@
 #define vtkDDGReconstructTransferFunction_h
 
 #include "DDGFiltersModule.h" // export macro
-#include "vtkTableAlgorithm.h"
+#include "vtkDDGAlgorithm.h"
 
 #include <string>
 
@@ -28,11 +28,11 @@
  * (missing or unreadable files, a target of the wrong size, a degenerate view, a constant
  * volume) gives one error message and an empty output.
  */
-class DDGFILTERS_EXPORT vtkDDGReconstructTransferFunction : public vtkTableAlgorithm
+class DDGFILTERS_EXPORT vtkDDGReconstructTransferFunction : public vtkDDGAlgorithm
 {
 public:
   static vtkDDGReconstructTransferFunction* New();
-  vtkTypeMacro(vtkDDGReconstructTransferFunction, vtkTableAlgorithm);
+  vtkTypeMacro(vtkDDGReconstructTransferFunction, vtkDDGAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -103,9 +103,9 @@ protected:
   vtkDDGReconstructTransferFunction();
   ~vtkDDGReconstructTransferFunction() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  void Execute(
+    vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 
 private:
   vtkDDGReconstructTransferFunction(const vtkDDGReconstructTransferFunction&) = delete;

@@ -5,6 +5,7 @@
 #include "DDGFilterSupport.h"
 #include "DDGVolumeAdaptor.h"
 
+#include "Gallery/Export.h"
 #include "Render/RayCaster.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
@@ -29,14 +30,11 @@ struct vtkDDGVolumeRender::Internals
   std::unique_ptr<ddg::RayCaster> Caster;
   vtkMTimeType InputTime = 0;
   vtkDataArray* Array = nullptr;
-  ddg::ErrorOnce Errors;
 };
 
 vtkDDGVolumeRender::vtkDDGVolumeRender()
   : Internal(new Internals)
 {
-  this->SetInputArrayToProcess(
-    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
 }
 
 vtkDDGVolumeRender::~vtkDDGVolumeRender() = default;
@@ -53,100 +51,67 @@ void vtkDDGVolumeRender::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "NumberOfThreads: " << this->NumberOfThreads << "\n";
 }
 
-int vtkDDGVolumeRender::FillInputPortInformation(int, vtkInformation* info)
+int vtkDDGVolumeRender::FillOutputPortInformation(int, vtkInformation* info)
 {
-  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkImageData");
   return 1;
 }
 
-int vtkDDGVolumeRender::RequestInformation(
-  vtkInformation*, vtkInformationVector**, vtkInformationVector* outputVector)
+void vtkDDGVolumeRender::PreviewSize(int& width, int& height)
 {
-  int width, height;
   ddg::filterViewSize(this->ViewJSON, this->ViewFile, width, height);
-  ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
-  return 1;
 }
 
-int vtkDDGVolumeRender::RequestUpdateExtent(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector*)
+void vtkDDGVolumeRender::Execute(
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  ddg::requestWholeInputExtent(inputVector);
-  return 1;
-}
-
-int vtkDDGVolumeRender::RequestData(
-  vtkInformation*, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
-{
-  if (ddg::skipPiece(outputVector)) // distributed: the first piece computes (DDGFilterSupport.h)
-    return 1;
-  vtkImageData* input = vtkImageData::GetData(inputVector[0]);
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  output->Initialize();
-  try
+  if (this->TransferFunctionFile.empty() && this->TransferFunctionJSON.empty())
   {
-    if (this->TransferFunctionFile.empty() && this->TransferFunctionJSON.empty())
-    {
-      throw ddg::Error("no TransferFunctionFile or TransferFunctionJSON set");
-    }
-    const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
-    const ddg::TransferFunctionFile tf = this->TransferFunctionJSON.empty()
-      ? ddg::readTransferFunctionFile(this->TransferFunctionFile)
-      : ddg::parseTransferFunctionFile(this->TransferFunctionJSON, "TransferFunctionJSON");
+    throw ddg::Error("no TransferFunctionFile or TransferFunctionJSON set");
+  }
+  const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
+  const ddg::TransferFunctionFile tf = this->TransferFunctionJSON.empty()
+    ? ddg::readTransferFunctionFile(this->TransferFunctionFile)
+    : ddg::parseTransferFunctionFile(this->TransferFunctionJSON, "TransferFunctionJSON");
 
-    vtkDataArray* array = this->GetInputArrayToProcess(0, inputVector);
-    const vtkMTimeType inputTime =
-      std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
-    if (!this->Internal->Caster || this->Internal->InputTime != inputTime ||
-      this->Internal->Array != array)
+  const vtkMTimeType inputTime =
+    std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
+  if (!this->Internal->Caster || this->Internal->InputTime != inputTime ||
+    this->Internal->Array != array)
+  {
+    this->Internal->Caster.reset();
+    const ddg::Volume volume = ddg::toCoreVolume(input, array);
+    if (volume.nonFiniteCount() > 0)
     {
-      this->Internal->Caster.reset();
-      const ddg::Volume volume = ddg::toCoreVolume(input, array);
-      if (volume.nonFiniteCount() > 0)
-      {
-        vtkWarningMacro(<< volume.nonFiniteCount()
-                        << " NaN/infinite voxels are rendered as the minimum value "
-                        << volume.range()[0]);
-      }
-      this->Internal->Caster = std::make_unique<ddg::RayCaster>(volume);
-      this->Internal->InputTime = inputTime;
-      this->Internal->Array = array;
+      vtkWarningMacro(<< volume.nonFiniteCount()
+                      << " NaN/infinite voxels are rendered as the minimum value "
+                      << volume.range()[0]);
     }
-    const ddg::RayCaster& caster = *this->Internal->Caster;
+    this->Internal->Caster = std::make_unique<ddg::RayCaster>(volume);
+    this->Internal->InputTime = inputTime;
+    this->Internal->Array = array;
+  }
+  const ddg::RayCaster& caster = *this->Internal->Caster;
 
-    ddg::RenderOptions options;
-    options.jitter = this->Jitter;
-    options.sampleDistance = this->SampleDistance;
-    options.threads = this->NumberOfThreads;
-    auto progress = [this](double f)
-    {
-      this->UpdateProgress(f);
-      return !this->GetAbortExecute();
-    };
-    const ddg::Image image = tf.is2D
-      ? caster.render(tf.tf2D.bake(), view, options, progress)
-      : caster.render(caster.paraviewTable(tf.tf1D), view, options, progress);
-    ddg::toVTKImage(image, view.background, output);
-    if (tf.is2D) // what ParaView's TransferFunction2D needs to render the same (ddg.apply)
-    {
-      auto boxes = vtkSmartPointer<vtkStringArray>::New();
-      boxes->SetName("ParaViewTransferFunction2D");
-      boxes->InsertNextValue(ddg::paraViewTransferFunction2DJson(caster, tf.tf2D, view));
-      output->GetFieldData()->AddArray(boxes);
-    }
-    this->Internal->Errors.clear();
-  }
-  catch (const ddg::Cancelled&)
+  ddg::RenderOptions options;
+  options.jitter = this->Jitter;
+  options.sampleDistance = this->SampleDistance;
+  options.threads = this->NumberOfThreads;
+  auto progress = [this](double f)
   {
-    output->Initialize();
-  }
-  catch (const std::exception& e)
+    this->UpdateProgress(f);
+    return !this->GetAbortExecute();
+  };
+  const ddg::Image image = tf.is2D
+    ? caster.render(tf.tf2D.bake(), view, options, progress)
+    : caster.render(caster.paraviewTable(tf.tf1D), view, options, progress);
+  ddg::toVTKImage(image, view.background, output);
+  if (tf.is2D) // what ParaView's TransferFunction2D needs to render the same (ddg.apply)
   {
-    output->Initialize();
-    if (this->Internal->Errors.report(this, e.what()))
-    {
-      vtkErrorMacro(<< e.what());
-    }
+    auto boxes = vtkSmartPointer<vtkStringArray>::New();
+    boxes->SetName("ParaViewTransferFunction2D");
+    boxes->InsertNextValue(ddg::paraViewTransferFunction2DJson(caster, tf.tf2D, view));
+    output->GetFieldData()->AddArray(boxes);
   }
-  return 1;
 }

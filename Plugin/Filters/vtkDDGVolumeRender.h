@@ -3,7 +3,7 @@
 #define vtkDDGVolumeRender_h
 
 #include "DDGFiltersModule.h" // export macro
-#include "vtkImageAlgorithm.h"
+#include "vtkDDGAlgorithm.h"
 
 #include <memory>
 #include <string>
@@ -24,11 +24,11 @@
  * Bad input (missing files, malformed JSON, degenerate camera, constant volume, ...) gives one
  * error message and an empty output.
  */
-class DDGFILTERS_EXPORT vtkDDGVolumeRender : public vtkImageAlgorithm
+class DDGFILTERS_EXPORT vtkDDGVolumeRender : public vtkDDGAlgorithm
 {
 public:
   static vtkDDGVolumeRender* New();
-  vtkTypeMacro(vtkDDGVolumeRender, vtkImageAlgorithm);
+  vtkTypeMacro(vtkDDGVolumeRender, vtkDDGAlgorithm);
   void PrintSelf(ostream& os, vtkIndent indent) override;
 
   ///@{
@@ -75,10 +75,10 @@ protected:
   vtkDDGVolumeRender();
   ~vtkDDGVolumeRender() override;
 
-  int FillInputPortInformation(int port, vtkInformation* info) override;
-  int RequestInformation(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestUpdateExtent(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
-  int RequestData(vtkInformation*, vtkInformationVector**, vtkInformationVector*) override;
+  int FillOutputPortInformation(int port, vtkInformation* info) override;
+  void PreviewSize(int& width, int& height) override;
+  void Execute(
+    vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 
 private:
   vtkDDGVolumeRender(const vtkDDGVolumeRender&) = delete;

@@ -20,5 +20,10 @@ ddg.set_camera(ddg.data_path("Views/tooth_oblique.json"))
 a = ddg.query(ddg.data_path("Screenshots/tooth_dentin_enamel_oblique.png"))
 b = ddg.gallery(tooth).design(0)
 images = ddg.animate(a, b, frames, directory=out)
-change = [float(abs(images[k + 1].astype(int) - images[k].astype(int)).mean()) for k in range(len(images) - 1)]
-print(f"{len(images)} frames in {out}; mean change between frames {min(change):.2f}..{max(change):.2f} grey levels")
+change = [
+    float(abs(images[k + 1].astype(int) - images[k].astype(int)).mean())
+    for k in range(len(images) - 1)
+]
+print(
+    f"{len(images)} frames in {out}; mean change between frames {min(change):.2f}..{max(change):.2f} grey levels"
+)

@@ -30,7 +30,9 @@ def read_png(path):
     reader.Update()
     image = reader.GetOutput()
     w, h, _ = image.GetDimensions()
-    return numpy_support.vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[::-1, :, :3]
+    return numpy_support.vtk_to_numpy(image.GetPointData().GetScalars()).reshape(h, w, -1)[
+        ::-1, :, :3
+    ]
 
 
 images = sorted(glob.glob(os.path.join(folder, "*.png")))
@@ -49,5 +51,7 @@ for path in images:
     ddg.export(tf, os.path.join(out, name + ".json"))
     ours = ddg.render(source, tf, view).astype(float)
     target = read_png(path).astype(float)
-    psnr = 10 * np.log10(255.0 ** 2 / max(1e-12, np.mean((ours - target) ** 2)))
-    print(f"{name}: {len(tf['RGBPoints']) // 4} colour points, {seconds:.1f} s, render vs. image {psnr:.1f} dB")
+    psnr = 10 * np.log10(255.0**2 / max(1e-12, np.mean((ours - target) ** 2)))
+    print(
+        f"{name}: {len(tf['RGBPoints']) // 4} colour points, {seconds:.1f} s, render vs. image {psnr:.1f} dB"
+    )

@@ -35,8 +35,11 @@ def step(name, start):
 
 def compare(a, b):
     """PSNR, SSIM and colour-histogram EMD of two images (`ddg compare`)."""
-    r = json.loads(subprocess.run([ddg_exe, "compare", a, b, "--json"], check=True, capture_output=True,
-                                  text=True).stdout)
+    r = json.loads(
+        subprocess.run(
+            [ddg_exe, "compare", a, b, "--json"], check=True, capture_output=True, text=True
+        ).stdout
+    )
     return r["psnr"], r["ssim"], r["emd"]
 
 
@@ -58,19 +61,28 @@ render_view.Background = view["background"]
 Show(tooth, render_view)
 ddg.set_camera(view, render_view)
 model = ddg.load_model(ddg.data_path("Models/tooth"), tooth)
-step("load Tooth (%s) and its model" % "x".join(str(d) for d in tooth.GetDataInformation().GetExtent()[1::2]), t)
+step(
+    "load Tooth (%s) and its model"
+    % "x".join(str(d) for d in tooth.GetDataInformation().GetExtent()[1::2]),
+    t,
+)
 
 t = time.time()
 g = ddg.gallery(tooth, model, count=64, thumbnail_size=64)
 ddg.save_image(g.sheet, os.path.join(out, "gallery.png"))
-step(f"gallery: {len(g.x)} designs on the outline, {len(g.thumbnails)} thumbnails -> gallery.png", t)
+step(
+    f"gallery: {len(g.x)} designs on the outline, {len(g.thumbnails)} thumbnails -> gallery.png", t
+)
 
 t = time.time()
 found = ddg.query(reference, source=tooth, view=view, model=model)
 result = found.evaluate(view, fidelity=True)
 ddg.save_image(result["preview"], os.path.join(out, "query_preview.png"))
-step(f"query with {os.path.basename(reference)}: outline position ({result['position'][0]:.1f}, "
-     f"{result['position'][1]:.1f}), nearest designs {found.neighbours}", t)
+step(
+    f"query with {os.path.basename(reference)}: outline position ({result['position'][0]:.1f}, "
+    f"{result['position'][1]:.1f}), nearest designs {found.neighbours}",
+    t,
+)
 
 t = time.time()
 q = paraview_render(found, "query_paraview")
@@ -81,11 +93,20 @@ tf = ddg.reconstruct(reference, source=tooth, view=view, iterations=300)
 step("TF reconstructed from the screenshot (differentiable rendering)", t)
 t = time.time()
 r = paraview_render(tf, "reconstructed_paraview")
-step("reconstructed TF applied in ParaView -> reconstructed_paraview.png, reconstructed_paraview.json", t)
+step(
+    "reconstructed TF applied in ParaView -> reconstructed_paraview.png, reconstructed_paraview.json",
+    t,
+)
 
 print()
 print("ParaView's render against the reference screenshot (400x320):")
-print(f"  query (nearest design's explicit TF): PSNR {q[0]:5.2f} dB  SSIM {q[1]:.4f}  EMD {q[2]:.2f}")
-print(f"  differentiable reconstruction:        PSNR {r[0]:5.2f} dB  SSIM {r[1]:.4f}  EMD {r[2]:.2f}")
-print(f"  fidelity of the queried design (neural vs. ray cast of its TF): PSNR {result['fidelity'][0]:.1f} dB")
+print(
+    f"  query (nearest design's explicit TF): PSNR {q[0]:5.2f} dB  SSIM {q[1]:.4f}  EMD {q[2]:.2f}"
+)
+print(
+    f"  differentiable reconstruction:        PSNR {r[0]:5.2f} dB  SSIM {r[1]:.4f}  EMD {r[2]:.2f}"
+)
+print(
+    f"  fidelity of the queried design (neural vs. ray cast of its TF): PSNR {result['fidelity'][0]:.1f} dB"
+)
 print(f"total {sum(s for _, s in steps):.1f} s; outputs in {out}")

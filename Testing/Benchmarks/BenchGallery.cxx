@@ -1,8 +1,8 @@
 // BenchGallery.cxx: the design gallery's interactive costs on 2 cores, against the bars of
 // issue 5 (median of N runs, printed with the ratio to the bar; asserts nothing):
-//  (a) PCA + layout of the outline's latents (the shipped bundle's outline.bin, >= 50 000)  <= 0.5 s
-//  (b) K = 64 thumbnails chosen over the whole outline (farthest-point sampling)           (no bar)
-//  (c) one query: image -> analyzer -> latent -> outline position + 5 neighbours -> preview
+//  (a) PCA + layout of the outline's latents (the shipped bundle's outline.bin, >= 50 000)  <= 0.5
+//  s (b) K = 64 thumbnails chosen over the whole outline (farthest-point sampling)           (no
+//  bar) (c) one query: image -> analyzer -> latent -> outline position + 5 neighbours -> preview
 //      at 128 x 128                                                                        <= 50 ms
 //  (d) screenshot -> explicit TF file: (c) plus the decoded TF written as a ParaView preset <= 3 s
 // Usage: BenchGallery [MODEL_DIR [VOLUME [RUNS]]]   (default: the shipped Tooth bundle)

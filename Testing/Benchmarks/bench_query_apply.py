@@ -19,10 +19,16 @@ from paraview import servermanager
 import paraview.simple as simple
 
 root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
-parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+parser = argparse.ArgumentParser(
+    description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+)
 parser.add_argument("--runs", type=int, default=5)
-parser.add_argument("--plugin", default=os.path.join(root, "build", "lib", "paraview-5.11", "plugins",
-                                                     "DesignGallery", "DesignGallery.so"))
+parser.add_argument(
+    "--plugin",
+    default=os.path.join(
+        root, "build", "lib", "paraview-5.11", "plugins", "DesignGallery", "DesignGallery.so"
+    ),
+)
 args = parser.parse_args()
 data = os.path.join(root, "Data")
 simple.LoadPlugin(args.plugin, remote=False)
@@ -42,13 +48,20 @@ lut = simple.GetColorTransferFunction(array)
 pwf = simple.GetOpacityTransferFunction(array)
 simple.Render(view)
 c = cam["camera"]
-view.CameraPosition, view.CameraFocalPoint, view.CameraViewUp = c["position"], c["focal_point"], c["view_up"]
+view.CameraPosition, view.CameraFocalPoint, view.CameraViewUp = (
+    c["position"],
+    c["focal_point"],
+    c["view_up"],
+)
 view.CameraViewAngle = c.get("view_angle", 30.0)
 
 query = simple.DDGQuery(Input=reader)
 query.ModelDirectory = os.path.join(data, "Models", "tooth")
 query.ViewFile = view_path
-shots = [os.path.join(data, "Screenshots", s) for s in ("tooth_dentin_enamel_oblique.png", "tooth_cool_warm_side.png")]
+shots = [
+    os.path.join(data, "Screenshots", s)
+    for s in ("tooth_dentin_enamel_oblique.png", "tooth_cool_warm_side.png")
+]
 
 t0 = time.perf_counter()
 query.ImageFile = shots[1]
@@ -73,8 +86,10 @@ for r in range(args.runs):
     times["render"].append(t3 - t2)
     times["total"].append(t3 - t0)
 
-print(f"query -> TF applied -> rendered in ParaView, Tooth, {args.runs} runs, median "
-      f"(first query incl. loading the bundle and its outline: {warm:.2f} s)")
+print(
+    f"query -> TF applied -> rendered in ParaView, Tooth, {args.runs} runs, median "
+    f"(first query incl. loading the bundle and its outline: {warm:.2f} s)"
+)
 for k, v in times.items():
     print(f"  {k:7s} {statistics.median(v) * 1000:8.1f} ms")
 total = statistics.median(times["total"])

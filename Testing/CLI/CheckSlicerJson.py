@@ -25,13 +25,19 @@ def check_points(path, name, fn, color):
         fail(path, f"{name} needs a non-empty 'points' list")
     xs = []
     for p in fn["points"]:
-        keys = ("x", "color", "midpoint", "sharpness") if color else ("x", "y", "midpoint", "sharpness")
+        keys = (
+            ("x", "color", "midpoint", "sharpness")
+            if color
+            else ("x", "y", "midpoint", "sharpness")
+        )
         for k in keys:
             if k not in p:
                 fail(path, f"{name} point {p} lacks '{k}'")
         if color:
             c = p["color"]
-            if not (isinstance(c, list) and len(c) == 3 and all(number(v) and 0 <= v <= 1 for v in c)):
+            if not (
+                isinstance(c, list) and len(c) == 3 and all(number(v) and 0 <= v <= 1 for v in c)
+            ):
                 fail(path, f"{name} colour {c} is not 3 numbers in [0, 1]")
         elif not number(p["y"]):
             fail(path, f"{name} y is not a number")
@@ -60,9 +66,14 @@ def check(path):
         if not isinstance(comps, list) or not comps:
             fail(path, "no components")
         for c in comps:
-            if not (number(c.get("componentWeight", 1.0)) and 0 <= c.get("componentWeight", 1.0) <= 1):
+            if not (
+                number(c.get("componentWeight", 1.0)) and 0 <= c.get("componentWeight", 1.0) <= 1
+            ):
                 fail(path, "componentWeight outside [0, 1]")
-            if not (number(c.get("scalarOpacityUnitDistance", 1.0)) and c.get("scalarOpacityUnitDistance", 1.0) >= 0):
+            if not (
+                number(c.get("scalarOpacityUnitDistance", 1.0))
+                and c.get("scalarOpacityUnitDistance", 1.0) >= 0
+            ):
                 fail(path, "scalarOpacityUnitDistance is negative")
             light = c.get("lighting")
             if light is not None:

@@ -196,8 +196,8 @@ void checkImageLossGradient(int dimensions)
   const DifferentiableRendererT<double> renderer(vol);
   const Exemplar truthDesign = sampleExemplar(vol, layout.spec, layout.regions, 5, 1, 16);
   const View& view = truthDesign.viewView;
-  const Image truthImage = renderDesign(
-    renderer.caster(), truthDesign.primitives, dimensions, layout.gradientRange, view);
+  const Image truthImage =
+    renderDesign(renderer.caster(), truthDesign.primitives, dimensions, layout.gradientRange, view);
   std::vector<std::uint8_t> truth(truthImage.pixels.size());
   for (size_t k = 0; k < truth.size(); ++k)
     truth[k] =

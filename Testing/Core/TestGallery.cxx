@@ -310,11 +310,10 @@ TEST(QueryImage, FramesContentAnywhere)
   gray.at(25, 25, 0) = 0.0f;
   EXPECT_NO_THROW(ddg::prepareQueryImage(gray, 32));
   ddg::Image ga(50, 50, 2, 1.0f);
-  EXPECT_NO_THROW(
-    {
-      ga.at(10, 10, 1) = 0.0f; // one transparent pixel over black differs from white
-      ddg::prepareQueryImage(ga, 32);
-    });
+  EXPECT_NO_THROW({
+    ga.at(10, 10, 1) = 0.0f; // one transparent pixel over black differs from white
+    ddg::prepareQueryImage(ga, 32);
+  });
 }
 
 TEST(QueryImage, RefusesUnusableImages)
@@ -378,8 +377,8 @@ TEST(Export, SlicerJsonHasTheSchemaFields)
   tf.opacity = { { 0, 0 }, { 100, 0.5 }, { 255, 1 } };
   const auto j = nlohmann::json::parse(ddg::slicerVolumePropertyJson(tf, { 0, 255 }, 2.5));
   ASSERT_TRUE(j.at("@schema").is_string());
-  EXPECT_NE(j["@schema"].get<std::string>().find("volume-property-schema-v1.0.0.json"),
-    std::string::npos);
+  EXPECT_NE(
+    j["@schema"].get<std::string>().find("volume-property-schema-v1.0.0.json"), std::string::npos);
   const auto& p = j.at("volumeProperties").at(0);
   EXPECT_EQ(p.at("effectiveRange"), nlohmann::json({ 0.0, 255.0 }));
   EXPECT_EQ(p.at("interpolationType"), "linear");
@@ -486,7 +485,7 @@ TEST(Edit, ClustersSeparateFeaturesAndEditsTouchOnlyOne)
 {
   const auto im = twoFeatures();
   const auto cl = ddg::colorClusters(im, 4);
-  ASSERT_EQ(cl.count(), 2); // two distinct colours, not four
+  ASSERT_EQ(cl.count(), 2);   // two distinct colours, not four
   EXPECT_EQ(cl.at(5, 0), -1); // transparent
   const int red = cl.at(5, 10), blue = cl.at(30, 10);
   EXPECT_NE(red, blue);
@@ -503,8 +502,8 @@ TEST(Edit, ClustersSeparateFeaturesAndEditsTouchOnlyOne)
   // lightness up brightens it (L* +20 asked; a saturated red leaves the sRGB gamut on the way and
   // is clipped, so at least +8 arrives), saturation 0 greys it
   const auto light = ddg::recolour(im, cl, { red, {} }, 0, 1, 20);
-  EXPECT_GT(ddg::rgbToLab({ light.at(5, 10, 0) / 0.8, light.at(5, 10, 1) / 0.8,
-              light.at(5, 10, 2) / 0.8 })[0],
+  EXPECT_GT(ddg::rgbToLab(
+              { light.at(5, 10, 0) / 0.8, light.at(5, 10, 1) / 0.8, light.at(5, 10, 2) / 0.8 })[0],
     ddg::rgbToLab({ 0.9, 0.1, 0.1 })[0] + 8);
   const auto grey = ddg::recolour(im, cl, { red, {} }, 0, 0, 0);
   EXPECT_NEAR(grey.at(5, 10, 0), grey.at(5, 10, 1), 1e-4); // through CIELAB and back

@@ -1,5 +1,6 @@
 // TestImage.cxx: ParaView's 8-bit compositing formula, PSNR/SSIM identities, colour-histogram
 // EMD against the closed-form 1D case, PNG round trip.
+#include "Common/Error.h"
 #include "Image/ImageMetrics.h"
 #include "TransferFunction/ColorSpace.h"
 
@@ -141,4 +142,26 @@ TEST(ImageMetrics, SsimGradientMatchesFiniteDifferences)
     const double numeric = (fp - fm) / ((xp[p] - x[p]) + (x[p] - xm[p]));
     EXPECT_NEAR(grad[p], numeric, 1e-5) << p;
   }
+}
+
+// Straight <-> premultiplied alpha: C * A forward, C / A (clamped to 1, 0 where A = 0) back;
+// exact on these values; RGB images are refused.
+TEST(ImageAlpha, PremultiplyAndBack)
+{
+  ddg::Image straight(2, 1, 4, 0.0f);
+  straight.pixels = { 0.5f, 1.0f, 0.25f, 0.5f, 0.9f, 0.8f, 0.7f, 0.0f };
+  const ddg::Image pre = ddg::premultiplyAlpha(straight);
+  EXPECT_FLOAT_EQ(pre.pixels[0], 0.25f);
+  EXPECT_FLOAT_EQ(pre.pixels[1], 0.5f);
+  EXPECT_FLOAT_EQ(pre.pixels[3], 0.5f);
+  EXPECT_FLOAT_EQ(pre.pixels[4], 0.0f);
+  const ddg::Image back = ddg::unpremultiplyAlpha(pre);
+  EXPECT_FLOAT_EQ(back.pixels[0], 0.5f);
+  EXPECT_FLOAT_EQ(back.pixels[2], 0.25f);
+  EXPECT_FLOAT_EQ(back.pixels[4], 0.0f); // alpha 0: colour 0
+  ddg::Image over(1, 1, 4, 0.0f);
+  over.pixels = { 0.6f, 0.1f, 0.1f, 0.5f }; // colour > alpha: clamped to 1
+  EXPECT_FLOAT_EQ(ddg::unpremultiplyAlpha(over).pixels[0], 1.0f);
+  EXPECT_THROW(ddg::premultiplyAlpha(ddg::Image(1, 1, 3, 0.0f)), ddg::Error);
+  EXPECT_THROW(ddg::unpremultiplyAlpha(ddg::Image(1, 1, 3, 0.0f)), ddg::Error);
 }

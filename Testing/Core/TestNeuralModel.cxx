@@ -2,7 +2,7 @@
 // ranges, training lowers the imitation error, bundles round-trip exactly, and bad bundles,
 // another volume's bundle, a wrong architecture and a cancelled-then-resumed training are
 // handled. Tolerances: exact equality for round trips; "lower" for training.
-#include "Neural/NeuralModel.h"
+#include "Neural/NeuralDesignModel.h"
 
 #include "TempDir.h"
 #include <gtest/gtest.h>

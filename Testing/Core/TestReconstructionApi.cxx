@@ -98,8 +98,8 @@ TEST(ReconstructionApi, FitsGaussianPrimitives)
   const auto result = reconstructTransferFunction(renderer, { { truth, view, {} } }, opt);
   ASSERT_EQ(result.primitives.size(), 3u);
   EXPECT_NO_THROW(validatePrimitives(result.primitives, false));
-  const auto again = rasterize1D(result.primitives, result.table1D.min, result.table1D.max,
-    result.table1D.width);
+  const auto again =
+    rasterize1D(result.primitives, result.table1D.min, result.table1D.max, result.table1D.width);
   for (size_t i = 0; i < again.rgba.size(); ++i)
     ASSERT_NEAR(again.rgba[i], result.table1D.rgba[i], 1e-6);
   EXPECT_LT(result.loss.back(), 0.1 * result.loss.front());

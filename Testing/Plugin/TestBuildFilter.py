@@ -32,7 +32,9 @@ build.UpdatePipeline()
 table = servermanager.Fetch(build)
 assert table.GetNumberOfRows() == 1, table.GetNumberOfRows()
 psnr = table.GetColumnByName("PSNR").GetValue(0)
-assert os.path.exists(os.path.join(bundle, "bundle.json")) and os.path.exists(os.path.join(bundle, "outline.bin"))
+assert os.path.exists(os.path.join(bundle, "bundle.json")) and os.path.exists(
+    os.path.join(bundle, "outline.bin")
+)
 print(f"built {bundle}: held-out PSNR {psnr:.2f} dB")
 
 gal = simple.DDGDesignGallery(Input=reader)
@@ -57,10 +59,19 @@ def on_error(obj, event, calldata):
 
 build.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, on_error)
 for label, expected, setup in (
-    ("no output directory", "no OutputDirectory set", lambda: setattr(build, "OutputDirectory", "")),
-    ("constant volume", "volume is constant",
-     lambda: (setattr(build, "OutputDirectory", os.path.join(outdir, "built_constant")),
-              setattr(reader, "FileName", [os.path.join(testdata, "constant.vti")]))),
+    (
+        "no output directory",
+        "no OutputDirectory set",
+        lambda: setattr(build, "OutputDirectory", ""),
+    ),
+    (
+        "constant volume",
+        "volume is constant",
+        lambda: (
+            setattr(build, "OutputDirectory", os.path.join(outdir, "built_constant")),
+            setattr(reader, "FileName", [os.path.join(testdata, "constant.vti")]),
+        ),
+    ),
 ):
     messages.clear()
     setup()

@@ -64,7 +64,9 @@ try:
         assert table.GetNumberOfRows() == 5, table.GetNumberOfRows()
         preset = table.GetFieldData().GetAbstractArray("Preset").GetValue(0)
         assert '"RGBPoints"' in preset
-        print(f"client/server query ok: {table.GetNumberOfRows()} designs, preset {len(preset)} chars")
+        print(
+            f"client/server query ok: {table.GetNumberOfRows()} designs, preset {len(preset)} chars"
+        )
         # the panel's way: the image as base64 text and the view as JSON text (nothing read from
         # the server's disk but the bundle and the volume), then apply and render
         query.ImageFile = ""
@@ -72,7 +74,9 @@ try:
         query.ImageData = base64.b64encode(open(shot, "rb").read()).decode()
         query.ViewJSON = open(view).read()
         query.UpdatePipeline()
-        same = servermanager.Fetch(query, idx=1).GetFieldData().GetAbstractArray("Preset").GetValue(0)
+        same = (
+            servermanager.Fetch(query, idx=1).GetFieldData().GetAbstractArray("Preset").GetValue(0)
+        )
         assert same == preset, "ImageData/ViewJSON should give the ImageFile/ViewFile preset"
         shot_out = os.path.join(os.environ.get("TMPDIR", "/tmp"), f"ddg_cs_apply_{os.getpid()}.png")
         size = apply_and_render(tooth, json.loads(preset)[0], view, shot_out)

@@ -48,13 +48,33 @@ print("filter: rows", rows, "position", position.GetValue(0), position.GetValue(
 
 cli_tf = os.path.join(outdir, "query_cli_tf.json")
 cli_png = os.path.join(outdir, "query_cli.png")
-out = subprocess.run([ddg, "query", "--model", model, "--volume", volume, "--image", shot, "--view", view,
-                      "--out-tf", cli_tf, "--out-preview", cli_png], check=True, capture_output=True,
-                     text=True).stdout
+out = subprocess.run(
+    [
+        ddg,
+        "query",
+        "--model",
+        model,
+        "--volume",
+        volume,
+        "--image",
+        shot,
+        "--view",
+        view,
+        "--out-tf",
+        cli_tf,
+        "--out-preview",
+        cli_png,
+    ],
+    check=True,
+    capture_output=True,
+    text=True,
+).stdout
 cli_rows = [int(m) for m in re.findall(r"design row (\d+)", out)]
 assert rows == cli_rows, f"filter rows {rows} != ddg query rows {cli_rows}"
 with open(cli_tf) as f:
-    assert json.load(f)[0]["RGBPoints"] == preset["RGBPoints"], "Preset differs from ddg query --out-tf"
+    assert (
+        json.load(f)[0]["RGBPoints"] == preset["RGBPoints"]
+    ), "Preset differs from ddg query --out-tf"
 
 from vtkmodules.vtkIOImage import vtkPNGWriter  # noqa: E402
 
@@ -63,7 +83,9 @@ w = vtkPNGWriter()
 w.SetFileName(png)
 w.SetInputData(preview)
 w.Write()
-cmp = subprocess.run([ddg, "compare", "--min-psnr", "99", png, cli_png], capture_output=True, text=True)
+cmp = subprocess.run(
+    [ddg, "compare", "--min-psnr", "99", png, cli_png], capture_output=True, text=True
+)
 print("filter preview vs ddg query preview:", cmp.stdout.strip())
 assert cmp.returncode == 0, cmp.stderr
 
@@ -88,15 +110,26 @@ def expect_error(label, expected, **props):
     for key, value in props.items():
         setattr(query, key, value)
     query.UpdatePipeline()
-    assert servermanager.Fetch(query, idx=0).GetNumberOfPoints() == 0, f"{label}: preview should be empty"
+    assert (
+        servermanager.Fetch(query, idx=0).GetNumberOfPoints() == 0
+    ), f"{label}: preview should be empty"
     assert len(messages) == 1, f"{label}: expected one error, got {messages}"
     assert expected in messages[0], f"{label}: '{expected}' not in '{messages[0]}'"
     print(f"{label}: {messages[0].strip().splitlines()[-1]}")
 
 
-expect_error("another volume's bundle", "trained on another volume", ModelDirectory=os.path.join(data, "Models", "engine"))
+expect_error(
+    "another volume's bundle",
+    "trained on another volume",
+    ModelDirectory=os.path.join(data, "Models", "engine"),
+)
 expect_error("missing bundle", "model bundle", ModelDirectory=os.path.join(outdir, "no_bundle"))
-expect_error("uniform image", "shows nothing", ModelDirectory=model, ImageFile=os.path.join(testdata, "query_uniform.png"))
+expect_error(
+    "uniform image",
+    "shows nothing",
+    ModelDirectory=model,
+    ImageFile=os.path.join(testdata, "query_uniform.png"),
+)
 expect_error("tiny image", "too small", ImageFile=os.path.join(testdata, "query_tiny.png"))
 print("ok")
 
@@ -112,13 +145,34 @@ designs = servermanager.Fetch(gal, idx=1)
 assert sheet.GetDimensions()[:2] == (4 * 34 + 2, 4 * 34 + 2), sheet.GetDimensions()
 assert designs.GetNumberOfRows() == 50000, designs.GetNumberOfRows()
 thumb = designs.GetColumnByName("Thumbnail")
-cells = sorted(int(thumb.GetValue(i)) for i in range(designs.GetNumberOfRows()) if thumb.GetValue(i) >= 0)
+cells = sorted(
+    int(thumb.GetValue(i)) for i in range(designs.GetNumberOfRows()) if thumb.GetValue(i) >= 0
+)
 assert cells == list(range(16)), cells
 # the same rows as ddg gallery --list with the same seed and count
 listing = os.path.join(outdir, "gallery_rows.csv")
-subprocess.run([ddg, "gallery", "--model", model, "--volume", volume, "--count", "16", "--thumb", "16",
-                "--side", "128", "--out", os.path.join(outdir, "gallery_cli.png"), "--list", listing],
-               check=True, stdout=subprocess.DEVNULL)
+subprocess.run(
+    [
+        ddg,
+        "gallery",
+        "--model",
+        model,
+        "--volume",
+        volume,
+        "--count",
+        "16",
+        "--thumb",
+        "16",
+        "--side",
+        "128",
+        "--out",
+        os.path.join(outdir, "gallery_cli.png"),
+        "--list",
+        listing,
+    ],
+    check=True,
+    stdout=subprocess.DEVNULL,
+)
 with open(listing) as f:
     cli_rows = [int(line.split(",")[0]) for line in f.read().splitlines()[1:]]
 filter_rows = [0] * 16
@@ -127,8 +181,10 @@ for i in range(designs.GetNumberOfRows()):
         filter_rows[int(thumb.GetValue(i))] = i
 assert filter_rows == cli_rows, (filter_rows, cli_rows)
 box = designs.GetFieldData().GetArray("Box")
-print(f"design gallery ok: 16 thumbnails over box ({box.GetValue(0):.2f}, {box.GetValue(1):.2f}, "
-      f"{box.GetValue(2):.2f}, {box.GetValue(3):.2f}), rows as ddg gallery")
+print(
+    f"design gallery ok: 16 thumbnails over box ({box.GetValue(0):.2f}, {box.GetValue(1):.2f}, "
+    f"{box.GetValue(2):.2f}, {box.GetValue(3):.2f}), rows as ddg gallery"
+)
 gal.Box = [1000, 1000, 1001, 1001]  # beside the plane: no thumbnails, no error
 gal.UpdatePipeline()
 assert max(servermanager.Fetch(gal, idx=1).GetColumnByName("Thumbnail").GetRange()) == -1

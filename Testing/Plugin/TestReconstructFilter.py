@@ -55,8 +55,10 @@ out_png = os.path.join(outdir, "reconstructed_paraview.png")
 paraview_render(volume, preset, view_json, out_png)
 cmp = subprocess.run([ddg, "compare", out_png, shot], capture_output=True, text=True, check=True)
 psnr = float(cmp.stdout.split("PSNR")[1].split()[0])
-print(f"reconstructed in {iterations} steps; ParaView's render with the preset vs the screenshot: "
-      f"PSNR {psnr:.2f} dB")
+print(
+    f"reconstructed in {iterations} steps; ParaView's render with the preset vs the screenshot: "
+    f"PSNR {psnr:.2f} dB"
+)
 assert psnr >= 35, psnr
 
 # --- bad input: one error, empty output, no crash --------------------------------------------
@@ -89,8 +91,13 @@ def expect_error(label, expected, **props):
 
 rec.OutputFile = ""
 rec.Iterations = 5
-expect_error("wrong size", "save the screenshot at the view's size",
-             TargetImageFile=os.path.join(testdata, "small_target_40x30.png"))
-expect_error("missing target", "cannot read image", TargetImageFile=os.path.join(testdata, "none.png"))
+expect_error(
+    "wrong size",
+    "save the screenshot at the view's size",
+    TargetImageFile=os.path.join(testdata, "small_target_40x30.png"),
+)
+expect_error(
+    "missing target", "cannot read image", TargetImageFile=os.path.join(testdata, "none.png")
+)
 expect_error("no view", "no ViewFile or ViewJSON set", TargetImageFile=shot, ViewFile="")
 print("ok")

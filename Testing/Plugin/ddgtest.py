@@ -28,8 +28,9 @@ class Errors:
             setattr(self.proxy, key, value)
         self.proxy.UpdatePipeline()
         data = servermanager.Fetch(self.proxy, idx=port)
-        assert data.GetNumberOfElements(0) == 0 and data.GetNumberOfElements(6) == 0, \
-            f"{label}: output {port} should be empty"
+        assert (
+            data.GetNumberOfElements(0) == 0 and data.GetNumberOfElements(6) == 0
+        ), f"{label}: output {port} should be empty"
         assert len(self.messages) == 1, f"{label}: expected one error, got {self.messages}"
         assert expected in self.messages[0], f"{label}: '{expected}' not in '{self.messages[0]}'"
         print(f"{label}: {self.messages[0].strip().splitlines()[-1]}")

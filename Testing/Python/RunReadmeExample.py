@@ -9,7 +9,11 @@ import sys
 
 readme, workdir = sys.argv[1:3]
 text = open(readme).read()
-block = re.search(r"<!-- pvpython-example:begin -->\s*```python\n(.*?)```\s*<!-- pvpython-example:end -->", text, re.S)
+block = re.search(
+    r"<!-- pvpython-example:begin -->\s*```python\n(.*?)```\s*<!-- pvpython-example:end -->",
+    text,
+    re.S,
+)
 if not block:
     sys.exit("the README has no pvpython example between its markers")
 code = block.group(1)

@@ -1,0 +1,63 @@
+// BundleSession.h: a model bundle opened once for a volume — the volume, the model, its outline
+// and the gallery over them — as every front end (the ddg program, the filters and through them
+// the panel and pvpython) uses it.
+#pragma once
+
+#include "Gallery/Gallery.h"
+#include "Volume/Volume.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace ddg
+{
+
+/// A bundle directory opened for a volume: the model (refused when it was trained on another
+/// volume: fingerprint), its outline latents (`outline.bin`) and the gallery over them.
+class BundleSession
+{
+public:
+  /// Throws ddg::Error as NeuralDesignModel::loadBundle and readLatentSet do; a missing outline
+  /// names the command that builds it (`volumeHint` stands for the volume in that command).
+  BundleSession(
+    const std::string& bundleDir, Volume volume, const std::string& volumeHint = "VOLUME");
+  ~BundleSession();
+  BundleSession(const BundleSession&) = delete;
+  BundleSession& operator=(const BundleSession&) = delete;
+
+  const std::string& directory() const { return Directory; }
+  const Volume& volume() const { return *Vol; }
+  NeuralDesignModel& model() { return *Model; }
+  DesignGallery& gallery() { return *Gallery; }
+  const DesignGallery& gallery() const { return *Gallery; }
+
+  double outlineReadMs() const { return ReadMs; } ///< reading outline.bin
+  double outlinePcaMs() const { return PcaMs; }   ///< the outline's PCA (building the gallery)
+
+private:
+  std::string Directory;
+  std::unique_ptr<Volume> Vol;
+  std::unique_ptr<NeuralDesignModel> Model;
+  std::unique_ptr<DesignGallery> Gallery;
+  double ReadMs = 0, PcaMs = 0;
+};
+
+/// The session of the bundle a front end asks for again and again (a filter re-executing):
+/// opened on first use and reopened only when the bundle directory or the volume's version (any
+/// number that changes when the volume's data does, e.g. a VTK MTime) changes. Holds one session.
+class BundleSessionCache
+{
+public:
+  /// Throws ddg::Error for an empty directory ("no ModelDirectory set") and as BundleSession does.
+  BundleSession& get(const std::string& bundleDir, std::uint64_t volumeVersion,
+    const std::function<Volume()>& loadVolume);
+  void clear() { Session.reset(); }
+
+private:
+  std::unique_ptr<BundleSession> Session;
+  std::uint64_t Version = 0;
+};
+
+} // namespace ddg

@@ -1,0 +1,100 @@
+// BuildCommand.cxx: `ddg build` — build a design space for a volume in one command: exemplars, the
+// decoder model trained .
+#ifdef DDG_WITH_TORCH
+#include "CommandSupport.h"
+
+#include "DDGVolumeAdaptor.h"
+
+#include "Common/Error.h"
+#include "Common/FileUtil.h"
+#include "Design/ExemplarGenerator.h"
+#include "Gallery/BuildDesignSpace.h"
+#include "Gallery/BundleSession.h"
+#include "Gallery/DesignReference.h"
+#include "Gallery/Export.h"
+#include "Gallery/Gallery.h"
+#include "Gallery/History.h"
+#include "Image/Image.h"
+#include "Render/View.h"
+#include "TransferFunction/ColorSpace.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace
+{
+using namespace ddg::cli;
+
+struct BuildArgs
+{
+  std::string volume, out, spec;
+  ddg::BuildOptions o;
+  bool quiet = false;
+};
+
+int runBuild(BuildArgs a)
+{
+  const ddg::Volume volume = ddg::readVolumeFile(a.volume);
+  if (!a.spec.empty())
+    a.o.spec = ddg::readDesignSpaceSpec(a.spec);
+  std::string lastStage;
+  int lastPercent = -1;
+  const auto r = ddg::buildDesignSpace(volume, a.volume, a.out, a.o,
+    [&](const std::string& stage, double f)
+    {
+      const int p = static_cast<int>(100 * f);
+      if (!a.quiet && (stage != lastStage || p / 10 != lastPercent / 10))
+      {
+        std::printf("build: %-9s %3d %%\n", stage.c_str(), p);
+        std::fflush(stdout);
+        lastStage = stage;
+        lastPercent = p;
+      }
+      return true;
+    });
+  std::printf("built %s: exemplars %.0f s, training %d iterations in %.0f s, outline %.0f s; "
+              "held-out %d: PSNR %.2f dB, SSIM %.4f, EMD %.3f, invariance %.3f\n",
+    a.out.c_str(), r.generateSeconds, r.training.iterations, r.training.seconds, r.outlineSeconds,
+    r.evaluation.count, r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
+    r.evaluation.invariance);
+  return 0;
+}
+
+} // namespace
+
+ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
+{
+  auto ba = std::make_shared<BuildArgs>();
+  auto* build = app.add_subcommand("build",
+    "Build a design space for a volume in one command: exemplars, the decoder model trained "
+    "within --minutes, its held-out figures, the bundle and its outline (the steps of "
+    "scripts/train_model.sh, sized for your own volume).");
+  build->add_option("--volume", ba->volume, "Volume file")->required();
+  build->add_option("--out", ba->out, "Bundle directory to write")->required();
+  build->add_option(
+    "--spec", ba->spec, "Design-space spec JSON (default: found from the histogram)");
+  build->add_option("--count", ba->o.count, "Training exemplars (default 2000)")
+    ->check(CLI::Range(8, 10000000));
+  build->add_option("--heldout", ba->o.heldout, "Held-out exemplars (default 200)")
+    ->check(CLI::Range(1, 100000));
+  build->add_option("--size", ba->o.size, "Image side (default 64)")->check(CLI::Range(16, 512));
+  build->add_option("--minutes", ba->o.minutes, "Training budget (default 5)")
+    ->check(CLI::PositiveNumber);
+  build
+    ->add_option(
+      "--iterations", ba->o.iterations, "Training iterations (default 0: the budget decides)")
+    ->check(CLI::NonNegativeNumber);
+  build->add_option("--outline", ba->o.outlineCount, "Outline designs (default 10000)")
+    ->check(CLI::Range(3, 10000000));
+  build->add_option("--width", ba->o.width, "Analyzer width (default 16)")
+    ->check(CLI::Range(2, 256));
+  build->add_option("--seed", ba->o.seed, "Seed (default 1)");
+  build->add_option("--threads", ba->o.threads, "Threads (default 0: all cores)");
+  build->add_flag("--quiet", ba->quiet, "Do not print progress");
+  return { build, [ba] { return runBuild(*ba); } };
+}
+#endif

@@ -1,0 +1,85 @@
+// CommandSupport.h: what the `ddg` subcommands share — one registration style (each subcommand's
+// file adds its options and returns how to run it), timing, number lists on the command line,
+// and opening a bundle for --model / --volume through Core's bundle session.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#ifdef DDG_WITH_TORCH
+#include "Gallery/BundleSession.h"
+#include "Neural/NeuralModel.h"
+#endif
+
+namespace ddg
+{
+struct View;
+class Volume;
+
+namespace cli
+{
+
+/// A subcommand: its CLI11 app (registered on the program's) and how to run it once parsed
+/// (returns the exit code; errors are thrown as ddg::Error and printed by main).
+struct Command
+{
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+using Clock = std::chrono::steady_clock;
+/// Milliseconds since t0.
+double msSince(Clock::time_point t0);
+
+/// Comma-separated numbers (exactly `count` of them when count > 0); ddg::Error names `what`.
+std::vector<double> parseNumbers(const std::string& text, size_t count, const char* what);
+/// Comma-separated integers; ddg::Error names `what`.
+std::vector<int> parseInts(const std::string& text, const char* what);
+
+#ifdef DDG_WITH_TORCH
+/// --box x0,y0,x1,y1 on the outline plane (x0 < x1, y0 < y1).
+OutlineBox parseBox(const std::string& text);
+/// The thumbnails' view: the view file's camera, else the volume's default view, at size x size.
+View thumbnailView(const Volume& volume, const std::string& path, int size);
+/// The bundle of --model opened for --volume (Core's BundleSession).
+std::unique_ptr<BundleSession> openBundle(const std::string& modelDir, const std::string& volume);
+/// A design reference's latent (row:N, image:PATH, latent:PATH, history:PATH).
+std::vector<float> resolveDesign(const DesignGallery& g, const std::string& reference);
+/// --lock REGIONS --lock-from DESIGN: the feature lock, or none.
+std::unique_ptr<FeatureLock> makeLock(
+  const DesignGallery& g, const std::string& regions, const std::string& from);
+/// One line of held-out figures (train, eval).
+void printEvaluation(const EvaluationReport& e);
+#endif
+
+// The subcommands, one file each (<Name>Command.cxx), in the order `ddg --help` lists them.
+Command addRenderCommand(CLI::App& app);
+Command addCompareCommand(CLI::App& app);
+Command addViewCommand(CLI::App& app);
+Command addReconstructCommand(CLI::App& app);
+Command addGenerateCommand(CLI::App& app);
+Command addInfoCommand(CLI::App& app);
+Command addExportCommand(CLI::App& app);
+#ifdef DDG_WITH_TORCH
+Command addTrainCommand(CLI::App& app);
+Command addEvalCommand(CLI::App& app);
+Command addValidityCommand(CLI::App& app);
+Command addOutlineCommand(CLI::App& app);
+Command addGalleryCommand(CLI::App& app);
+Command addQueryCommand(CLI::App& app);
+Command addNavigateCommand(CLI::App& app);
+Command addEditCommand(CLI::App& app);
+Command addAnimateCommand(CLI::App& app);
+Command addFidelityCommand(CLI::App& app);
+Command addBuildCommand(CLI::App& app);
+Command addReplayCommand(CLI::App& app);
+Command addRecallCommand(CLI::App& app);
+#endif
+
+} // namespace cli
+} // namespace ddg

@@ -1,0 +1,264 @@
+// ReconstructCommand.cxx: `ddg reconstruct` — find a transfer function whose rendering matches
+// target image(s).
+#include "CommandSupport.h"
+
+#include "DDGVolumeAdaptor.h"
+
+#include "Common/Error.h"
+#include "Image/Image.h"
+#include "Image/ImageMetrics.h"
+#include "Reconstruct/Reconstruction.h"
+#include "Reconstruct/ViewEstimation.h"
+#include "Render/DifferentiableRenderer.h"
+#include "Render/RayCaster.h"
+#include "Render/View.h"
+#include "TransferFunction/TransferFunctionIO.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+namespace
+{
+using namespace ddg::cli;
+
+struct ReconstructArgs
+{
+  std::string volume, out, outImage, init, array, loss = "l1";
+  std::vector<std::string> targets, views, masks;
+  std::vector<double> background;
+  bool twoD = false, resample = false, quiet = false, estimateView = false;
+  std::string outView;
+  int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0, primitives = 0;
+  double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
+  unsigned seed = 1;
+};
+
+// Reads a target image for reconstruction and checks what the reconstruction can use.
+ddg::Image readTarget(const std::string& path, const ddg::View& view, bool resample)
+{
+  ddg::ImageFileInfo info;
+  ddg::Image img = ddg::readImage(path, &info);
+  if (img.channels != 3 && img.channels != 4)
+  {
+    throw ddg::Error("target '" + path + "' has " + std::to_string(img.channels) +
+      " channels; an RGB screenshot or an RGBA image (straight alpha) is needed");
+  }
+  if (info.format != "uint8")
+  {
+    for (float v : img.pixels)
+    {
+      if (!std::isfinite(v) || v < 0.0f || v > 1.0f)
+      {
+        throw ddg::Error("target '" + path + "' is a " + info.format +
+          " image with values outside [0, 1] (or NaN): tone-map it to [0, 1] first");
+      }
+    }
+    std::fprintf(stderr,
+      "ddg reconstruct: note: target '%s' is %s per channel; using its values in [0, 1]\n",
+      path.c_str(), info.format.c_str());
+  }
+  if (img.width != view.width || img.height != view.height)
+  {
+    if (!resample)
+    {
+      throw ddg::Error("target '" + path + "' is " + std::to_string(img.width) + " x " +
+        std::to_string(img.height) + " but its view is " + std::to_string(view.width) + " x " +
+        std::to_string(view.height) + " (pass --resample to resize the target to the view)");
+    }
+    img = ddg::resizeImage(img, view.width, view.height);
+  }
+  return img;
+}
+
+int runReconstruct(const ReconstructArgs& a)
+{
+  const auto t0 = Clock::now();
+  if (a.views.size() != a.targets.size())
+  {
+    throw ddg::Error("give one --view per --target (" + std::to_string(a.targets.size()) +
+      " targets, " + std::to_string(a.views.size()) + " views)");
+  }
+  if (!a.masks.empty() && a.masks.size() != a.targets.size())
+  {
+    throw ddg::Error("give one --mask per --target, or none");
+  }
+  std::vector<ddg::ReconstructionTarget> targets(a.targets.size());
+  for (size_t i = 0; i < a.targets.size(); ++i)
+  {
+    targets[i].view = ddg::readView(a.views[i]);
+    if (!a.background.empty())
+    {
+      targets[i].view.background = { a.background[0], a.background[1], a.background[2] };
+    }
+    targets[i].image = readTarget(a.targets[i], targets[i].view, a.resample);
+    if (!a.masks.empty())
+    {
+      targets[i].mask = readTarget(a.masks[i], targets[i].view, a.resample);
+    }
+  }
+  const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
+  const ddg::DifferentiableRenderer renderer(volume);
+  ddg::ReconstructionOptions opt;
+  opt.twoD = a.twoD;
+  opt.bins = a.bins;
+  opt.gradientBins = a.gradientBins;
+  opt.primitives = a.primitives;
+  opt.loss = a.loss == "l2" ? ddg::ReconstructionLoss::L2 : ddg::ReconstructionLoss::L1;
+  opt.smoothness = a.smoothness;
+  opt.ssimWeight = a.ssimWeight;
+  opt.iterations = a.iterations;
+  opt.learningRate = a.learningRate;
+  opt.raysPerIteration = a.rays;
+  opt.seed = a.seed;
+  opt.render.threads = a.threads;
+  if (!a.init.empty())
+  {
+    const ddg::TransferFunction1D init = ddg::readPreset(a.init);
+    opt.initial1D = ddg::bakeTable(init, volume.range()[0], volume.range()[1], 1024);
+  }
+  if (a.estimateView)
+  {
+    for (size_t i = 0; i < targets.size(); ++i)
+    {
+      ddg::ViewEstimationOptions vopt;
+      vopt.render.threads = a.threads;
+      ddg::ViewEstimationReport report;
+      targets[i].view = ddg::estimateView(renderer, targets[i], vopt, &report);
+      std::printf(
+        "estimated view of target %zu: azimuth %.1f, elevation %.1f, zoom %.3f from the given view "
+        "(%d short fits, %.1f s)\n",
+        i, report.azimuth, report.elevation, report.zoom, report.evaluations, report.seconds);
+      if (!a.outView.empty())
+      {
+        ddg::writeView(targets[i].view,
+          targets.size() == 1 ? a.outView : a.outView + "." + std::to_string(i) + ".json");
+      }
+    }
+  }
+  const double tLoad = msSince(t0);
+  const auto result = ddg::reconstructTransferFunction(renderer, targets, opt,
+    [&](int step, double loss, const ddg::ReconstructionResult*)
+    {
+      if (!a.quiet && (step % 50 == 0))
+      {
+        std::printf("step %4d  loss %.6f\n", step, loss);
+        std::fflush(stdout);
+      }
+      return true;
+    });
+  if (result.twoD)
+  {
+    ddg::TransferFunction2D tf;
+    tf.name = "ddg reconstruct";
+    tf.table = result.table2D;
+    ddg::writeTransferFunction2D(tf, a.out);
+  }
+  else
+  {
+    ddg::writePreset(
+      ddg::tableToTransferFunction(result.table1D, 1.0 / 512.0, "ddg reconstruct"), a.out);
+  }
+  std::printf("%s after %d steps (%.2f s, load %.0f ms); wrote %s\n",
+    result.converged ? "converged" : "did NOT converge (iteration limit)", result.iterations,
+    result.seconds, tLoad, a.out.c_str());
+  for (size_t i = 0; i < targets.size(); ++i)
+  {
+    const auto& t = targets[i];
+    const ddg::Image render = ddg::renderResult(renderer.caster(), result, t.view, {});
+    ddg::Image ours, target;
+    if (t.image.channels == 4)
+    {
+      // compare over the view's background, as a person sees them
+      target = ddg::compositeOverBackground(ddg::premultiplyAlpha(t.image), t.view.background);
+    }
+    else
+    {
+      target = t.image;
+    }
+    ours = ddg::compositeOverBackground(render, t.view.background);
+    std::printf("target %zu (%s): PSNR %.2f dB  SSIM %.4f  EMD %.3f\n", i, a.targets[i].c_str(),
+      ddg::psnr(ours, target), ddg::ssim(ours, target), ddg::colorHistogramEMD(ours, target));
+    if (i == 0 && !a.outImage.empty())
+    {
+      ddg::writeImage(ours, a.outImage);
+    }
+  }
+  return 0;
+}
+
+} // namespace
+
+ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
+{
+  auto rc = std::make_shared<ReconstructArgs>();
+  auto* reconstruct = app.add_subcommand("reconstruct",
+    "Find a transfer function whose rendering matches target image(s) (differentiable ray caster + "
+    "Adam).");
+  reconstruct->add_option("--volume", rc->volume, "Volume file")->required();
+  reconstruct
+    ->add_option("--target", rc->targets,
+      "Target image: RGB screenshot over the view's background, or RGBA with straight alpha "
+      "(repeat for multi-view)")
+    ->required();
+  reconstruct->add_option("--view", rc->views, "View JSON of each target, in the same order")
+    ->required();
+  reconstruct
+    ->add_option("--out", rc->out, "Output TF: ParaView preset JSON (1D) or DDG 2D JSON (--2d)")
+    ->required();
+  reconstruct->add_option(
+    "--mask", rc->masks, "Per-target mask image (first channel = weight in [0, 1])");
+  reconstruct
+    ->add_option("--background", rc->background,
+      "Background r g b of opaque targets (default: the view's background)")
+    ->expected(3);
+  reconstruct->add_flag("--2d", rc->twoD, "Reconstruct a 2D TF (value x gradient magnitude)");
+  reconstruct->add_option("--bins", rc->bins, "TF resolution along the value (default 128)")
+    ->check(CLI::Range(2, 4096));
+  reconstruct
+    ->add_option(
+      "--gradient-bins", rc->gradientBins, "2D: bins along gradient magnitude (default 32)")
+    ->check(CLI::Range(2, 1024));
+  reconstruct
+    ->add_option("--primitives", rc->primitives,
+      "Fit K Gaussian primitives (mean, width, colour, opacity each) instead of free bins; "
+      "rasterized at --bins, no smoothness prior (default 0: bins)")
+    ->check(CLI::Range(0, 64));
+  reconstruct->add_option("--loss", rc->loss, "l1 (default) or l2")
+    ->check(CLI::IsMember({ "l1", "l2" }));
+  reconstruct->add_option(
+    "--smoothness", rc->smoothness, "Weight of the smoothness prior (default 0.01)");
+  reconstruct->add_option("--iterations", rc->iterations, "Maximum Adam steps (default 500)")
+    ->check(CLI::Range(1, 1000000));
+  reconstruct
+    ->add_option("--lr", rc->learningRate, "Adam learning rate in logit space (default 0.2)")
+    ->check(CLI::PositiveNumber);
+  reconstruct
+    ->add_option("--rays", rc->rays, "Random pixels per target and step, 0 = all (default 2048)")
+    ->check(CLI::NonNegativeNumber);
+  reconstruct->add_option("--init", rc->init, "Initial TF (ParaView preset JSON; 1D only)");
+  reconstruct->add_flag("--resample", rc->resample,
+    "Resize targets to their view's size instead of refusing a size mismatch");
+  reconstruct->add_option(
+    "--out-image", rc->outImage, "Also write our render of the result at the first view");
+  reconstruct->add_option("--seed", rc->seed, "Seed of the pixel sampling (default 1)");
+  reconstruct->add_option("--threads", rc->threads, "Worker threads (default 0: all cores)")
+    ->check(CLI::Range(0, 256));
+  reconstruct->add_option("--array", rc->array, "Point array (default: the active scalars)");
+  reconstruct->add_flag("--quiet", rc->quiet, "Do not print progress");
+  reconstruct
+    ->add_option("--ssim-weight", rc->ssimWeight,
+      "Weight of an extra (1 - SSIM) loss on a random 32x32 patch per view and step (default 0: "
+      "off)")
+    ->check(CLI::NonNegativeNumber);
+  reconstruct->add_flag("--estimate-view", rc->estimateView,
+    "The views are only approximate (size, background, view angle, up vector, distance): search "
+    "the camera "
+    "(orbit azimuth/elevation/zoom about the focal point) before reconstructing");
+  reconstruct->add_option(
+    "--out-view", rc->outView, "With --estimate-view: write the estimated view JSON");
+  return { reconstruct, [rc] { return runReconstruct(*rc); } };
+}

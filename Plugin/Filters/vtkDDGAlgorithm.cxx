@@ -1,0 +1,129 @@
+// vtkDDGAlgorithm.cxx: request dispatch, whole-extent requests, piece skipping, errors once.
+#include "vtkDDGAlgorithm.h"
+
+#include "DDGFilterSupport.h"
+
+#include "Common/Error.h"
+#include "Render/RayCaster.h" // ddg::Cancelled
+
+#include <vtkDataObject.h>
+#include <vtkDataObjectTypes.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkImageData.h>
+#include <vtkInformation.h>
+#include <vtkInformationVector.h>
+#include <vtkSmartPointer.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+
+struct vtkDDGAlgorithm::Internals
+{
+  ddg::ErrorOnce Errors;
+};
+
+vtkDDGAlgorithm::vtkDDGAlgorithm()
+  : Internal(new Internals)
+{
+  this->SetNumberOfInputPorts(1);
+  this->SetNumberOfOutputPorts(1);
+  this->SetInputArrayToProcess(
+    0, 0, 0, vtkDataObject::FIELD_ASSOCIATION_POINTS, vtkDataSetAttributes::SCALARS);
+}
+
+vtkDDGAlgorithm::~vtkDDGAlgorithm() = default;
+
+void vtkDDGAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+  os << indent << "LastError: " << this->LastError << "\n";
+}
+
+void vtkDDGAlgorithm::PreviewSize(int& width, int& height)
+{
+  width = height = 0;
+}
+
+int vtkDDGAlgorithm::FillInputPortInformation(int, vtkInformation* info)
+{
+  info->Set(vtkAlgorithm::INPUT_REQUIRED_DATA_TYPE(), "vtkImageData");
+  return 1;
+}
+
+int vtkDDGAlgorithm::RequestDataObject(vtkInformationVector* outputVector)
+{
+  for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
+  {
+    const char* type = this->GetOutputPortInformation(port)->Get(vtkDataObject::DATA_TYPE_NAME());
+    vtkInformation* info = outputVector->GetInformationObject(port);
+    vtkDataObject* current = info->Get(vtkDataObject::DATA_OBJECT());
+    if (!type || (current && current->IsA(type)))
+      continue;
+    vtkSmartPointer<vtkDataObject> data =
+      vtkSmartPointer<vtkDataObject>::Take(vtkDataObjectTypes::NewDataObject(type));
+    if (!data)
+      return 0;
+    info->Set(vtkDataObject::DATA_OBJECT(), data);
+  }
+  return 1;
+}
+
+void vtkDDGAlgorithm::ResetOutputs(vtkInformationVector* outputVector)
+{
+  for (int i = 0; i < outputVector->GetNumberOfInformationObjects(); ++i)
+  {
+    vtkDataObject* data = outputVector->GetInformationObject(i)->Get(vtkDataObject::DATA_OBJECT());
+    if (data)
+      data->Initialize();
+  }
+}
+
+vtkTypeBool vtkDDGAlgorithm::ProcessRequest(
+  vtkInformation* request, vtkInformationVector** inputVector, vtkInformationVector* outputVector)
+{
+  if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA_OBJECT()))
+    return this->RequestDataObject(outputVector);
+  if (request->Has(vtkDemandDrivenPipeline::REQUEST_INFORMATION()))
+  {
+    if (this->GetNumberOfOutputPorts() > 0 &&
+      this->GetOutputPortInformation(0)->Has(vtkDataObject::DATA_TYPE_NAME()) &&
+      std::string(this->GetOutputPortInformation(0)->Get(vtkDataObject::DATA_TYPE_NAME())) ==
+        "vtkImageData")
+    {
+      int width = 0, height = 0;
+      this->PreviewSize(width, height);
+      ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
+    }
+    return 1;
+  }
+  if (request->Has(vtkStreamingDemandDrivenPipeline::REQUEST_UPDATE_EXTENT()))
+  {
+    ddg::requestWholeInputExtent(inputVector);
+    return 1;
+  }
+  if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA()))
+  {
+    if (ddg::skipPiece(outputVector)) // distributed: the first piece computes
+      return 1;
+    this->ResetOutputs(outputVector);
+    try
+    {
+      this->Execute(vtkImageData::GetData(inputVector[0]),
+        this->GetInputArrayToProcess(0, inputVector), outputVector);
+      this->Internal->Errors.clear();
+      this->LastError.clear();
+    }
+    catch (const ddg::Cancelled&)
+    {
+      this->ResetOutputs(outputVector);
+      this->LastError = "cancelled";
+    }
+    catch (const std::exception& e)
+    {
+      this->ResetOutputs(outputVector);
+      this->LastError = e.what();
+      if (this->Internal->Errors.report(this, e.what()))
+        vtkErrorMacro(<< e.what());
+    }
+    return 1;
+  }
+  return this->Superclass::ProcessRequest(request, inputVector, outputVector);
+}

@@ -1,0 +1,74 @@
+// vtkDDGAlgorithm.h: the base of every Design Gallery filter — the pipeline chores they share,
+// so that a filter's file holds only what is its own (in the manner of TTK's ttkAlgorithm).
+#ifndef vtkDDGAlgorithm_h
+#define vtkDDGAlgorithm_h
+
+#include "DDGFiltersModule.h" // export macro
+#include "vtkAlgorithm.h"
+
+#include <memory> // for std::unique_ptr
+#include <string> // for std::string
+
+class vtkDataArray;
+class vtkImageData;
+
+/**
+ * @class vtkDDGAlgorithm
+ * @brief Base of the DDG filters: one vtkImageData input (the volume), outputs declared by the
+ * subclass (FillOutputPortInformation: "vtkImageData" or "vtkTable" per port).
+ *
+ * It owns, for every filter:
+ * - `LastError`: the message of the last failed run, empty after a run without error (an
+ *   information property of every filter's XML; the panel and pvpython read it);
+ * - reporting each failure once (the pipeline may re-run a failed request: the same message
+ *   for the same state is not repeated, see ddg::ErrorOnce);
+ * - the request of the input's whole extent (the filters need the whole volume);
+ * - piece skipping under MPI: piece 0 computes, the other pieces output empty data;
+ * - the output reset before a run and after a failure or a cancellation (ddg::Cancelled:
+ *   LastError "cancelled", no error message);
+ * - the image information of output port 0 when it is an image (PreviewSize).
+ *
+ * A subclass implements Execute (throwing ddg::Error, or any std::exception, for bad input)
+ * and, if port 0 is an image, PreviewSize.
+ */
+class DDGFILTERS_EXPORT vtkDDGAlgorithm : public vtkAlgorithm
+{
+public:
+  vtkTypeMacro(vtkDDGAlgorithm, vtkAlgorithm);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /// The last error message (empty after a run without error; "cancelled" after a cancelled
+  /// run).
+  vtkGetCharFromStdStringMacro(LastError);
+
+  vtkTypeBool ProcessRequest(vtkInformation* request, vtkInformationVector** inputVector,
+    vtkInformationVector* outputVector) override;
+
+protected:
+  vtkDDGAlgorithm();
+  ~vtkDDGAlgorithm() override;
+
+  /// The filter's own work: read `input`'s `array` (the input array to process: point scalars
+  /// by default) and fill the outputs (already reset to empty). Throws for bad input.
+  virtual void Execute(
+    vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) = 0;
+
+  /// The (width, height) of output port 0 when it is an image, from the filter's properties
+  /// ((0, 0) when they do not say yet: the error comes from Execute). Default: (0, 0).
+  virtual void PreviewSize(int& width, int& height);
+
+  int FillInputPortInformation(int port, vtkInformation* info) override;
+
+private:
+  vtkDDGAlgorithm(const vtkDDGAlgorithm&) = delete;
+  void operator=(const vtkDDGAlgorithm&) = delete;
+
+  int RequestDataObject(vtkInformationVector* outputVector);
+  void ResetOutputs(vtkInformationVector* outputVector);
+
+  std::string LastError;
+  struct Internals;
+  std::unique_ptr<Internals> Internal;
+};
+
+#endif

@@ -1,0 +1,339 @@
+"""ddg.designs: a volume's design space: model bundles, designs (the history that leads to one,
+evaluated by DDG Design), queries with pictures, the outline gallery, blends, edits, animations.
+"""
+import json
+import os
+
+import numpy as np
+from paraview import servermanager
+import paraview.simple as simple
+from vtkmodules.util import numpy_support
+
+from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _run, _tf_text, data_path
+from .scene import _image_text, _proxy, _read_png, _source, _to_numpy, _view, apply, view_json
+from .scene import volume_array
+
+# --- models -------------------------------------------------------------------------------------
+
+
+class Model:
+    """A model bundle (trained design space with its outline) of one volume."""
+
+    def __init__(self, directory, source):
+        self.directory = os.path.abspath(directory)
+        self.source = source
+
+    def __repr__(self):
+        return "ddg.Model(%r)" % self.directory
+
+
+def _default_model(source):
+    """The shipped bundle named like the volume's file (Data/Models/tooth for tooth.vti)."""
+    if "FileName" in source.ListProperties():
+        f = source.GetPropertyValue("FileName")
+        f = f[0] if isinstance(f, (list, tuple)) else str(f)
+        stem = os.path.splitext(os.path.basename(f))[0].lower()
+        candidate = data_path(os.path.join("Models", stem))
+        if stem and os.path.exists(os.path.join(candidate, "bundle.json")):
+            return Model(candidate, source)
+    raise ValueError(
+        "no model given and no shipped bundle for this source: pass model= "
+        "(ddg.load_model) or build one (ddg.build_design_space)"
+    )
+
+
+def load_model(directory, source=None):
+    """The model bundle in ``directory`` (a path where the filters run: the server's disk in
+    client/server) for ``source`` (default: the active source). Checked when first used."""
+    return Model(directory, _source(source))
+
+
+def build_design_space(
+    source=None,
+    directory="design_space",
+    minutes=5.0,
+    count=2000,
+    size=64,
+    iterations=None,
+    outline=None,
+):
+    """Builds a design space for a volume (DDG Build Design Space; progress in ParaView):
+    ``count`` exemplars of ``size``^2 pixels, a decoder trained for ``minutes`` (or exactly
+    ``iterations`` steps), its evaluation and an outline of ``outline`` designs (default: the
+    filter's), written to ``directory`` (where the filters run). Returns the Model."""
+    source = _source(source)
+    directory = os.path.abspath(directory)
+    build = _proxy(
+        "DDGBuildDesignSpace",
+        source,
+        OutputDirectory=directory,
+        Minutes=float(minutes),
+        Count=int(count),
+        Size=int(size),
+    )
+    if iterations is not None:
+        build.SetPropertyWithName("Iterations", int(iterations))
+    if outline is not None:
+        build.SetPropertyWithName("OutlineCount", int(outline))
+    build.UpdatePipeline()
+    table = servermanager.Fetch(build, idx=0)
+    if table.GetNumberOfRows() != 1:
+        raise DDGError("the design space was not built (see the Output Messages)")
+    return Model(directory, source)
+
+
+def _model(model, source):
+    source = _source(
+        source if source is not None else (model.source if isinstance(model, Model) else None)
+    )
+    if model is None:
+        return _default_model(source), source
+    if isinstance(model, str):
+        return Model(model, source), source
+    return model, source
+
+
+# --- designs ------------------------------------------------------------------------------------
+
+
+class Design:
+    """A design of a model's design space: the path that leads to it (a ddg history, the JSON
+    that ``ddg replay`` reads) evaluated by DDG Design. ``position`` (outline plane), ``latent``
+    (numpy), ``neighbours`` (nearest outline rows, for queries)."""
+
+    def __init__(self, model, steps, neighbours=None):
+        self.model = model
+        self.steps = list(steps)
+        self.neighbours = list(neighbours or [])
+        self._cache = {}
+
+    def history(self):
+        """The design's history as JSON text (``export(design, path, format="history")``)."""
+        return json.dumps({"format": "ddg-history", "version": 1, "steps": self.steps}, indent=1)
+
+    def evaluate(self, view=None, fidelity=False):
+        """Runs DDG Design at ``view`` (default: the active view's camera, at most 256 pixels):
+        a dict with "preview" (numpy image), "latent", "position", "preset", "slicer",
+        "clusters" (mean RGB and share of each colour cluster) and with ``fidelity`` "fidelity"
+        (PSNR dB, SSIM, max error); 2D models add "paraview_2d" (the TransferFunction2D proxy's
+        Boxes, Range and OutputDimensions fitted to the design, with the fit's errors)."""
+        v = view_json(view, self.model.source, 256)
+        key = (json.dumps(v, sort_keys=True), fidelity)
+        if key in self._cache:
+            return self._cache[key]
+        proxy = _proxy(
+            "DDGDesign",
+            self.model.source,
+            ModelDirectory=self.model.directory,
+            History=self.history(),
+            ViewJSON=json.dumps(v),
+            ComputeFidelity=int(fidelity),
+        )
+        _run(proxy)
+        table = servermanager.Fetch(proxy, idx=1)
+        clusters = [
+            {
+                "rgb": [table.GetValueByName(i, c).ToDouble() for c in "RGB"],
+                "share": table.GetValueByName(i, "Share").ToDouble(),
+            }
+            for i in range(table.GetNumberOfRows())
+        ]
+        out = {
+            "preview": _to_numpy(servermanager.Fetch(proxy, idx=0)),
+            "latent": _field_numbers(table, "Latent"),
+            "position": tuple(_field_numbers(table, "Position")),
+            "preset": json.loads(_tf_text(table)),
+            "slicer": _field_string(table, "Slicer"),
+            "clusters": clusters,
+        }
+        boxes = _field_string(table, "ParaViewTransferFunction2D")
+        if boxes:
+            out["paraview_2d"] = json.loads(boxes)
+        if fidelity:
+            out["fidelity"] = tuple(_field_numbers(table, "Fidelity"))
+        self._cache[key] = out
+        return out
+
+    def transfer_function(self, view=None):
+        """The design's explicit TF at ``view`` as a dict (a ParaView preset for 1D models)."""
+        return _first_tf(self.evaluate(view)["preset"])
+
+    def preview(self, view=None):
+        """The model's render of the design at ``view`` (numpy image)."""
+        return self.evaluate(view)["preview"]
+
+    @property
+    def latent(self):
+        return self.evaluate()["latent"]
+
+    @property
+    def position(self):
+        return self.evaluate()["position"]
+
+    def __repr__(self):
+        return "ddg.Design(%s)" % " -> ".join(s["action"] for s in self.steps)
+
+
+def pick(row, model=None, source=None):
+    """Outline design ``row`` of the model (rows as in ``gallery()``)."""
+    model, source = _model(model, source)
+    return Design(model, [{"action": "pick", "row": int(row)}])
+
+
+def query(image, source=None, view=None, model=None, neighbours=5):
+    """Queries the model's design space with an image (a file path or a numpy image): the
+    analyzer's design, placed on the outline, with its ``neighbours`` nearest outline rows.
+    ``view`` is where its preview is rendered and its explicit TF made (default: the active
+    view's camera). Returns a Design."""
+    model, source = _model(model, source)
+    v = view_json(view, source, 256)
+    proxy = _proxy(
+        "DDGQuery",
+        source,
+        ModelDirectory=model.directory,
+        ViewJSON=json.dumps(v),
+        ImageData=_image_text(image),
+        Neighbours=int(neighbours),
+    )
+    _run(proxy)
+    table = servermanager.Fetch(proxy, idx=1)
+    rows = [int(table.GetValueByName(i, "Row").ToInt()) for i in range(table.GetNumberOfRows())]
+    latent = [float(x) for x in _field_numbers(table, "Latent")]
+    step = {"action": "latent", "latent": latent}
+    if isinstance(image, str):
+        step["image"] = os.path.basename(image)
+    return Design(model, [step], rows)
+
+
+def interpolate(a, b, t, c=None, d=None, v=0.0):
+    """The design at ``t`` between designs ``a`` and ``b`` (t = 0: a, 1: b; with ``c`` (and
+    ``d``) the barycentric (bilinear) blend at (t, v), as Core's blendLatents)."""
+    anchors = [x for x in (a, b, c, d) if x is not None]
+    latents = [[float(z) for z in x.latent] for x in anchors]
+    return Design(a.model, [{"action": "blend", "latents": latents, "u": float(t), "v": float(v)}])
+
+
+def edit(
+    design,
+    cluster=None,
+    hue=0.0,
+    saturation=1.0,
+    lightness=0.0,
+    visibility=1.0,
+    axes=None,
+    view=None,
+    pick_pixel=None,
+):
+    """An edited design: colour cluster ``cluster`` (index into ``design.evaluate()["clusters"]``,
+    or the cluster under ``pick_pixel`` = (x, y) of the preview) recoloured (hue degrees,
+    saturation factor, lightness in L*) and made more (``visibility`` > 1) or less visible, then
+    moved along the principal axes by ``axes`` (standard deviations per axis)."""
+    steps = list(design.steps)
+    if cluster is not None or pick_pixel is not None:
+        step = {
+            "action": "edit",
+            "view": view_json(view, design.model.source, 256),
+            "clusters": 4,
+            "hue": float(hue),
+            "saturation": float(saturation),
+            "lightness": float(lightness),
+            "visibility": float(visibility),
+            "white": False,
+        }
+        if pick_pixel is not None:
+            step["pick"] = [int(pick_pixel[0]), int(pick_pixel[1])]
+        else:
+            step["cluster"] = int(cluster)
+        steps.append(step)
+    if axes is not None:
+        steps.append({"action": "axes", "steps": [float(s) for s in axes]})
+    if len(steps) == len(design.steps):
+        raise ValueError("edit: give a cluster (or pick_pixel) or axes")
+    return Design(design.model, steps)
+
+
+# --- the outline ----------------------------------------------------------------------------------
+
+
+class Gallery:
+    """The outline of a model: ``sheet`` (numpy image of the thumbnails, row by row), ``x``,
+    ``y`` (plane position of every outline row), ``thumbnails`` (the outline row of each
+    thumbnail, in sheet order) and ``box`` (the plane part shown)."""
+
+    def __init__(self, model, sheet, x, y, thumbnails, box):
+        self.model, self.sheet, self.x, self.y = model, sheet, x, y
+        self.thumbnails, self.box = thumbnails, box
+
+    def design(self, k):
+        """The design of thumbnail ``k``."""
+        return pick(self.thumbnails[k], self.model)
+
+
+def gallery(source=None, model=None, count=32, box=None, seed=1, thumbnail_size=64, view=None):
+    """The model's outline and ``count`` thumbnails covering ``box`` = (x0, y0, x1, y1) of the
+    PCA plane (default: all of it), sampled with ``seed``, rendered at ``view`` (default: the
+    volume's default view). Returns a Gallery."""
+    model, source = _model(model, source)
+    proxy = _proxy(
+        "DDGDesignGallery",
+        source,
+        ModelDirectory=model.directory,
+        Count=int(count),
+        Seed=int(seed),
+        ThumbnailSize=int(thumbnail_size),
+        Box=list(box or [0, 0, 0, 0]),
+    )
+    if view is not None:
+        proxy.SetPropertyWithName("ViewJSON", json.dumps(view_json(view)))
+    _run(proxy)
+    sheet = _to_numpy(servermanager.Fetch(proxy, idx=0))
+    table = servermanager.Fetch(proxy, idx=1)
+    col = lambda name: numpy_support.vtk_to_numpy(table.GetColumnByName(name))  # noqa: E731
+    x, y, cells = col("X").copy(), col("Y").copy(), col("Thumbnail")
+    order = np.argsort(np.where(cells >= 0, cells, np.iinfo(np.int32).max))
+    thumbnails = [int(r) for r in order[: int((cells >= 0).sum())]]
+    shown = tuple(_field_numbers(table, "Box"))
+    return Gallery(model, sheet, x, y, thumbnails, shown)
+
+
+# --- animation ------------------------------------------------------------------------------------
+
+# t in [0, 1] -> eased t, as `ddg animate --easing`
+_EASINGS = {
+    "linear": lambda t: t,
+    "smoothstep": lambda t: t * t * (3 - 2 * t),
+    "cosine": lambda t: (1 - np.cos(np.pi * t)) / 2,
+}
+
+
+def animate(a, b, frames=30, source=None, view=None, directory=None, easing="smoothstep"):
+    """ParaView renders of the designs from ``a`` to ``b``: ``frames`` blends on an eased path
+    (smoothstep, linear or cosine, as ``ddg animate``) applied to the active view one after the
+    other. Returns the frames as numpy images; with ``directory`` also writes frame_0000.png, ...
+    The colour map is put back afterwards."""
+    view = _view(view)
+    source = _source(source)
+    array = volume_array(source, view)
+    lut, sof = simple.GetColorTransferFunction(array), simple.GetOpacityTransferFunction(array)
+    before = (list(lut.RGBPoints), list(sof.Points))
+    ease = _EASINGS[easing]
+    if directory:
+        os.makedirs(directory, exist_ok=True)
+    images = []
+    try:
+        for k in range(int(frames)):
+            t = ease(k / max(1, frames - 1))
+            apply(interpolate(a, b, t), source=source, view=view)
+            w, h = [int(s) for s in view.ViewSize]
+            path = os.path.join(
+                directory or os.environ.get("TMPDIR", "/tmp"),
+                "frame_%04d.png" % k if directory else "ddg_frame_%d.png" % os.getpid(),
+            )
+            simple.SaveScreenshot(path, view, ImageResolution=[w, h])
+            images.append(_read_png(path))
+            if not directory:
+                os.remove(path)
+    finally:
+        lut.RGBPoints, sof.Points = before
+        simple.Render(view)
+    return images

@@ -1,0 +1,278 @@
+"""ddg.scene: the ParaView scene: the volume and its array, views and cameras, images, applying a
+transfer function to the volume's representation and the project's render of it.
+"""
+import base64
+import json
+
+import numpy as np
+from paraview import servermanager
+import paraview.simple as simple
+from vtkmodules.util import numpy_support
+from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
+from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
+
+from .plugin import DDGError
+
+# --- the volume -----------------------------------------------------------------------------------
+
+
+def _source(source):
+    source = source or simple.GetActiveSource()
+    if source is None:
+        raise ValueError("no source given and none is active")
+    return source
+
+
+def _view(view):
+    """``view``, or the active render view (created when there is none)."""
+    return view or simple.GetActiveViewOrCreate("RenderView")
+
+
+def volume_array(source, view=None):
+    """The name of the volume's point array: the one the filters compute on and whose colour and
+    opacity maps a TF goes into. It is the array ParaView's representation colours by, in order:
+
+    1. when ``source`` is shown in ``view`` (default: the active view, if any) and its display
+       is coloured by a point array: that array (``ColorArrayName``);
+    2. else the data's active point scalars (what ParaView colours by when the user colours it,
+       and what the Design Gallery panel uses, ``pqDDGDesignGalleryDock::setSource``);
+    3. else, only when the data has no active point scalars, its first one-component point array.
+
+    (ParaView itself, when a display not coloured by an array is switched to Volume, colours it
+    by the first point array; ``apply`` asks this function first and colours by its answer.)
+
+    Raises ValueError when the array so chosen has more than one component (a volume holds one
+    value per voxel: colour by, or make active, a one-component array) or when there is none.
+    The one place where this rule is written: every function of the package calls it.
+    """
+    source.UpdatePipeline()  # as paraview.simple's source.PointData does
+    info = source.GetDataInformation().DataInformation.GetPointDataInformation()
+    view = view or simple.GetActiveView()
+    display = servermanager.GetRepresentation(source, view) if view is not None else None
+    name, why = None, ""
+    if display is not None and display.Visibility and display.GetProperty("ColorArrayName"):
+        association, coloured = list(display.ColorArrayName)[:2]
+        if association == "POINTS" and coloured and info.GetArrayInformation(coloured):
+            name, why = coloured, "its display is coloured by"
+    if name is None:
+        active = info.GetAttributeInformation(vtkDataSetAttributes.SCALARS)
+        if active is not None and active.GetName():
+            name, why = active.GetName(), "its active point scalars are"
+    if name is not None:
+        components = info.GetArrayInformation(name).GetNumberOfComponents()
+        if components != 1:
+            raise ValueError(
+                "%s is not a volume: %s '%s', an array of %d components (colour it by, or make "
+                "active, a one-component point array)"
+                % (source.GetXMLLabel(), why, name, components)
+            )
+        return name
+    for i in range(info.GetNumberOfArrays()):
+        if info.GetArrayInformation(i).GetNumberOfComponents() == 1:
+            return info.GetArrayInformation(i).GetName()
+    raise ValueError("%s has no one-component point array: not a volume" % source.GetXMLLabel())
+
+
+_helpers = {}  # (filter, source, connection) -> helper proxy
+
+
+def _proxy(name, source, **props):
+    """An unregistered helper filter on ``source`` (not in the pipeline, the active source kept)
+    reading the volume's array (``volume_array``). One proxy per filter, source and connection
+    is kept and reused with its properties reset, so a filter's loaded bundle and outline serve
+    the next call too."""
+    key = (name, source.GetGlobalIDAsString(), id(servermanager.ActiveConnection))
+    proxy = _helpers.get(key)
+    if proxy is None:
+        proxy = _helpers[key] = getattr(servermanager.filters, name)(Input=source)
+    else:
+        for prop in proxy.ListProperties():
+            if prop != "Input":
+                proxy.GetProperty(prop).SMProperty.ResetToXMLDefaults()
+    proxy.SetPropertyWithName("SelectInputScalars", ["POINTS", volume_array(source)])
+    for key, value in props.items():  # XML property names
+        proxy.SetPropertyWithName(key, value)
+    return proxy
+
+
+# --- views ----------------------------------------------------------------------------------------
+
+
+def view_json(view=None, source=None, max_side=None):
+    """The DDG view JSON (dict) of a render view's current camera (default: the active view):
+    camera as ParaView states it, ViewSize (scaled so the longer side is at most ``max_side``),
+    background and the source's Scalar Opacity Unit Distance when it is shown. A ``str`` is read
+    as a view JSON file, a ``dict`` is returned as is."""
+    if isinstance(view, str):
+        with open(view) as f:
+            return json.load(f)
+    if isinstance(view, dict):
+        return view
+    view = _view(view)
+    w, h = [max(1, int(v)) for v in view.ViewSize]
+    scale = min(1.0, max_side / max(w, h)) if max_side else 1.0
+    out = {
+        "camera": {
+            "position": list(view.CameraPosition),
+            "focal_point": list(view.CameraFocalPoint),
+            "view_up": list(view.CameraViewUp),
+            "view_angle": view.CameraViewAngle,
+            "parallel_projection": bool(view.CameraParallelProjection),
+            "parallel_scale": view.CameraParallelScale,
+        },
+        "size": [max(1, round(w * scale)), max(1, round(h * scale))],
+        "background": list(view.Background),
+    }
+    if source is not None:
+        display = simple.GetDisplayProperties(source, view)
+        if display is not None and hasattr(display, "ScalarOpacityUnitDistance"):
+            out["opacity_unit_distance"] = display.ScalarOpacityUnitDistance
+    return out
+
+
+def set_camera(view_file, view=None):
+    """Sets a render view's camera (default: the active one) from a DDG view JSON file or dict
+    and renders (after a first render: paraview.simple resets the camera on that one)."""
+    v = view_json(view_file)
+    view = _view(view)
+    simple.Render(view)  # paraview.simple resets the camera on a view's first render: do it first
+    c = v["camera"]
+    view.CameraPosition = c["position"]
+    view.CameraFocalPoint = c["focal_point"]
+    view.CameraViewUp = c["view_up"]
+    view.CameraViewAngle = c.get("view_angle", 30)
+    view.CameraParallelProjection = int(c.get("parallel_projection", False))
+    if "parallel_scale" in c:
+        view.CameraParallelScale = c["parallel_scale"]
+    simple.Render(view)
+    return view
+
+
+# --- images ---------------------------------------------------------------------------------------
+
+
+def _png(pixels, path=None):
+    """A numpy image (h, w[, c]) as PNG: written to `path`, or returned as bytes."""
+    a = np.asarray(pixels)
+    if a.dtype != np.uint8:
+        a = np.clip(np.rint(a * 255.0), 0, 255).astype(np.uint8)
+    if a.ndim == 2:
+        a = a[:, :, None]
+    h, w, c = a.shape
+    data = vtkImageData()
+    data.SetDimensions(w, h, 1)
+    data.GetPointData().SetScalars(
+        numpy_support.numpy_to_vtk(np.ascontiguousarray(a[::-1]).reshape(-1, c), deep=True)
+    )
+    writer = vtkPNGWriter()
+    writer.SetInputData(data)
+    if path:
+        writer.SetFileName(path)
+        writer.Write()
+        return path
+    writer.WriteToMemoryOn()
+    writer.Write()
+    return numpy_support.vtk_to_numpy(writer.GetResult()).tobytes()
+
+
+def save_image(pixels, path):
+    """Writes a numpy image (h, w, 3 or 4; uint8, or floats in [0, 1]; top row first) as PNG."""
+    return _png(pixels, path)
+
+
+def _image_text(image):
+    """base64 of a PNG/JPEG/TIFF file (path) or of a numpy image encoded as PNG."""
+    if isinstance(image, str):
+        with open(image, "rb") as f:
+            return base64.b64encode(f.read()).decode()
+    return base64.b64encode(_png(image)).decode()
+
+
+def _rgb(image, array):
+    """A point array of a 2D vtkImageData (bottom row first) as (h, w, 3), top row first."""
+    w, h, _ = image.GetDimensions()
+    a = numpy_support.vtk_to_numpy(array).reshape(h, w, -1)
+    return np.ascontiguousarray(a[::-1, :, :3])
+
+
+def _to_numpy(image):
+    """The "Image" array of a filter's image output as (h, w, 3) uint8, top row first."""
+    return _rgb(image, image.GetPointData().GetArray("Image")).astype(np.uint8)
+
+
+def _read_png(path):
+    """A PNG file as (h, w, 3), top row first."""
+    reader = vtkPNGReader()
+    reader.SetFileName(path)
+    reader.Update()
+    out = reader.GetOutput()
+    return _rgb(out, out.GetPointData().GetScalars())
+
+
+# --- transfer functions in the scene --------------------------------------------------------------
+
+
+def apply(tf, display=None, source=None, view=None):
+    """Writes a TF (Design, preset dict or file, DDG 2D JSON) into ``display``'s maps (default:
+    the active source's display in the active view; shown first if needed), switches it to the
+    Volume representation and renders. A Design's TF is made at the view's camera. 1D TFs go
+    into the colour and opacity maps (2D rendering off); 2D TFs into ParaView's
+    TransferFunction2D (``paraview_2d``) with UseTransfer2D on. Returns the display."""
+    from .designs import Design  # these modules build on this one
+    from .tf import _tf_dict, paraview_2d
+
+    view = _view(view)
+    source = _source(source)
+    display = display or simple.Show(source, view)
+    preset = _tf_dict(tf, view_json(view, source, 256) if isinstance(tf, Design) else None)
+    two_d = preset.get("Format") == "ddg-transfer-function-2d"
+    if not two_d and "RGBPoints" not in preset:
+        raise ValueError(
+            "apply: a ParaView preset (RGBPoints, Points) or a DDG 2D transfer function"
+        )
+    if two_d and display.GetProperty("UseTransfer2D") is None:
+        raise ValueError("apply: this representation has no 2D transfer function (image data has)")
+    boxes = paraview_2d(tf, source, view) if two_d else None
+    array = volume_array(source, view)  # before the switch to Volume, which may colour by another
+    display.SetRepresentationType("Volume")
+    simple.ColorBy(display, ("POINTS", array))
+    lut = simple.GetColorTransferFunction(array)
+    lut.AutomaticRescaleRangeMode = "Never"
+    if display.GetProperty("UseTransfer2D") is not None:
+        display.UseTransfer2D = int(two_d)
+    if two_d:
+        display.UseGradientForTransfer2D = 1
+        if display.VolumeRenderingMode == "Ray Cast Only":  # the fixed-point mapper has no 2D TFs
+            display.VolumeRenderingMode = "Smart"
+        tf2 = display.TransferFunction2D  # the LUT's too: the Color Map Editor's 2D editor shows it
+        tf2.Range = boxes["Range"]
+        tf2.OutputDimensions = boxes["OutputDimensions"]
+        tf2.Boxes = boxes["Boxes"]
+    else:
+        lut.ColorSpace = preset.get("ColorSpace", "RGB")
+        lut.RGBPoints = preset["RGBPoints"]
+        simple.GetOpacityTransferFunction(array).Points = preset["Points"]
+    simple.Render(view)
+    return display
+
+
+def render(source=None, tf=None, view=None):
+    """The project's CPU ray cast of ``source`` with ``tf`` at ``view`` (DDG Volume Render; as
+    ParaView renders it): a numpy image (h, w, 3) over the view's background."""
+    from .tf import _tf_dict  # tf builds on this module
+
+    source = _source(source)
+    if tf is None:
+        raise ValueError("render: give a transfer function")
+    v = view_json(view, source)
+    proxy = _proxy(
+        "DDGVolumeRender",
+        source,
+        TransferFunctionJSON=json.dumps(_tf_dict(tf, v)),
+        ViewJSON=json.dumps(v),
+    )
+    proxy.UpdatePipeline()
+    image = servermanager.Fetch(proxy, idx=0)
+    if image.GetNumberOfPoints() == 0:
+        raise DDGError("the render failed (see the Output Messages)")
+    return _to_numpy(image)
