@@ -295,7 +295,7 @@ void pqDDGDesignGalleryDock::setSource(pqPipelineSource* source)
     this->Ui->outline->setMessage(this->Ui->status->text());
     return;
   }
-  const int check = vtkSMDDGScene::CheckVolume(proxy, 0);
+  const int check = vtkSMDDGScene::CheckVolume(proxy, nullptr, 0);
   if (check != vtkSMDDGScene::IS_VOLUME)
   {
     this->setStatus(check == vtkSMDDGScene::NO_DATA

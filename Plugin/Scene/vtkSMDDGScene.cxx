@@ -65,14 +65,24 @@ int colorSpace(const json& name)
   return it == std::end(kColorSpaces) ? 0 : static_cast<int>(it - std::begin(kColorSpaces));
 }
 
-/// The volume's point scalars: the active ones, else the first one-component array (nullptr:
-/// none, or not image data).
-vtkPVArrayInformation* pointScalars(vtkPVDataInformation* info)
+/// The array the volume rule picks (nullptr: none, or not image data): the point array a visible
+/// `repr` is coloured by, else the active point scalars, else the first one-component array.
+vtkPVArrayInformation* chosenArray(vtkPVDataInformation* info, vtkSMProxy* repr)
 {
   const int type = info ? info->GetDataSetType() : -1;
   if (type != VTK_IMAGE_DATA && type != VTK_UNIFORM_GRID && type != VTK_STRUCTURED_POINTS)
     return nullptr;
   vtkPVDataSetAttributesInformation* points = info->GetPointDataInformation();
+  if (repr && repr->GetProperty("ColorArrayName") &&
+    (!repr->GetProperty("Visibility") || vtkSMPropertyHelper(repr, "Visibility").GetAsInt()))
+  {
+    vtkSMPropertyHelper colour(repr, "ColorArrayName");
+    const char* name = colour.GetInputArrayNameToProcess();
+    if (name && *name &&
+      colour.GetInputArrayAssociation() == vtkDataObject::FIELD_ASSOCIATION_POINTS &&
+      points->GetArrayInformation(name))
+      return points->GetArrayInformation(name);
+  }
   vtkPVArrayInformation* scalars = points->GetAttributeInformation(vtkDataSetAttributes::SCALARS);
   for (int i = 0; !scalars && i < points->GetNumberOfArrays(); ++i)
     if (points->GetArrayInformation(i)->GetNumberOfComponents() == 1)
@@ -195,14 +205,14 @@ std::string vtkSMDDGScene::ViewJSON(
 
 // --- the volume ------------------------------------------------------------------------------
 
-int vtkSMDDGScene::CheckVolume(vtkSMProxy* source, int port)
+int vtkSMDDGScene::CheckVolume(vtkSMProxy* source, vtkSMProxy* representation, int port)
 {
   vtkPVDataInformation* info = dataInformation(source, port);
   const int type = info ? info->GetDataSetType() : -1;
   if (type < 0 || (info->GetNumberOfPoints() == 0 && type == VTK_IMAGE_DATA))
     return NO_DATA;
-  vtkPVArrayInformation* scalars = pointScalars(info);
-  return scalars && scalars->GetNumberOfComponents() == 1 ? IS_VOLUME : NOT_A_VOLUME;
+  vtkPVArrayInformation* a = chosenArray(info, representation);
+  return a && a->GetNumberOfComponents() == 1 ? IS_VOLUME : NOT_A_VOLUME;
 }
 
 std::string vtkSMDDGScene::VolumeProblem(int check)
@@ -221,21 +231,9 @@ std::string vtkSMDDGScene::VolumeProblem(int check)
 
 std::string vtkSMDDGScene::VolumeArray(vtkSMProxy* source, vtkSMProxy* representation, int port)
 {
-  if (CheckVolume(source, port) != IS_VOLUME)
+  if (CheckVolume(source, representation, port) != IS_VOLUME)
     return {};
-  vtkPVDataInformation* info = dataInformation(source, port);
-  if (representation && representation->GetProperty("ColorArrayName"))
-  {
-    vtkSMPropertyHelper colour(representation, "ColorArrayName");
-    const char* name = colour.GetInputArrayNameToProcess();
-    vtkPVArrayInformation* a =
-      name && *name && colour.GetInputArrayAssociation() == vtkDataObject::FIELD_ASSOCIATION_POINTS
-      ? info->GetPointDataInformation()->GetArrayInformation(name)
-      : nullptr;
-    if (a && a->GetNumberOfComponents() == 1)
-      return name;
-  }
-  return pointScalars(info)->GetName();
+  return chosenArray(dataInformation(source, port), representation)->GetName();
 }
 
 std::string vtkSMDDGScene::DefaultModelDirectory(vtkSMProxy* source, const char* dataDirectory)

@@ -56,10 +56,13 @@ public:
 
   /**
    * Whether output `port` (default 0) of `source` is a volume: image data (also uniform grid,
-   * structured points) whose point data has one-component active scalars or, without active
-   * scalars, a one-component array. Judged from the data information (nothing is updated).
+   * structured points) whose point array chosen by the volume rule has one component. The rule
+   * (the one place it is written; VolumeArray names the array): the point array `representation`
+   * is coloured by when it is given, visible and coloured by a point array of the data; else the
+   * data's active point scalars; else, only without active scalars, the first one-component
+   * point array. Judged from the data information (nothing is updated: update the source first).
    */
-  static int CheckVolume(vtkSMProxy* source, int port = 0);
+  static int CheckVolume(vtkSMProxy* source, vtkSMProxy* representation = nullptr, int port = 0);
 
   /**
    * A CheckVolume result in words, the predicate after the source's name: "has no data yet",
@@ -69,12 +72,12 @@ public:
   static std::string VolumeProblem(int check);
 
   /**
-   * The point array of `source` (port `port`, default 0) that is the volume: the array
-   * `representation` is coloured by when it is a one-component point array of the data (pass
-   * nullptr to ignore the representation), else the data's active point scalars, else its first
-   * one-component point array. Empty when CheckVolume is not IS_VOLUME.
+   * The point array of `source` (port `port`, default 0) that is the volume, by the rule of
+   * CheckVolume (`representation` may be nullptr: the data's own scalars). Empty when CheckVolume
+   * is not IS_VOLUME.
    */
-  static std::string VolumeArray(vtkSMProxy* source, vtkSMProxy* representation, int port = 0);
+  static std::string VolumeArray(
+    vtkSMProxy* source, vtkSMProxy* representation = nullptr, int port = 0);
 
   /**
    * The shipped model bundle named like `source`'s file: `dataDirectory`/Models/<file name

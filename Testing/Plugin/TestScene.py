@@ -5,8 +5,9 @@ Compared, each with what paraview.simple itself reads from the same proxies (exa
   on the longer side (rounded half away from zero), Background, the display's
   ScalarOpacityUnitDistance; the same JSON with the source in place of the display; no view: "".
 - CheckVolume / VolumeProblem / VolumeArray: tooth.vti is a volume with array "scalars"; a Sphere
-  and vector.vti (3-component active scalars) are not, with the panel's words; a representation
-  coloured by another one-component array names that array.
+  and vector.vti (3-component active scalars) are not, with the panel's words; a visible
+  representation coloured by another one-component array names that array (hidden: ignored), one
+  coloured by a 3-component array makes it no volume.
 - DefaultModelDirectory: Data/Models/tooth for tooth.vti, none for small.vti.
 - Apply1D: a preset (HSV) lands in the LUT's RGBPoints and ColorSpace and the opacity function's
   Points, the LUT never rescales, the display is Volume with UseTransfer2D off; a bad preset gives
@@ -74,7 +75,7 @@ check(S.ViewJSON(None, display.SMProxy, 64) == "", "ViewJSON without a view is e
 
 # --- the volume ---
 check(
-    S.CheckVolume(tooth.SMProxy, 0) == S.IS_VOLUME and S.VolumeProblem(S.IS_VOLUME) == "",
+    S.CheckVolume(tooth.SMProxy, None, 0) == S.IS_VOLUME and S.VolumeProblem(S.IS_VOLUME) == "",
     "tooth.vti is a volume",
 )
 check(S.VolumeArray(tooth.SMProxy, None, 0) == "scalars", "tooth.vti's array")
@@ -88,7 +89,7 @@ problem = (
 )
 for name, source in (("a Sphere", sphere), ("vector.vti", vector)):
     check(
-        S.CheckVolume(source.SMProxy, 0) == S.NOT_A_VOLUME
+        S.CheckVolume(source.SMProxy, None, 0) == S.NOT_A_VOLUME
         and S.VolumeProblem(S.NOT_A_VOLUME) == problem
         and S.VolumeArray(source.SMProxy, None, 0) == "",
         name + " is not a volume",
@@ -105,6 +106,22 @@ check(
     and S.VolumeArray(calc.SMProxy, calc_display.SMProxy, 0) == other,
     "the representation's colour array %r, not the active scalars %r" % (other, active),
 )
+simple.Hide(calc, view)
+check(
+    S.VolumeArray(calc.SMProxy, calc_display.SMProxy, 0) == active,
+    "a hidden display's colour array does not count",
+)
+simple.Show(calc, view)
+vectors = simple.Calculator(Input=tooth, Function="scalars*iHat", ResultArrayName="vectors")
+vectors.UpdatePipeline()
+vectors_display = simple.Show(vectors, view)
+simple.ColorBy(vectors_display, ("POINTS", "vectors"))
+check(
+    S.CheckVolume(vectors.SMProxy, vectors_display.SMProxy, 0) == S.NOT_A_VOLUME
+    and S.VolumeArray(vectors.SMProxy, vectors_display.SMProxy, 0) == "",
+    "a display coloured by a 3-component array: not a volume",
+)
+simple.Hide(vectors, view)
 simple.Hide(calc, view)
 
 # --- the default model ---
