@@ -13,17 +13,12 @@
 #include <pqApplicationCore.h>
 #include <pqDataRepresentation.h>
 #include <pqFileDialog.h>
-#include <pqOutputPort.h>
 #include <pqPipelineSource.h>
 #include <pqProgressManager.h>
 #include <pqRenderView.h>
 #include <pqServer.h>
 
-#include <vtkDataSetAttributes.h>
-#include <vtkPVArrayInformation.h>
-#include <vtkPVDataInformation.h>
-#include <vtkPVDataSetAttributesInformation.h>
-#include <vtkSMPropertyHelper.h>
+#include <vtkSMDDGScene.h>
 #include <vtkSMSourceProxy.h>
 
 #include <QCheckBox>
@@ -300,45 +295,22 @@ void pqDDGDesignGalleryDock::setSource(pqPipelineSource* source)
     this->Ui->outline->setMessage(this->Ui->status->text());
     return;
   }
-  vtkPVDataInformation* info = source->getOutputPort(0)->getDataInformation();
-  const int type = info ? info->GetDataSetType() : -1;
-  vtkPVArrayInformation* scalars = nullptr;
-  if (info && (type == VTK_IMAGE_DATA || type == VTK_UNIFORM_GRID || type == VTK_STRUCTURED_POINTS))
+  const int check = vtkSMDDGScene::CheckVolume(proxy, nullptr, 0);
+  if (check != vtkSMDDGScene::IS_VOLUME)
   {
-    vtkPVDataSetAttributesInformation* points = info->GetPointDataInformation();
-    scalars = points->GetAttributeInformation(vtkDataSetAttributes::SCALARS);
-    for (int i = 0; !scalars && i < points->GetNumberOfArrays(); ++i)
-      if (points->GetArrayInformation(i)->GetNumberOfComponents() == 1)
-        scalars = points->GetArrayInformation(i);
-  }
-  if (type < 0 || (info && info->GetNumberOfPoints() == 0 && type == VTK_IMAGE_DATA))
-  {
-    this->setStatus(
-      tr("'%1' has no data yet (Apply it in the Properties panel).").arg(source->getSMName()));
+    this->setStatus(check == vtkSMDDGScene::NO_DATA
+        ? tr("'%1' has no data yet (Apply it in the Properties panel).").arg(source->getSMName())
+        : tr("'%1' %2.")
+            .arg(source->getSMName(), QString::fromStdString(vtkSMDDGScene::VolumeProblem(check))),
+      check != vtkSMDDGScene::NO_DATA);
     this->Ui->outline->setMessage(this->Ui->status->text());
     return;
   }
-  if (!scalars || scalars->GetNumberOfComponents() != 1)
-  {
-    this->setStatus(tr("'%1' is not a volume: the Design Gallery needs image data with a "
-                       "one-component point array (e.g. a .vti, .raw or DICOM volume).")
-                      .arg(source->getSMName()),
-      true);
-    this->Ui->outline->setMessage(this->Ui->status->text());
-    return;
-  }
-  this->State->setVolume(proxy, QString::fromUtf8(scalars->GetName()));
+  this->State->setVolume(
+    proxy, QString::fromStdString(vtkSMDDGScene::VolumeArray(proxy, nullptr, 0)));
   // the shipped bundle named like the volume's file, if there is one
-  QString guess;
-  if (proxy->GetProperty("FileName") &&
-    vtkSMPropertyHelper(proxy, "FileName").GetNumberOfElements() > 0)
-  {
-    const QString stem =
-      QFileInfo(vtkSMPropertyHelper(proxy, "FileName").GetAsString(0)).completeBaseName();
-    const QString dir = QString(DDG_DATA_DIR) + "/Models/" + stem.toLower();
-    if (!stem.isEmpty() && QFileInfo(dir + "/bundle.json").exists())
-      guess = dir;
-  }
+  const QString guess =
+    QString::fromStdString(vtkSMDDGScene::DefaultModelDirectory(proxy, DDG_DATA_DIR));
   if (!guess.isEmpty())
     this->Ui->modelPath->setText(guess);
   if (this->Ui->modelPath->text().isEmpty())

@@ -142,7 +142,8 @@ public:
   /// The last text reported.
   const QString& lastMessage() const { return this->LastMessage; }
 
-  // --- history steps: the ddg history JSON (README "File contracts"), built only here ----------
+  // --- history steps: the ddg history JSON (README "File contracts"), made only by these (through
+  // vtkDDGDesignHistory, Core's history writer; pqDDGDesignStateSteps.cxx) ---------------------
   static QJsonObject pickStep(int row);
   static QJsonObject latentStep(const QJsonArray& latent, const QString& image);
   static QJsonObject blendStep(const QJsonArray& latents, double u, double v);

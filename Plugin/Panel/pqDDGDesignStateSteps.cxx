@@ -1,35 +1,72 @@
 // pqDDGDesignStateSteps.cxx: the history steps the Design Gallery panel writes (the ddg history
-// JSON of README "File contracts", read by DDG Design and `ddg replay`). Every step the panel
-// makes is built here and nowhere else, so that these few functions can be replaced by the
-// Core-backed history helper of the Filters module in one place.
+// JSON of README "File contracts", read by DDG Design and `ddg replay`), built by Core's history
+// through vtkDDGDesignHistory (DDG::Filters), the one writer `ddg`, the filters and pvpython use.
+// The state keeps its steps as JSON; these functions are the only place they are made.
 #include "pqDDGDesignState.h"
+
+#include <vtkDDGDesignHistory.h>
+#include <vtkNew.h>
 
 #include <QJsonDocument>
 
+namespace
+{
+std::string compact(const QJsonValue& value)
+{
+  const QJsonDocument doc =
+    value.isArray() ? QJsonDocument(value.toArray()) : QJsonDocument(value.toObject());
+  return doc.toJson(QJsonDocument::Compact).toStdString();
+}
+
+QJsonArray stepsOf(vtkDDGDesignHistory* history)
+{
+  const QByteArray text = QByteArray::fromStdString(history->GetJSON());
+  return QJsonDocument::fromJson(text).object().value("steps").toArray();
+}
+
+/// The last step of `history` (the one just added), or {} when it refused it.
+QJsonObject lastStep(vtkDDGDesignHistory* history)
+{
+  const QJsonArray steps = stepsOf(history);
+  return steps.isEmpty() ? QJsonObject() : steps.last().toObject();
+}
+
+/// The history JSON of `steps` as the panel holds them (before Core reads it).
+QByteArray rawHistory(const QJsonArray& steps)
+{
+  return QJsonDocument(
+    QJsonObject{ { "format", "ddg-history" }, { "version", 1 }, { "steps", steps } })
+    .toJson(QJsonDocument::Indented);
+}
+} // namespace
+
 QJsonObject pqDDGDesignState::pickStep(int row)
 {
-  return QJsonObject{ { "action", "pick" }, { "row", row } };
+  vtkNew<vtkDDGDesignHistory> h;
+  h->AddPick(row);
+  return lastStep(h);
 }
 
 QJsonObject pqDDGDesignState::latentStep(const QJsonArray& latent, const QString& image)
 {
-  QJsonObject step{ { "action", "latent" }, { "latent", latent } };
-  if (!image.isEmpty())
-    step["image"] = image;
-  return step;
+  vtkNew<vtkDDGDesignHistory> h;
+  h->AddLatent(compact(latent), image.toStdString());
+  return lastStep(h);
 }
 
 QJsonObject pqDDGDesignState::blendStep(const QJsonArray& latents, double u, double v)
 {
-  return QJsonObject{ { "action", "blend" }, { "latents", latents }, { "u", u }, { "v", v } };
+  vtkNew<vtkDDGDesignHistory> h;
+  h->AddBlend(compact(latents), u, v);
+  return lastStep(h);
 }
 
 QJsonObject pqDDGDesignState::editStep(
   const QJsonObject& view, int cluster, double hue, double visibility)
 {
-  return QJsonObject{ { "action", "edit" }, { "view", view }, { "cluster", cluster },
-    { "clusters", 4 }, { "hue", hue }, { "saturation", 1.0 }, { "lightness", 0.0 },
-    { "visibility", visibility }, { "white", false } };
+  vtkNew<vtkDDGDesignHistory> h; // saturation 1, lightness 0, on black, 4 colour clusters
+  h->AddEdit(compact(view), cluster, -1, -1, 4, hue, 1.0, 0.0, visibility, false);
+  return lastStep(h);
 }
 
 QJsonObject pqDDGDesignState::axesStep(const QVector<double>& steps)
@@ -37,24 +74,27 @@ QJsonObject pqDDGDesignState::axesStep(const QVector<double>& steps)
   QJsonArray values;
   for (double s : steps)
     values.append(s);
-  return QJsonObject{ { "action", "axes" }, { "steps", values } };
+  vtkNew<vtkDDGDesignHistory> h;
+  h->SetAxes(compact(values));
+  return lastStep(h);
 }
 
 QJsonArray pqDDGDesignState::appendStep(QJsonArray steps, const QJsonObject& step)
 {
-  const bool axes = step.value("action") == "axes";
-  if (axes && !steps.isEmpty() && steps.last().toObject().value("action") == "axes")
-    steps[steps.size() - 1] = step; // the sliders move one step (QJsonArray::last() is a copy)
-  else
+  vtkNew<vtkDDGDesignHistory> h;
+  if (step.value("action") != "axes" || !h->SetJSON(rawHistory(steps).toStdString()) ||
+    !h->SetAxes(compact(step.value("steps"))))
+  {
     steps.append(step);
-  return steps;
+    return steps;
+  }
+  return stepsOf(h); // an axes step after an axes step replaces it: the sliders move one step
 }
 
 QString pqDDGDesignState::historyText(const QJsonArray& steps)
 {
-  QJsonObject h;
-  h["format"] = "ddg-history";
-  h["version"] = 1;
-  h["steps"] = steps;
-  return QString::fromUtf8(QJsonDocument(h).toJson(QJsonDocument::Indented));
+  vtkNew<vtkDDGDesignHistory> h;
+  const QByteArray raw = rawHistory(steps);
+  // steps Core cannot read go as they are: DDG Design then says what is wrong with them
+  return QString::fromStdString(h->SetJSON(raw.toStdString()) ? h->GetJSON() : raw.toStdString());
 }

@@ -1,7 +1,7 @@
 // pqDDGScene.h: what the Design Gallery panel reads from and writes to the ParaView scene, on the
-// client through proxies: the current view as a DDG view JSON, a design's transfer function
-// written into a representation's colour and opacity maps, server-side helper filters and
-// fetching their (small) results.
+// client through proxies: the Qt side of vtkSMDDGScene (Plugin/Scene: the view JSON, writing a
+// TF into a representation, shared with the ddg Python package) with ParaView's undo stack, and
+// server-side helper filters with fetching their (small) results.
 #pragma once
 
 #include <QImage>
@@ -12,8 +12,6 @@
 #include <vtkSmartPointer.h>
 
 class pqDataRepresentation;
-class pqOutputPort;
-class pqPipelineSource;
 class pqRenderView;
 class vtkDataObject;
 class vtkSMProxy;
@@ -23,9 +21,9 @@ class vtkTable;
 namespace ddgpanel
 {
 
-/// The view JSON of the render view's camera (ParaView's Camera* properties after
-/// SynchronizeCameraProperties), its background and the representation's Scalar Opacity Unit
-/// Distance (when given), with the view's aspect and `maxSide` pixels on its longer side.
+/// The view JSON of the render view's camera, its background and the representation's Scalar
+/// Opacity Unit Distance (when given), with the view's aspect and `maxSide` pixels on its longer
+/// side (vtkSMDDGScene::ViewJSON); empty without a view.
 QJsonObject viewJson(pqRenderView* view, pqDataRepresentation* repr, int maxSide);
 
 /// The representation of `source` (port 0) in the active render view, shown there first when it
@@ -38,9 +36,9 @@ QString jsonText(const QJsonObject& object);
 /// Writes a ParaView preset (JSON text: a preset object or a list whose first element is one,
 /// with "RGBPoints", "Points" and "ColorSpace") into the LookupTable and ScalarOpacityFunction
 /// of `repr`, colouring it by its input's point scalars `array` and switching it to the Volume
-/// representation; the LUT is set not to rescale itself and 2D rendering is turned off. Recorded on
-/// ParaView's undo stack as one step named `label` when `undoable`. Returns an empty string or the
-/// reason it failed (the scene is then untouched).
+/// representation; the LUT is set not to rescale itself and 2D rendering is turned off
+/// (vtkSMDDGScene::Apply1D). Recorded on ParaView's undo stack as one step named `label` when
+/// `undoable`. Returns an empty string or the reason it failed (the scene is then untouched).
 QString applyPreset(pqDataRepresentation* repr, const QString& array, const QString& presetText,
   const QString& label, bool undoable = true);
 
@@ -48,7 +46,9 @@ QString applyPreset(pqDataRepresentation* repr, const QString& array, const QStr
 /// "ParaViewTransferFunction2D" field ({"Boxes", "Range", "OutputDimensions"}). Switches the
 /// representation to Volume coloured by `array`, turns UseTransfer2D on (gradient magnitude as
 /// Y; "Ray Cast Only" becomes "Smart", the fixed-point mapper has no 2D TFs) and shows the boxes
-/// in the Color Map Editor's 2D editor. One undo step; returns an empty string or the reason.
+/// in the Color Map Editor's 2D editor: vtkSMDDGScene::Apply2D, a render and the events the Color
+/// Map Editor reacts with, then vtkSMDDGScene::WriteTransferFunction2D again. One undo step;
+/// returns an empty string or the reason.
 QString applyTransferFunction2D(pqDataRepresentation* repr, const QString& array,
   const QString& boxesText, const QString& label, bool undoable = true);
 

@@ -1,41 +1,40 @@
 // TestDesignState.cxx: the Design Gallery panel's state (pqDDGDesignState) driven without any
 // widget or GUI event script, on the shipped Tooth model.
 //
-// How (the cheapest robust way found): a plain ParaView client process, like pvpython:
-// vtkInitializationHelper (client), a builtin session (vtkSMSession::ConnectToSelf), the plugin
-// loaded with vtkSMPluginManager for its filter proxies, and an XML reader of tooth.vti
-// registered as "tooth.vti". No pqApplicationCore, no QApplication (the state is a QObject with
-// signals; QImage needs no GUI), no render view: the state's ViewFunction returns
+// How (the cheapest robust way found): a plain ParaView client process, like pvpython
+// (TestDesignStateMain.cxx): vtkInitializationHelper (client), a builtin session
+// (vtkSMSession::ConnectToSelf), the plugin loaded with vtkSMPluginManager for its filter
+// proxies; then this file, a module with the state's sources compiled in (the plugin is a MODULE
+// library one cannot link to), is opened and run: an XML reader of tooth.vti registered as
+// "tooth.vti", the state driven. Opened after ParaView and the plugin, as the plugin is opened
+// in ParaView (a program linking ParaView and libtorch at once crashed in protobuf's static
+// initialisation). No pqApplicationCore, no QApplication (the state is a QObject with signals;
+// QImage needs no GUI), no render view: the state's ViewFunction returns
 // Data/Views/tooth_oblique.json scaled to the asked size, so nothing renders with OpenGL and no
-// X display is needed. The state's sources are compiled into this program (the plugin is a
-// MODULE library one cannot link to).
+// X display is needed.
 //
 // Compared: the history steps the state writes against literal ddg history JSON (README "File
 // contracts"): pick, latent (with the query image's name), blend of two pins, edit (at the
 // design's view), axes (consecutive moves merged into one step), lock (the steps at lock time);
 // the outline (50 000 designs, 32 thumbnails of 64 px), the query's 5 neighbours, the preview
 // (192 px on the longer side), the blend corner u = v = 0 reproducing the first pin's latent
-// (tolerance 1e-5: float latents through JSON), a failing edit dropped with its message, the
-// messages of a state without a model, and a failed build (constant volume) reported as failed.
+// (tolerance 1e-5: float latents through JSON; latents in steps are compared as floats), a
+// failing edit dropped with its message, the messages of a state without a model, and a failed
+// build (constant volume) reported as failed (Plugin.GuiBuildFails checks the LastError text).
 //
-// Usage: TestDesignState PLUGIN DATA TESTDATA OUTDIR
+// Usage: TestDesignState BODY PLUGIN DATA TESTDATA OUTDIR (BODY: this module)
 #include "pqDDGDesignState.h"
 
 #include <vtkDataSetAttributes.h>
-#include <vtkInitializationHelper.h>
 #include <vtkNew.h>
 #include <vtkPVArrayInformation.h>
 #include <vtkPVDataInformation.h>
 #include <vtkPVDataSetAttributesInformation.h>
-#include <vtkProcessModule.h>
-#include <vtkSMPluginManager.h>
 #include <vtkSMPropertyHelper.h>
 #include <vtkSMProxyManager.h>
-#include <vtkSMSession.h>
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
 
-#include <QCoreApplication>
 #include <QDir>
 #include <QFile>
 #include <QFileInfo>
@@ -64,6 +63,22 @@ QString compact(const QJsonValue& v)
 {
   return QString::fromUtf8((v.isArray() ? QJsonDocument(v.toArray()) : QJsonDocument(v.toObject()))
                              .toJson(QJsonDocument::Compact));
+}
+
+/// Equal as float numbers (latents are floats; the history writes them shortest as floats).
+bool sameFloats(const QJsonValue& a, const QJsonValue& b)
+{
+  if (a.isArray() != b.isArray())
+    return false;
+  if (!a.isArray())
+    return static_cast<float>(a.toDouble()) == static_cast<float>(b.toDouble());
+  const QJsonArray x = a.toArray(), y = b.toArray();
+  if (x.size() != y.size())
+    return false;
+  for (int i = 0; i < x.size(); ++i)
+    if (!sameFloats(x[i], y[i]))
+      return false;
+  return true;
 }
 
 QByteArray readFile(const QString& path)
@@ -178,10 +193,13 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
 
   // --- blend between the two pins ---
   state.navigate({ 0, 1 }, 0.25, 0.0);
-  QJsonObject blend{ { "action", "blend" },
-    { "latents", QJsonArray{ state.pins()[0].Latent, state.pins()[1].Latent } }, { "u", 0.25 },
-    { "v", 0 } };
-  check(compact(state.steps()) == compact(QJsonArray{ blend }), "blend step at u = 0.25");
+  const QJsonObject blend = state.steps().at(0).toObject();
+  check(state.steps().size() == 1 &&
+      blend.keys() == QStringList({ "action", "latents", "u", "v" }) &&
+      blend.value("action") == "blend" && blend.value("u") == 0.25 && blend.value("v") == 0.0 &&
+      sameFloats(
+        blend.value("latents"), QJsonArray{ state.pins()[0].Latent, state.pins()[1].Latent }),
+    "blend step at u = 0.25 of the two pins' latents");
   state.navigate({ 0, 1 }, 0.0, 0.0);
   double worst = 0;
   for (int k = 0; k < latentSize; ++k)
@@ -250,26 +268,13 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       !QFile::exists(outdir + "/constant_bundle/bundle.json"),
     "failed build: " + state.lastMessage());
 }
+
 } // namespace
 
-int main(int argc, char* argv[])
+/// The test body, called by TestDesignStateMain.cxx once ParaView runs with the plugin loaded.
+extern "C" int ddgRunDesignStateTest(const char* data, const char* testdata, const char* outdir)
 {
-  if (argc != 5)
-  {
-    std::cerr << "usage: TestDesignState PLUGIN DATA TESTDATA OUTDIR\n";
-    return 2;
-  }
-  QCoreApplication app(argc, argv);
-  vtkInitializationHelper::SetLoadSettingsFilesDuringInitialization(false);
-  vtkInitializationHelper::Initialize(argv[0], vtkProcessModule::PROCESS_CLIENT);
-  vtkSMSession::ConnectToSelf();
-  if (!vtkSMProxyManager::GetProxyManager()->GetPluginManager()->LoadLocalPlugin(argv[1]))
-  {
-    std::cerr << "cannot load the plugin " << argv[1] << "\n";
-    return 1;
-  }
-  run(argv[2], argv[3], argv[4]);
-  vtkInitializationHelper::Finalize();
+  run(data, testdata, outdir);
   std::cout << (Failures ? "FAILED" : "all passed") << std::endl;
   return Failures ? 1 : 0;
 }

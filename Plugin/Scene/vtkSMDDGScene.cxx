@@ -1,0 +1,330 @@
+// vtkSMDDGScene.cxx: the Design Gallery's scene logic over ParaView proxies.
+#include "vtkSMDDGScene.h"
+
+#include <vtkDataObject.h>
+#include <vtkDataSetAttributes.h>
+#include <vtkObjectFactory.h>
+#include <vtkPVArrayInformation.h>
+#include <vtkPVDataInformation.h>
+#include <vtkPVDataSetAttributesInformation.h>
+#include <vtkSMPVRepresentationProxy.h>
+#include <vtkSMPropertyHelper.h>
+#include <vtkSMRenderViewProxy.h>
+#include <vtkSMRepresentationProxy.h>
+#include <vtkSMSourceProxy.h>
+#include <vtksys/SystemTools.hxx>
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <iterator>
+#include <vector>
+
+vtkStandardNewMacro(vtkSMDDGScene);
+
+using json = nlohmann::json;
+
+namespace
+{
+json triple(vtkSMProxy* proxy, const char* name)
+{
+  vtkSMPropertyHelper h(proxy, name);
+  return json::array({ h.GetAsDouble(0), h.GetAsDouble(1), h.GetAsDouble(2) });
+}
+
+/// The numbers of a JSON array (anything else in it counts as 0; not an array: none).
+std::vector<double> numbers(const json& value)
+{
+  std::vector<double> out;
+  if (value.is_array())
+    for (const auto& v : value)
+      out.push_back(v.is_number() ? v.get<double>() : 0.0);
+  return out;
+}
+
+json parse(const char* text)
+{
+  return json::parse(text ? text : "", nullptr, false); // discarded (is_discarded) when invalid
+}
+
+const json& member(const json& object, const char* name)
+{
+  static const json none;
+  return object.is_object() && object.contains(name) ? object.at(name) : none;
+}
+
+// vtkColorTransferFunction's ColorSpace enumeration, as the LUT proxy's ColorSpace domain names it.
+const char* const kColorSpaces[] = { "RGB", "HSV", "Lab", "Diverging", "Lab/CIEDE2000", "Step" };
+
+int colorSpace(const json& name)
+{
+  const std::string s = name.is_string() ? name.get<std::string>() : "RGB";
+  const auto* it = std::find(std::begin(kColorSpaces), std::end(kColorSpaces), s);
+  return it == std::end(kColorSpaces) ? 0 : static_cast<int>(it - std::begin(kColorSpaces));
+}
+
+/// The array the volume rule picks (nullptr: none, or not image data): the point array a visible
+/// `repr` is coloured by, else the active point scalars, else the first one-component array.
+vtkPVArrayInformation* chosenArray(vtkPVDataInformation* info, vtkSMProxy* repr)
+{
+  const int type = info ? info->GetDataSetType() : -1;
+  if (type != VTK_IMAGE_DATA && type != VTK_UNIFORM_GRID && type != VTK_STRUCTURED_POINTS)
+    return nullptr;
+  vtkPVDataSetAttributesInformation* points = info->GetPointDataInformation();
+  if (repr && repr->GetProperty("ColorArrayName") &&
+    (!repr->GetProperty("Visibility") || vtkSMPropertyHelper(repr, "Visibility").GetAsInt()))
+  {
+    vtkSMPropertyHelper colour(repr, "ColorArrayName");
+    const char* name = colour.GetInputArrayNameToProcess();
+    if (name && *name &&
+      colour.GetInputArrayAssociation() == vtkDataObject::FIELD_ASSOCIATION_POINTS &&
+      points->GetArrayInformation(name))
+      return points->GetArrayInformation(name);
+  }
+  vtkPVArrayInformation* scalars = points->GetAttributeInformation(vtkDataSetAttributes::SCALARS);
+  for (int i = 0; !scalars && i < points->GetNumberOfArrays(); ++i)
+    if (points->GetArrayInformation(i)->GetNumberOfComponents() == 1)
+      scalars = points->GetArrayInformation(i);
+  return scalars;
+}
+
+vtkPVDataInformation* dataInformation(vtkSMProxy* source, int port)
+{
+  auto* s = vtkSMSourceProxy::SafeDownCast(source);
+  if (!s || port < 0)
+    return nullptr;
+  s->CreateOutputPorts(); // no-op once they exist
+  return static_cast<unsigned int>(port) < s->GetNumberOfOutputPorts()
+    ? s->GetDataInformation(static_cast<unsigned int>(port))
+    : nullptr;
+}
+
+/// The 2D design of `boxesJSON` (Boxes, Range, OutputDimensions), or a reason it is none.
+struct Boxes
+{
+  std::vector<double> boxes, range, dims;
+  std::string error;
+};
+
+Boxes parseBoxes(const char* boxesJSON)
+{
+  const json pv = parse(boxesJSON);
+  Boxes b{ numbers(member(pv, "Boxes")), numbers(member(pv, "Range")),
+    numbers(member(pv, "OutputDimensions")), {} };
+  if (b.boxes.empty() || b.boxes.size() % 8 != 0 || b.range.size() != 4 || b.dims.size() != 2)
+    b.error = "the design's 2D transfer function has no ParaView boxes (Boxes, Range, "
+              "OutputDimensions)";
+  return b;
+}
+
+std::string writeBoxes(vtkSMProxy* repr, const std::string& array, const Boxes& b)
+{
+  vtkSMProxy* tf2 = vtkSMPropertyHelper(repr, "TransferFunction2D").GetAsProxy();
+  if (!tf2)
+    return "the representation has no TransferFunction2D for '" + array + "'";
+  vtkSMPropertyHelper(repr, "UseGradientForTransfer2D").Set(1);
+  vtkSMPropertyHelper mode(repr, "VolumeRenderingMode");
+  if (mode.GetAsInt() == 1) // Ray Cast Only: vtkFixedPointVolumeRayCastMapper has no 2D TFs
+    mode.Set(0);            // Smart
+  vtkSMPropertyHelper(tf2, "Range").Set(b.range.data(), 4);
+  const int size[2] = { static_cast<int>(b.dims[0]), static_cast<int>(b.dims[1]) };
+  vtkSMPropertyHelper(tf2, "OutputDimensions").Set(size, 2);
+  vtkSMPropertyHelper(tf2, "Boxes").Set(b.boxes.data(), static_cast<unsigned int>(b.boxes.size()));
+  tf2->UpdateVTKObjects();
+  return {};
+}
+
+/// Shared by the 1D and 2D apply: switches `repr` to Volume coloured by `array` and lets `write`
+/// fill its maps (LookupTable, ScalarOpacityFunction).
+template <typename Write>
+std::string applyMaps(vtkSMProxy* repr, const std::string& array, bool twoD, Write write)
+{
+  if (!repr->GetProperty("LookupTable"))
+    return "the active representation has no colour map";
+  if (repr->GetProperty("UseTransfer2D")) // 1D or 2D rendering
+    vtkSMPropertyHelper(repr, "UseTransfer2D").Set(twoD ? 1 : 0);
+  if (auto* pv = vtkSMPVRepresentationProxy::SafeDownCast(repr))
+    pv->SetRepresentationType("Volume");
+  vtkSMPVRepresentationProxy::SetScalarColoring(repr, array.c_str(), vtkDataObject::POINT);
+  vtkSMProxy* lut = vtkSMPropertyHelper(repr, "LookupTable").GetAsProxy();
+  vtkSMProxy* sof = repr->GetProperty("ScalarOpacityFunction")
+    ? vtkSMPropertyHelper(repr, "ScalarOpacityFunction").GetAsProxy()
+    : nullptr;
+  if (!lut || !sof)
+    return "the representation has no colour or opacity map for '" + array + "'";
+  vtkSMPropertyHelper(lut, "AutomaticRescaleRangeMode").Set(-1); // Never
+  const std::string error = write(lut, sof);
+  lut->UpdateVTKObjects();
+  sof->UpdateVTKObjects();
+  repr->UpdateVTKObjects();
+  return error;
+}
+} // namespace
+
+void vtkSMDDGScene::PrintSelf(ostream& os, vtkIndent indent)
+{
+  this->Superclass::PrintSelf(os, indent);
+}
+
+// --- the view --------------------------------------------------------------------------------
+
+std::string vtkSMDDGScene::ViewJSON(
+  vtkSMProxy* view, vtkSMProxy* representationOrSource, int maxSide)
+{
+  auto* proxy = vtkSMRenderViewProxy::SafeDownCast(view);
+  if (!proxy)
+    return {};
+  proxy->SynchronizeCameraProperties();
+  json camera;
+  camera["position"] = triple(proxy, "CameraPosition");
+  camera["focal_point"] = triple(proxy, "CameraFocalPoint");
+  camera["view_up"] = triple(proxy, "CameraViewUp");
+  camera["view_angle"] = vtkSMPropertyHelper(proxy, "CameraViewAngle").GetAsDouble();
+  camera["parallel_projection"] =
+    vtkSMPropertyHelper(proxy, "CameraParallelProjection").GetAsInt() != 0;
+  camera["parallel_scale"] = vtkSMPropertyHelper(proxy, "CameraParallelScale").GetAsDouble();
+  vtkSMPropertyHelper size(proxy, "ViewSize");
+  const double w = std::max(1, size.GetAsInt(0)), h = std::max(1, size.GetAsInt(1));
+  const double scale = maxSide > 0 ? std::min(1.0, maxSide / std::max(w, h)) : 1.0;
+  json out;
+  out["camera"] = camera;
+  out["size"] = json::array({ std::max(1, static_cast<int>(std::lround(w * scale))),
+    std::max(1, static_cast<int>(std::lround(h * scale))) });
+  // ParaView 5.11 keeps the background in "Background" unless the colour palette supplies it
+  out["background"] = triple(proxy, "Background");
+  vtkSMProxy* repr = vtkSMRepresentationProxy::SafeDownCast(representationOrSource);
+  if (!repr && vtkSMSourceProxy::SafeDownCast(representationOrSource))
+    repr = proxy->FindRepresentation(vtkSMSourceProxy::SafeDownCast(representationOrSource), 0);
+  if (repr && repr->GetProperty("ScalarOpacityUnitDistance"))
+    out["opacity_unit_distance"] =
+      vtkSMPropertyHelper(repr, "ScalarOpacityUnitDistance").GetAsDouble();
+  return out.dump();
+}
+
+// --- the volume ------------------------------------------------------------------------------
+
+int vtkSMDDGScene::CheckVolume(vtkSMProxy* source, vtkSMProxy* representation, int port)
+{
+  vtkPVDataInformation* info = dataInformation(source, port);
+  const int type = info ? info->GetDataSetType() : -1;
+  if (type < 0 || (info->GetNumberOfPoints() == 0 && type == VTK_IMAGE_DATA))
+    return NO_DATA;
+  vtkPVArrayInformation* a = chosenArray(info, representation);
+  return a && a->GetNumberOfComponents() == 1 ? IS_VOLUME : NOT_A_VOLUME;
+}
+
+std::string vtkSMDDGScene::VolumeProblem(int check)
+{
+  switch (check)
+  {
+    case IS_VOLUME:
+      return {};
+    case NO_DATA:
+      return "has no data yet";
+    default:
+      return "is not a volume: the Design Gallery needs image data with a one-component point "
+             "array (e.g. a .vti, .raw or DICOM volume)";
+  }
+}
+
+std::string vtkSMDDGScene::VolumeArray(vtkSMProxy* source, vtkSMProxy* representation, int port)
+{
+  if (CheckVolume(source, representation, port) != IS_VOLUME)
+    return {};
+  return chosenArray(dataInformation(source, port), representation)->GetName();
+}
+
+std::string vtkSMDDGScene::DefaultModelDirectory(vtkSMProxy* source, const char* dataDirectory)
+{
+  if (!source || !source->GetProperty("FileName") ||
+    vtkSMPropertyHelper(source, "FileName").GetNumberOfElements() == 0)
+    return {};
+  const char* file = vtkSMPropertyHelper(source, "FileName").GetAsString(0);
+  std::string stem = vtksys::SystemTools::GetFilenameWithoutLastExtension(file ? file : "");
+  std::transform(stem.begin(), stem.end(), stem.begin(),
+    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  const std::string dir = std::string(dataDirectory ? dataDirectory : "") + "/Models/" + stem;
+  return !stem.empty() && vtksys::SystemTools::FileExists(dir + "/bundle.json", true)
+    ? dir
+    : std::string();
+}
+
+// --- transfer functions ----------------------------------------------------------------------
+
+std::string vtkSMDDGScene::Apply1D(
+  vtkSMProxy* representation, const char* array, const char* presetJSON)
+{
+  if (!representation)
+    return "there is no representation of the volume in the active view";
+  const json doc = parse(presetJSON);
+  const json& preset = doc.is_array() && !doc.empty() ? doc.at(0) : doc;
+  const auto rgb = numbers(member(preset, "RGBPoints"));
+  const auto opacity = numbers(member(preset, "Points"));
+  if (doc.is_discarded() || rgb.empty() || rgb.size() % 4 != 0 || opacity.empty() ||
+    opacity.size() % 4 != 0)
+    return "the design's transfer function is not a ParaView preset with RGBPoints and Points";
+  return applyMaps(representation, array ? array : "", false,
+    [&](vtkSMProxy* lut, vtkSMProxy* sof)
+    {
+      vtkSMPropertyHelper(lut, "ColorSpace").Set(colorSpace(member(preset, "ColorSpace")));
+      vtkSMPropertyHelper(lut, "RGBPoints").Set(rgb.data(), static_cast<unsigned int>(rgb.size()));
+      vtkSMPropertyHelper(sof, "Points")
+        .Set(opacity.data(), static_cast<unsigned int>(opacity.size()));
+      return std::string();
+    });
+}
+
+std::string vtkSMDDGScene::Apply2D(
+  vtkSMProxy* representation, const char* array, const char* boxesJSON)
+{
+  if (!representation)
+    return "there is no representation of the volume in the active view";
+  const Boxes b = parseBoxes(boxesJSON);
+  if (!b.error.empty())
+    return b.error;
+  if (!representation->GetProperty("UseTransfer2D") ||
+    !representation->GetProperty("TransferFunction2D"))
+    return "the active representation has no 2D transfer function (ParaView 5.11's volume "
+           "representation of image data has)";
+  const std::string name = array ? array : "";
+  return applyMaps(representation, name, true,
+    [&](vtkSMProxy*, vtkSMProxy*) { return writeBoxes(representation, name, b); });
+}
+
+std::string vtkSMDDGScene::WriteTransferFunction2D(
+  vtkSMProxy* representation, const char* boxesJSON)
+{
+  if (!representation || !representation->GetProperty("TransferFunction2D"))
+    return "the active representation has no 2D transfer function (ParaView 5.11's volume "
+           "representation of image data has)";
+  const Boxes b = parseBoxes(boxesJSON);
+  if (!b.error.empty())
+    return b.error;
+  vtkSMPropertyHelper colour(representation, "ColorArrayName", true);
+  const char* array = colour.GetInputArrayNameToProcess();
+  const std::string error = writeBoxes(representation, array ? array : "", b);
+  representation->UpdateVTKObjects();
+  return error;
+}
+
+std::string vtkSMDDGScene::CurrentPreset(vtkSMProxy* representation)
+{
+  if (!representation || !representation->GetProperty("LookupTable"))
+    return {};
+  vtkSMProxy* lut = vtkSMPropertyHelper(representation, "LookupTable").GetAsProxy();
+  vtkSMProxy* sof = representation->GetProperty("ScalarOpacityFunction")
+    ? vtkSMPropertyHelper(representation, "ScalarOpacityFunction").GetAsProxy()
+    : nullptr;
+  if (!lut || !sof)
+    return {};
+  const int space = vtkSMPropertyHelper(lut, "ColorSpace").GetAsInt();
+  json preset;
+  preset["Name"] = "before the design gallery";
+  preset["ColorSpace"] =
+    space >= 0 && space < static_cast<int>(std::size(kColorSpaces)) ? kColorSpaces[space] : "RGB";
+  preset["RGBPoints"] = vtkSMPropertyHelper(lut, "RGBPoints").GetDoubleArray();
+  preset["Points"] = vtkSMPropertyHelper(sof, "Points").GetDoubleArray();
+  return preset.dump();
+}

@@ -1,0 +1,131 @@
+// vtkSMDDGScene.h: what the Design Gallery reads from and writes to a ParaView scene, on the
+// client through proxies, once for the dock panel and the ddg Python package.
+#pragma once
+
+#include "DDGSceneModule.h" // export macro
+
+#include <vtkObject.h>
+
+#include <string>
+
+class vtkSMProxy;
+
+/**
+ * @class vtkSMDDGScene
+ * @brief Static helpers over server-manager proxies, in the manner of
+ * vtkSMTransferFunctionProxy's and vtkSMPVRepresentationProxy's static methods:
+ *
+ * - ViewJSON: a render view's camera as the DDG view JSON (README "File contracts").
+ * - CheckVolume, VolumeProblem, VolumeArray: whether a source is a volume the Design Gallery
+ *   works on, and which point array is the volume.
+ * - DefaultModelDirectory: the shipped model bundle named like the volume's file.
+ * - Apply1D, Apply2D, WriteTransferFunction2D, CurrentPreset: a design's transfer function
+ *   written into (or read from) a representation's colour, opacity and 2D maps.
+ *
+ * No Qt and no undo stack: the panel wraps Apply1D/Apply2D in an undo set (and lets ParaView's
+ * Color Map Editor react before writing the 2D boxes again); Python calls them as they are
+ * (`from ddg_vtk import DDGScene; DDGScene.vtkSMDDGScene.ViewJSON(view.SMProxy, None, 256)`).
+ * Errors are returned as text (an empty string: no error); the scene is then untouched, unless
+ * said otherwise.
+ */
+class DDGSCENE_EXPORT vtkSMDDGScene : public vtkObject
+{
+public:
+  static vtkSMDDGScene* New();
+  vtkTypeMacro(vtkSMDDGScene, vtkObject);
+  void PrintSelf(ostream& os, vtkIndent indent) override;
+
+  /**
+   * The DDG view JSON (compact text) of render view `view`'s camera: "camera" (position,
+   * focal_point, view_up, view_angle, parallel_projection, parallel_scale as ParaView states them
+   * after SynchronizeCameraProperties), "size" (the view's ViewSize scaled so that its longer
+   * side is at most `maxSide` pixels, never enlarged; `maxSide` <= 0: as it is), "background"
+   * (the view's Background) and, when `representationOrSource` is a representation with a
+   * ScalarOpacityUnitDistance (or a source shown in `view`), "opacity_unit_distance". Empty when
+   * `view` is not a render view.
+   */
+  static std::string ViewJSON(vtkSMProxy* view, vtkSMProxy* representationOrSource, int maxSide);
+
+  /// Result of CheckVolume.
+  enum VolumeCheck
+  {
+    IS_VOLUME = 0,   ///< image data with a one-component point array
+    NO_DATA = 1,     ///< no data information yet (the source was never updated) or no points
+    NOT_A_VOLUME = 2 ///< anything else
+  };
+
+  /**
+   * Whether output `port` (default 0) of `source` is a volume: image data (also uniform grid,
+   * structured points) whose point array chosen by the volume rule has one component. The rule
+   * (the one place it is written; VolumeArray names the array): the point array `representation`
+   * is coloured by when it is given, visible and coloured by a point array of the data; else the
+   * data's active point scalars; else, only without active scalars, the first one-component
+   * point array. Judged from the data information (nothing is updated: update the source first).
+   */
+  static int CheckVolume(vtkSMProxy* source, vtkSMProxy* representation = nullptr, int port = 0);
+
+  /**
+   * A CheckVolume result in words, the predicate after the source's name: "has no data yet",
+   * "is not a volume: the Design Gallery needs image data with a one-component point array (e.g.
+   * a .vti, .raw or DICOM volume)", or "" for IS_VOLUME.
+   */
+  static std::string VolumeProblem(int check);
+
+  /**
+   * The point array of `source` (port `port`, default 0) that is the volume, by the rule of
+   * CheckVolume (`representation` may be nullptr: the data's own scalars). Empty when CheckVolume
+   * is not IS_VOLUME.
+   */
+  static std::string VolumeArray(
+    vtkSMProxy* source, vtkSMProxy* representation = nullptr, int port = 0);
+
+  /**
+   * The shipped model bundle named like `source`'s file: `dataDirectory`/Models/<file name
+   * without its last extension, lower case> (Data/Models/tooth for .../tooth.vti) when it holds
+   * a bundle.json (checked on this machine); empty otherwise or without a FileName property.
+   */
+  static std::string DefaultModelDirectory(vtkSMProxy* source, const char* dataDirectory);
+
+  /**
+   * Writes a ParaView preset (`presetJSON`: a preset object, or a list whose first element is
+   * one, with "RGBPoints" [x, r, g, b, ...], "Points" [x, alpha, midpoint, sharpness, ...] and
+   * "ColorSpace" (default RGB)) into `representation`'s LookupTable and ScalarOpacityFunction:
+   * UseTransfer2D off, the Volume representation, coloured by point array `array`, the LUT set
+   * never to rescale itself (AutomaticRescaleRangeMode Never). The values are the data values of
+   * the preset (no rescaling).
+   */
+  static std::string Apply1D(vtkSMProxy* representation, const char* array, const char* presetJSON);
+
+  /**
+   * Writes a 2D design into `representation`'s TransferFunction2D: `boxesJSON` is the DDG
+   * filters' "ParaViewTransferFunction2D" field ({"Boxes": 8 numbers per box, "Range": 4,
+   * "OutputDimensions": 2}). UseTransfer2D on with the gradient magnitude as Y
+   * (UseGradientForTransfer2D), the Volume representation coloured by `array`, the LUT never
+   * rescaled, VolumeRenderingMode "Ray Cast Only" turned to "Smart" (the fixed-point mapper has
+   * no 2D TFs), then WriteTransferFunction2D.
+   */
+  static std::string Apply2D(vtkSMProxy* representation, const char* array, const char* boxesJSON);
+
+  /**
+   * Only the 2D part of Apply2D: UseGradientForTransfer2D, the rendering mode and the
+   * TransferFunction2D's Range, OutputDimensions and Boxes. In the GUI the Color Map Editor sets
+   * the TF's Range and OutputDimensions from its own histogram after UseTransfer2D changes (after
+   * a render): call this again then.
+   */
+  static std::string WriteTransferFunction2D(vtkSMProxy* representation, const char* boxesJSON);
+
+  /**
+   * The RGBPoints, Points and ColorSpace of `representation`'s LookupTable and
+   * ScalarOpacityFunction as a ParaView preset (JSON text, "Name": "before the design gallery"),
+   * to restore them with Apply1D. Empty when it has no such maps.
+   */
+  static std::string CurrentPreset(vtkSMProxy* representation);
+
+protected:
+  vtkSMDDGScene() = default;
+  ~vtkSMDDGScene() override = default;
+
+private:
+  vtkSMDDGScene(const vtkSMDDGScene&) = delete;
+  void operator=(const vtkSMDDGScene&) = delete;
+};
