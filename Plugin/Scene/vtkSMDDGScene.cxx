@@ -229,6 +229,19 @@ std::string vtkSMDDGScene::VolumeProblem(int check)
   }
 }
 
+std::string vtkSMDDGScene::VolumeProblemOf(vtkSMProxy* source, vtkSMProxy* representation, int port)
+{
+  const int check = CheckVolume(source, representation, port);
+  if (check != NOT_A_VOLUME)
+    return VolumeProblem(check);
+  vtkPVArrayInformation* a = chosenArray(dataInformation(source, port), representation);
+  if (!a || !a->GetName())
+    return VolumeProblem(check);
+  return "is not a volume: its point array '" + std::string(a->GetName()) + "' has " +
+    std::to_string(a->GetNumberOfComponents()) +
+    " components (colour it by, or make active, a one-component point array)";
+}
+
 std::string vtkSMDDGScene::VolumeArray(vtkSMProxy* source, vtkSMProxy* representation, int port)
 {
   if (CheckVolume(source, representation, port) != IS_VOLUME)

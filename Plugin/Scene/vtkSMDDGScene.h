@@ -72,6 +72,14 @@ public:
   static std::string VolumeProblem(int check);
 
   /**
+   * VolumeProblem of `source` (port `port`) with the detail when the array the rule chose has
+   * more than one component: "is not a volume: its point array 'v' has 3 components (colour it
+   * by, or make active, a one-component point array)". Empty for a volume.
+   */
+  static std::string VolumeProblemOf(
+    vtkSMProxy* source, vtkSMProxy* representation = nullptr, int port = 0);
+
+  /**
    * The point array of `source` (port `port`, default 0) that is the volume, by the rule of
    * CheckVolume (`representation` may be nullptr: the data's own scalars). Empty when CheckVolume
    * is not IS_VOLUME.

@@ -11,7 +11,8 @@ from vtkmodules.util import numpy_support
 
 from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _history, _run, _tf_text
 from .plugin import _vtk_module, data_path
-from .scene import _image_text, _proxy, _read_png, _source, _to_numpy, _view, apply, view_json
+from .scene import _display, _image_text, _proxy, _read_png, _scene, _source, _to_numpy, _view
+from .scene import apply, view_json
 from .scene import volume_array
 
 # --- models -------------------------------------------------------------------------------------
@@ -29,14 +30,11 @@ class Model:
 
 
 def _default_model(source):
-    """The shipped bundle named like the volume's file (Data/Models/tooth for tooth.vti)."""
-    if "FileName" in source.ListProperties():
-        f = source.GetPropertyValue("FileName")
-        f = f[0] if isinstance(f, (list, tuple)) else str(f)
-        stem = os.path.splitext(os.path.basename(f))[0].lower()
-        candidate = data_path(os.path.join("Models", stem))
-        if stem and os.path.exists(os.path.join(candidate, "bundle.json")):
-            return Model(candidate, source)
+    """The shipped bundle named like the volume's file (Data/Models/tooth for tooth.vti), by the
+    panel's rule (vtkSMDDGScene::DefaultModelDirectory)."""
+    directory = _scene().DefaultModelDirectory(source.SMProxy, data_path())
+    if directory:
+        return Model(directory, source)
     raise ValueError(
         "no model given and no shipped bundle for this source: pass model= "
         "(ddg.load_model) or build one (ddg.build_design_space)"

@@ -8,10 +8,10 @@ import numpy as np
 from paraview import servermanager
 import paraview.simple as simple
 from vtkmodules.util import numpy_support
-from vtkmodules.vtkCommonDataModel import vtkDataSetAttributes, vtkImageData
+from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
 
-from .plugin import DDGError
+from .plugin import DDGError, _vtk_module
 
 # --- the volume -----------------------------------------------------------------------------------
 
@@ -28,49 +28,43 @@ def _view(view):
     return view or simple.GetActiveViewOrCreate("RenderView")
 
 
+def _scene():
+    """vtkSMDDGScene: the scene rules the panel uses too (the volume's array, view JSON, default
+    model, writing TFs into a representation), in one place."""
+    return _vtk_module("DDGScene").vtkSMDDGScene
+
+
+def _display(source, view):
+    """``source``'s representation in ``view`` (default: the active view), or None."""
+    view = view or simple.GetActiveView()
+    return servermanager.GetRepresentation(source, view) if view is not None else None
+
+
 def volume_array(source, view=None):
     """The name of the volume's point array: the one the filters compute on and whose colour and
     opacity maps a TF goes into. It is the array ParaView's representation colours by, in order:
 
     1. when ``source`` is shown in ``view`` (default: the active view, if any) and its display
        is coloured by a point array: that array (``ColorArrayName``);
-    2. else the data's active point scalars (what ParaView colours by when the user colours it,
-       and what the Design Gallery panel uses, ``pqDDGDesignGalleryDock::setSource``);
+    2. else the data's active point scalars;
     3. else, only when the data has no active point scalars, its first one-component point array.
 
-    (ParaView itself, when a display not coloured by an array is switched to Volume, colours it
-    by the first point array; ``apply`` asks this function first and colours by its answer.)
+    The rule is vtkSMDDGScene's (``Plugin/Scene``), which the Design Gallery panel uses too, so a
+    script and the GUI work on the same array. (ParaView itself, when a display not coloured by an
+    array is switched to Volume, colours it by the first point array; ``apply`` asks this function
+    first and colours by its answer.)
 
-    Raises ValueError when the array so chosen has more than one component (a volume holds one
-    value per voxel: colour by, or make active, a one-component array) or when there is none.
-    The one place where this rule is written: every function of the package calls it.
+    Raises ValueError when the source is not a volume: not image data, or the array so chosen has
+    more than one component (colour it by, or make active, a one-component array).
     """
-    source.UpdatePipeline()  # as paraview.simple's source.PointData does
-    info = source.GetDataInformation().DataInformation.GetPointDataInformation()
-    view = view or simple.GetActiveView()
-    display = servermanager.GetRepresentation(source, view) if view is not None else None
-    name, why = None, ""
-    if display is not None and display.Visibility and display.GetProperty("ColorArrayName"):
-        association, coloured = list(display.ColorArrayName)[:2]
-        if association == "POINTS" and coloured and info.GetArrayInformation(coloured):
-            name, why = coloured, "its display is coloured by"
-    if name is None:
-        active = info.GetAttributeInformation(vtkDataSetAttributes.SCALARS)
-        if active is not None and active.GetName():
-            name, why = active.GetName(), "its active point scalars are"
-    if name is not None:
-        components = info.GetArrayInformation(name).GetNumberOfComponents()
-        if components != 1:
-            raise ValueError(
-                "%s is not a volume: %s '%s', an array of %d components (colour it by, or make "
-                "active, a one-component point array)"
-                % (source.GetXMLLabel(), why, name, components)
-            )
-        return name
-    for i in range(info.GetNumberOfArrays()):
-        if info.GetArrayInformation(i).GetNumberOfComponents() == 1:
-            return info.GetArrayInformation(i).GetName()
-    raise ValueError("%s has no one-component point array: not a volume" % source.GetXMLLabel())
+    source.UpdatePipeline()  # the rule reads the data information
+    display = _display(source, view)
+    proxy = display.SMProxy if display is not None else None
+    name = _scene().VolumeArray(source.SMProxy, proxy, 0)
+    if not name:
+        problem = _scene().VolumeProblemOf(source.SMProxy, proxy, 0)
+        raise ValueError("%s %s" % (source.GetXMLLabel(), problem))
+    return name
 
 
 _helpers = {}  # (filter, source, connection) -> helper proxy
@@ -109,25 +103,12 @@ def view_json(view=None, source=None, max_side=None):
     if isinstance(view, dict):
         return view
     view = _view(view)
-    w, h = [max(1, int(v)) for v in view.ViewSize]
-    scale = min(1.0, max_side / max(w, h)) if max_side else 1.0
-    out = {
-        "camera": {
-            "position": list(view.CameraPosition),
-            "focal_point": list(view.CameraFocalPoint),
-            "view_up": list(view.CameraViewUp),
-            "view_angle": view.CameraViewAngle,
-            "parallel_projection": bool(view.CameraParallelProjection),
-            "parallel_scale": view.CameraParallelScale,
-        },
-        "size": [max(1, round(w * scale)), max(1, round(h * scale))],
-        "background": list(view.Background),
-    }
-    if source is not None:
-        display = simple.GetDisplayProperties(source, view)
-        if display is not None and hasattr(display, "ScalarOpacityUnitDistance"):
-            out["opacity_unit_distance"] = display.ScalarOpacityUnitDistance
-    return out
+    text = _scene().ViewJSON(
+        view.SMProxy, source.SMProxy if source is not None else None, int(max_side or 0)
+    )
+    if not text:
+        raise ValueError("view_json: %s is not a render view" % view.GetXMLName())
+    return json.loads(text)
 
 
 def set_camera(view_file, view=None):
@@ -234,24 +215,14 @@ def apply(tf, display=None, source=None, view=None):
         raise ValueError("apply: this representation has no 2D transfer function (image data has)")
     boxes = paraview_2d(tf, source, view) if two_d else None
     array = volume_array(source, view)  # before the switch to Volume, which may colour by another
-    display.SetRepresentationType("Volume")
-    simple.ColorBy(display, ("POINTS", array))
-    lut = simple.GetColorTransferFunction(array)
-    lut.AutomaticRescaleRangeMode = "Never"
-    if display.GetProperty("UseTransfer2D") is not None:
-        display.UseTransfer2D = int(two_d)
-    if two_d:
-        display.UseGradientForTransfer2D = 1
-        if display.VolumeRenderingMode == "Ray Cast Only":  # the fixed-point mapper has no 2D TFs
-            display.VolumeRenderingMode = "Smart"
-        tf2 = display.TransferFunction2D  # the LUT's too: the Color Map Editor's 2D editor shows it
-        tf2.Range = boxes["Range"]
-        tf2.OutputDimensions = boxes["OutputDimensions"]
-        tf2.Boxes = boxes["Boxes"]
-    else:
-        lut.ColorSpace = preset.get("ColorSpace", "RGB")
-        lut.RGBPoints = preset["RGBPoints"]
-        simple.GetOpacityTransferFunction(array).Points = preset["Points"]
+    scene = _scene()
+    error = (
+        scene.Apply2D(display.SMProxy, array, json.dumps(boxes))
+        if two_d
+        else scene.Apply1D(display.SMProxy, array, json.dumps(preset))
+    )
+    if error:
+        raise DDGError("apply: " + error)
     simple.Render(view)
     return display
 
