@@ -12,7 +12,9 @@ clock, including the `ddg` process start and loading):
                         the screenshot's size, the view a user without a camera has), then
                         `ddg reconstruct --estimate-view` from it (`--resample` when the view size
                         differs from the screenshot's; with --estimate-size)
-and scores each found TF against the true one with score.py (ParaView renders at azimuth
+and, only when asked (--methods), "reconstruct_true_camera_default_background": the true camera
+with the background the project's tools assume by default (0.329, 0.349, 0.427: `ddg view`'s and
+the view JSON's default) instead of what ParaView draws (0.32, 0.34, 0.43). It scores each found TF against the true one with score.py (ParaView renders at azimuth
 0/120/240, elevation 20, on black and white, mean PSNR). Writes OUT/baseline.json (every figure,
 per render too) and OUT/baseline.md (the table), and keeps each method's TF, log and
 (with --keep-renders) the score renders under OUT/<case>/baseline/.
@@ -35,10 +37,16 @@ from score import canonical_renders, score_renders, SIZE  # noqa: E402
 from suite_paraview import DEFAULT_PALETTE_BACKGROUND  # noqa: E402
 
 METHODS = ("query", "reconstruct_true_view", "reconstruct_estimated_view")
+# not run by default (--methods): the true camera in a view JSON with the background the project's
+# tools assume by default, the RenderView's Background property (ddg view, the view JSON's default)
+EXTRA_METHODS = ("reconstruct_true_camera_default_background",)
+PROJECT_DEFAULT_BACKGROUND = [0.329, 0.349, 0.427]
 LABELS = {
     "query": "query (shipped model, true view)",
     "reconstruct_true_view": "reconstruct, true view",
     "reconstruct_estimated_view": "reconstruct --estimate-view from the reset camera",
+    "reconstruct_true_camera_default_background": "reconstruct, true camera, background "
+    + " ".join(str(x) for x in PROJECT_DEFAULT_BACKGROUND),
 }
 
 
@@ -89,6 +97,18 @@ def run_case(case, args, models_dir):
         + (["--resample"] if list(size) != list(case["size"]) else []),
     ]
     jobs["reconstruct_estimated_view"] = estimate
+    with open(case["true_view"]) as f:
+        other_background = dict(json.load(f), background=PROJECT_DEFAULT_BACKGROUND)
+    other_view = os.path.join(work, "true_camera_default_background_view.json")
+    with open(other_view, "w") as f:
+        json.dump(other_background, f, indent=2)
+    jobs["reconstruct_true_camera_default_background"] = [
+        [ddg, "reconstruct", "--volume", volume, "--target", image, "--view", other_view]
+        + ["--out", os.path.join(work, "reconstruct_true_camera_default_background.json")]
+        + ["--quiet"]
+        + threads
+    ]
+    jobs = {m: c for m, c in jobs.items() if m in args.methods}
 
     keep = work if args.keep_renders else None
     true = canonical_renders(volume, case["true_tf"], args.score_size, keep, "true")
@@ -125,6 +145,7 @@ def run_case(case, args, models_dir):
 
 
 def markdown(records, meta):
+    methods = [m for m in METHODS + EXTRA_METHODS if m in meta["methods"]]
     lines = [
         "# Suite baseline (issue 17, before)",
         "",
@@ -134,14 +155,14 @@ def markdown(records, meta):
         % (meta["score_size"][0], meta["score_size"][1], meta["threads"] or "all", meta["host"]),
         "",
         "| case | volume | size | format | azimuth / elevation / roll / zoom | "
-        + " | ".join(LABELS[m] + ": dB (black / white), s" for m in METHODS)
+        + " | ".join(LABELS[m] + ": dB (black / white), s" for m in methods)
         + " |",
-        "|---" * (5 + len(METHODS)) + "|",
+        "|---" * (5 + len(methods)) + "|",
     ]
     for r in records:
         m = r["camera_moves"]
         cells = []
-        for method in METHODS:
+        for method in methods:
             e = r["methods"].get(method)
             if e is None:
                 cells.append("—")
@@ -168,7 +189,7 @@ def markdown(records, meta):
             )
         )
     lines.append("")
-    for method in METHODS:
+    for method in methods:
         values = [
             r["methods"][method]["psnr"]
             for r in records
@@ -211,6 +232,13 @@ def main():
     )
     parser.add_argument("--case", action="append", help="only this case (repeatable)")
     parser.add_argument("--keep-renders", action="store_true")
+    parser.add_argument(
+        "--methods",
+        nargs="+",
+        default=list(METHODS),
+        choices=METHODS + EXTRA_METHODS,
+        help="methods to run (default: %s)" % " ".join(METHODS),
+    )
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     with open(os.path.join(args.suite, "suite.json")) as f:
@@ -229,6 +257,7 @@ def main():
         "suite": os.path.abspath(args.suite),
         "ddg": os.path.abspath(args.ddg),
         "threads": args.threads,
+        "methods": args.methods,
         "score_size": args.score_size,
         "estimate_size": args.estimate_size,
         "host": "%s, %d cores" % (platform.machine(), os.cpu_count()),
