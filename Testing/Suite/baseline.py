@@ -14,8 +14,9 @@ clock, including the `ddg` process start and loading):
                         differs from the screenshot's; with --estimate-size)
 and, only when asked (--methods), "reconstruct_true_camera_default_background": the true camera
 with the background the project's tools assume by default (0.329, 0.349, 0.427: `ddg view`'s and
-the view JSON's default) instead of what ParaView draws (0.32, 0.34, 0.43). It scores each found TF against the true one with score.py (ParaView renders at azimuth
-0/120/240, elevation 20, on black and white, mean PSNR). Writes OUT/baseline.json (every figure,
+the view JSON's default) instead of what ParaView draws (0.32, 0.34, 0.43).
+It scores each found TF against the true one with score.py (ParaView renders at azimuth 0/120/240,
+elevation 20, on black and white, mean PSNR). Writes OUT/baseline.json (every figure,
 per render too) and OUT/baseline.md (the table), and keeps each method's TF, log and
 (with --keep-renders) the score renders under OUT/<case>/baseline/.
 
