@@ -5,11 +5,11 @@ ParaView's reset camera, screenshots read back as arrays.
 The default GUI look: ParaView 5.11 draws a render view's background from the global colour
 palette (``UseColorPaletteForBackground`` is 1 on a new view), whose default background is
 (0.32, 0.34, 0.43): the ``BackgroundColor`` default of the ``ColorPalette`` settings proxy
-(``Remoting/Application/Resources/utilities_remotingapplication.xml`` in ParaView 5.11, read
-here from the installed ``libvtkRemotingApplication-pv5.11.so``), measured as the 8-bit pixel
-(82, 87, 110) in a pvpython screenshot under Xvfb. The view's own ``Background`` property
-defaults to (0.329, 0.349, 0.427), but it is only drawn when the palette is switched off, which is
-why the project's view JSON default differs from what a user's screenshot shows.
+(ParaView 5.11's server-manager XML, read here from the copy embedded in the installed
+``libvtkRemotingApplication-pv5.11.so``; pvpython reports it as the palette's ``Background``),
+measured as the 8-bit pixel (82, 87, 110) in a pvpython screenshot under Xvfb. The view's own
+``Background`` property defaults to (0.329, 0.349, 0.427), but it is only drawn when the palette
+is switched off: the project's view JSON default is that one, not what a user's screenshot shows.
 """
 import math
 import os
