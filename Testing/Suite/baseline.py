@@ -1,0 +1,275 @@
+"""The "before" of issue 17: today's screenshot -> TF methods on every case of the suite, scored.
+
+For each case of a suite built by make_suite.py (OUT/suite.json) it runs, timing each (wall
+clock, including the `ddg` process start and loading):
+  query                 `ddg query --out-tf` with the volume's shipped model (Data/Models/<volume>;
+                        cases of volumes without one skip it), at the true view
+  reconstruct, true view
+                        `ddg reconstruct` with the true view JSON (the camera is known: an upper
+                        bound for what a user without the camera can get)
+  reconstruct, estimated view
+                        `ddg view --size W H --background <palette>` (ParaView's reset camera at
+                        the screenshot's size, the view a user without a camera has), then
+                        `ddg reconstruct --estimate-view` from it (`--resample` when the view size
+                        differs from the screenshot's; with --estimate-size)
+and, only when asked (--methods), "reconstruct_true_camera_default_background": the true camera
+with the background the project's tools assume by default (0.329, 0.349, 0.427: `ddg view`'s and
+the view JSON's default) instead of what ParaView draws (0.32, 0.34, 0.43).
+It scores each found TF against the true one with score.py (ParaView renders at azimuth 0/120/240,
+elevation 20, on black and white, mean PSNR). Writes OUT/baseline.json (every figure,
+per render too) and OUT/baseline.md (the table), and keeps each method's TF, log and
+(with --keep-renders) the score renders under OUT/<case>/baseline/.
+
+Run (pvpython under a display; ~1 min per case on 1 thread):
+    scripts/with-xvfb.sh /usr/bin/pvpython Testing/Suite/baseline.py --suite build/suite \\
+        --ddg build/bin/ddg --out build/suite/baseline [--threads 1]
+"""
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+from score import canonical_renders, score_renders, SIZE  # noqa: E402
+from suite_paraview import DEFAULT_PALETTE_BACKGROUND  # noqa: E402
+
+METHODS = ("query", "reconstruct_true_view", "reconstruct_estimated_view")
+# not run by default (--methods): the true camera in a view JSON with the background the project's
+# tools assume by default, the RenderView's Background property (ddg view, the view JSON's default)
+EXTRA_METHODS = ("reconstruct_true_camera_default_background",)
+PROJECT_DEFAULT_BACKGROUND = [0.329, 0.349, 0.427]
+LABELS = {
+    "query": "query (shipped model, true view)",
+    "reconstruct_true_view": "reconstruct, true view",
+    "reconstruct_estimated_view": "reconstruct --estimate-view from the reset camera",
+    "reconstruct_true_camera_default_background": "reconstruct, true camera, background "
+    + " ".join(str(x) for x in PROJECT_DEFAULT_BACKGROUND),
+}
+
+
+def run(cmd, log):
+    """Runs a command, its output into ``log``; returns (seconds, exit status)."""
+    start = time.time()
+    with open(log, "w") as f:
+        f.write(" ".join(cmd) + "\n")
+        f.flush()
+        status = subprocess.run(cmd, stdout=f, stderr=subprocess.STDOUT).returncode
+    return time.time() - start, status
+
+
+def last_lines(path, n=2):
+    with open(path) as f:
+        return " | ".join(line.strip() for line in f.read().strip().splitlines()[-n:])
+
+
+def run_case(case, args, models_dir):
+    """Runs every method on one case; returns its record."""
+    work = os.path.join(os.path.dirname(case["image"]), "baseline")
+    os.makedirs(work, exist_ok=True)
+    ddg, volume, image = args.ddg, case["volume"], case["image"]
+    threads = ["--threads", str(args.threads)]
+    name = os.path.splitext(os.path.basename(volume))[0]
+    model = os.path.join(models_dir, name)
+    jobs = {}
+    if os.path.isfile(os.path.join(model, "bundle.json")):
+        jobs["query"] = [
+            [ddg, "query", "--model", model, "--volume", volume, "--image", image]
+            + ["--view", case["true_view"], "--out-tf", os.path.join(work, "query.json")]
+        ]
+    jobs["reconstruct_true_view"] = [
+        [ddg, "reconstruct", "--volume", volume, "--target", image, "--view", case["true_view"]]
+        + ["--out", os.path.join(work, "reconstruct_true_view.json"), "--quiet"]
+        + threads
+    ]
+    size = args.estimate_size or case["size"]
+    reset_view = os.path.join(work, "reset_view.json")
+    estimate = [
+        [ddg, "view", "--volume", volume, "--out", reset_view, "--size", str(size[0]), str(size[1])]
+        + ["--background"]
+        + [str(x) for x in case["background"]],
+        [ddg, "reconstruct", "--volume", volume, "--target", image, "--view", reset_view]
+        + ["--estimate-view", "--out-view", os.path.join(work, "estimated_view.json")]
+        + ["--out", os.path.join(work, "reconstruct_estimated_view.json"), "--quiet"]
+        + threads
+        + (["--resample"] if list(size) != list(case["size"]) else []),
+    ]
+    jobs["reconstruct_estimated_view"] = estimate
+    with open(case["true_view"]) as f:
+        other_background = dict(json.load(f), background=PROJECT_DEFAULT_BACKGROUND)
+    other_view = os.path.join(work, "true_camera_default_background_view.json")
+    with open(other_view, "w") as f:
+        json.dump(other_background, f, indent=2)
+    jobs["reconstruct_true_camera_default_background"] = [
+        [ddg, "reconstruct", "--volume", volume, "--target", image, "--view", other_view]
+        + ["--out", os.path.join(work, "reconstruct_true_camera_default_background.json")]
+        + ["--quiet"]
+        + threads
+    ]
+    jobs = {m: c for m, c in jobs.items() if m in args.methods}
+
+    keep = work if args.keep_renders else None
+    true = canonical_renders(volume, case["true_tf"], args.score_size, keep, "true")
+    results = {}
+    for method, commands in jobs.items():
+        log = os.path.join(work, method + ".log")
+        seconds, status = 0.0, 0
+        for i, cmd in enumerate(commands):
+            s, status = run(cmd, log if i == len(commands) - 1 else log + ".%d" % i)
+            seconds += s
+            if status != 0:
+                break
+        tf = os.path.join(work, method + ".json")
+        entry = {"seconds": seconds, "status": status, "tf": tf, "log": last_lines(log)}
+        if status == 0 and os.path.isfile(tf):
+            found = canonical_renders(volume, tf, args.score_size, keep, method)
+            entry.update(score_renders(found, true))
+        else:
+            entry["psnr"] = None
+        if method == "reconstruct_estimated_view" and status == 0:
+            with open(os.path.join(work, "estimated_view.json")) as f:
+                entry["estimated_camera"] = json.load(f)["camera"]
+        results[method] = entry
+        psnr = "failed" if entry["psnr"] is None else "%.2f dB" % entry["psnr"]
+        print(f"  {LABELS[method]:52s} {psnr:>9s}  {seconds:6.1f} s", flush=True)
+    return {
+        "name": case["name"],
+        "volume": name,
+        "size": case["size"],
+        "format": case["format"],
+        "camera_moves": case["camera_moves"],
+        "methods": results,
+    }
+
+
+def markdown(records, meta):
+    methods = [m for m in METHODS + EXTRA_METHODS if m in meta["methods"]]
+    lines = [
+        "# Suite baseline (issue 17, before)",
+        "",
+        "Score: mean PSNR (dB) of ParaView's renders of the found TF against the true TF at "
+        "azimuth 0/120/240, elevation 20, on black and on white (%dx%d); in brackets black / "
+        "white. Time: wall clock of the `ddg` commands (s), %s thread(s), %s."
+        % (meta["score_size"][0], meta["score_size"][1], meta["threads"] or "all", meta["host"]),
+        "",
+        "| case | volume | size | format | azimuth / elevation / roll / zoom | "
+        + " | ".join(LABELS[m] + ": dB (black / white), s" for m in methods)
+        + " |",
+        "|---" * (5 + len(methods)) + "|",
+    ]
+    for r in records:
+        m = r["camera_moves"]
+        cells = []
+        for method in methods:
+            e = r["methods"].get(method)
+            if e is None:
+                cells.append("—")
+            elif e["psnr"] is None:
+                cells.append("failed (%.1f s)" % e["seconds"])
+            else:
+                b = e["psnr_by_background"]
+                cells.append(
+                    "%.2f (%.2f / %.2f), %.1f s" % (e["psnr"], b["black"], b["white"], e["seconds"])
+                )
+        lines.append(
+            "| %s | %s | %dx%d | %s | %.0f° / %.0f° / %.0f° / %.2f | %s |"
+            % (
+                r["name"],
+                r["volume"],
+                r["size"][0],
+                r["size"][1],
+                r["format"].upper(),
+                m["azimuth"],
+                m["elevation"],
+                m["roll"],
+                m["zoom"],
+                " | ".join(cells),
+            )
+        )
+    lines.append("")
+    for method in methods:
+        values = [
+            r["methods"][method]["psnr"]
+            for r in records
+            if method in r["methods"] and r["methods"][method]["psnr"] is not None
+        ]
+        times = [r["methods"][method]["seconds"] for r in records if method in r["methods"]]
+        if values:
+            lines.append(
+                "- %s: mean %.2f dB over %d cases (min %.2f, max %.2f), mean %.1f s"
+                % (
+                    LABELS[method],
+                    sum(values) / len(values),
+                    len(values),
+                    min(values),
+                    max(values),
+                    sum(times) / len(times),
+                )
+            )
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    parser = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
+    parser.add_argument("--suite", required=True, help="folder written by make_suite.py")
+    parser.add_argument("--ddg", required=True, help="the ddg program")
+    parser.add_argument("--out", required=True, help="where baseline.json and .md go")
+    parser.add_argument(
+        "--models", default=os.path.join(HERE, "..", "..", "Data", "Models"), help="model bundles"
+    )
+    parser.add_argument("--threads", type=int, default=0, help="ddg reconstruct --threads")
+    parser.add_argument("--score-size", type=int, nargs=2, default=list(SIZE))
+    parser.add_argument(
+        "--estimate-size",
+        type=int,
+        nargs=2,
+        help="size of the reset view for --estimate-view (default: the screenshot's; another "
+        "size adds --resample)",
+    )
+    parser.add_argument("--case", action="append", help="only this case (repeatable)")
+    parser.add_argument("--keep-renders", action="store_true")
+    parser.add_argument(
+        "--methods",
+        nargs="+",
+        default=list(METHODS),
+        choices=METHODS + EXTRA_METHODS,
+        help="methods to run (default: %s)" % " ".join(METHODS),
+    )
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    with open(os.path.join(args.suite, "suite.json")) as f:
+        listing = json.load(f)["cases"]
+    records = []
+    start = time.time()
+    for path in listing:
+        with open(path) as f:
+            case = json.load(f)
+        if args.case and case["name"] not in args.case:
+            continue
+        assert case["background"] == DEFAULT_PALETTE_BACKGROUND
+        print(case["name"], flush=True)
+        records.append(run_case(case, args, os.path.abspath(args.models)))
+    meta = {
+        "suite": os.path.abspath(args.suite),
+        "ddg": os.path.abspath(args.ddg),
+        "threads": args.threads,
+        "methods": args.methods,
+        "score_size": args.score_size,
+        "estimate_size": args.estimate_size,
+        "host": "%s, %d cores" % (platform.machine(), os.cpu_count()),
+        "minutes": (time.time() - start) / 60.0,
+    }
+    with open(os.path.join(args.out, "baseline.json"), "w") as f:
+        json.dump({"meta": meta, "cases": records}, f, indent=2)
+    with open(os.path.join(args.out, "baseline.md"), "w") as f:
+        f.write(markdown(records, meta))
+    print("wrote %s (%.1f min)" % (os.path.join(args.out, "baseline.md"), meta["minutes"]))
+
+
+if __name__ == "__main__":
+    main()
