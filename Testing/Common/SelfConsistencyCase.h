@@ -30,17 +30,11 @@ inline std::vector<GaussianPrimitive> randomPrimitives(unsigned seed)
   return p;
 }
 
-/// Straight-alpha RGBA (as a PNG holds it) from a premultiplied render.
+/// Straight-alpha RGBA (as a PNG holds it) from a premultiplied render (Core's
+/// unpremultiplyAlpha).
 inline Image straightAlpha(const Image& premultiplied)
 {
-  Image out = premultiplied;
-  for (size_t i = 0; i < out.pixels.size(); i += 4)
-  {
-    const float a = out.pixels[i + 3];
-    for (int c = 0; c < 3; ++c)
-      out.pixels[i + c] = a > 0 ? std::min(1.0f, out.pixels[i + c] / a) : 0.0f;
-  }
-  return out;
+  return unpremultiplyAlpha(premultiplied);
 }
 
 } // namespace ddg::testcase
