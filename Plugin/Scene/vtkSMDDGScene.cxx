@@ -11,6 +11,7 @@
 #include <vtkSMPropertyHelper.h>
 #include <vtkSMRenderViewProxy.h>
 #include <vtkSMRepresentationProxy.h>
+#include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
 #include <vtksys/SystemTools.hxx>
 
@@ -192,8 +193,17 @@ std::string vtkSMDDGScene::ViewJSON(
   out["camera"] = camera;
   out["size"] = json::array({ std::max(1, static_cast<int>(std::lround(w * scale))),
     std::max(1, static_cast<int>(std::lround(h * scale))) });
-  // ParaView 5.11 keeps the background in "Background" unless the colour palette supplies it
+  // The background ParaView draws: a new view takes it from the colour palette
+  // (UseColorPaletteForBackground, default on; ParaView 5.11's palette: 0.32 0.34 0.43), and only
+  // otherwise from its own Background property (0.329 0.349 0.427 by default, never drawn then).
   out["background"] = triple(proxy, "Background");
+  vtkSMProxy* palette = proxy->GetSessionProxyManager()
+    ? proxy->GetSessionProxyManager()->GetProxy("settings", "ColorPalette")
+    : nullptr;
+  if (proxy->GetProperty("UseColorPaletteForBackground") &&
+    vtkSMPropertyHelper(proxy, "UseColorPaletteForBackground").GetAsInt() != 0 && palette &&
+    palette->GetProperty("BackgroundColor")) // labelled "Background" in Python
+    out["background"] = triple(palette, "BackgroundColor");
   vtkSMProxy* repr = vtkSMRepresentationProxy::SafeDownCast(representationOrSource);
   if (!repr && vtkSMSourceProxy::SafeDownCast(representationOrSource))
     repr = proxy->FindRepresentation(vtkSMSourceProxy::SafeDownCast(representationOrSource), 0);

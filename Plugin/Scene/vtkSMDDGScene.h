@@ -40,9 +40,10 @@ public:
    * focal_point, view_up, view_angle, parallel_projection, parallel_scale as ParaView states them
    * after SynchronizeCameraProperties), "size" (the view's ViewSize scaled so that its longer
    * side is at most `maxSide` pixels, never enlarged; `maxSide` <= 0: as it is), "background"
-   * (the view's Background) and, when `representationOrSource` is a representation with a
-   * ScalarOpacityUnitDistance (or a source shown in `view`), "opacity_unit_distance". Empty when
-   * `view` is not a render view.
+   * (the colour ParaView draws: the colour palette's Background when the view's
+   * UseColorPaletteForBackground is on, as it is for a new view, else the view's Background) and,
+   * when `representationOrSource` is a representation with a ScalarOpacityUnitDistance (or a source
+   * shown in `view`), "opacity_unit_distance". Empty when `view` is not a render view.
    */
   static std::string ViewJSON(vtkSMProxy* view, vtkSMProxy* representationOrSource, int maxSide);
 

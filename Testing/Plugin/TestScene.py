@@ -64,7 +64,12 @@ check(
     v["size"] == [round_half_away(w * 64 / max(w, h)), round_half_away(h * 64 / max(w, h))],
     "ViewJSON size %s for ViewSize %s at 64" % (v["size"], [w, h]),
 )
-check(v["background"] == list(view.Background), "ViewJSON background %s" % v["background"])
+drawn = (
+    list(simple.GetSettingsProxy("ColorPalette").Background)
+    if view.UseColorPaletteForBackground
+    else list(view.Background)
+)
+check(v["background"] == drawn, "ViewJSON background %s = the colour drawn" % v["background"])
 check(
     v.get("opacity_unit_distance") == display.ScalarOpacityUnitDistance,
     "ViewJSON opacity_unit_distance %s" % v.get("opacity_unit_distance"),
@@ -72,6 +77,21 @@ check(
 check(json.loads(S.ViewJSON(view.SMProxy, tooth.SMProxy, 64)) == v, "ViewJSON with the source")
 check(json.loads(S.ViewJSON(view.SMProxy, None, 0))["size"] == [w, h], "ViewJSON at full size")
 check(S.ViewJSON(None, display.SMProxy, 64) == "", "ViewJSON without a view is empty")
+palette, own = view.UseColorPaletteForBackground, list(view.Background)
+view.UseColorPaletteForBackground = 0
+view.Background = [1.0, 1.0, 1.0]
+check(
+    json.loads(S.ViewJSON(view.SMProxy, None, 0))["background"] == [1.0, 1.0, 1.0],
+    "ViewJSON background without the palette: the view's own",
+)
+view.UseColorPaletteForBackground = 1
+check(
+    json.loads(S.ViewJSON(view.SMProxy, None, 0))["background"]
+    == list(simple.GetSettingsProxy("ColorPalette").Background),
+    "ViewJSON background with the palette: the palette's %s"
+    % list(simple.GetSettingsProxy("ColorPalette").Background),
+)
+view.UseColorPaletteForBackground, view.Background = palette, own
 
 # --- the volume ---
 check(
