@@ -45,7 +45,9 @@ double weightOf(const ColorClusters& cl, const EditRegion& region, int x, int y)
   return cl.labels[static_cast<size_t>(y) * cl.width + x] == region.cluster ? 1.0 : 0.0;
 }
 
-void checkRegion(const ColorClusters& cl, const EditRegion& region, const Image& im)
+} // namespace
+
+void checkEditRegion(const ColorClusters& cl, const EditRegion& region, const Image& im)
 {
   checkRGBA(im);
   if (!region.mask.empty())
@@ -61,7 +63,6 @@ void checkRegion(const ColorClusters& cl, const EditRegion& region, const Image&
     throw Error("colour cluster " + std::to_string(region.cluster) + " does not exist (0.." +
       std::to_string(cl.count() - 1) + ")");
 }
-} // namespace
 
 int ColorClusters::at(int x, int y) const
 {
@@ -171,7 +172,7 @@ ColorClusters colorClusters(const Image& rgba, int k)
 Image recolour(const Image& rgba, const ColorClusters& clusters, const EditRegion& region,
   double dHue, double satScale, double dLightness)
 {
-  checkRegion(clusters, region, rgba);
+  checkEditRegion(clusters, region, rgba);
   if (!std::isfinite(dHue) || !(satScale >= 0) || !std::isfinite(satScale) ||
     !std::isfinite(dLightness))
     throw Error(
@@ -201,7 +202,7 @@ Image recolour(const Image& rgba, const ColorClusters& clusters, const EditRegio
 Image changeVisibility(
   const Image& rgba, const ColorClusters& clusters, const EditRegion& region, double factor)
 {
-  checkRegion(clusters, region, rgba);
+  checkEditRegion(clusters, region, rgba);
   if (!(factor >= 0) || !std::isfinite(factor))
     throw Error("a visibility factor must be finite and >= 0");
   Image out = rgba;

@@ -39,6 +39,10 @@ struct EditRegion
   Image mask;
 };
 
+/// Throws ddg::Error unless `region` can be edited in `rgba` (premultiplied RGBA): a one-channel
+/// mask of the image's size, or a cluster that exists among `clusters` (of this image).
+void checkEditRegion(const ColorClusters& clusters, const EditRegion& region, const Image& rgba);
+
 /// Recolours the region: hue rotated by dHue degrees and saturation scaled by satScale (HSV),
 /// lightness shifted by dLightness in CIELAB L* units; alpha kept. Returns premultiplied RGBA.
 Image recolour(const Image& rgba, const ColorClusters& clusters, const EditRegion& region,

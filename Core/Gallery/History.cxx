@@ -316,9 +316,7 @@ DesignEditResult editDesign(const DesignGallery& gallery, const std::vector<floa
     region.cluster = e.cluster;
   if (region.mask.empty() && region.cluster < 0)
     throw Error("an image edit needs what to edit: a cluster, a picked pixel or a mask");
-  if (region.mask.empty() && region.cluster >= r.clusters.count()) // also for a no-op edit
-    throw Error("colour cluster " + std::to_string(region.cluster) + " does not exist (0.." +
-      std::to_string(r.clusters.count() - 1) + ")");
+  checkEditRegion(r.clusters, region, r.before); // also for an edit that changes nothing
   r.cluster = region.cluster;
   r.edited = r.before;
   if (e.hue != 0 || e.saturation != 1 || e.lightness != 0)

@@ -58,7 +58,7 @@ int runAnimate(const AnimateArgs& a)
   {
     std::snprintf(name, sizeof(name), "/key_%04d.json", k);
     ddg::exportTransferFunction(g.explicitTransferFunction(anim.latents[k], view, lock.get()),
-      a.out + name, "paraview", session->volume().range(), g.caster().opacityUnitDistance(view));
+      a.out + name, "paraview", g.caster(), view);
   }
   std::printf("animation: %d frames (%zu keyframes with explicit TFs, %s easing) in %.1f s; wrote "
               "%s/frame_*.png (ray casts), neural_*.png, key_*.json, preview.gif\n",

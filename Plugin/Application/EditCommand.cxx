@@ -109,8 +109,8 @@ int runEdit(const EditArgs& a)
     ddg::writeLatentFile(z, a.outLatent);
   if (!a.outTF.empty())
   {
-    ddg::exportTransferFunction(g.explicitTransferFunction(z, view, lock.get()), a.outTF, a.format,
-      session->volume().range(), g.caster().opacityUnitDistance(view));
+    ddg::exportTransferFunction(
+      g.explicitTransferFunction(z, view, lock.get()), a.outTF, a.format, g.caster(), view);
   }
   return 0;
 }

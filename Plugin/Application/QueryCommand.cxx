@@ -64,8 +64,7 @@ int runQuery(const QueryArgs& a)
   {
     const auto t2 = Clock::now();
     const auto tf = g.explicitTransferFunction(r.latent, view);
-    ddg::exportTransferFunction(
-      tf, a.outTF, a.format, session->volume().range(), g.caster().opacityUnitDistance(view));
+    ddg::exportTransferFunction(tf, a.outTF, a.format, g.caster(), view);
     tfMs = msSince(t2);
   }
   std::printf("times: load %.0f ms (PCA %.0f ms), query (analyzer, neighbours, %dx%d preview) "

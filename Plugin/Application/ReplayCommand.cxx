@@ -54,8 +54,8 @@ int runReplay(const ReplayArgs& a)
     ddg::writeImage(ddg::compositeOverBackground(g.render(z, view), view.background), a.outDesign);
   if (!a.outTF.empty())
   {
-    ddg::exportTransferFunction(g.explicitTransferFunction(z, view), a.outTF, a.format,
-      session->volume().range(), g.caster().opacityUnitDistance(view));
+    ddg::exportTransferFunction(
+      g.explicitTransferFunction(z, view), a.outTF, a.format, g.caster(), view);
   }
   return 0;
 }

@@ -132,13 +132,13 @@ class Methods:
             json.dump(obj, f)
         return path
 
-    def query(self, case, shot, view_file, tag):
-        """(b'): analyzer -> TF decoder (`ddg query`)."""
-        out = self.path(f"{tag}_query.json")
+    def query(self, case, shot, view_file, tag, model="model", suffix="query"):
+        """(b'): analyzer -> TF decoder (`ddg query` with the case's `model` bundle)."""
+        out = self.path(f"{tag}_{suffix}.json")
         _, s = self.ddg(
             "query",
             "--model",
-            case["model"],
+            case[model],
             "--volume",
             case["volume"],
             "--image",
@@ -232,21 +232,7 @@ class Methods:
 
     def neural(self, case, shot, view_file, tag):
         """(b): the U-Net bundle's analyzer and renderer, then reconstruction from its render."""
-        out = self.path(f"{tag}_neural.json")
-        _, s = self.ddg(
-            "query",
-            "--model",
-            case["unet"],
-            "--volume",
-            case["volume"],
-            "--image",
-            shot,
-            "--view",
-            view_file,
-            "--out-tf",
-            out,
-        )
-        return out, s
+        return self.query(case, shot, view_file, tag, model="unet", suffix="neural")
 
     def evaluate(self, case, preset, tag):
         """PSNR/SSIM of ParaView's renders of `preset` against the references at both views."""
