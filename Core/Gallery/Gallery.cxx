@@ -296,8 +296,10 @@ TransferFunctionFile DesignGallery::explicitTransferFunction(
   const DifferentiableRenderer diff(Vol);
   ReconstructionOptions opt;
   opt.twoD = dims == 2;
-  const auto result = reconstructTransferFunction(
-    diff, { { compositeOverBackground(render(latent, view), view.background), view, {} } }, opt);
+  ReconstructionTarget target;
+  target.image = compositeOverBackground(render(latent, view), view.background);
+  target.view = view;
+  const auto result = reconstructTransferFunction(diff, { target }, opt);
   TransferFunctionFile tf;
   tf.is2D = result.twoD;
   if (result.twoD)

@@ -43,27 +43,37 @@ Image premultiplyAlpha(const Image& in)
 
 Image compositeOverBackground(const Image& in, const std::array<double, 3>& background)
 {
+  return compositeOverBackground(in, background, background);
+}
+
+Image compositeOverBackground(
+  const Image& in, const std::array<double, 3>& bottom, const std::array<double, 3>& top)
+{
   if (in.channels != 4)
   {
     throw Error("compositeOverBackground needs an RGBA image");
   }
   Image out(in.width, in.height, 3);
-  long bg8[3];
-  for (int c = 0; c < 3; ++c)
+  for (int y = 0; y < in.height; ++y)
   {
-    bg8[c] = std::lround(255.0 * std::clamp(background[c], 0.0, 1.0));
-  }
-  const size_t n = static_cast<size_t>(in.width) * in.height;
-  for (size_t i = 0; i < n; ++i)
-  {
-    const double a = std::clamp(static_cast<double>(in.pixels[4 * i + 3]), 0.0, 1.0);
-    const long a8 = std::lround(255.0 * a);
+    const double t = (y + 0.5) / in.height; // 0 at the top row
+    long bg8[3];
     for (int c = 0; c < 3; ++c)
     {
-      const double col = std::clamp(static_cast<double>(in.pixels[4 * i + c]), 0.0, 1.0);
-      long v = std::lround(255.0 * col) + std::lround(bg8[c] * (255 - a8) / 255.0);
-      v = std::min(v, 255L);
-      out.pixels[3 * i + c] = static_cast<float>(v) / 255.0f;
+      bg8[c] = std::lround(255.0 * std::clamp(top[c] * (1 - t) + bottom[c] * t, 0.0, 1.0));
+    }
+    for (int x = 0; x < in.width; ++x)
+    {
+      const size_t i = static_cast<size_t>(y) * in.width + x;
+      const double a = std::clamp(static_cast<double>(in.pixels[4 * i + 3]), 0.0, 1.0);
+      const long a8 = std::lround(255.0 * a);
+      for (int c = 0; c < 3; ++c)
+      {
+        const double col = std::clamp(static_cast<double>(in.pixels[4 * i + c]), 0.0, 1.0);
+        long v = std::lround(255.0 * col) + std::lround(bg8[c] * (255 - a8) / 255.0);
+        v = std::min(v, 255L);
+        out.pixels[3 * i + c] = static_cast<float>(v) / 255.0f;
+      }
     }
   }
   return out;

@@ -43,6 +43,10 @@ struct Image
 /// bg8 = round(255 background), per channel, clamped to 255. Returns RGB with values k / 255.
 Image compositeOverBackground(
   const Image& premultipliedRGBA, const std::array<double, 3>& background);
+/// The same over ParaView's vertical gradient background: `bottom` at the bottom row, `top` at
+/// the top row, linear at pixel centres (View::backgroundAt).
+Image compositeOverBackground(const Image& premultipliedRGBA, const std::array<double, 3>& bottom,
+  const std::array<double, 3>& top);
 
 /// Straight (unpremultiplied) alpha from premultiplied RGBA, as PNG stores it: C / A clamped to
 /// 1, and 0 where A = 0. Throws ddg::Error for an image without 4 channels.

@@ -31,7 +31,9 @@ struct PreparedTarget
   std::vector<float> value;    // 4 (alpha) or 3 values per pixel
   std::vector<float> weight;   // per pixel (mask), empty = 1
   std::vector<int> candidates; // pixels with weight > 0
-  std::array<double, 3> background{ 0, 0, 0 };
+  std::vector<std::array<double, 3>> background; // per image row (opaque targets)
+  std::vector<float> empty;                      // per pixel: weight of the empty-space term
+  int width = 1;
 };
 
 PreparedTarget prepare(const ReconstructionTarget& t, size_t index)
@@ -60,8 +62,34 @@ PreparedTarget prepare(const ReconstructionTarget& t, size_t index)
   PreparedTarget p;
   p.source = &t;
   p.alpha = t.image.channels == 4;
-  p.background = v.background;
+  p.width = v.width;
+  p.background.resize(static_cast<size_t>(v.height));
+  for (int y = 0; y < v.height; ++y)
+  {
+    p.background[static_cast<size_t>(y)] = v.backgroundAt(y);
+  }
   const size_t n = static_cast<size_t>(v.width) * v.height;
+  if (!t.empty.empty())
+  {
+    if (t.empty.width != v.width || t.empty.height != v.height)
+    {
+      throw Error(where.str() + ": the empty-space mask's size differs from the image's");
+    }
+    if (p.alpha)
+    {
+      throw Error(where.str() + ": an empty-space mask is for opaque (RGB) targets only");
+    }
+    if (!(t.emptyWeight >= 0 && std::isfinite(t.emptyWeight)))
+    {
+      throw Error(where.str() + ": the empty-space weight must be finite and >= 0");
+    }
+    p.empty.resize(n);
+    for (size_t i = 0; i < n; ++i)
+    {
+      p.empty[i] = static_cast<float>(
+        t.emptyWeight * std::clamp(t.empty.pixels[i * t.empty.channels], 0.0f, 1.0f));
+    }
+  }
   if (!t.mask.empty())
   {
     if (t.mask.width != v.width || t.mask.height != v.height)
@@ -99,7 +127,8 @@ PreparedTarget prepare(const ReconstructionTarget& t, size_t index)
       for (int c = 0; c < 3; ++c)
       {
         p.value[3 * i + c] = std::clamp(px[c], 0.0f, 1.0f);
-        anything = anything || std::abs(px[c] - p.background[c]) > 1.5 / 255.0;
+        anything = anything ||
+          std::abs(px[c] - p.background[i / static_cast<size_t>(v.width)][c]) > 1.5 / 255.0;
       }
     }
     if (p.weight.empty() || p.weight[i] > 0)
@@ -157,13 +186,25 @@ double pixelLoss(const PreparedTarget& t, int pixel, const float* rgba, Reconstr
   {
     // out = C + (1 - A) background
     const float* target = &t.value[3 * static_cast<size_t>(pixel)];
+    const auto& bg = t.background[static_cast<size_t>(pixel / t.width)];
     for (int c = 0; c < 3; ++c)
     {
-      const double out = rgba[c] + (1.0 - rgba[3]) * t.background[c];
+      const double out = rgba[c] + (1.0 - rgba[3]) * bg[c];
       double d;
       L += term(out - target[c], d);
       dL_drgba[c] += static_cast<float>(w * scale * d);
-      dL_drgba[3] -= static_cast<float>(w * scale * d * t.background[c]);
+      dL_drgba[3] -= static_cast<float>(w * scale * d * bg[c]);
+    }
+    // empty space: the premultiplied RGBA itself is pulled to 0 (3 of the 4 channels' share)
+    const double e = t.empty.empty() ? 0.0 : t.empty[static_cast<size_t>(pixel)];
+    if (e > 0)
+    {
+      for (int c = 0; c < 4; ++c)
+      {
+        double d;
+        L += 0.75 * e * term(rgba[c], d);
+        dL_drgba[c] += static_cast<float>(0.75 * e * w * scale * d);
+      }
     }
   }
   return w * scale * L;
@@ -368,7 +409,8 @@ private:
       {
         ours[3 * q + c] = t.alpha
           ? prgba[4 * q + c]
-          : static_cast<float>(prgba[4 * q + c] + (1 - prgba[4 * q + 3]) * t.background[c]);
+          : static_cast<float>(prgba[4 * q + c] +
+              (1 - prgba[4 * q + 3]) * t.background[static_cast<size_t>(patch[q] / t.width)][c]);
         theirs[3 * q + c] = t.value[(t.alpha ? 4 : 3) * static_cast<size_t>(patch[q]) + c];
       }
     std::vector<double> dS(ours.size());
@@ -381,7 +423,8 @@ private:
         const double g = -k * dS[3 * q + c]; // d(k (1 - S)) / d(image)
         pd[4 * q + c] += static_cast<float>(g);
         if (!t.alpha)
-          pd[4 * q + 3] -= static_cast<float>(g * t.background[c]);
+          pd[4 * q + 3] -= static_cast<float>(
+            g * t.background[static_cast<size_t>(patch[q] / t.width)][c]);
       }
     stage.backward(view, patch, prec, pd);
     return k * (1.0 - sVal);

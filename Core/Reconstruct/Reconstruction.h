@@ -17,14 +17,20 @@ namespace ddg
 {
 
 /// One target image and the view it was taken from.
-/// image: RGB (an opaque screenshot over view.background) or RGBA (straight alpha, as PNG
-/// stores it: compared premultiplied with the render's RGBA), values in [0, 1], exactly the
-/// view's size. mask (optional): 1 channel, same size, per-pixel weight in [0, 1].
+/// image: RGB (an opaque screenshot over the view's background: view.backgroundAt(row)) or RGBA
+/// (straight alpha, as PNG stores it: compared premultiplied with the render's RGBA), values in
+/// [0, 1], exactly the view's size. mask (optional): 1 channel, same size, per-pixel weight in
+/// [0, 1]. empty (optional, RGB targets): 1 channel, same size, 1 where the picture shows empty
+/// space (the background): there the render's premultiplied RGBA is pulled to 0 with weight
+/// `emptyWeight` (times the mask's) as well, so that no air is painted in the background's
+/// colour (a haze invisible over this background, seen over any other).
 struct ReconstructionTarget
 {
   Image image;
   View view;
   Image mask;
+  Image empty;
+  double emptyWeight = 1.0;
 };
 
 enum class ReconstructionLoss

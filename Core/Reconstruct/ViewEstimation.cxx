@@ -130,7 +130,9 @@ View estimateView(const DifferentiableRenderer& renderer, const ReconstructionTa
   auto fitLoss = [&](double az, double el, double zoom)
   {
     ++evaluations;
-    ReconstructionTarget t{ smallTarget, orbitView(small, az, el, zoom), {} };
+    ReconstructionTarget t;
+    t.image = smallTarget;
+    t.view = orbitView(small, az, el, zoom);
     const auto r = reconstructTransferFunction(renderer, { t }, ropt);
     const size_t tail = std::min<size_t>(10, r.loss.size());
     double mean = 0;

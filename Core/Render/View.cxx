@@ -70,11 +70,14 @@ void View::validate() const
         << kMaxImageSide << ", at most " << kMaxImagePixels << " pixels)";
     throw Error(msg.str());
   }
-  for (double b : background)
+  for (const auto* colour : { &background, background2 ? &*background2 : &background })
   {
-    if (!std::isfinite(b) || b < 0 || b > 1)
+    for (double b : *colour)
     {
-      throw Error("background colour components must lie in [0, 1]");
+      if (!std::isfinite(b) || b < 0 || b > 1)
+      {
+        throw Error("background colour components must lie in [0, 1]");
+      }
     }
   }
   if (opacityUnitDistance && !(*opacityUnitDistance > 0 && std::isfinite(*opacityUnitDistance)))
@@ -128,6 +131,11 @@ View parseView(const std::string& jsonText, const std::string& origin)
       const auto b = vec3(j, "background", origin);
       v.background = { b[0], b[1], b[2] };
     }
+    if (j.contains("background2") && !j["background2"].is_null())
+    {
+      const auto b = vec3(j, "background2", origin);
+      v.background2 = std::array<double, 3>{ b[0], b[1], b[2] };
+    }
     if (j.contains("opacity_unit_distance") && !j["opacity_unit_distance"].is_null())
     {
       v.opacityUnitDistance = j["opacity_unit_distance"].get<double>();
@@ -167,6 +175,10 @@ std::string viewToJson(const View& v)
   j["camera"] = c;
   j["size"] = { v.width, v.height };
   j["background"] = { v.background[0], v.background[1], v.background[2] };
+  if (v.background2)
+  {
+    j["background2"] = { (*v.background2)[0], (*v.background2)[1], (*v.background2)[2] };
+  }
   if (v.opacityUnitDistance)
   {
     j["opacity_unit_distance"] = *v.opacityUnitDistance;
@@ -177,6 +189,23 @@ std::string viewToJson(const View& v)
 void writeView(const View& view, const std::string& path)
 {
   writeFileAtomic(path, viewToJson(view), "view");
+}
+
+std::array<double, 3> View::backgroundAt(int row) const
+{
+  if (!background2)
+  {
+    return background;
+  }
+  // vtkViewport's gradient: Background at the bottom edge, Background2 at the top, interpolated
+  // at pixel centres
+  const double t = height > 0 ? (static_cast<double>(row) + 0.5) / height : 0.5; // 0 at the top
+  std::array<double, 3> c{};
+  for (int k = 0; k < 3; ++k)
+  {
+    c[k] = (*background2)[k] * (1 - t) + background[k] * t;
+  }
+  return c;
 }
 
 View defaultView(const Volume& volume, int width, int height)

@@ -28,6 +28,7 @@ struct Camera
 ///   { "camera": { "position": [x,y,z], "focal_point": [x,y,z], "view_up": [x,y,z],
 ///                 "view_angle": 30, "parallel_projection": false, "parallel_scale": 1 },
 ///     "size": [width, height], "background": [r, g, b],
+///     "background2": [r, g, b],             (optional: ParaView's gradient background)
 ///     "opacity_unit_distance": d }          (optional: ParaView's default for the volume)
 /// Defaults: view_angle 30, parallel_projection false, parallel_scale 1, size [512, 512],
 /// background [0.329, 0.349, 0.427] (pvpython's). position, focal_point, view_up are required.
@@ -37,12 +38,18 @@ struct View
   int width = 512;
   int height = 512;
   std::array<double, 3> background{ 0.329, 0.349, 0.427 };
+  /// ParaView's gradient background (the view's Background2): the colour of the top row, with
+  /// `background` that of the bottom row, linear in between. Unset: one colour.
+  std::optional<std::array<double, 3>> background2;
   std::optional<double> opacityUnitDistance;
+
+  /// The background colour of image row `row` (0 = top row, as images are stored).
+  std::array<double, 3> backgroundAt(int row) const;
 
   /// Throws ddg::Error for a degenerate camera (position == focal point, view_up parallel to
   /// the view direction or zero, view angle outside (0, 180), parallel scale <= 0, anything
   /// non-finite), an image size outside [1, 16384] per side or above 64 Mpixel, a background
-  /// outside [0, 1], or an opacity unit distance <= 0.
+  /// (or background2) outside [0, 1], or an opacity unit distance <= 0.
   void validate() const;
 };
 

@@ -68,7 +68,9 @@ void selfConsistency(const char* name, unsigned seed)
     truth.push_back(caster.render(truthTable, v));
 
   ReconstructionOptions opt;
-  std::vector<ReconstructionTarget> single{ { testcase::straightAlpha(truth[0]), views[0], {} } };
+  std::vector<ReconstructionTarget> single(1);
+  single[0].image = testcase::straightAlpha(truth[0]);
+  single[0].view = views[0];
   const auto one = reconstructTransferFunction(renderer, single, opt);
   std::printf("%s single view: %d steps, %.2f s%s\n", name, one.iterations, one.seconds,
     one.converged ? "" : " (not converged)");

@@ -1,0 +1,120 @@
+// Match.h: a transfer function and a camera from a picture as users have it — a screenshot of
+// ParaView's GUI, a figure — whose camera, framing and background nobody wrote down. The
+// background is estimated (uniform or ParaView's vertical gradient), overlays (orientation
+// axes, scalar bar, text) are masked out, the camera (azimuth, elevation, roll, distance, pan)
+// is estimated from ParaView's reset camera by silhouettes, and the differentiable
+// reconstruction then fits the TF with empty space kept transparent.
+#pragma once
+
+#include "Image/Image.h"
+#include "Reconstruct/Reconstruction.h"
+#include "Render/DifferentiableRenderer.h"
+#include "Render/View.h"
+
+#include <array>
+#include <functional>
+#include <optional>
+#include <string>
+
+namespace ddg
+{
+
+/// The background of a picture: one colour, or ParaView's vertical gradient (the view's
+/// Background at the bottom row, Background2 at the top row, linear in between).
+struct PictureBackground
+{
+  bool gradient = false;
+  std::array<double, 3> bottom{ 0, 0, 0 }; ///< the colour, or the gradient's bottom row
+  std::array<double, 3> top{ 0, 0, 0 };    ///< the gradient's top row (= bottom when uniform)
+  double noise = 0; ///< robust spread of the border pixels about it ([0, 1] units)
+
+  /// Writes it into a view: background (= bottom) and, for a gradient, background2 (= top).
+  void applyTo(View& view) const;
+};
+
+/// Estimates the background from the picture's border (the outer rows and columns): per row the
+/// median of the left and right border pixels, a straight line fitted over the rows (robustly);
+/// a gradient when top and bottom differ by more than 3 levels of 255, else one colour (the
+/// median of the whole border). Throws ddg::Error when no colour dominates the border (a
+/// picture cropped into the object, a photograph): a quarter of the border or more far from it.
+PictureBackground estimateBackground(const Image& picture);
+
+/// Per pixel of a picture: 1 in `foreground` where it differs from the background by more than
+/// its noise allows (the object and any overlay), 1 in `overlay` where a foreground part is
+/// judged an overlay — a connected part that the object does not explain (see matchPicture).
+struct PictureMasks
+{
+  Image foreground; ///< 1 channel, the picture's size
+  Image overlay;    ///< 1 channel, the picture's size
+};
+
+/// Options (defaults in brackets).
+struct MatchOptions
+{
+  /// The picture's camera when it is known (e.g. the user says it was taken from the current
+  /// camera); its size is replaced by the picture's. Unset: estimated [unset].
+  std::optional<View> view;
+  /// Refine a given `view` by the camera search too (a hint, not the answer) [false].
+  bool refineGivenView = false;
+  /// The background colour when it is known; unset: estimated from the picture [unset].
+  std::optional<std::array<double, 3>> background;
+  /// Opacity unit distance of the views (ParaView's default for the volume when unset).
+  std::optional<double> opacityUnitDistance;
+  /// Reconstruction settings (1D/2D, bins, smoothness, iterations, rays, initial TF, threads).
+  /// Its iterations are those of the final fit.
+  ReconstructionOptions reconstruction;
+  /// Weight of the empty-space term: on pixels that show the background, the render's
+  /// premultiplied RGBA is pulled to 0, so no air is painted in the background's colour [1].
+  double emptySpaceWeight = 1.0;
+  /// Mask overlays (parts of the picture the object does not explain) [true].
+  bool maskOverlays = true;
+  /// Camera candidates scored by a short reconstruction [4].
+  int cameraCandidates = 4;
+  /// Below this silhouette overlap (IoU) of the best camera, no camera explains the picture and
+  /// matchPicture throws [0.6].
+  double minimumOverlap = 0.6;
+  /// Render a preview (the current TF at the found view, premultiplied RGBA at the picture's
+  /// size divided by previewDivisor) every `reconstruction.snapshotEvery` steps [4].
+  int previewDivisor = 4;
+};
+
+/// What the match found.
+struct MatchResult
+{
+  ReconstructionResult tf;        ///< the fitted TF (1D or 2D)
+  View view;                      ///< the picture's camera, at the picture's size and background
+  PictureBackground background;   ///< estimated or given
+  PictureMasks masks;             ///< what was compared and what was ignored
+  bool cameraEstimated = false;   ///< the camera came from the search (not given as is)
+  double overlap = 0;             ///< silhouette IoU of the found camera (1 = exact)
+  double fitPSNR = 0;             ///< PSNR of the fit over the compared pixels, picture vs render
+  std::array<double, 3> orbit{ 0, 0, 0 }; ///< azimuth, elevation, roll from the reset camera (deg)
+  double zoom = 1;                ///< distance factor from the reset camera
+  std::array<double, 2> pan{ 0, 0 }; ///< pan right, up, in view heights at the focal point
+  /// Seconds per stage: background and masks, camera search, the final fit, and in all.
+  double backgroundSeconds = 0, cameraSeconds = 0, fitSeconds = 0, seconds = 0;
+};
+
+/// Called with (stage, fraction of the whole in [0, 1], preview): stage is "background",
+/// "camera" or "fit"; preview is non-null every snapshotEvery fit steps (see MatchOptions).
+/// Return false to cancel (matchPicture throws ddg::Cancelled).
+using MatchProgress =
+  std::function<bool(const std::string& stage, double fraction, const Image* preview)>;
+
+/// Finds a TF (and, unless given, the camera) that makes `renderer`'s volume look like
+/// `picture` (RGB in [0, 1], any size and aspect; RGBA with straight alpha is taken as a picture
+/// over a transparent background). Throws ddg::Error with the reason for a picture it cannot
+/// use: smaller than 16 pixels a side, a uniform picture (nothing but background), no dominant
+/// background, or no camera whose silhouette overlaps the picture's object by `minimumOverlap`
+/// ("no camera explains the picture": another volume, a crop into the object).
+MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& picture,
+  const MatchOptions& options = {}, const MatchProgress& progress = {});
+
+/// The view `base` (ParaView's reset camera, say) moved as a user does: orbit about the focal
+/// point (azimuth about base's view up, then elevation), roll about the view direction (degrees,
+/// as vtkCamera::Roll), dolly by `zoom` (distance / zoom), then pan by (right, up) view heights
+/// at the focal point (focal point and position move together).
+View cameraMove(const View& base, double azimuth, double elevation, double roll, double zoom,
+  std::array<double, 2> pan);
+
+} // namespace ddg
