@@ -1138,6 +1138,18 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     const auto winner = std::min_element(
       fits.begin(), fits.end(), [](const Scored& a, const Scored& b) { return a.loss < b.loss; });
     best = winner->camera;
+    // a polish: a longer fit at the winner (more rays, all the bins), the camera refined with it
+    {
+      ReconstructionOptions o = sopt;
+      o.initial1D = winner->tf.table1D;
+      o.iterations = o.patience = 120;
+      o.raysPerIteration = 1024;
+      o.bins = opt.reconstruction.bins;
+      o.render.sampleDistance = opt.reconstruction.render.sampleDistance;
+      winner->tf =
+        reconstructTransferFunction(renderer, { makeTarget(best.view(start), workImage, W, H) }, o);
+      best = refine(winner->tf, best, 60);
+    }
     best.score = exactIoU(best);
     if (!opt.reconstruction.twoD)
       warm = winner->tf.table1D; // started from the given initial TF, if any
