@@ -27,7 +27,8 @@ Image discPicture(int w, int h, std::array<double, 3> bg, std::array<double, 3> 
     {
       const bool in = std::hypot(x - 0.5 * w, y - 0.5 * h) < 0.25 * h;
       for (int c = 0; c < 3; ++c)
-        img.pixels[3 * (static_cast<size_t>(y) * w + x) + c] = static_cast<float>(in ? fg[c] : bg[c]);
+        img.pixels[3 * (static_cast<size_t>(y) * w + x) + c] =
+          static_cast<float>(in ? fg[c] : bg[c]);
     }
   return img;
 }
@@ -44,7 +45,8 @@ Volume blobVolume()
       {
         const double e = std::sqrt(std::pow((i - 19.5) / 16.0, 2) + std::pow((j - 15.5) / 10.0, 2) +
           std::pow((k - 13.5) / 8.0, 2));
-        const double s = std::sqrt(std::pow(i - 27.0, 2) + std::pow(j - 19.0, 2) + std::pow(k - 13.5, 2));
+        const double s =
+          std::sqrt(std::pow(i - 27.0, 2) + std::pow(j - 19.0, 2) + std::pow(k - 13.5, 2));
         double value = std::clamp(1.0 - (e - 1.0) * 6.0, 0.0, 1.0) * 120.0;
         value = std::max(value, std::clamp(1.0 - (s - 4.0) / 1.5, 0.0, 1.0) * 220.0);
         const double knob =
@@ -71,7 +73,7 @@ TEST(MatchBackground, ParaViewGradient)
   View v;
   v.width = 90;
   v.height = 70;
-  v.background = { 0.8, 0.8, 0.9 };                        // bottom row
+  v.background = { 0.8, 0.8, 0.9 };                       // bottom row
   v.background2 = std::array<double, 3>{ 0.1, 0.2, 0.6 }; // top row
   Image img(v.width, v.height, 3);
   for (int y = 0; y < v.height; ++y)
@@ -148,7 +150,8 @@ TEST(Match, FindsTheCameraAndKeepsEmptySpaceClear)
   EXPECT_TRUE(m.cameraEstimated);
   const Eigen::Vector3d fFound = m.view.camera.focalPoint - m.view.camera.position;
   const Eigen::Vector3d fTrue = truth.camera.focalPoint - truth.camera.position;
-  const double dirError = std::acos(std::clamp(fFound.normalized().dot(fTrue.normalized()), -1.0, 1.0));
+  const double dirError =
+    std::acos(std::clamp(fFound.normalized().dot(fTrue.normalized()), -1.0, 1.0));
   EXPECT_LT(dirError * 180 / M_PI, 8.0);
   EXPECT_GT(m.overlap, 0.8);
   EXPECT_GT(m.fitPSNR, 30.0);
@@ -176,7 +179,8 @@ TEST(Match, RefusesWhatItCannotUse)
     {
       const bool on = std::abs(y - 0.75 * x) < 1.5;
       for (int c = 0; c < 3; ++c)
-        bar.pixels[3 * (static_cast<size_t>(y) * 120 + x) + c] = static_cast<float>(on ? 0.9 : bg[c]);
+        bar.pixels[3 * (static_cast<size_t>(y) * 120 + x) + c] =
+          static_cast<float>(on ? 0.9 : bg[c]);
     }
   try
   {

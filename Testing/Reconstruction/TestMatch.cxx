@@ -45,8 +45,8 @@ Case toothScreenshot()
 }
 
 // Mean PSNR of the found TF against the true one at two other views, over black and white.
-double otherViewsPSNR(const DifferentiableRenderer& renderer, const Case& c,
-  const ReconstructionResult& found)
+double otherViewsPSNR(
+  const DifferentiableRenderer& renderer, const Case& c, const ReconstructionResult& found)
 {
   double sum = 0;
   int n = 0;
