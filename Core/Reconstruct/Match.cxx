@@ -298,7 +298,8 @@ public:
     Eigen::Vector3d half;
     for (int k = 0; k < 3; ++k)
       half[k] = 0.5 * bs * std::abs(s[k]);
-    Radius = 0.5 * (half.minCoeff() + half.norm()); // between the inscribed and the outer sphere
+    Radius =
+      half.minCoeff(); // the inscribed sphere: occupied blocks already reach past the surface
     for (float t : thresholds)
     {
       std::vector<Eigen::Vector3f> pts;
@@ -327,11 +328,16 @@ public:
             pts.push_back(c);
           }
       if (!pts.empty())
+      {
         Points.push_back(std::move(pts));
+        Thresholds.push_back(t);
+      }
     }
   }
 
   int levels() const { return static_cast<int>(Points.size()); }
+  /// The value threshold of a level (opaque at and above it).
+  float threshold(int level) const { return Thresholds[static_cast<size_t>(level)]; }
 
   // The silhouette of level `level` at `view` in a w x h raster (the view's framing).
   void render(const View& view, int level, int w, int h, Mask& out) const
@@ -384,6 +390,7 @@ public:
 
 private:
   std::vector<std::vector<Eigen::Vector3f>> Points;
+  std::vector<float> Thresholds;
   double Radius = 0;
 };
 
@@ -923,6 +930,33 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       finalists.push_back(refined);
       report("camera", 0.15 + 0.25 * (i + 1) / seeds.size(), nullptr);
     }
+    // the discs of the blocks make a silhouette a little larger than the volume's own (and the
+    // search then moves the camera away): the distance corrected by the ratio of the sizes of
+    // the block silhouette and a ray cast of the same level (opaque above its threshold)
+    {
+      RenderOptions coarse = opt.reconstruction.render;
+      coarse.sampleDistance = 2.0 * caster.defaultSampleDistance();
+      const auto range = volume.range();
+      for (auto& f : finalists)
+      {
+        TransferFunction1D occupancy;
+        const double t = model.threshold(f.level), eps = 1e-4 * (range[1] - range[0]);
+        occupancy.color = { { range[0], 1, 1, 1 } };
+        occupancy.opacity = { { range[0], 0 }, { std::max(range[0], t - eps), 0 }, { t, 1 },
+          { range[1], 1 } };
+        const Image cast =
+          caster.render(bakeTable(occupancy, range[0], range[1], 1024), f.view(start), coarse);
+        model.render(f.view(start), f.level, sw, sh, scratch);
+        double castArea = 0, modelArea = 0;
+        for (size_t i = 0; i < scratch.m.size(); ++i)
+        {
+          castArea += cast.pixels[4 * i + 3] > 0.5f;
+          modelArea += scratch.m[i];
+        }
+        if (castArea > 4 && modelArea > 4)
+          f.logZoom += 0.5 * std::log(modelArea / castArea);
+      }
+    }
     std::sort(finalists.begin(), finalists.end(),
       [](const CameraParams& a, const CameraParams& b) { return a.score > b.score; });
   }
@@ -1064,14 +1098,15 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     const ReconstructionTarget fullTarget = makeTarget(start, workImage, W, H);
     std::vector<float> probeRGBA;
     std::vector<RayRecord> probeRecords;
-    auto photometricLoss = [&](const ReconstructionResult& tf, const CameraParams& c)
+    auto photometricLoss =
+      [&](const ReconstructionResult& tf, const CameraParams& c, const RenderOptions& how)
     {
       View v = c.view(start);
       v.width = W;
       v.height = H;
       const auto& t = tf.table1D;
       renderer.forward(
-        t.rgba.data(), t.width, t.min, t.max, v, sopt.render, probe, probeRGBA, probeRecords);
+        t.rgba.data(), t.width, t.min, t.max, v, how, probe, probeRGBA, probeRecords);
       double loss = 0;
       for (size_t q = 0; q < probe.size(); ++q)
       {
@@ -1098,10 +1133,11 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       }
       return loss / static_cast<double>(probe.size());
     };
-    auto refine = [&](const ReconstructionResult& tf, const CameraParams& c, int evaluations)
+    auto refine = [&](const ReconstructionResult& tf, const CameraParams& c, int evaluations,
+                    const RenderOptions& how)
     {
       CameraParams r = nelderMead(
-        c, [&](const CameraParams& p) { return -photometricLoss(tf, p); }, evaluations, 0.3);
+        c, [&](const CameraParams& p) { return -photometricLoss(tf, p, how); }, evaluations, 0.3);
       r.level = c.level;
       return r;
     };
@@ -1128,7 +1164,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     {
       for (int round = 0; round < std::max(1, opt.cameraRounds); ++round)
       {
-        fits[i].camera = refine(fits[i].tf, fits[i].camera, round == 0 ? 80 : 40);
+        fits[i].camera = refine(fits[i].tf, fits[i].camera, round == 0 ? 80 : 40, sopt.render);
         auto [tf, loss] = shortFit(fits[i].camera, fits[i].tf.table1D);
         fits[i].tf = std::move(tf);
         fits[i].loss = loss;
@@ -1138,7 +1174,8 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     const auto winner = std::min_element(
       fits.begin(), fits.end(), [](const Scored& a, const Scored& b) { return a.loss < b.loss; });
     best = winner->camera;
-    // a polish: a longer fit at the winner (more rays, all the bins), the camera refined with it
+    // a polish: a longer fit at the winner (more rays, all the bins, full sampling), the camera
+    // refined with it
     {
       ReconstructionOptions o = sopt;
       o.initial1D = winner->tf.table1D;
@@ -1148,7 +1185,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       o.render.sampleDistance = opt.reconstruction.render.sampleDistance;
       winner->tf =
         reconstructTransferFunction(renderer, { makeTarget(best.view(start), workImage, W, H) }, o);
-      best = refine(winner->tf, best, 60);
+      best = refine(winner->tf, best, 60, o.render);
     }
     best.score = exactIoU(best);
     if (!opt.reconstruction.twoD)
