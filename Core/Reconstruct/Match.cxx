@@ -1224,7 +1224,8 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     });
   result.fitSeconds = secondsSince(tFit);
 
-  // the fit's PSNR over the compared pixels at the preview's size
+  // the fit's PSNR over the object (the picture's foreground, or what the render shows) at the
+  // preview's size, overlays left out: the background, matched by construction, does not count
   {
     const Image render = renderResult(caster, result.tf, preview, ropt.render);
     const Image ours = pic.alpha
@@ -1235,10 +1236,13 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     Image theirs =
       resizeImage(pic.alpha ? premultiplyAlpha(pic.rgba) : pic.rgb, preview.width, preview.height);
     const Image weight = resizeImage(weightFull, preview.width, preview.height);
+    const Image object = resizeImage(
+      toImage(dilate(pic.foreground, std::max(1, W / 200))), preview.width, preview.height);
     double se = 0, n = 0;
     for (size_t i = 0, np = static_cast<size_t>(preview.width) * preview.height; i < np; ++i)
     {
-      if (weight.pixels[i] < 0.99f)
+      if (weight.pixels[i] < 0.99f ||
+        (object.pixels[i] < 0.01f && render.pixels[4 * i + 3] < 0.01f))
         continue;
       for (int c = 0; c < ours.channels; ++c)
       {
@@ -1249,6 +1253,16 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       }
     }
     result.fitPSNR = se > 0 ? 10.0 * std::log10(n / se) : 100.0;
+  }
+  if (result.fitPSNR < opt.minimumFitPSNR)
+  {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "no camera explains the picture: the best match differs from it by " << result.fitPSNR
+        << " dB PSNR over the object (at least " << opt.minimumFitPSNR
+        << " dB needed; silhouette overlap " << std::lround(100 * result.overlap)
+        << " %) — is it a picture of this volume, unlit and uncropped?";
+    throw Error(msg.str());
   }
   result.view = found;
   result.view.width = input.width;

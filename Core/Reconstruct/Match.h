@@ -76,6 +76,10 @@ struct MatchOptions
   /// Below this silhouette overlap (IoU) of the best camera, no camera explains the picture and
   /// matchPicture throws [0.6].
   double minimumOverlap = 0.6;
+  /// Below this PSNR of the fit over the object (the picture's foreground or what the render
+  /// shows, overlays left out), no camera explains the picture and matchPicture throws [20 dB:
+  /// an RMS error of a tenth of the range, another picture].
+  double minimumFitPSNR = 20.0;
   /// Render a preview (the current TF at the found view, premultiplied RGBA at the picture's
   /// size divided by previewDivisor) every `reconstruction.snapshotEvery` steps [4].
   int previewDivisor = 4;
@@ -90,7 +94,7 @@ struct MatchResult
   PictureMasks masks;           ///< what was compared and what was ignored
   bool cameraEstimated = false; ///< the camera came from the search (not given as is)
   double overlap = 0;           ///< silhouette IoU of the found camera (1 = exact)
-  double fitPSNR = 0;           ///< PSNR of the fit over the compared pixels, picture vs render
+  double fitPSNR = 0; ///< PSNR of the fit over the object (see minimumFitPSNR), picture vs render
   std::array<double, 3> orbit{ 0, 0, 0 }; ///< azimuth, elevation, roll from the reset camera (deg)
   double zoom = 1;                        ///< distance factor from the reset camera
   std::array<double, 2> pan{ 0, 0 };      ///< pan right, up, in view heights at the focal point
@@ -109,7 +113,8 @@ using MatchProgress =
 /// over a transparent background). Throws ddg::Error with the reason for a picture it cannot
 /// use: smaller than 16 pixels a side, a uniform picture (nothing but background), no dominant
 /// background, or no camera whose silhouette overlaps the picture's object by `minimumOverlap`
-/// ("no camera explains the picture": another volume, a crop into the object).
+/// or whose fit reaches `minimumFitPSNR` ("no camera explains the picture": another volume, a
+/// crop into the object).
 MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& picture,
   const MatchOptions& options = {}, const MatchProgress& progress = {});
 

@@ -33,6 +33,7 @@ struct ReconstructArgs
   bool twoD = false, resample = false, quiet = false, estimateView = false;
   std::string outView, outOverlay;
   int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0, primitives = 0;
+  int cameraCandidates = ddg::MatchOptions().cameraCandidates;
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
   unsigned seed = 1;
 };
@@ -133,6 +134,7 @@ int runMatch(const ReconstructArgs& a)
   {
     opt.background = std::array<double, 3>{ a.background[0], a.background[1], a.background[2] };
   }
+  opt.cameraCandidates = a.cameraCandidates;
   const double tLoad = msSince(t0);
   std::string lastStage;
   const auto m = ddg::matchPicture(renderer, picture, opt,
@@ -354,6 +356,11 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
   reconstruct->add_option("--out-view", rc->outView,
     "One target: write the picture's view JSON (the camera found or given, the picture's size "
     "and background)");
+  reconstruct
+    ->add_option("--camera-candidates", rc->cameraCandidates,
+      "One target, camera searched: distinct cameras whose silhouettes fit best that get a short "
+      "reconstruction each (a multi-start; more is slower and finds more; default 6)")
+    ->check(CLI::Range(1, 64));
   reconstruct->add_option("--out-overlay", rc->outOverlay,
     "One target: write the mask of what was ignored as an overlay (orientation axes, text, a "
     "scalar bar): white = ignored");
