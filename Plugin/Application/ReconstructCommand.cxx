@@ -32,7 +32,7 @@ struct ReconstructArgs
   std::vector<double> background;
   bool twoD = false, resample = false, quiet = false, estimateView = false;
   std::string outView, outOverlay;
-  int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0, primitives = 0;
+  int bins = 128, gradientBins = 32, iterations = 500, rays = -1, threads = 0, primitives = 0;
   int cameraCandidates = ddg::MatchOptions().cameraCandidates;
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
   unsigned seed = 1;
@@ -75,10 +75,10 @@ ddg::Image readTarget(const std::string& path, const ddg::View& view, bool resam
   return img;
 }
 
+// The options given, over `defaults` (the match's or the reconstruction's).
 ddg::ReconstructionOptions reconstructionOptions(
-  const ReconstructArgs& a, const ddg::Volume& volume)
+  const ReconstructArgs& a, const ddg::Volume& volume, ddg::ReconstructionOptions opt = {})
 {
-  ddg::ReconstructionOptions opt;
   opt.twoD = a.twoD;
   opt.bins = a.bins;
   opt.gradientBins = a.gradientBins;
@@ -88,7 +88,10 @@ ddg::ReconstructionOptions reconstructionOptions(
   opt.ssimWeight = a.ssimWeight;
   opt.iterations = a.iterations;
   opt.learningRate = a.learningRate;
-  opt.raysPerIteration = a.rays;
+  if (a.rays >= 0)
+  {
+    opt.raysPerIteration = a.rays;
+  }
   opt.seed = a.seed;
   opt.render.threads = a.threads;
   if (!a.init.empty())
@@ -124,7 +127,7 @@ int runMatch(const ReconstructArgs& a)
   const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
   const ddg::DifferentiableRenderer renderer(volume);
   ddg::MatchOptions opt;
-  opt.reconstruction = reconstructionOptions(a, volume);
+  opt.reconstruction = reconstructionOptions(a, volume, ddg::matchReconstructionDefaults());
   if (!a.views.empty())
   {
     opt.view = ddg::readView(a.views[0]);
@@ -333,7 +336,9 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     ->add_option("--lr", rc->learningRate, "Adam learning rate in logit space (default 0.2)")
     ->check(CLI::PositiveNumber);
   reconstruct
-    ->add_option("--rays", rc->rays, "Random pixels per target and step, 0 = all (default 2048)")
+    ->add_option("--rays", rc->rays,
+      "Random pixels per target and step, 0 = all (default 2048; one target without --mask: 512, "
+      "and convergence judged over 100 steps)")
     ->check(CLI::NonNegativeNumber);
   reconstruct->add_option("--init", rc->init, "Initial TF (ParaView preset JSON; 1D only)");
   reconstruct->add_flag("--resample", rc->resample,
