@@ -1185,7 +1185,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       o.render.sampleDistance = opt.reconstruction.render.sampleDistance;
       winner->tf =
         reconstructTransferFunction(renderer, { makeTarget(best.view(start), workImage, W, H) }, o);
-      best = refine(winner->tf, best, 60, o.render);
+      best = refine(winner->tf, best, 150, o.render); // fine rims need full sampling
     }
     best.score = exactIoU(best);
     if (!opt.reconstruction.twoD)
