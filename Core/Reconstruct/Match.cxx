@@ -597,6 +597,76 @@ struct Picture
   std::vector<int> label, area; // connected parts of the foreground
 };
 
+// Bands of one colour along the picture's edges, each followed by a line of another colour: a
+// letterbox (or pillarbox) put around a picture. Returns the part inside {x, y, width, height}
+// (the whole picture when there is none).
+std::array<int, 4> letterbox(const Image& img)
+{
+  const int w = img.width, h = img.height, ch = img.channels;
+  // a line (row or column) of one colour: 98 % of its middle half (a band on the other axis
+  // may cover its ends) within 4 levels of its median
+  auto lineColour = [&](bool row, int index, std::array<double, 3>& colour)
+  {
+    const int full = row ? w : h, first = full / 4, n = std::max(1, full / 2);
+    std::vector<std::array<float, 3>> px(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i)
+    {
+      const int x = row ? first + i : index, y = row ? index : first + i;
+      for (int c = 0; c < 3; ++c)
+        px[static_cast<size_t>(i)][c] = img.pixels[(static_cast<size_t>(y) * w + x) * ch + c];
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      std::vector<double> v;
+      v.reserve(px.size());
+      for (const auto& p : px)
+        v.push_back(p[c]);
+      colour[c] = median(std::move(v));
+    }
+    int near = 0;
+    for (const auto& p : px)
+    {
+      double d = 0;
+      for (int c = 0; c < 3; ++c)
+        d = std::max(d, std::abs(p[c] - colour[c]));
+      near += d <= 4.0 / 255.0;
+    }
+    return near >= 0.98 * n;
+  };
+  auto distance = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::max({ std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2]) });
+  };
+  // the band's thickness on one side (0 when none): lines of the edge's colour, then (after at
+  // most two lines of transition) a line of one other colour
+  auto band = [&](bool row, bool fromStart)
+  {
+    const int n = row ? h : w;
+    auto line = [&](int k) { return fromStart ? k : n - 1 - k; };
+    std::array<double, 3> edge{}, c{};
+    if (!lineColour(row, line(0), edge))
+      return 0;
+    int k = 1;
+    while (k < n / 3 && lineColour(row, line(k), c) && distance(c, edge) <= 4.0 / 255.0)
+      ++k;
+    if (k < 2 || k >= n / 3)
+      return 0;
+    // the other colour holds for two more lines (a gradient background drifts instead)
+    std::array<double, 3> next{};
+    for (int t = k; t < std::min(n / 3, k + 3); ++t)
+      if (lineColour(row, line(t), c) && distance(c, edge) > 8.0 / 255.0)
+      {
+        for (int u = t + 1; u <= t + 2; ++u)
+          if (!lineColour(row, line(u), next) || distance(next, c) > 1.5 / 255.0)
+            return 0;
+        return t;
+      }
+    return 0;
+  };
+  const int top = band(true, true), bottom = band(true, false), left = band(false, true),
+            right = band(false, false);
+  return { left, top, w - left - right, h - top - bottom };
+}
+
 } // namespace
 
 PictureBackground estimateBackground(const Image& picture)
@@ -726,13 +796,26 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   MatchResult result;
   Picture pic;
   {
-    const int longest = std::max(input.width, input.height);
-    Image work = input;
+    // a letterbox's bands are not the picture's background: matched inside them
+    result.crop = letterbox(input);
+    Image inside = input;
+    if (result.crop[2] != input.width || result.crop[3] != input.height)
+    {
+      inside = Image(result.crop[2], result.crop[3], input.channels);
+      for (int y = 0; y < inside.height; ++y)
+        std::copy_n(
+          &input.pixels[(static_cast<size_t>(y + result.crop[1]) * input.width + result.crop[0]) *
+            input.channels],
+          static_cast<size_t>(inside.width) * input.channels,
+          &inside.pixels[static_cast<size_t>(y) * inside.width * input.channels]);
+    }
+    const int longest = std::max(inside.width, inside.height);
+    Image work = inside;
     if (longest > 1024)
     {
       const double f = 1024.0 / longest;
-      work = resizeImage(input, std::max(16, static_cast<int>(std::lround(input.width * f))),
-        std::max(16, static_cast<int>(std::lround(input.height * f))));
+      work = resizeImage(inside, std::max(16, static_cast<int>(std::lround(inside.width * f))),
+        std::max(16, static_cast<int>(std::lround(inside.height * f))));
     }
     for (auto& v : work.pixels)
       v = std::clamp(v, 0.0f, 1.0f);
@@ -1265,14 +1348,14 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     throw Error(msg.str());
   }
   result.view = found;
-  result.view.width = input.width;
-  result.view.height = input.height;
+  result.view.width = result.crop[2];
+  result.view.height = result.crop[3];
   result.masks.foreground = toImage(pic.foreground);
   result.masks.overlay = toImage(overlayFull);
-  if (W != input.width || H != input.height)
+  if (W != result.crop[2] || H != result.crop[3])
   {
-    result.masks.foreground = resizeImage(result.masks.foreground, input.width, input.height);
-    result.masks.overlay = resizeImage(result.masks.overlay, input.width, input.height);
+    result.masks.foreground = resizeImage(result.masks.foreground, result.crop[2], result.crop[3]);
+    result.masks.overlay = resizeImage(result.masks.overlay, result.crop[2], result.crop[3]);
   }
   result.seconds = secondsSince(t0);
   report("fit", 1.0, nullptr);

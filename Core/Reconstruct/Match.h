@@ -44,8 +44,8 @@ PictureBackground estimateBackground(const Image& picture);
 /// judged an overlay — a connected part that the object does not explain (see matchPicture).
 struct PictureMasks
 {
-  Image foreground; ///< 1 channel, the picture's size
-  Image overlay;    ///< 1 channel, the picture's size
+  Image foreground; ///< 1 channel, the size of the part matched (MatchResult::crop)
+  Image overlay;    ///< 1 channel, the size of the part matched (MatchResult::crop)
 };
 
 /// The final fit's defaults (see MatchOptions::reconstruction).
@@ -100,8 +100,11 @@ struct MatchOptions
 /// What the match found.
 struct MatchResult
 {
-  ReconstructionResult tf;      ///< the fitted TF (1D or 2D)
-  View view;                    ///< the picture's camera, at the picture's size and background
+  ReconstructionResult tf; ///< the fitted TF (1D or 2D)
+  View view; ///< the picture's camera, at the size of `crop` (the picture's) and its background
+  /// The part of the picture matched {x, y, width, height}: the whole picture, or what is inside
+  /// a letterbox (bands of one colour along its edges, each followed by another colour).
+  std::array<int, 4> crop{ 0, 0, 0, 0 };
   PictureBackground background; ///< estimated or given
   PictureMasks masks;           ///< what was compared and what was ignored
   bool cameraEstimated = false; ///< the camera came from the search (not given as is)

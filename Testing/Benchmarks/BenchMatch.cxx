@@ -52,10 +52,10 @@ int main(int argc, char** argv)
       repeat = std::max(1, std::atoi(argv[i + 1]));
   const std::string data = DDG_DATA_DIR;
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
-  std::printf("BenchMatch: 800 x 600 screenshots, %d run(s) each (median), %u cores\n", repeat,
-    cores);
-  std::printf("%-8s %-9s %7s | %8s %8s %8s %8s | %8s\n", "volume", "camera", "threads",
-    "bg (s)", "cam (s)", "fit (s)", "all (s)", "fit dB");
+  std::printf(
+    "BenchMatch: 800 x 600 screenshots, %d run(s) each (median), %u cores\n", repeat, cores);
+  std::printf("%-8s %-9s %7s | %8s %8s %8s %8s | %8s\n", "volume", "camera", "threads", "bg (s)",
+    "cam (s)", "fit (s)", "all (s)", "fit dB");
   struct Case
   {
     const char* volume;
@@ -65,8 +65,8 @@ int main(int argc, char** argv)
   {
     const Volume vol = readVolumeFile(data + "/Volumes/" + c.volume + ".vti");
     const DifferentiableRenderer renderer(vol);
-    const auto table =
-      renderer.caster().paraviewTable(readPreset(data + "/TransferFunctions/" + c.preset + ".json"));
+    const auto table = renderer.caster().paraviewTable(
+      readPreset(data + "/TransferFunctions/" + c.preset + ".json"));
     View truth = cameraMove(defaultView(vol, 800, 600), 35, 20, 12, 1.2, { 0.03, -0.04 });
     truth.background = { 82 / 255.0, 87 / 255.0, 110 / 255.0 };
     Image picture =

@@ -197,3 +197,52 @@ TEST(Match, RefusesWhatItCannotUse)
                  [](const std::string& stage, double, const Image*) { return stage != "camera"; }),
     Cancelled);
 }
+
+TEST(Match, LetterboxedPictureIsMatchedInside)
+{
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 0.2, 0.4, 0.9 }, { 120, 0.9, 0.5, 0.2 }, { 255, 1, 1, 0.8 } };
+  tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.3 }, { 200, 0.9 }, { 255, 0.9 } };
+  View truth = cameraMove(defaultView(vol, 120, 90), 20, 10, 0, 1.1, { 0, 0 });
+  truth.background = { 82 / 255.0, 87 / 255.0, 110 / 255.0 };
+  const Image inner = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(tf), truth), truth.background);
+  // black bars: 20 pixels left and right, 6 at the top and bottom
+  Image boxed(160, 102, 3);
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 120; ++x)
+      for (int c = 0; c < 3; ++c)
+        boxed.pixels[3 * (static_cast<size_t>(y + 6) * 160 + x + 20) + c] =
+          inner.pixels[3 * (static_cast<size_t>(y) * 120 + x) + c];
+  MatchOptions opt;
+  opt.view = truth; // the camera given: this is about the bands
+  const auto m = matchPicture(renderer, boxed, opt);
+  EXPECT_GT(m.fitPSNR, 30.0);
+  EXPECT_EQ(m.crop, (std::array<int, 4>{ 20, 6, 120, 90 }));
+  EXPECT_EQ(m.view.width, 120);
+  EXPECT_EQ(m.view.height, 90);
+  EXPECT_NEAR(m.background.bottom[2], 110 / 255.0, kLevel);
+}
+
+TEST(MatchBackground, SteepGradientIsNoLetterbox)
+{
+  // a gradient of 3 levels a row, with an object: matched whole, the gradient found
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 1, 1, 1 }, { 255, 1, 1, 1 } };
+  tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.6 }, { 255, 0.9 } };
+  View v = defaultView(vol, 120, 80);
+  v.background = { 0.95, 0.95, 0.95 };
+  v.background2 = std::array<double, 3>{ 0.95 - 3.0 * 80 / 255.0, 0.95 - 3.0 * 80 / 255.0, 0.95 };
+  const Image render = renderer.caster().render(renderer.caster().paraviewTable(tf), v);
+  const Image picture = compositeOverBackground(render, v.background, *v.background2);
+  MatchOptions opt;
+  opt.view = v;
+  const auto m = matchPicture(renderer, picture, opt);
+  EXPECT_EQ(m.crop, (std::array<int, 4>{ 0, 0, 120, 80 }));
+  EXPECT_TRUE(m.background.gradient);
+  EXPECT_NEAR(m.background.top[0], (*v.background2)[0], 2 * kLevel);
+}
