@@ -1100,7 +1100,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   Image weightFull(W, H, 1);
   for (size_t i = 0; i < weightFull.pixels.size(); ++i)
     weightFull.pixels[i] = overlayFull.m[i] ? 0.0f : 1.0f;
-  const Image emptyImage = toImage(emptyFull);
+  Image emptyImage = toImage(emptyFull);
   auto makeTarget = [&](const View& v, const Image& image, int w, int h)
   {
     ReconstructionTarget t;
@@ -1305,10 +1305,16 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
         "fit", 0.5 + 0.5 * std::min(1.0, (step + 1.0) / iterations), snapshot ? &shot : nullptr);
       return true;
     });
-  result.fitSeconds = secondsSince(tFit);
 
   // the fit's PSNR over the object (the picture's foreground, or what the render shows) at the
-  // preview's size, overlays left out: the background, matched by construction, does not count
+  // preview's size, overlays left out: the background, matched by construction, does not count;
+  // and each object pixel's residual (largest channel difference; -1 elsewhere)
+  const Image theirs =
+    resizeImage(pic.alpha ? premultiplyAlpha(pic.rgba) : pic.rgb, preview.width, preview.height);
+  const Image object = resizeImage(
+    toImage(dilate(pic.foreground, std::max(1, W / 200))), preview.width, preview.height);
+  std::vector<double> residual;
+  auto assess = [&]
   {
     const Image render = renderResult(caster, result.tf, preview, ropt.render);
     const Image ours = pic.alpha
@@ -1316,27 +1322,70 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       : (preview.background2
             ? compositeOverBackground(render, preview.background, *preview.background2)
             : compositeOverBackground(render, preview.background));
-    Image theirs =
-      resizeImage(pic.alpha ? premultiplyAlpha(pic.rgba) : pic.rgb, preview.width, preview.height);
     const Image weight = resizeImage(weightFull, preview.width, preview.height);
-    const Image object = resizeImage(
-      toImage(dilate(pic.foreground, std::max(1, W / 200))), preview.width, preview.height);
+    const size_t np = static_cast<size_t>(preview.width) * preview.height;
+    residual.assign(np, -1.0);
     double se = 0, n = 0;
-    for (size_t i = 0, np = static_cast<size_t>(preview.width) * preview.height; i < np; ++i)
+    for (size_t i = 0; i < np; ++i)
     {
       if (weight.pixels[i] < 0.99f ||
         (object.pixels[i] < 0.01f && render.pixels[4 * i + 3] < 0.01f))
         continue;
+      double largest = 0;
       for (int c = 0; c < ours.channels; ++c)
       {
         const double d =
           ours.pixels[i * ours.channels + c] - theirs.pixels[i * theirs.channels + c];
         se += d * d;
         n += 1;
+        largest = std::max(largest, std::abs(d));
       }
+      residual[i] = largest;
     }
     result.fitPSNR = se > 0 ? 10.0 * std::log10(n / se) : 100.0;
+  };
+  assess();
+  // outliers: what the fit cannot explain on the object (text, arrows or marks drawn over it):
+  // residuals above 6 times the median and above 0.2, on at least 0.2 % of the object, are
+  // masked as overlays and the TF refitted without them (1D)
+  if (opt.maskOverlays && !result.tf.twoD)
+  {
+    std::vector<double> onObject;
+    for (double r : residual)
+      if (r >= 0)
+        onObject.push_back(r);
+    const double limit = std::max(0.2, 6.0 * median(onObject));
+    Mask outliers(preview.width, preview.height);
+    size_t count = 0;
+    for (size_t i = 0; i < residual.size(); ++i)
+      if (residual[i] > limit)
+        outliers.m[i] = 1, ++count;
+    if (count > 3 && static_cast<double>(count) >= 0.002 * static_cast<double>(onObject.size()))
+    {
+      const Mask wide = dilate(outliers, 1);
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+          if (wide(std::min(preview.width - 1, x * preview.width / W),
+                std::min(preview.height - 1, y * preview.height / H)))
+          {
+            overlayFull(x, y) = 1;
+            weightFull.pixels[static_cast<size_t>(y) * W + x] = 0.0f;
+            emptyImage.pixels[static_cast<size_t>(y) * W + x] = 0.0f;
+          }
+      ReconstructionOptions again = ropt;
+      again.initial1D = result.tf.table1D;
+      again.iterations = std::min(ropt.iterations, 150);
+      const ReconstructionTarget masked = makeTarget(found, pic.alpha ? pic.rgba : pic.rgb, W, H);
+      result.tf = reconstructTransferFunction(renderer, { masked }, again,
+        [&](int, double, const ReconstructionResult*)
+        {
+          report("fit", 1.0, nullptr);
+          return true;
+        });
+      assess();
+    }
   }
+  result.fitSeconds = secondsSince(tFit);
   if (result.fitPSNR < opt.minimumFitPSNR)
   {
     std::ostringstream msg;
