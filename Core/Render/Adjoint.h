@@ -134,6 +134,15 @@ S blendInvertAlpha(S Aafter, S a)
   return std::clamp((Aafter - a) / (S(1) - a), S(0), S(1));
 }
 
+/// The same with oneOverOneMinusA = 1 / (1 - a) given: a replay computes it apart from the
+/// chain of recovered states, so that the chain waits on a multiplication instead of a
+/// division (equal to blendInvertAlpha to the last bit or two).
+template <typename S>
+S blendInvertAlphaReciprocal(S Aafter, S a, S oneOverOneMinusA)
+{
+  return std::clamp((Aafter - a) * oneOverOneMinusA, S(0), S(1));
+}
+
 /// Adjoint of blend. In: dL/dC' (gC, unchanged by the blend), dL/dA' (gA), the state before
 /// (A), the sample (c, a). Out: ACCUMULATES dL/dc into g_c and dL/da into g_a; OVERWRITES gA
 /// with dL/dA (the adjoint of the state before the sample).

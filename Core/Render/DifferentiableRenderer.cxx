@@ -6,6 +6,7 @@
 #include "Render/RaySegment.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <mutex>
@@ -355,7 +356,17 @@ struct DifferentiableRendererT<S>::Internals
     const FieldSampler<S>* grad = TwoD ? &gradient() : nullptr;
     const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
     rgba.assign(4 * n, S(0));
-    records.assign(n, RayRecord{});
+    // Reset the records, keeping their sample buffers' capacity (a reconstruction renders the
+    // same number of rays step after step).
+    records.resize(n);
+    for (auto& r : records)
+    {
+      r.lastSample = -1;
+      r.alpha = 0;
+      r.samples.clear();
+    }
+    constexpr int channels = TwoD ? 2 : 1; // stored floats per sample
+    std::atomic<std::int64_t> budget{ 0 };
     withValues(
       [&](const auto& Values)
       {
@@ -366,6 +377,21 @@ struct DifferentiableRendererT<S>::Internals
             if (!raySegment(o, dir, s.boxMin, s.boxMax, s.origin, s.spacing, s.d, j, seg))
             {
               return;
+            }
+            RayRecord& rec = records[static_cast<size_t>(q)];
+            float* store = nullptr; // this ray's sample values, when within the budget
+            if constexpr (std::is_same_v<S, float>)
+            {
+              const std::int64_t want = (seg.kLast + 1) * channels;
+              if (budget.fetch_add(want, std::memory_order_relaxed) + want <= kRecordBudget)
+              {
+                rec.samples.resize(static_cast<size_t>(want));
+                store = rec.samples.data();
+              }
+              else
+              {
+                rec.samples.shrink_to_fit();
+              }
             }
             const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]),
               static_cast<S>(seg.e[2]) };
@@ -385,6 +411,17 @@ struct DifferentiableRendererT<S>::Internals
               }
               const int n = static_cast<int>(
                 std::min<std::int64_t>(FieldSampler<S>::kBatch, seg.kLast + 1 - k0));
+              if (store)
+              {
+                for (int l = 0; l < n; ++l)
+                {
+                  store[channels * (k0 + l)] = static_cast<float>(value[l]);
+                  if constexpr (TwoD)
+                  {
+                    store[channels * (k0 + l) + 1] = static_cast<float>(gradient[l]);
+                  }
+                }
+              }
               for (int l = 0; l < n; ++l)
               {
                 k = k0 + l;
@@ -408,7 +445,12 @@ struct DifferentiableRendererT<S>::Internals
             out[1] = static_cast<S>(C[1]);
             out[2] = static_cast<S>(C[2]);
             out[3] = static_cast<S>(A);
-            records[static_cast<size_t>(q)] = { static_cast<std::int32_t>(k), A };
+            rec.lastSample = static_cast<std::int32_t>(k);
+            rec.alpha = A;
+            if (store)
+            {
+              rec.samples.resize(static_cast<size_t>(k + 1) * channels);
+            }
           });
       });
   }
@@ -452,10 +494,40 @@ struct DifferentiableRendererT<S>::Internals
             double gA = g[3];
             double A = rec.alpha;
             S* dTable = local[static_cast<size_t>(threadId)].data();
-            // Replay from the last sample to the first, a batch of values at a time.
+            // One sample of the replay, from the last to the first.
+            auto replay = [&](S value, S gradient)
+            {
+              S c[4];
+              typename Classifier<S, TwoD>::Coord coord;
+              cls.classify(value, gradient, c, coord);
+              const double a = c[3] > S(0) ? static_cast<double>(c[3]) : 0.0;
+              // Inverse of the blend: the state before this sample.
+              const double before =
+                a > 0 ? adjoint::blendInvertAlphaReciprocal(A, a, 1.0 / (1.0 - a)) : A;
+              const double col[3] = { c[0], c[1], c[2] };
+              double g_c[3] = { 0, 0, 0 }, g_a = 0;
+              adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
+              A = before;
+              const S dL_drgba[4] = { static_cast<S>(g_c[0]), static_cast<S>(g_c[1]),
+                static_cast<S>(g_c[2]), static_cast<S>(g_a) };
+              cls.classifyAdjoint(coord, dL_drgba, dTable);
+            };
+            const std::int64_t kStop = std::min<std::int64_t>(rec.lastSample, seg.kLast);
+            constexpr int channels = TwoD ? 2 : 1;
+            if (rec.samples.size() == static_cast<size_t>(kStop + 1) * channels)
+            {
+              // The values the forward pass kept.
+              const float* v = rec.samples.data();
+              for (std::int64_t k = kStop; k >= 0; --k)
+              {
+                replay(static_cast<S>(v[channels * k]),
+                  TwoD ? static_cast<S>(v[channels * k + channels - 1]) : S(0));
+              }
+              return;
+            }
+            // Re-interpolate, a batch of values at a time.
             constexpr int kB = FieldSampler<S>::kBatch;
             S value[kB], gradient[kB];
-            const std::int64_t kStop = std::min<std::int64_t>(rec.lastSample, seg.kLast);
             for (std::int64_t k0 = kStop - kStop % kB; k0 >= 0; k0 -= kB)
             {
               const S kk0 = static_cast<S>(j) + static_cast<S>(k0);
@@ -467,19 +539,7 @@ struct DifferentiableRendererT<S>::Internals
               for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= 0;
                    --l)
               {
-                S c[4];
-                typename Classifier<S, TwoD>::Coord coord;
-                cls.classify(value[l], TwoD ? gradient[l] : S(0), c, coord);
-                const double a = c[3] > S(0) ? static_cast<double>(c[3]) : 0.0;
-                // Inverse of the blend: the state before this sample.
-                const double before = a > 0 ? adjoint::blendInvertAlpha(A, a) : A;
-                const double col[3] = { c[0], c[1], c[2] };
-                double g_c[3] = { 0, 0, 0 }, g_a = 0;
-                adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
-                A = before;
-                const S dL_drgba[4] = { static_cast<S>(g_c[0]), static_cast<S>(g_c[1]),
-                  static_cast<S>(g_c[2]), static_cast<S>(g_a) };
-                cls.classifyAdjoint(coord, dL_drgba, dTable);
+                replay(value[l], TwoD ? gradient[l] : S(0));
               }
             }
           });
