@@ -143,7 +143,7 @@ int main(int argc, char** argv)
   std::vector<int> pixels;
   std::vector<float> rgba, dRGBA, dTable(table.size());
   std::vector<RayRecord> records;
-  std::vector<double> fwd, loss, bwd, samplesPerStep, fwdCpu, bwdCpu;
+  std::vector<double> fwd, loss, bwd, samplesPerStep, fwdCpu, bwdCpu, fwdWarm;
   for (int step = 0; step <= steps; ++step)
   {
     std::shuffle(all.begin(), all.end(), rng);
@@ -157,6 +157,14 @@ int main(int argc, char** argv)
     else
       renderer.forward(table.data(), width, range[0], range[1], view, opt, pixels, rgba, records);
     const double f = since(t), fc = cpuMs() - c;
+    // The same rays again: the cells they read are now in cache.
+    c = cpuMs();
+    if (twoD)
+      renderer.forward2D(
+        table.data(), width, height, range, gradientRange, view, opt, pixels, rgba, records);
+    else
+      renderer.forward(table.data(), width, range[0], range[1], view, opt, pixels, rgba, records);
+    const double fw = cpuMs() - c;
     t = Clock::now();
     dRGBA.assign(rgba.size(), 0.0f);
     for (size_t q = 0; q < pixels.size(); ++q)
@@ -192,19 +200,28 @@ int main(int argc, char** argv)
       bwd.push_back(b);
       samplesPerStep.push_back(samples);
       fwdCpu.push_back(fc);
+      fwdWarm.push_back(fw);
       bwdCpu.push_back(bc);
     }
   }
+  // Checksums of the last step's image and gradient: equal between builds that compute the same.
+  double sumRGBA = 0, sumGrad = 0;
+  for (float x : rgba)
+    sumRGBA += x;
+  for (float x : dTable)
+    sumGrad += std::abs(x);
   const double mf = median(fwd), mb = median(bwd), ml = median(loss);
   const double ms = median(samplesPerStep);
   std::printf("case %s %s, %dx%d, %d rays/step, %s table %dx%d, %d threads; read %.0f ms, "
               "prepare %.0f ms\n",
     targetPath.c_str(), twoD ? "2D" : "1D", view.width, view.height, rays, twoD ? "2D" : "1D",
     width, twoD ? height : 1, threads, tRead, tPrepare);
-  std::printf("  samples/step %.0f (%.0f per ray)\n", ms, ms / rays);
+  std::printf("  samples/step %.0f (%.0f per ray); checksums: image %.9g, |gradient| %.9g\n", ms,
+    ms / rays, sumRGBA, sumGrad);
   const double cf = median(fwdCpu), cb = median(bwdCpu);
   std::printf("  forward  %7.2f ms/step wall, %7.2f ms CPU: %6.1f M samples/s per CPU second\n", mf,
     cf, ms / (cf * 1e3));
+  std::printf("  (forward again on the same rays, cells in cache: %.2f ms CPU)\n", median(fwdWarm));
   std::printf("  loss     %7.2f ms/step\n", ml);
   std::printf("  backward %7.2f ms/step wall, %7.2f ms CPU: %6.1f M samples/s per CPU second "
               "(backward/forward %.2f CPU)\n",
