@@ -13,10 +13,18 @@ namespace ddg
 
 /// Forward and backward passes of the RayCaster model (RayCaster.h) for a subset of pixels.
 ///
-/// Differences from RayCaster::render, all documented here: no empty-space skipping (every
-/// table entry is a parameter, so no sample is skippable), opacities after the step correction
-/// are clamped to adjoint::kMaxOpacity = 1 - 1e-6 (the guard of the inversion below), and the
-/// ray state is accumulated in double. Images otherwise agree with RayCaster to ~1e-6.
+/// Differences from RayCaster::render, all documented here: no empty-space skipping (below),
+/// opacities after the step correction are clamped to adjoint::kMaxOpacity = 1 - 1e-6 (the
+/// guard of the inversion below), and the ray state is accumulated in double. Images otherwise
+/// agree with RayCaster to ~1e-6.
+///
+/// Why no skipping: a sample whose table opacity is 0 adds nothing to the image, but its
+/// gradient is not 0: dL/da = (1 - A) (dL/dC . c + dL/dA), with c the colour looked up there,
+/// lands on the opacity entries around its value (raising them would make it visible). Over a
+/// run of such samples A, dL/dC and dL/dA stay constant, yet each sample still adds at its own
+/// table coordinate with its own colour, so the backward pass must visit every one of them;
+/// only the forward pass could skip them (exactly, as RayCaster does). And the reconstruction's
+/// opacities are sigmoids, never 0, so no block is ever empty there in the first place.
 ///
 /// Backward (DiffDVR's method): the forward pass keeps each ray's final A and the index of its
 /// last sample; the backward pass replays the ray from that sample to the first, classifies
