@@ -464,11 +464,15 @@ struct DifferentiableRendererT<S>::Internals
     }
     constexpr int channels = TwoD ? 2 : 1; // stored floats per sample
     std::atomic<std::int64_t> budget{ 0 };
+    // Per thread, the values of the ray being marched; the record takes the marched part.
+    const int threads = resolveThreadCount(opt.threads, static_cast<std::int64_t>((n + 63) / 64));
+    std::vector<std::vector<float>> scratch(static_cast<size_t>(threads));
     withValues(
       [&](const auto& Values)
       {
-        forPixels(view, s, pixels, opt.threads,
-          [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j, int)
+        forPixels(view, s, pixels, threads,
+          [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j,
+            int threadId)
           {
             RaySegment seg;
             if (!raySegment(o, dir, s.boxMin, s.boxMax, s.origin, s.spacing, s.d, j, seg))
@@ -476,19 +480,12 @@ struct DifferentiableRendererT<S>::Internals
               return;
             }
             RayRecord& rec = records[static_cast<size_t>(q)];
-            float* store = nullptr; // this ray's sample values, when within the budget
+            float* store = nullptr; // this ray's sample values (float renderer)
             if constexpr (std::is_same_v<S, float>)
             {
-              const std::int64_t want = (seg.kLast + 1) * channels;
-              if (budget.fetch_add(want, std::memory_order_relaxed) + want <= kRecordBudget)
-              {
-                rec.samples.resize(static_cast<size_t>(want));
-                store = rec.samples.data();
-              }
-              else
-              {
-                rec.samples.shrink_to_fit();
-              }
+              auto& buffer = scratch[static_cast<size_t>(threadId)];
+              buffer.resize(std::max(buffer.size(), static_cast<size_t>(seg.kLast + 1) * channels));
+              store = buffer.data();
             }
             const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]),
               static_cast<S>(seg.e[2]) };
@@ -546,7 +543,15 @@ struct DifferentiableRendererT<S>::Internals
             rec.alpha = A;
             if (store)
             {
-              rec.samples.resize(static_cast<size_t>(k + 1) * channels);
+              const std::int64_t used = (k + 1) * channels;
+              if (budget.fetch_add(used, std::memory_order_relaxed) + used <= kRecordBudget)
+              {
+                rec.samples.assign(store, store + used);
+              }
+              else
+              {
+                rec.samples.shrink_to_fit(); // over the budget: this ray is re-interpolated
+              }
             }
           });
       });
