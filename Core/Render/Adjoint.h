@@ -10,12 +10,20 @@
 namespace ddg::adjoint
 {
 
+// The stages run once per sample in the renderer's inner loops: always inlined there (GCC
+// otherwise leaves the blend's adjoint as a call per sample).
+#if defined(__GNUC__)
+#define DDG_ADJOINT_INLINE inline __attribute__((always_inline))
+#else
+#define DDG_ADJOINT_INLINE inline
+#endif
+
 // --- trilinear interpolation of 8 corner values -----------------------------------------------
 // v = lerp_z(lerp_y(lerp_x(c000, c100), lerp_x(c010, c110)), lerp_y(...c001.., ...c011..))
 // corners ordered c[x + 2 y + 4 z].
 
 template <typename S>
-S trilinear(const S c[8], S fx, S fy, S fz)
+DDG_ADJOINT_INLINE S trilinear(const S c[8], S fx, S fy, S fz)
 {
   const S c00 = c[0] + fx * (c[1] - c[0]);
   const S c10 = c[2] + fx * (c[3] - c[2]);
@@ -57,7 +65,7 @@ void trilinearAdjoint(const S c[8], S fx, S fy, S fz, S dL_dv, S dL_dc[8], S dL_
 // out = (1 - f) T[i] + f T[i + 1]   (per channel)
 
 template <typename S>
-void tableCoordinate(S value, S scale, S bias, int width, int& i, S& f)
+DDG_ADJOINT_INLINE void tableCoordinate(S value, S scale, S bias, int width, int& i, S& f)
 {
   const S t = std::clamp(value * scale + bias, S(0), static_cast<S>(width - 1));
   i = std::min(static_cast<int>(t), width - 2);
@@ -65,7 +73,7 @@ void tableCoordinate(S value, S scale, S bias, int width, int& i, S& f)
 }
 
 template <typename S, int C>
-void tableLookup(const S* table, int i, S f, S out[C])
+DDG_ADJOINT_INLINE void tableLookup(const S* table, int i, S f, S out[C])
 {
   for (int c = 0; c < C; ++c)
   {
@@ -75,7 +83,7 @@ void tableLookup(const S* table, int i, S f, S out[C])
 
 /// Accumulates dL/dT into dL_dTable (same layout as the table) from dL/dout.
 template <typename S, int C>
-void tableLookupAdjoint(int i, S f, const S dL_dout[C], S* dL_dTable)
+DDG_ADJOINT_INLINE void tableLookupAdjoint(int i, S f, const S dL_dout[C], S* dL_dTable)
 {
   for (int c = 0; c < C; ++c)
   {
@@ -112,7 +120,7 @@ S correctOpacityDerivative(S a, S e)
 //   C' = C + (1 - A) a c        A' = A + (1 - A) a
 
 template <typename S>
-void blend(S C[3], S& A, const S c[3], S a)
+DDG_ADJOINT_INLINE void blend(S C[3], S& A, const S c[3], S a)
 {
   const S w = (1 - A) * a;
   for (int q = 0; q < 3; ++q)
@@ -129,16 +137,25 @@ void blend(S C[3], S& A, const S c[3], S a)
 constexpr double kMaxOpacity = 1.0 - 1e-6;
 
 template <typename S>
-S blendInvertAlpha(S Aafter, S a)
+DDG_ADJOINT_INLINE S blendInvertAlpha(S Aafter, S a)
 {
   return std::clamp((Aafter - a) / (S(1) - a), S(0), S(1));
+}
+
+/// The same with oneOverOneMinusA = 1 / (1 - a) given: a replay computes it apart from the
+/// chain of recovered states, so that the chain waits on a multiplication instead of a
+/// division (equal to blendInvertAlpha to the last bit or two).
+template <typename S>
+DDG_ADJOINT_INLINE S blendInvertAlphaReciprocal(S Aafter, S a, S oneOverOneMinusA)
+{
+  return std::clamp((Aafter - a) * oneOverOneMinusA, S(0), S(1));
 }
 
 /// Adjoint of blend. In: dL/dC' (gC, unchanged by the blend), dL/dA' (gA), the state before
 /// (A), the sample (c, a). Out: ACCUMULATES dL/dc into g_c and dL/da into g_a; OVERWRITES gA
 /// with dL/dA (the adjoint of the state before the sample).
 template <typename S>
-void blendAdjoint(const S gC[3], S& gA, S A, const S c[3], S a, S g_c[3], S& g_a)
+DDG_ADJOINT_INLINE void blendAdjoint(const S gC[3], S& gA, S A, const S c[3], S a, S g_c[3], S& g_a)
 {
   // C' = C + (1 - A) a c   ->  dC'/dc = (1 - A) a,  dC'/da = (1 - A) c,  dC'/dA = -a c
   // A' = A + (1 - A) a     ->  dA'/da = 1 - A,      dA'/dA = 1 - a

@@ -6,8 +6,10 @@
 #include "Render/RaySegment.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <mutex>
 #include <type_traits>
 
@@ -74,14 +76,38 @@ struct FieldSampler
       }
       idx[l] = i[0] + static_cast<std::int64_t>(nx) * (i[1] + static_cast<std::int64_t>(ny) * i[2]);
     }
+    // The corners of every lane first (integer scalars widened exactly), then the
+    // interpolation lane by lane in arrays the compiler vectorises (SSE2: 4 lanes), with the
+    // operations of adjoint::trilinear in the same order (bit for bit its result).
+    using Wide = std::conditional_t<std::is_integral_v<T>, std::int32_t, S>;
     const std::int64_t sy = nx, sz = static_cast<std::int64_t>(nx) * ny;
+    const std::int64_t offset[8] = { 0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1 };
+    Wide w[8][kBatch];
     for (int l = 0; l < kBatch; ++l)
     {
       const T* q = v + idx[l];
-      const S c[8] = { static_cast<S>(q[0]), static_cast<S>(q[1]), static_cast<S>(q[sy]),
-        static_cast<S>(q[sy + 1]), static_cast<S>(q[sz]), static_cast<S>(q[sz + 1]),
-        static_cast<S>(q[sz + sy]), static_cast<S>(q[sz + sy + 1]) };
-      out[l] = adjoint::trilinear(c, f[0][l], f[1][l], f[2][l]);
+      for (int c = 0; c < 8; ++c)
+      {
+        w[c][l] = static_cast<Wide>(q[offset[c]]);
+      }
+    }
+    S c[8][kBatch];
+    for (int k = 0; k < 8; ++k)
+    {
+      for (int l = 0; l < kBatch; ++l)
+      {
+        c[k][l] = static_cast<S>(w[k][l]);
+      }
+    }
+    for (int l = 0; l < kBatch; ++l)
+    {
+      const S c00 = c[0][l] + f[0][l] * (c[1][l] - c[0][l]);
+      const S c10 = c[2][l] + f[0][l] * (c[3][l] - c[2][l]);
+      const S c01 = c[4][l] + f[0][l] * (c[5][l] - c[4][l]);
+      const S c11 = c[6][l] + f[0][l] * (c[7][l] - c[6][l]);
+      const S c0 = c00 + f[1][l] * (c10 - c00);
+      const S c1 = c01 + f[1][l] * (c11 - c01);
+      out[l] = c0 + f[2][l] * (c1 - c0);
     }
   }
 };
@@ -136,6 +162,26 @@ struct PreparedTable
   }
 };
 
+// RGBA entries as one SSE2 register (GCC/Clang vector extensions): the lookup's lerp and its
+// adjoint's scatter per entry in one operation each, the same arithmetic per channel as
+// adjoint::tableLookup / tableLookupAdjoint. Other scalars take the generic loops.
+#if defined(__GNUC__)
+typedef float RGBA4 __attribute__((vector_size(16)));
+inline RGBA4 loadRGBA(const float* p)
+{
+  RGBA4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+inline void storeRGBA(float* p, RGBA4 v)
+{
+  std::memcpy(p, &v, sizeof v);
+}
+constexpr bool kVectorRGBA = true;
+#else
+constexpr bool kVectorRGBA = false;
+#endif
+
 // Classification of a sample: 1D (value) or 2D (value, gradient magnitude) bilinear lookup.
 template <typename S, bool TwoD>
 struct Classifier
@@ -154,6 +200,31 @@ struct Classifier
   {
     adjoint::tableCoordinate(value, vScale, vBias, width, k.i, k.f);
     const S* e = table.entries.data();
+#if defined(__GNUC__)
+    if constexpr (std::is_same_v<S, float> && kVectorRGBA)
+    {
+      // out = T[i] + f (T[i + 1] - T[i]), per channel
+      const RGBA4 f = { k.f, k.f, k.f, k.f };
+      const float* p = e + 4 * static_cast<size_t>(k.i);
+      if constexpr (!TwoD)
+      {
+        const RGBA4 a = loadRGBA(p), b = loadRGBA(p + 4);
+        storeRGBA(rgba, a + f * (b - a));
+      }
+      else
+      {
+        adjoint::tableCoordinate(grad, gScale, gBias, height, k.j, k.g);
+        const float* r0 = p + 4 * static_cast<size_t>(k.j) * width;
+        const float* r1 = r0 + 4 * static_cast<size_t>(width);
+        const RGBA4 a0 = loadRGBA(r0), b0 = loadRGBA(r0 + 4), a1 = loadRGBA(r1),
+                    b1 = loadRGBA(r1 + 4);
+        const RGBA4 g = { k.g, k.g, k.g, k.g };
+        const RGBA4 lo = a0 + f * (b0 - a0), hi = a1 + f * (b1 - a1);
+        storeRGBA(rgba, lo + g * (hi - lo));
+      }
+      return;
+    }
+#endif
     if constexpr (!TwoD)
     {
       adjoint::tableLookup<S, 4>(e, k.i, k.f, rgba);
@@ -174,6 +245,33 @@ struct Classifier
   // Accumulates dL/d(prepared table) from dL/d(rgba) of a sample.
   void classifyAdjoint(const Coord& k, const S dL_drgba[4], S* dTable) const
   {
+#if defined(__GNUC__)
+    if constexpr (std::is_same_v<S, float> && kVectorRGBA)
+    {
+      // dT[i] += (1 - f) d,  dT[i + 1] += f d   (per row, rows weighted 1 - g and g in 2D)
+      const RGBA4 d = loadRGBA(dL_drgba);
+      const RGBA4 f = { k.f, k.f, k.f, k.f };
+      const RGBA4 f1 = 1.0f - f;
+      float* p = dTable + 4 * static_cast<size_t>(k.i);
+      auto scatter = [&](float* row, RGBA4 dRow)
+      {
+        storeRGBA(row, loadRGBA(row) + f1 * dRow);
+        storeRGBA(row + 4, loadRGBA(row + 4) + f * dRow);
+      };
+      if constexpr (!TwoD)
+      {
+        scatter(p, d);
+      }
+      else
+      {
+        const RGBA4 g = { k.g, k.g, k.g, k.g };
+        float* r0 = p + 4 * static_cast<size_t>(k.j) * width;
+        scatter(r0, (1.0f - g) * d);
+        scatter(r0 + 4 * static_cast<size_t>(width), g * d);
+      }
+      return;
+    }
+#endif
     if constexpr (!TwoD)
     {
       adjoint::tableLookupAdjoint<S, 4>(k.i, k.f, dL_drgba, dTable);
@@ -355,17 +453,39 @@ struct DifferentiableRendererT<S>::Internals
     const FieldSampler<S>* grad = TwoD ? &gradient() : nullptr;
     const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
     rgba.assign(4 * n, S(0));
-    records.assign(n, RayRecord{});
+    // Reset the records, keeping their sample buffers' capacity (a reconstruction renders the
+    // same number of rays step after step).
+    records.resize(n);
+    for (auto& r : records)
+    {
+      r.lastSample = -1;
+      r.alpha = 0;
+      r.samples.clear();
+    }
+    constexpr int channels = TwoD ? 2 : 1; // stored floats per sample
+    std::atomic<std::int64_t> budget{ 0 };
+    // Per thread, the values of the ray being marched; the record takes the marched part.
+    const int threads = resolveThreadCount(opt.threads, static_cast<std::int64_t>((n + 63) / 64));
+    std::vector<std::vector<float>> scratch(static_cast<size_t>(threads));
     withValues(
       [&](const auto& Values)
       {
-        forPixels(view, s, pixels, opt.threads,
-          [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j, int)
+        forPixels(view, s, pixels, threads,
+          [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j,
+            int threadId)
           {
             RaySegment seg;
             if (!raySegment(o, dir, s.boxMin, s.boxMax, s.origin, s.spacing, s.d, j, seg))
             {
               return;
+            }
+            RayRecord& rec = records[static_cast<size_t>(q)];
+            float* store = nullptr; // this ray's sample values (float renderer)
+            if constexpr (std::is_same_v<S, float>)
+            {
+              auto& buffer = scratch[static_cast<size_t>(threadId)];
+              buffer.resize(std::max(buffer.size(), static_cast<size_t>(seg.kLast + 1) * channels));
+              store = buffer.data();
             }
             const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]),
               static_cast<S>(seg.e[2]) };
@@ -385,6 +505,17 @@ struct DifferentiableRendererT<S>::Internals
               }
               const int n = static_cast<int>(
                 std::min<std::int64_t>(FieldSampler<S>::kBatch, seg.kLast + 1 - k0));
+              if (store)
+              {
+                for (int l = 0; l < n; ++l)
+                {
+                  store[channels * (k0 + l)] = static_cast<float>(value[l]);
+                  if constexpr (TwoD)
+                  {
+                    store[channels * (k0 + l) + 1] = static_cast<float>(gradient[l]);
+                  }
+                }
+              }
               for (int l = 0; l < n; ++l)
               {
                 k = k0 + l;
@@ -408,7 +539,20 @@ struct DifferentiableRendererT<S>::Internals
             out[1] = static_cast<S>(C[1]);
             out[2] = static_cast<S>(C[2]);
             out[3] = static_cast<S>(A);
-            records[static_cast<size_t>(q)] = { static_cast<std::int32_t>(k), A };
+            rec.lastSample = static_cast<std::int32_t>(k);
+            rec.alpha = A;
+            if (store)
+            {
+              const std::int64_t used = (k + 1) * channels;
+              if (budget.fetch_add(used, std::memory_order_relaxed) + used <= kRecordBudget)
+              {
+                rec.samples.assign(store, store + used);
+              }
+              else
+              {
+                rec.samples.shrink_to_fit(); // over the budget: this ray is re-interpolated
+              }
+            }
           });
       });
   }
@@ -452,10 +596,40 @@ struct DifferentiableRendererT<S>::Internals
             double gA = g[3];
             double A = rec.alpha;
             S* dTable = local[static_cast<size_t>(threadId)].data();
-            // Replay from the last sample to the first, a batch of values at a time.
+            // One sample of the replay, from the last to the first.
+            auto replay = [&](S value, S gradient)
+            {
+              S c[4];
+              typename Classifier<S, TwoD>::Coord coord;
+              cls.classify(value, gradient, c, coord);
+              const double a = c[3] > S(0) ? static_cast<double>(c[3]) : 0.0;
+              // Inverse of the blend: the state before this sample.
+              const double before =
+                a > 0 ? adjoint::blendInvertAlphaReciprocal(A, a, 1.0 / (1.0 - a)) : A;
+              const double col[3] = { c[0], c[1], c[2] };
+              double g_c[3] = { 0, 0, 0 }, g_a = 0;
+              adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
+              A = before;
+              const S dL_drgba[4] = { static_cast<S>(g_c[0]), static_cast<S>(g_c[1]),
+                static_cast<S>(g_c[2]), static_cast<S>(g_a) };
+              cls.classifyAdjoint(coord, dL_drgba, dTable);
+            };
+            const std::int64_t kStop = std::min<std::int64_t>(rec.lastSample, seg.kLast);
+            constexpr int channels = TwoD ? 2 : 1;
+            if (rec.samples.size() == static_cast<size_t>(kStop + 1) * channels)
+            {
+              // The values the forward pass kept.
+              const float* v = rec.samples.data();
+              for (std::int64_t k = kStop; k >= 0; --k)
+              {
+                replay(static_cast<S>(v[channels * k]),
+                  TwoD ? static_cast<S>(v[channels * k + channels - 1]) : S(0));
+              }
+              return;
+            }
+            // Re-interpolate, a batch of values at a time.
             constexpr int kB = FieldSampler<S>::kBatch;
             S value[kB], gradient[kB];
-            const std::int64_t kStop = std::min<std::int64_t>(rec.lastSample, seg.kLast);
             for (std::int64_t k0 = kStop - kStop % kB; k0 >= 0; k0 -= kB)
             {
               const S kk0 = static_cast<S>(j) + static_cast<S>(k0);
@@ -467,19 +641,7 @@ struct DifferentiableRendererT<S>::Internals
               for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= 0;
                    --l)
               {
-                S c[4];
-                typename Classifier<S, TwoD>::Coord coord;
-                cls.classify(value[l], TwoD ? gradient[l] : S(0), c, coord);
-                const double a = c[3] > S(0) ? static_cast<double>(c[3]) : 0.0;
-                // Inverse of the blend: the state before this sample.
-                const double before = a > 0 ? adjoint::blendInvertAlpha(A, a) : A;
-                const double col[3] = { c[0], c[1], c[2] };
-                double g_c[3] = { 0, 0, 0 }, g_a = 0;
-                adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
-                A = before;
-                const S dL_drgba[4] = { static_cast<S>(g_c[0]), static_cast<S>(g_c[1]),
-                  static_cast<S>(g_c[2]), static_cast<S>(g_a) };
-                cls.classifyAdjoint(coord, dL_drgba, dTable);
+                replay(value[l], TwoD ? gradient[l] : S(0));
               }
             }
           });

@@ -13,18 +13,34 @@ namespace ddg
 
 /// Forward and backward passes of the RayCaster model (RayCaster.h) for a subset of pixels.
 ///
-/// Differences from RayCaster::render, all documented here: no empty-space skipping (every
-/// table entry is a parameter, so no sample is skippable), opacities after the step correction
-/// are clamped to adjoint::kMaxOpacity = 1 - 1e-6 (the guard of the inversion below), and the
-/// ray state is accumulated in double. Images otherwise agree with RayCaster to ~1e-6.
+/// Differences from RayCaster::render, all documented here: no empty-space skipping (below),
+/// opacities after the step correction are clamped to adjoint::kMaxOpacity = 1 - 1e-6 (the
+/// guard of the inversion below), and the ray state is accumulated in double. Images otherwise
+/// agree with RayCaster to ~1e-6.
 ///
-/// Backward (DiffDVR's method): the forward pass keeps only each ray's final (C, A) and the
-/// index of its last sample; the backward pass replays the ray from that sample to the first,
-/// recomputes each sample, inverts the compositing to recover the state before it
-/// (A = (A' - a) / (1 - a)) and accumulates the gradients. Memory per ray is constant. The
-/// inversion is ill-conditioned for a -> 1: opacities are clamped to 1 - 1e-6 and rays stop at
-/// the early-termination threshold (A > 1 - 1/255), which bounds the error amplification by
-/// 255 / 1e-6 over a ray; the double state keeps the recovered A within ~1e-9.
+/// Why no skipping: a sample whose table opacity is 0 adds nothing to the image, but its
+/// gradient is not 0: dL/da = (1 - A) (dL/dC . c + dL/dA), with c the colour looked up there,
+/// lands on the opacity entries around its value (raising them would make it visible). Over a
+/// run of such samples A, dL/dC and dL/dA stay constant, yet each sample still adds at its own
+/// table coordinate with its own colour, so the backward pass must visit every one of them;
+/// only the forward pass could skip them (exactly, as RayCaster does). And the reconstruction's
+/// opacities are sigmoids, never 0, so no block is ever empty there in the first place.
+///
+/// Backward (DiffDVR's method): the forward pass keeps each ray's final A and the index of its
+/// last sample; the backward pass replays the ray from that sample to the first, classifies
+/// each sample again, inverts the compositing to recover the state before it
+/// (A = (A' - a) / (1 - a)) and accumulates the gradients. The inversion is ill-conditioned for
+/// a -> 1: opacities are clamped to 1 - 1e-6 and rays stop at the early-termination threshold
+/// (A > 1 - 1/255), which bounds the error amplification by 255 / 1e-6 over a ray; the double
+/// state keeps the recovered A within ~1e-9.
+///
+/// Stored or recomputed samples: the float renderer's forward pass also keeps each sample's
+/// interpolated scalar (and gradient magnitude, 2D) in the ray's record, 4 (8) bytes per sample,
+/// while the call's total stays within kRecordBudget values; the backward pass then reads them
+/// instead of interpolating the volume again (the interpolation's scattered memory reads are
+/// the largest cost of a pass over sparse random rays). Rays beyond the budget, and the double
+/// renderer, keep constant memory and re-interpolate. Both give the same values bit for bit,
+/// hence the same gradients.
 ///
 /// Tables: `table` is a dense RGBA table of `width` entries over [min, max] in data values, with
 /// UNCORRECTED opacity and ParaView's lookup convention (TransferTable1D). Gradients are with
@@ -35,7 +51,13 @@ struct RayRecord
 {
   std::int32_t lastSample = -1; ///< index of the last sample marched (-1: the ray misses)
   double alpha = 0;             ///< final accumulated opacity, in double for the inversion
+  /// Interpolated value of samples 0 .. lastSample (2D: value, gradient magnitude per sample),
+  /// or empty: the backward pass then re-interpolates. Kept by the float renderer only.
+  std::vector<float> samples;
 };
+
+/// Most sample values (floats) one forward call keeps in its records (32 MB).
+constexpr std::int64_t kRecordBudget = std::int64_t(1) << 23;
 
 /// S is float (production) or double (gradient checks).
 template <typename S>

@@ -158,11 +158,15 @@ int main(int argc, char** argv)
       table.rgba.data(), table.width, table.min, table.max, view, opt, {}, records, dRGBA, dTable);
     const double ms = since(t0);
     // Working memory of the pass, counted exactly: per pixel the output, its gradient and the
-    // ray record; per thread one gradient table; the prepared table. Independent of the number
-    // of samples per ray.
+    // ray record with the sample values it keeps (at most kRecordBudget floats in all); per
+    // thread one gradient table; the prepared table.
     const int threads = ddg::defaultThreadCount();
+    double kept = 0;
+    for (const auto& r : records)
+      kept += static_cast<double>(r.samples.capacity()) * sizeof(float);
     const double bytes = static_cast<double>(rgba.size()) * sizeof(float) * 2 +
-      records.size() * sizeof(RayRecord) + (threads + 2.0) * table.rgba.size() * sizeof(float);
+      records.size() * sizeof(RayRecord) + kept +
+      (threads + 2.0) * table.rgba.size() * sizeof(float);
     std::printf("ours: forward+backward %.1f ms, working memory %.2f MB (engine %dx%d, no early "
                 "termination)\n",
       ms, bytes / (1024.0 * 1024.0), size, size);
