@@ -163,11 +163,7 @@ def run_case(case, args, models_dir):
         else:
             entry["psnr"] = None
         view_file = os.path.join(work, method + "_view.json")
-        if (
-            method in ("match", "match_from_query")
-            and status == 0
-            and os.path.isfile(view_file)
-        ):
+        if method in ("match", "match_from_query") and status == 0 and os.path.isfile(view_file):
             with open(view_file) as f:
                 entry["estimated_camera"] = json.load(f)["camera"]
         results[method] = entry
@@ -212,14 +208,11 @@ def markdown(records, meta):
                 cells.append("—")
             elif e["psnr"] is None:
                 refused = "no camera explains the picture" in e.get("log", "")
-                cells.append(
-                    "%s (%.1f s)" % ("refused" if refused else "failed", e["seconds"])
-                )
+                cells.append("%s (%.1f s)" % ("refused" if refused else "failed", e["seconds"]))
             else:
                 b = e["psnr_by_background"]
                 cells.append(
-                    "%.2f (%.2f / %.2f), %.1f s"
-                    % (e["psnr"], b["black"], b["white"], e["seconds"])
+                    "%.2f (%.2f / %.2f), %.1f s" % (e["psnr"], b["black"], b["white"], e["seconds"])
                 )
         lines.append(
             "| %s | %s | %dx%d | %s | %.0f° / %.0f° / %.0f° / %.2f | %s |"
@@ -243,9 +236,7 @@ def markdown(records, meta):
             for r in records
             if method in r["methods"] and r["methods"][method]["psnr"] is not None
         ]
-        times = [
-            r["methods"][method]["seconds"] for r in records if method in r["methods"]
-        ]
+        times = [r["methods"][method]["seconds"] for r in records if method in r["methods"]]
         runs = [r for r in records if method in r["methods"]]
         failed = len(runs) - len(values)
         at_bar = sum(1 for v in values if v >= 35.0)
@@ -297,9 +288,7 @@ def chart(records, meta, path):
             % (LABELS[method], sum(ys) / len(ys), sum(xs) / len(xs)),
         )
     ax.axhline(35, color="grey", linestyle="--", linewidth=0.8)
-    ax.set_xlabel(
-        "wall-clock seconds (ddg commands, %s threads)" % (meta["threads"] or "all")
-    )
+    ax.set_xlabel("wall-clock seconds (ddg commands, %s threads)" % (meta["threads"] or "all"))
     ax.set_ylabel("score: mean PSNR of canonical renders (dB)")
     ax.set_title("Screenshot -> TF on the suite (%d cases)" % len(records))
     ax.legend(fontsize=7, loc="lower right")
@@ -313,9 +302,7 @@ def main():
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument(
-        "--suite", required=True, help="folder written by make_suite.py"
-    )
+    parser.add_argument("--suite", required=True, help="folder written by make_suite.py")
     parser.add_argument("--ddg", required=True, help="the ddg program")
     parser.add_argument("--out", required=True, help="where baseline.json and .md go")
     parser.add_argument(
@@ -323,9 +310,7 @@ def main():
         default=os.path.join(HERE, "..", "..", "Data", "Models"),
         help="model bundles",
     )
-    parser.add_argument(
-        "--threads", type=int, default=0, help="ddg reconstruct --threads"
-    )
+    parser.add_argument("--threads", type=int, default=0, help="ddg reconstruct --threads")
     parser.add_argument("--score-size", type=int, nargs=2, default=list(SIZE))
     parser.add_argument("--chart", help="also chart time against score (PNG) here")
     parser.add_argument("--case", action="append", help="only this case (repeatable)")
@@ -366,9 +351,7 @@ def main():
         f.write(markdown(records, meta))
     if args.chart:
         chart(records, meta, args.chart)
-    print(
-        "wrote %s (%.1f min)" % (os.path.join(args.out, "baseline.md"), meta["minutes"])
-    )
+    print("wrote %s (%.1f min)" % (os.path.join(args.out, "baseline.md"), meta["minutes"]))
 
 
 if __name__ == "__main__":
