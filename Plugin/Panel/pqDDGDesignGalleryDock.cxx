@@ -331,8 +331,7 @@ void pqDDGDesignGalleryDock::applyMatch()
     ? ddgpanel::applyTransferFunction2D(repr, this->State->array(), m.ParaView2D, label, false)
     : ddgpanel::applyPreset(repr, this->State->array(), m.Preset, label, false);
   if (error.isEmpty() && moveCamera)
-    error = QString::fromStdString(
-      vtkSMDDGScene::SetCamera(view->getProxy(), ddgpanel::jsonText(m.View).toUtf8().constData()));
+    error = ddgpanel::setCamera(view, m.View, true);
   END_UNDO_SET();
   if (!error.isEmpty())
   {
