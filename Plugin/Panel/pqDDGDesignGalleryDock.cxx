@@ -22,6 +22,7 @@
 #include <vtkSMDDGScene.h>
 #include <vtkSMSourceProxy.h>
 
+#include <QApplication>
 #include <QCheckBox>
 #include <QDragEnterEvent>
 #include <QDropEvent>
@@ -43,6 +44,59 @@
 
 namespace
 {
+/// While a long filter run processes events (match, build): user input reaches only the given
+/// Cancel buttons. pqProgressManager's own blocking lets "non-blockable" widgets through by the
+/// receiver of the event, but a click first goes to the top-level QWindow, which it blocks, so
+/// no button gets it; its blocking is lifted for the run and this filter blocks instead: input
+/// to windows passes (they route it to the widget under the cursor), input to any widget but the
+/// Cancel buttons, and shortcuts, are dropped (no re-entrant pipeline updates from the GUI).
+class InputGuard : public QObject
+{
+public:
+  InputGuard(std::initializer_list<QWidget*> allowed)
+    : Allowed(allowed)
+  {
+    auto* progress = pqApplicationCore::instance()->getProgressManager();
+    this->WasUnblocked = progress->unblockEvents(true);
+    QApplication::instance()->installEventFilter(this);
+  }
+  ~InputGuard() override
+  {
+    QApplication::instance()->removeEventFilter(this);
+    pqApplicationCore::instance()->getProgressManager()->unblockEvents(this->WasUnblocked);
+  }
+
+protected:
+  bool eventFilter(QObject* receiver, QEvent* event) override
+  {
+    switch (event->type())
+    {
+      case QEvent::MouseButtonPress:
+      case QEvent::MouseButtonRelease:
+      case QEvent::MouseButtonDblClick:
+      case QEvent::KeyPress:
+      case QEvent::KeyRelease:
+      case QEvent::Wheel:
+      case QEvent::Shortcut:
+      case QEvent::ShortcutOverride:
+      case QEvent::Drop:
+        if (receiver->isWindowType() && event->type() != QEvent::Shortcut &&
+          event->type() != QEvent::ShortcutOverride)
+          return false;
+        for (QWidget* w : this->Allowed)
+          if (receiver == w)
+            return false;
+        return true;
+      default:
+        return false;
+    }
+  }
+
+private:
+  QList<QWidget*> Allowed;
+  bool WasUnblocked = false;
+};
+
 bool writeText(const QString& path, const QString& text)
 {
   QFile f(path);
@@ -84,7 +138,7 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
 
   pqProgressManager* progress = pqApplicationCore::instance()->getProgressManager();
   progress->addNonBlockableObject(this->Ui->cancel);
-  progress->addNonBlockableObject(this->Ui->matchPreview);
+  progress->addNonBlockableObject(this->Ui->cancelMatch);
   QObject::connect(progress, &pqProgressManager::progress, this,
     [this](const QString&, int value)
     {
@@ -138,6 +192,7 @@ void pqDDGDesignGalleryDock::connectWidgets()
   QObject::connect(paste, &QShortcut::activated, ui.queryBox, &pqDDGQueryBox::paste);
   // the match
   QObject::connect(ui.match, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::runMatch);
+  QObject::connect(ui.cancelMatch, &QPushButton::clicked, state, &pqDDGDesignState::cancel);
   QObject::connect(ui.applyMatch, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::applyMatch);
   // the design
   QObject::connect(ui.apply, &QPushButton::clicked, this, &pqDDGDesignGalleryDock::apply);
@@ -170,6 +225,7 @@ void pqDDGDesignGalleryDock::connectState()
     [this](bool busy)
     {
       this->Ui->cancel->setEnabled(busy);
+      this->Ui->cancelMatch->setEnabled(busy);
       this->Ui->progress->setValue(busy ? 0 : 100);
     });
   QObject::connect(ui.pinBox, &pqDDGPinStrip::progress, ui.progress, &QProgressBar::setValue);
@@ -300,8 +356,14 @@ void pqDDGDesignGalleryDock::showMatchProgress(
 void pqDDGDesignGalleryDock::runMatch()
 {
   this->Ui->match->setEnabled(false);
-  this->State->match(this->Ui->pictureCamera->isChecked());
+  bool matched = false;
+  {
+    InputGuard guard{ this->Ui->cancelMatch, this->Ui->cancel };
+    matched = this->State->match(this->Ui->pictureCamera->isChecked());
+  }
   this->showMatch();
+  if (!matched) // why, next to the Match button too
+    this->Ui->matchInfo->setText(this->State->lastMessage());
 }
 
 void pqDDGDesignGalleryDock::applyMatch()
@@ -504,7 +566,12 @@ void pqDDGDesignGalleryDock::buildModel()
   if (dialog.exec() != QDialog::Accepted || dialog.getSelectedFiles().isEmpty())
     return;
   const QString dir = dialog.getSelectedFiles().first();
-  if (!this->State->buildModel(dir))
+  bool built = false;
+  {
+    InputGuard guard{ this->Ui->cancel };
+    built = this->State->buildModel(dir);
+  }
+  if (!built)
     return;
   this->Ui->modelPath->setText(dir);
   this->loadModel();
