@@ -68,8 +68,11 @@ struct MatchOptions
   double emptySpaceWeight = 1.0;
   /// Mask overlays (parts of the picture the object does not explain) [true].
   bool maskOverlays = true;
-  /// Camera candidates scored by a short reconstruction [4].
-  int cameraCandidates = 4;
+  /// Camera candidates scored by a short reconstruction [6].
+  int cameraCandidates = 6;
+  /// Rounds of the camera's refinement on the picture's colours, each a Nelder-Mead search
+  /// with the TF held, then a short refit of the TF [4].
+  int cameraRounds = 4;
   /// Below this silhouette overlap (IoU) of the best camera, no camera explains the picture and
   /// matchPicture throws [0.6].
   double minimumOverlap = 0.6;
@@ -81,16 +84,16 @@ struct MatchOptions
 /// What the match found.
 struct MatchResult
 {
-  ReconstructionResult tf;        ///< the fitted TF (1D or 2D)
-  View view;                      ///< the picture's camera, at the picture's size and background
-  PictureBackground background;   ///< estimated or given
-  PictureMasks masks;             ///< what was compared and what was ignored
-  bool cameraEstimated = false;   ///< the camera came from the search (not given as is)
-  double overlap = 0;             ///< silhouette IoU of the found camera (1 = exact)
-  double fitPSNR = 0;             ///< PSNR of the fit over the compared pixels, picture vs render
+  ReconstructionResult tf;      ///< the fitted TF (1D or 2D)
+  View view;                    ///< the picture's camera, at the picture's size and background
+  PictureBackground background; ///< estimated or given
+  PictureMasks masks;           ///< what was compared and what was ignored
+  bool cameraEstimated = false; ///< the camera came from the search (not given as is)
+  double overlap = 0;           ///< silhouette IoU of the found camera (1 = exact)
+  double fitPSNR = 0;           ///< PSNR of the fit over the compared pixels, picture vs render
   std::array<double, 3> orbit{ 0, 0, 0 }; ///< azimuth, elevation, roll from the reset camera (deg)
-  double zoom = 1;                ///< distance factor from the reset camera
-  std::array<double, 2> pan{ 0, 0 }; ///< pan right, up, in view heights at the focal point
+  double zoom = 1;                        ///< distance factor from the reset camera
+  std::array<double, 2> pan{ 0, 0 };      ///< pan right, up, in view heights at the focal point
   /// Seconds per stage: background and masks, camera search, the final fit, and in all.
   double backgroundSeconds = 0, cameraSeconds = 0, fitSeconds = 0, seconds = 0;
 };

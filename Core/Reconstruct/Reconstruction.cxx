@@ -423,8 +423,8 @@ private:
         const double g = -k * dS[3 * q + c]; // d(k (1 - S)) / d(image)
         pd[4 * q + c] += static_cast<float>(g);
         if (!t.alpha)
-          pd[4 * q + 3] -= static_cast<float>(
-            g * t.background[static_cast<size_t>(patch[q] / t.width)][c]);
+          pd[4 * q + 3] -=
+            static_cast<float>(g * t.background[static_cast<size_t>(patch[q] / t.width)][c]);
       }
     stage.backward(view, patch, prec, pd);
     return k * (1.0 - sVal);

@@ -7,8 +7,8 @@
 #include "Common/Error.h"
 #include "Image/Image.h"
 #include "Image/ImageMetrics.h"
+#include "Reconstruct/Match.h"
 #include "Reconstruct/Reconstruction.h"
-#include "Reconstruct/ViewEstimation.h"
 #include "Render/DifferentiableRenderer.h"
 #include "Render/RayCaster.h"
 #include "Render/View.h"
@@ -31,7 +31,7 @@ struct ReconstructArgs
   std::vector<std::string> targets, views, masks;
   std::vector<double> background;
   bool twoD = false, resample = false, quiet = false, estimateView = false;
-  std::string outView;
+  std::string outView, outOverlay;
   int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0, primitives = 0;
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
   unsigned seed = 1;
@@ -74,9 +74,146 @@ ddg::Image readTarget(const std::string& path, const ddg::View& view, bool resam
   return img;
 }
 
-int runReconstruct(const ReconstructArgs& a)
+ddg::ReconstructionOptions reconstructionOptions(
+  const ReconstructArgs& a, const ddg::Volume& volume)
+{
+  ddg::ReconstructionOptions opt;
+  opt.twoD = a.twoD;
+  opt.bins = a.bins;
+  opt.gradientBins = a.gradientBins;
+  opt.primitives = a.primitives;
+  opt.loss = a.loss == "l2" ? ddg::ReconstructionLoss::L2 : ddg::ReconstructionLoss::L1;
+  opt.smoothness = a.smoothness;
+  opt.ssimWeight = a.ssimWeight;
+  opt.iterations = a.iterations;
+  opt.learningRate = a.learningRate;
+  opt.raysPerIteration = a.rays;
+  opt.seed = a.seed;
+  opt.render.threads = a.threads;
+  if (!a.init.empty())
+  {
+    const ddg::TransferFunction1D init = ddg::readPreset(a.init);
+    opt.initial1D = ddg::bakeTable(init, volume.range()[0], volume.range()[1], 1024);
+  }
+  return opt;
+}
+
+void writeResult(const ddg::ReconstructionResult& result, const std::string& path)
+{
+  if (result.twoD)
+  {
+    ddg::TransferFunction2D tf;
+    tf.name = "ddg reconstruct";
+    tf.table = result.table2D;
+    ddg::writeTransferFunction2D(tf, path);
+  }
+  else
+  {
+    ddg::writePreset(
+      ddg::tableToTransferFunction(result.table1D, 1.0 / 512.0, "ddg reconstruct"), path);
+  }
+}
+
+// One picture without a mask: Core's matchPicture (background estimated, overlays masked,
+// empty space kept transparent; the camera estimated unless a --view is given as the answer).
+int runMatch(const ReconstructArgs& a)
 {
   const auto t0 = Clock::now();
+  const ddg::Image picture = ddg::readImage(a.targets[0]);
+  const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
+  const ddg::DifferentiableRenderer renderer(volume);
+  ddg::MatchOptions opt;
+  opt.reconstruction = reconstructionOptions(a, volume);
+  if (!a.views.empty())
+  {
+    opt.view = ddg::readView(a.views[0]);
+    opt.refineGivenView = a.estimateView;
+  }
+  if (!a.background.empty())
+  {
+    opt.background = std::array<double, 3>{ a.background[0], a.background[1], a.background[2] };
+  }
+  const double tLoad = msSince(t0);
+  std::string lastStage;
+  const auto m = ddg::matchPicture(renderer, picture, opt,
+    [&](const std::string& stage, double fraction, const ddg::Image*)
+    {
+      if (!a.quiet && stage != lastStage)
+      {
+        std::printf("%s (%.0f %%)\n", stage.c_str(), 100 * fraction);
+        std::fflush(stdout);
+        lastStage = stage;
+      }
+      return true;
+    });
+  writeResult(m.tf, a.out);
+  if (!a.outView.empty())
+  {
+    ddg::writeView(m.view, a.outView);
+  }
+  if (!a.outOverlay.empty())
+  {
+    ddg::writeImage(m.masks.overlay, a.outOverlay);
+  }
+  const auto& bg = m.background;
+  std::printf("background: %s (%.3f %.3f %.3f)", bg.gradient ? "gradient, bottom" : "uniform",
+    bg.bottom[0], bg.bottom[1], bg.bottom[2]);
+  if (bg.gradient)
+  {
+    std::printf(", top (%.3f %.3f %.3f)", bg.top[0], bg.top[1], bg.top[2]);
+  }
+  std::printf("\n");
+  if (m.cameraEstimated)
+  {
+    std::printf("camera: azimuth %.1f, elevation %.1f, roll %.1f, zoom %.3f, pan %+.3f %+.3f "
+                "(from %s); silhouette overlap %.3f\n",
+      m.orbit[0], m.orbit[1], m.orbit[2], m.zoom, m.pan[0], m.pan[1],
+      a.views.empty() ? "ParaView's reset camera" : "the given view", m.overlap);
+  }
+  else
+  {
+    std::printf("camera: the given view; silhouette overlap %.3f\n", m.overlap);
+  }
+  double overlay = 0;
+  for (float v : m.masks.overlay.pixels)
+  {
+    overlay += v > 0.5f;
+  }
+  std::printf("overlays masked: %.2f %% of the picture\n",
+    100.0 * overlay / static_cast<double>(m.masks.overlay.pixels.size()));
+  std::printf("%s after %d steps; fit PSNR %.2f dB; %.2f s (background %.2f, camera %.2f, fit "
+              "%.2f; load %.0f ms); wrote %s\n",
+    m.tf.converged ? "converged" : "did NOT converge (iteration limit)", m.tf.iterations, m.fitPSNR,
+    m.seconds, m.backgroundSeconds, m.cameraSeconds, m.fitSeconds, tLoad, a.out.c_str());
+  if (!a.outImage.empty())
+  {
+    const ddg::Image render = ddg::renderResult(renderer.caster(), m.tf, m.view, {});
+    ddg::writeImage(m.view.background2
+        ? ddg::compositeOverBackground(render, m.view.background, *m.view.background2)
+        : ddg::compositeOverBackground(render, m.view.background),
+      a.outImage);
+  }
+  return 0;
+}
+
+int runReconstruct(const ReconstructArgs& a)
+{
+  if (a.targets.size() == 1 && a.masks.empty())
+  {
+    if (a.views.size() > 1)
+    {
+      throw ddg::Error(
+        "give one --view per --target (1 target, " + std::to_string(a.views.size()) + " views)");
+    }
+    return runMatch(a);
+  }
+  if (a.estimateView || !a.outView.empty() || !a.outOverlay.empty())
+  {
+    throw ddg::Error("--estimate-view, --out-view and --out-overlay are for one target without "
+                     "--mask");
+  }
+  const auto t0 = Clock::now();
+
   if (a.views.size() != a.targets.size())
   {
     throw ddg::Error("give one --view per --target (" + std::to_string(a.targets.size()) +
@@ -102,43 +239,7 @@ int runReconstruct(const ReconstructArgs& a)
   }
   const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
   const ddg::DifferentiableRenderer renderer(volume);
-  ddg::ReconstructionOptions opt;
-  opt.twoD = a.twoD;
-  opt.bins = a.bins;
-  opt.gradientBins = a.gradientBins;
-  opt.primitives = a.primitives;
-  opt.loss = a.loss == "l2" ? ddg::ReconstructionLoss::L2 : ddg::ReconstructionLoss::L1;
-  opt.smoothness = a.smoothness;
-  opt.ssimWeight = a.ssimWeight;
-  opt.iterations = a.iterations;
-  opt.learningRate = a.learningRate;
-  opt.raysPerIteration = a.rays;
-  opt.seed = a.seed;
-  opt.render.threads = a.threads;
-  if (!a.init.empty())
-  {
-    const ddg::TransferFunction1D init = ddg::readPreset(a.init);
-    opt.initial1D = ddg::bakeTable(init, volume.range()[0], volume.range()[1], 1024);
-  }
-  if (a.estimateView)
-  {
-    for (size_t i = 0; i < targets.size(); ++i)
-    {
-      ddg::ViewEstimationOptions vopt;
-      vopt.render.threads = a.threads;
-      ddg::ViewEstimationReport report;
-      targets[i].view = ddg::estimateView(renderer, targets[i], vopt, &report);
-      std::printf(
-        "estimated view of target %zu: azimuth %.1f, elevation %.1f, zoom %.3f from the given view "
-        "(%d short fits, %.1f s)\n",
-        i, report.azimuth, report.elevation, report.zoom, report.evaluations, report.seconds);
-      if (!a.outView.empty())
-      {
-        ddg::writeView(targets[i].view,
-          targets.size() == 1 ? a.outView : a.outView + "." + std::to_string(i) + ".json");
-      }
-    }
-  }
+  const ddg::ReconstructionOptions opt = reconstructionOptions(a, volume);
   const double tLoad = msSince(t0);
   const auto result = ddg::reconstructTransferFunction(renderer, targets, opt,
     [&](int step, double loss, const ddg::ReconstructionResult*)
@@ -150,18 +251,7 @@ int runReconstruct(const ReconstructArgs& a)
       }
       return true;
     });
-  if (result.twoD)
-  {
-    ddg::TransferFunction2D tf;
-    tf.name = "ddg reconstruct";
-    tf.table = result.table2D;
-    ddg::writeTransferFunction2D(tf, a.out);
-  }
-  else
-  {
-    ddg::writePreset(
-      ddg::tableToTransferFunction(result.table1D, 1.0 / 512.0, "ddg reconstruct"), a.out);
-  }
+  writeResult(result, a.out);
   std::printf("%s after %d steps (%.2f s, load %.0f ms); wrote %s\n",
     result.converged ? "converged" : "did NOT converge (iteration limit)", result.iterations,
     result.seconds, tLoad, a.out.c_str());
@@ -204,8 +294,11 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
       "Target image: RGB screenshot over the view's background, or RGBA with straight alpha "
       "(repeat for multi-view)")
     ->required();
-  reconstruct->add_option("--view", rc->views, "View JSON of each target, in the same order")
-    ->required();
+  reconstruct->add_option("--view", rc->views,
+    "View JSON of each target, in the same order. One target: optional — without it the camera "
+    "(azimuth, elevation, roll, distance, pan from ParaView's reset camera) is estimated; with "
+    "it the view's camera is used as is (or searched near it with --estimate-view). Several "
+    "targets, or --mask: required, exact");
   reconstruct
     ->add_option("--out", rc->out, "Output TF: ParaView preset JSON (1D) or DDG 2D JSON (--2d)")
     ->required();
@@ -213,7 +306,8 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     "--mask", rc->masks, "Per-target mask image (first channel = weight in [0, 1])");
   reconstruct
     ->add_option("--background", rc->background,
-      "Background r g b of opaque targets (default: the view's background)")
+      "Background r g b of opaque targets (default: one target without --mask: estimated from "
+      "the picture's border, uniform or ParaView's vertical gradient; otherwise the view's)")
     ->expected(3);
   reconstruct->add_flag("--2d", rc->twoD, "Reconstruct a 2D TF (value x gradient magnitude)");
   reconstruct->add_option("--bins", rc->bins, "TF resolution along the value (default 128)")
@@ -255,10 +349,13 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
       "off)")
     ->check(CLI::NonNegativeNumber);
   reconstruct->add_flag("--estimate-view", rc->estimateView,
-    "The views are only approximate (size, background, view angle, up vector, distance): search "
-    "the camera "
-    "(orbit azimuth/elevation/zoom about the focal point) before reconstructing");
-  reconstruct->add_option(
-    "--out-view", rc->outView, "With --estimate-view: write the estimated view JSON");
+    "One target with --view: the view's camera is a hint; search the camera near it (azimuth, "
+    "elevation, roll, distance, pan)");
+  reconstruct->add_option("--out-view", rc->outView,
+    "One target: write the picture's view JSON (the camera found or given, the picture's size "
+    "and background)");
+  reconstruct->add_option("--out-overlay", rc->outOverlay,
+    "One target: write the mask of what was ignored as an overlay (orientation axes, text, a "
+    "scalar bar): white = ignored");
   return { reconstruct, [rc] { return runReconstruct(*rc); } };
 }
