@@ -155,7 +155,7 @@ public:
   ///@}
 
   ///@{
-  /// MatchPicture: camera candidates scored by a short fit. (default: 4)
+  /// MatchPicture: camera candidates scored by a short fit. (default: 6)
   vtkSetClampMacro(CameraCandidates, int, 1, 64);
   vtkGetMacro(CameraCandidates, int);
   ///@}
@@ -221,7 +221,7 @@ private:
   bool EstimateCamera = false;
   std::string InitialTransferFunction;
   double OpacityUnitDistance = 0.0;
-  int CameraCandidates = 4;
+  int CameraCandidates = 6;
   double MinimumOverlap = 0.6;
   double EmptySpaceWeight = 1.0;
   bool MaskOverlays = true;
