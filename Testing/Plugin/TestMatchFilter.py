@@ -284,7 +284,13 @@ def expect_error(label, expected, **props):
 
 match.Iterations = 50
 if other_volume_only:  # Core finds cameras for pictures of other volumes so far (issue 17)
-    expect_error("another volume", "no camera explains", TargetImageFile=tooth_path)
+    expect_error(
+        "another volume",
+        "no camera explains",
+        MatchPicture=1,
+        ViewJSON="",
+        TargetImageFile=tooth_path,
+    )
     print("ok")
     sys.exit(0)
 expect_error(
