@@ -347,8 +347,9 @@ void pqDDGDesignGalleryDock::showMatchProgress(
   const QString& stage, double fraction, const QImage& preview)
 {
   this->Ui->progress->setValue(static_cast<int>(std::lround(100 * fraction)));
-  this->Ui->matchInfo->setText(
-    tr("Matching: %1 (%2 %)").arg(stage).arg(std::lround(100 * fraction)));
+  this->Ui->matchInfo->setText(tr("Matching: %1 (%2 %)")
+                                 .arg(stage.isEmpty() ? tr("starting") : stage)
+                                 .arg(std::lround(100 * fraction)));
   if (!preview.isNull())
     this->Ui->matchPreview->setPixmap(fitted(preview, this->Ui->matchPreview));
 }
