@@ -298,7 +298,8 @@ public:
     Eigen::Vector3d half;
     for (int k = 0; k < 3; ++k)
       half[k] = 0.5 * bs * std::abs(s[k]);
-    Radius = 0.5 * (half.minCoeff() + half.norm()); // between the inscribed and the outer sphere
+    Radius =
+      half.minCoeff(); // the inscribed sphere: occupied blocks already reach past the surface
     for (float t : thresholds)
     {
       std::vector<Eigen::Vector3f> pts;
@@ -327,11 +328,16 @@ public:
             pts.push_back(c);
           }
       if (!pts.empty())
+      {
         Points.push_back(std::move(pts));
+        Thresholds.push_back(t);
+      }
     }
   }
 
   int levels() const { return static_cast<int>(Points.size()); }
+  /// The value threshold of a level (opaque at and above it).
+  float threshold(int level) const { return Thresholds[static_cast<size_t>(level)]; }
 
   // The silhouette of level `level` at `view` in a w x h raster (the view's framing).
   void render(const View& view, int level, int w, int h, Mask& out) const
@@ -384,6 +390,7 @@ public:
 
 private:
   std::vector<std::vector<Eigen::Vector3f>> Points;
+  std::vector<float> Thresholds;
   double Radius = 0;
 };
 
@@ -590,6 +597,76 @@ struct Picture
   std::vector<int> label, area; // connected parts of the foreground
 };
 
+// Bands of one colour along the picture's edges, each followed by a line of another colour: a
+// letterbox (or pillarbox) put around a picture. Returns the part inside {x, y, width, height}
+// (the whole picture when there is none).
+std::array<int, 4> letterbox(const Image& img)
+{
+  const int w = img.width, h = img.height, ch = img.channels;
+  // a line (row or column) of one colour: 98 % of its middle half (a band on the other axis
+  // may cover its ends) within 4 levels of its median
+  auto lineColour = [&](bool row, int index, std::array<double, 3>& colour)
+  {
+    const int full = row ? w : h, first = full / 4, n = std::max(1, full / 2);
+    std::vector<std::array<float, 3>> px(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i)
+    {
+      const int x = row ? first + i : index, y = row ? index : first + i;
+      for (int c = 0; c < 3; ++c)
+        px[static_cast<size_t>(i)][c] = img.pixels[(static_cast<size_t>(y) * w + x) * ch + c];
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      std::vector<double> v;
+      v.reserve(px.size());
+      for (const auto& p : px)
+        v.push_back(p[c]);
+      colour[c] = median(std::move(v));
+    }
+    int near = 0;
+    for (const auto& p : px)
+    {
+      double d = 0;
+      for (int c = 0; c < 3; ++c)
+        d = std::max(d, std::abs(p[c] - colour[c]));
+      near += d <= 4.0 / 255.0;
+    }
+    return near >= 0.98 * n;
+  };
+  auto distance = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::max({ std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2]) });
+  };
+  // the band's thickness on one side (0 when none): lines of the edge's colour, then (after at
+  // most two lines of transition) a line of one other colour
+  auto band = [&](bool row, bool fromStart)
+  {
+    const int n = row ? h : w;
+    auto line = [&](int k) { return fromStart ? k : n - 1 - k; };
+    std::array<double, 3> edge{}, c{};
+    if (!lineColour(row, line(0), edge))
+      return 0;
+    int k = 1;
+    while (k < n / 3 && lineColour(row, line(k), c) && distance(c, edge) <= 4.0 / 255.0)
+      ++k;
+    if (k < 2 || k >= n / 3)
+      return 0;
+    // the other colour holds for two more lines (a gradient background drifts instead)
+    std::array<double, 3> next{};
+    for (int t = k; t < std::min(n / 3, k + 3); ++t)
+      if (lineColour(row, line(t), c) && distance(c, edge) > 8.0 / 255.0)
+      {
+        for (int u = t + 1; u <= t + 2; ++u)
+          if (!lineColour(row, line(u), next) || distance(next, c) > 1.5 / 255.0)
+            return 0;
+        return t;
+      }
+    return 0;
+  };
+  const int top = band(true, true), bottom = band(true, false), left = band(false, true),
+            right = band(false, false);
+  return { left, top, w - left - right, h - top - bottom };
+}
+
 } // namespace
 
 PictureBackground estimateBackground(const Image& picture)
@@ -719,13 +796,26 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   MatchResult result;
   Picture pic;
   {
-    const int longest = std::max(input.width, input.height);
-    Image work = input;
+    // a letterbox's bands are not the picture's background: matched inside them
+    result.crop = letterbox(input);
+    Image inside = input;
+    if (result.crop[2] != input.width || result.crop[3] != input.height)
+    {
+      inside = Image(result.crop[2], result.crop[3], input.channels);
+      for (int y = 0; y < inside.height; ++y)
+        std::copy_n(
+          &input.pixels[(static_cast<size_t>(y + result.crop[1]) * input.width + result.crop[0]) *
+            input.channels],
+          static_cast<size_t>(inside.width) * input.channels,
+          &inside.pixels[static_cast<size_t>(y) * inside.width * input.channels]);
+    }
+    const int longest = std::max(inside.width, inside.height);
+    Image work = inside;
     if (longest > 1024)
     {
       const double f = 1024.0 / longest;
-      work = resizeImage(input, std::max(16, static_cast<int>(std::lround(input.width * f))),
-        std::max(16, static_cast<int>(std::lround(input.height * f))));
+      work = resizeImage(inside, std::max(16, static_cast<int>(std::lround(inside.width * f))),
+        std::max(16, static_cast<int>(std::lround(inside.height * f))));
     }
     for (auto& v : work.pixels)
       v = std::clamp(v, 0.0f, 1.0f);
@@ -923,6 +1013,33 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       finalists.push_back(refined);
       report("camera", 0.15 + 0.25 * (i + 1) / seeds.size(), nullptr);
     }
+    // the discs of the blocks make a silhouette a little larger than the volume's own (and the
+    // search then moves the camera away): the distance corrected by the ratio of the sizes of
+    // the block silhouette and a ray cast of the same level (opaque above its threshold)
+    {
+      RenderOptions coarse = opt.reconstruction.render;
+      coarse.sampleDistance = 2.0 * caster.defaultSampleDistance();
+      const auto range = volume.range();
+      for (auto& f : finalists)
+      {
+        TransferFunction1D occupancy;
+        const double t = model.threshold(f.level), eps = 1e-4 * (range[1] - range[0]);
+        occupancy.color = { { range[0], 1, 1, 1 } };
+        occupancy.opacity = { { range[0], 0 }, { std::max(range[0], t - eps), 0 }, { t, 1 },
+          { range[1], 1 } };
+        const Image cast =
+          caster.render(bakeTable(occupancy, range[0], range[1], 1024), f.view(start), coarse);
+        model.render(f.view(start), f.level, sw, sh, scratch);
+        double castArea = 0, modelArea = 0;
+        for (size_t i = 0; i < scratch.m.size(); ++i)
+        {
+          castArea += cast.pixels[4 * i + 3] > 0.5f;
+          modelArea += scratch.m[i];
+        }
+        if (castArea > 4 && modelArea > 4)
+          f.logZoom += 0.5 * std::log(modelArea / castArea);
+      }
+    }
     std::sort(finalists.begin(), finalists.end(),
       [](const CameraParams& a, const CameraParams& b) { return a.score > b.score; });
   }
@@ -983,7 +1100,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   Image weightFull(W, H, 1);
   for (size_t i = 0; i < weightFull.pixels.size(); ++i)
     weightFull.pixels[i] = overlayFull.m[i] ? 0.0f : 1.0f;
-  const Image emptyImage = toImage(emptyFull);
+  Image emptyImage = toImage(emptyFull);
   auto makeTarget = [&](const View& v, const Image& image, int w, int h)
   {
     ReconstructionTarget t;
@@ -1064,14 +1181,15 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     const ReconstructionTarget fullTarget = makeTarget(start, workImage, W, H);
     std::vector<float> probeRGBA;
     std::vector<RayRecord> probeRecords;
-    auto photometricLoss = [&](const ReconstructionResult& tf, const CameraParams& c)
+    auto photometricLoss =
+      [&](const ReconstructionResult& tf, const CameraParams& c, const RenderOptions& how)
     {
       View v = c.view(start);
       v.width = W;
       v.height = H;
       const auto& t = tf.table1D;
       renderer.forward(
-        t.rgba.data(), t.width, t.min, t.max, v, sopt.render, probe, probeRGBA, probeRecords);
+        t.rgba.data(), t.width, t.min, t.max, v, how, probe, probeRGBA, probeRecords);
       double loss = 0;
       for (size_t q = 0; q < probe.size(); ++q)
       {
@@ -1098,10 +1216,11 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       }
       return loss / static_cast<double>(probe.size());
     };
-    auto refine = [&](const ReconstructionResult& tf, const CameraParams& c, int evaluations)
+    auto refine = [&](const ReconstructionResult& tf, const CameraParams& c, int evaluations,
+                    const RenderOptions& how)
     {
       CameraParams r = nelderMead(
-        c, [&](const CameraParams& p) { return -photometricLoss(tf, p); }, evaluations, 0.3);
+        c, [&](const CameraParams& p) { return -photometricLoss(tf, p, how); }, evaluations, 0.3);
       r.level = c.level;
       return r;
     };
@@ -1128,7 +1247,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     {
       for (int round = 0; round < std::max(1, opt.cameraRounds); ++round)
       {
-        fits[i].camera = refine(fits[i].tf, fits[i].camera, round == 0 ? 80 : 40);
+        fits[i].camera = refine(fits[i].tf, fits[i].camera, round == 0 ? 80 : 40, sopt.render);
         auto [tf, loss] = shortFit(fits[i].camera, fits[i].tf.table1D);
         fits[i].tf = std::move(tf);
         fits[i].loss = loss;
@@ -1138,6 +1257,19 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     const auto winner = std::min_element(
       fits.begin(), fits.end(), [](const Scored& a, const Scored& b) { return a.loss < b.loss; });
     best = winner->camera;
+    // a polish: a longer fit at the winner (more rays, all the bins, full sampling), the camera
+    // refined with it
+    {
+      ReconstructionOptions o = sopt;
+      o.initial1D = winner->tf.table1D;
+      o.iterations = o.patience = 120;
+      o.raysPerIteration = 1024;
+      o.bins = opt.reconstruction.bins;
+      o.render.sampleDistance = opt.reconstruction.render.sampleDistance;
+      winner->tf =
+        reconstructTransferFunction(renderer, { makeTarget(best.view(start), workImage, W, H) }, o);
+      best = refine(winner->tf, best, 150, o.render); // fine rims need full sampling
+    }
     best.score = exactIoU(best);
     if (!opt.reconstruction.twoD)
       warm = winner->tf.table1D; // started from the given initial TF, if any
@@ -1173,9 +1305,16 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
         "fit", 0.5 + 0.5 * std::min(1.0, (step + 1.0) / iterations), snapshot ? &shot : nullptr);
       return true;
     });
-  result.fitSeconds = secondsSince(tFit);
 
-  // the fit's PSNR over the compared pixels at the preview's size
+  // the fit's PSNR over the object (the picture's foreground, or what the render shows) at the
+  // preview's size, overlays left out: the background, matched by construction, does not count;
+  // and each object pixel's residual (largest channel difference; -1 elsewhere)
+  const Image theirs =
+    resizeImage(pic.alpha ? premultiplyAlpha(pic.rgba) : pic.rgb, preview.width, preview.height);
+  const Image object = resizeImage(
+    toImage(dilate(pic.foreground, std::max(1, W / 200))), preview.width, preview.height);
+  std::vector<double> residual;
+  auto assess = [&]
   {
     const Image render = renderResult(caster, result.tf, preview, ropt.render);
     const Image ours = pic.alpha
@@ -1183,33 +1322,89 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       : (preview.background2
             ? compositeOverBackground(render, preview.background, *preview.background2)
             : compositeOverBackground(render, preview.background));
-    Image theirs =
-      resizeImage(pic.alpha ? premultiplyAlpha(pic.rgba) : pic.rgb, preview.width, preview.height);
     const Image weight = resizeImage(weightFull, preview.width, preview.height);
+    const size_t np = static_cast<size_t>(preview.width) * preview.height;
+    residual.assign(np, -1.0);
     double se = 0, n = 0;
-    for (size_t i = 0, np = static_cast<size_t>(preview.width) * preview.height; i < np; ++i)
+    for (size_t i = 0; i < np; ++i)
     {
-      if (weight.pixels[i] < 0.99f)
+      if (weight.pixels[i] < 0.99f ||
+        (object.pixels[i] < 0.01f && render.pixels[4 * i + 3] < 0.01f))
         continue;
+      double largest = 0;
       for (int c = 0; c < ours.channels; ++c)
       {
         const double d =
           ours.pixels[i * ours.channels + c] - theirs.pixels[i * theirs.channels + c];
         se += d * d;
         n += 1;
+        largest = std::max(largest, std::abs(d));
       }
+      residual[i] = largest;
     }
     result.fitPSNR = se > 0 ? 10.0 * std::log10(n / se) : 100.0;
+  };
+  assess();
+  // outliers: what the fit cannot explain on the object (text, arrows or marks drawn over it):
+  // residuals above 6 times the median and above 0.2, on at least 0.2 % of the object, are
+  // masked as overlays and the TF refitted without them (1D)
+  if (opt.maskOverlays && !result.tf.twoD)
+  {
+    std::vector<double> onObject;
+    for (double r : residual)
+      if (r >= 0)
+        onObject.push_back(r);
+    const double limit = std::max(0.2, 6.0 * median(onObject));
+    Mask outliers(preview.width, preview.height);
+    size_t count = 0;
+    for (size_t i = 0; i < residual.size(); ++i)
+      if (residual[i] > limit)
+        outliers.m[i] = 1, ++count;
+    if (count > 3 && static_cast<double>(count) >= 0.002 * static_cast<double>(onObject.size()))
+    {
+      const Mask wide = dilate(outliers, 1);
+      for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x)
+          if (wide(std::min(preview.width - 1, x * preview.width / W),
+                std::min(preview.height - 1, y * preview.height / H)))
+          {
+            overlayFull(x, y) = 1;
+            weightFull.pixels[static_cast<size_t>(y) * W + x] = 0.0f;
+            emptyImage.pixels[static_cast<size_t>(y) * W + x] = 0.0f;
+          }
+      ReconstructionOptions again = ropt;
+      again.initial1D = result.tf.table1D;
+      again.iterations = std::min(ropt.iterations, 150);
+      const ReconstructionTarget masked = makeTarget(found, pic.alpha ? pic.rgba : pic.rgb, W, H);
+      result.tf = reconstructTransferFunction(renderer, { masked }, again,
+        [&](int, double, const ReconstructionResult*)
+        {
+          report("fit", 1.0, nullptr);
+          return true;
+        });
+      assess();
+    }
+  }
+  result.fitSeconds = secondsSince(tFit);
+  if (result.fitPSNR < opt.minimumFitPSNR)
+  {
+    std::ostringstream msg;
+    msg.precision(3);
+    msg << "no camera explains the picture: the best match differs from it by " << result.fitPSNR
+        << " dB PSNR over the object (at least " << opt.minimumFitPSNR
+        << " dB needed; silhouette overlap " << std::lround(100 * result.overlap)
+        << " %) — is it a picture of this volume, unlit and uncropped?";
+    throw Error(msg.str());
   }
   result.view = found;
-  result.view.width = input.width;
-  result.view.height = input.height;
+  result.view.width = result.crop[2];
+  result.view.height = result.crop[3];
   result.masks.foreground = toImage(pic.foreground);
   result.masks.overlay = toImage(overlayFull);
-  if (W != input.width || H != input.height)
+  if (W != result.crop[2] || H != result.crop[3])
   {
-    result.masks.foreground = resizeImage(result.masks.foreground, input.width, input.height);
-    result.masks.overlay = resizeImage(result.masks.overlay, input.width, input.height);
+    result.masks.foreground = resizeImage(result.masks.foreground, result.crop[2], result.crop[3]);
+    result.masks.overlay = resizeImage(result.masks.overlay, result.crop[2], result.crop[3]);
   }
   result.seconds = secondsSince(t0);
   report("fit", 1.0, nullptr);

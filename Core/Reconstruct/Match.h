@@ -44,9 +44,19 @@ PictureBackground estimateBackground(const Image& picture);
 /// judged an overlay — a connected part that the object does not explain (see matchPicture).
 struct PictureMasks
 {
-  Image foreground; ///< 1 channel, the picture's size
-  Image overlay;    ///< 1 channel, the picture's size
+  Image foreground; ///< 1 channel, the size of the part matched (MatchResult::crop)
+  Image overlay;    ///< 1 channel, the size of the part matched (MatchResult::crop)
 };
+
+/// The final fit's defaults (see MatchOptions::reconstruction).
+inline ReconstructionOptions matchReconstructionDefaults()
+{
+  ReconstructionOptions o;
+  o.raysPerIteration = 512;
+  o.tolerance = 0.002;
+  o.patience = 100;
+  return o;
+}
 
 /// Options (defaults in brackets).
 struct MatchOptions
@@ -60,9 +70,11 @@ struct MatchOptions
   std::optional<std::array<double, 3>> background;
   /// Opacity unit distance of the views (ParaView's default for the volume when unset).
   std::optional<double> opacityUnitDistance;
-  /// Reconstruction settings (1D/2D, bins, smoothness, iterations, rays, initial TF, threads).
-  /// Its iterations are those of the final fit.
-  ReconstructionOptions reconstruction;
+  /// Reconstruction settings (1D/2D, bins, smoothness, iterations, rays, initial TF, threads)
+  /// of the final fit. The match's defaults differ from ReconstructionOptions' in three: 512 rays
+  /// per step and convergence judged as a change under 0.2 % over 100 steps (many cheap steps:
+  /// the parts of the TF the picture shows least settle late).
+  ReconstructionOptions reconstruction = matchReconstructionDefaults();
   /// Weight of the empty-space term: on pixels that show the background, the render's
   /// premultiplied RGBA is pulled to 0, so no air is painted in the background's colour [1].
   double emptySpaceWeight = 1.0;
@@ -76,6 +88,10 @@ struct MatchOptions
   /// Below this silhouette overlap (IoU) of the best camera, no camera explains the picture and
   /// matchPicture throws [0.6].
   double minimumOverlap = 0.6;
+  /// Below this PSNR of the fit over the object (the picture's foreground or what the render
+  /// shows, overlays left out), no camera explains the picture and matchPicture throws [20 dB:
+  /// an RMS error of a tenth of the range, another picture].
+  double minimumFitPSNR = 20.0;
   /// Render a preview (the current TF at the found view, premultiplied RGBA at the picture's
   /// size divided by previewDivisor) every `reconstruction.snapshotEvery` steps [4].
   int previewDivisor = 4;
@@ -84,13 +100,16 @@ struct MatchOptions
 /// What the match found.
 struct MatchResult
 {
-  ReconstructionResult tf;      ///< the fitted TF (1D or 2D)
-  View view;                    ///< the picture's camera, at the picture's size and background
+  ReconstructionResult tf; ///< the fitted TF (1D or 2D)
+  View view; ///< the picture's camera, at the size of `crop` (the picture's) and its background
+  /// The part of the picture matched {x, y, width, height}: the whole picture, or what is inside
+  /// a letterbox (bands of one colour along its edges, each followed by another colour).
+  std::array<int, 4> crop{ 0, 0, 0, 0 };
   PictureBackground background; ///< estimated or given
   PictureMasks masks;           ///< what was compared and what was ignored
   bool cameraEstimated = false; ///< the camera came from the search (not given as is)
   double overlap = 0;           ///< silhouette IoU of the found camera (1 = exact)
-  double fitPSNR = 0;           ///< PSNR of the fit over the compared pixels, picture vs render
+  double fitPSNR = 0; ///< PSNR of the fit over the object (see minimumFitPSNR), picture vs render
   std::array<double, 3> orbit{ 0, 0, 0 }; ///< azimuth, elevation, roll from the reset camera (deg)
   double zoom = 1;                        ///< distance factor from the reset camera
   std::array<double, 2> pan{ 0, 0 };      ///< pan right, up, in view heights at the focal point
@@ -109,7 +128,8 @@ using MatchProgress =
 /// over a transparent background). Throws ddg::Error with the reason for a picture it cannot
 /// use: smaller than 16 pixels a side, a uniform picture (nothing but background), no dominant
 /// background, or no camera whose silhouette overlaps the picture's object by `minimumOverlap`
-/// ("no camera explains the picture": another volume, a crop into the object).
+/// or whose fit reaches `minimumFitPSNR` ("no camera explains the picture": another volume, a
+/// crop into the object).
 MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& picture,
   const MatchOptions& options = {}, const MatchProgress& progress = {});
 

@@ -11,6 +11,7 @@
 
 #include <functional>
 #include <optional>
+#include <utility>
 #include <vector>
 
 namespace ddg
@@ -26,6 +27,14 @@ namespace ddg
 /// colour (a haze invisible over this background, seen over any other).
 struct ReconstructionTarget
 {
+  ReconstructionTarget() = default;
+  ReconstructionTarget(Image image_, View view_, Image mask_ = {})
+    : image(std::move(image_))
+    , view(std::move(view_))
+    , mask(std::move(mask_))
+  {
+  }
+
   Image image;
   View view;
   Image mask;

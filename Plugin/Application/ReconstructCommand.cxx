@@ -32,7 +32,8 @@ struct ReconstructArgs
   std::vector<double> background;
   bool twoD = false, resample = false, quiet = false, estimateView = false;
   std::string outView, outOverlay;
-  int bins = 128, gradientBins = 32, iterations = 500, rays = 2048, threads = 0, primitives = 0;
+  int bins = 128, gradientBins = 32, iterations = 500, rays = -1, threads = 0, primitives = 0;
+  int cameraCandidates = ddg::MatchOptions().cameraCandidates;
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
   unsigned seed = 1;
 };
@@ -74,10 +75,10 @@ ddg::Image readTarget(const std::string& path, const ddg::View& view, bool resam
   return img;
 }
 
+// The options given, over `defaults` (the match's or the reconstruction's).
 ddg::ReconstructionOptions reconstructionOptions(
-  const ReconstructArgs& a, const ddg::Volume& volume)
+  const ReconstructArgs& a, const ddg::Volume& volume, ddg::ReconstructionOptions opt = {})
 {
-  ddg::ReconstructionOptions opt;
   opt.twoD = a.twoD;
   opt.bins = a.bins;
   opt.gradientBins = a.gradientBins;
@@ -87,7 +88,10 @@ ddg::ReconstructionOptions reconstructionOptions(
   opt.ssimWeight = a.ssimWeight;
   opt.iterations = a.iterations;
   opt.learningRate = a.learningRate;
-  opt.raysPerIteration = a.rays;
+  if (a.rays >= 0)
+  {
+    opt.raysPerIteration = a.rays;
+  }
   opt.seed = a.seed;
   opt.render.threads = a.threads;
   if (!a.init.empty())
@@ -123,7 +127,7 @@ int runMatch(const ReconstructArgs& a)
   const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
   const ddg::DifferentiableRenderer renderer(volume);
   ddg::MatchOptions opt;
-  opt.reconstruction = reconstructionOptions(a, volume);
+  opt.reconstruction = reconstructionOptions(a, volume, ddg::matchReconstructionDefaults());
   if (!a.views.empty())
   {
     opt.view = ddg::readView(a.views[0]);
@@ -133,6 +137,7 @@ int runMatch(const ReconstructArgs& a)
   {
     opt.background = std::array<double, 3>{ a.background[0], a.background[1], a.background[2] };
   }
+  opt.cameraCandidates = a.cameraCandidates;
   const double tLoad = msSince(t0);
   std::string lastStage;
   const auto m = ddg::matchPicture(renderer, picture, opt,
@@ -331,7 +336,9 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     ->add_option("--lr", rc->learningRate, "Adam learning rate in logit space (default 0.2)")
     ->check(CLI::PositiveNumber);
   reconstruct
-    ->add_option("--rays", rc->rays, "Random pixels per target and step, 0 = all (default 2048)")
+    ->add_option("--rays", rc->rays,
+      "Random pixels per target and step, 0 = all (default 2048; one target without --mask: 512, "
+      "and convergence judged over 100 steps)")
     ->check(CLI::NonNegativeNumber);
   reconstruct->add_option("--init", rc->init, "Initial TF (ParaView preset JSON; 1D only)");
   reconstruct->add_flag("--resample", rc->resample,
@@ -354,6 +361,11 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
   reconstruct->add_option("--out-view", rc->outView,
     "One target: write the picture's view JSON (the camera found or given, the picture's size "
     "and background)");
+  reconstruct
+    ->add_option("--camera-candidates", rc->cameraCandidates,
+      "One target, camera searched: distinct cameras whose silhouettes fit best that get a short "
+      "reconstruction each (a multi-start; more is slower and finds more; default 6)")
+    ->check(CLI::Range(1, 64));
   reconstruct->add_option("--out-overlay", rc->outOverlay,
     "One target: write the mask of what was ignored as an overlay (orientation axes, text, a "
     "scalar bar): white = ignored");

@@ -1,28 +1,28 @@
-"""The "before" of issue 17: today's screenshot -> TF methods on every case of the suite, scored.
+"""The screenshot -> TF methods on every case of the suite, timed and scored.
 
 For each case of a suite built by make_suite.py (OUT/suite.json) it runs, timing each (wall
 clock, including the `ddg` process start and loading):
   query                 `ddg query --out-tf` with the volume's shipped model (Data/Models/<volume>;
                         cases of volumes without one skip it), at the true view
-  reconstruct, true view
-                        `ddg reconstruct` with the true view JSON (the camera is known: an upper
-                        bound for what a user without the camera can get)
-  reconstruct, estimated view
-                        `ddg view --size W H --background <palette>` (ParaView's reset camera at
-                        the screenshot's size, the view a user without a camera has), then
-                        `ddg reconstruct --estimate-view` from it (`--resample` when the view size
-                        differs from the screenshot's; with --estimate-size)
+  match                 `ddg reconstruct` without a view: background, overlays and camera
+                        estimated from the picture (Core's matchPicture), from a grey TF
+  match_from_query      the query, then the match started from the query's TF (`--init`); its
+                        time is both commands' (volumes without a model skip it)
+  match_true_camera     `ddg reconstruct --view <true view>`: the camera given (the upper bound
+                        for what a user without the camera can get)
 and, only when asked (--methods), "reconstruct_true_camera_default_background": the true camera
 with the background the project's tools assume by default (0.329, 0.349, 0.427: `ddg view`'s and
-the view JSON's default) instead of what ParaView draws (0.32, 0.34, 0.43).
+the view JSON's default) instead of what ParaView draws (0.32, 0.34, 0.43), passed as
+`--background` (before issue 17 the view's background was used as is).
 It scores each found TF against the true one with score.py (ParaView renders at azimuth 0/120/240,
 elevation 20, on black and white, mean PSNR). Writes OUT/baseline.json (every figure,
-per render too) and OUT/baseline.md (the table), and keeps each method's TF, log and
-(with --keep-renders) the score renders under OUT/<case>/baseline/.
+per render too), OUT/baseline.md (the table) and, with --chart, a chart of time against score;
+keeps each method's TF, log and (with --keep-renders) the score renders under
+OUT/<case>/baseline/.
 
-Run (pvpython under a display; ~1 min per case on 1 thread):
+Run (pvpython under a display; ~1 min per case):
     scripts/with-xvfb.sh /usr/bin/pvpython Testing/Suite/baseline.py --suite build/suite \\
-        --ddg build/bin/ddg --out build/suite/baseline [--threads 1]
+        --ddg build/bin/ddg --out build/suite/baseline [--threads 2] [--chart chart.png]
 """
 import argparse
 import json
@@ -37,15 +37,16 @@ sys.path.insert(0, HERE)
 from score import canonical_renders, score_renders, SIZE  # noqa: E402
 from suite_paraview import DEFAULT_PALETTE_BACKGROUND  # noqa: E402
 
-METHODS = ("query", "reconstruct_true_view", "reconstruct_estimated_view")
+METHODS = ("query", "match", "match_from_query", "match_true_camera")
 # not run by default (--methods): the true camera in a view JSON with the background the project's
 # tools assume by default, the RenderView's Background property (ddg view, the view JSON's default)
 EXTRA_METHODS = ("reconstruct_true_camera_default_background",)
 PROJECT_DEFAULT_BACKGROUND = [0.329, 0.349, 0.427]
 LABELS = {
     "query": "query (shipped model, true view)",
-    "reconstruct_true_view": "reconstruct, true view",
-    "reconstruct_estimated_view": "reconstruct --estimate-view from the reset camera",
+    "match": "match (camera estimated), from grey",
+    "match_from_query": "query, then match from its TF",
+    "match_true_camera": "match at the true camera",
     "reconstruct_true_camera_default_background": "reconstruct, true camera, background "
     + " ".join(str(x) for x in PROJECT_DEFAULT_BACKGROUND),
 }
@@ -78,34 +79,66 @@ def run_case(case, args, models_dir):
     if os.path.isfile(os.path.join(model, "bundle.json")):
         jobs["query"] = [
             [ddg, "query", "--model", model, "--volume", volume, "--image", image]
-            + ["--view", case["true_view"], "--out-tf", os.path.join(work, "query.json")]
+            + [
+                "--view",
+                case["true_view"],
+                "--out-tf",
+                os.path.join(work, "query.json"),
+            ]
         ]
-    jobs["reconstruct_true_view"] = [
-        [ddg, "reconstruct", "--volume", volume, "--target", image, "--view", case["true_view"]]
-        + ["--out", os.path.join(work, "reconstruct_true_view.json"), "--quiet"]
-        + threads
+    match = [
+        ddg,
+        "reconstruct",
+        "--volume",
+        volume,
+        "--target",
+        image,
+        "--quiet",
+    ] + threads
+    jobs["match"] = [
+        match
+        + ["--out", os.path.join(work, "match.json")]
+        + ["--out-view", os.path.join(work, "match_view.json")]
     ]
-    size = args.estimate_size or case["size"]
-    reset_view = os.path.join(work, "reset_view.json")
-    estimate = [
-        [ddg, "view", "--volume", volume, "--out", reset_view, "--size", str(size[0]), str(size[1])]
-        + ["--background"]
-        + [str(x) for x in case["background"]],
-        [ddg, "reconstruct", "--volume", volume, "--target", image, "--view", reset_view]
-        + ["--estimate-view", "--out-view", os.path.join(work, "estimated_view.json")]
-        + ["--out", os.path.join(work, "reconstruct_estimated_view.json"), "--quiet"]
-        + threads
-        + (["--resample"] if list(size) != list(case["size"]) else []),
+    if "query" in jobs:
+        query_tf = os.path.join(work, "query_for_match.json")
+        jobs["match_from_query"] = [
+            jobs["query"][0][:-1] + [query_tf],
+            match
+            + ["--init", query_tf, "--out", os.path.join(work, "match_from_query.json")]
+            + ["--out-view", os.path.join(work, "match_from_query_view.json")],
+        ]
+    jobs["match_true_camera"] = [
+        match
+        + [
+            "--view",
+            case["true_view"],
+            "--out",
+            os.path.join(work, "match_true_camera.json"),
+        ]
     ]
-    jobs["reconstruct_estimated_view"] = estimate
     with open(case["true_view"]) as f:
         other_background = dict(json.load(f), background=PROJECT_DEFAULT_BACKGROUND)
     other_view = os.path.join(work, "true_camera_default_background_view.json")
     with open(other_view, "w") as f:
         json.dump(other_background, f, indent=2)
     jobs["reconstruct_true_camera_default_background"] = [
-        [ddg, "reconstruct", "--volume", volume, "--target", image, "--view", other_view]
-        + ["--out", os.path.join(work, "reconstruct_true_camera_default_background.json")]
+        [
+            ddg,
+            "reconstruct",
+            "--volume",
+            volume,
+            "--target",
+            image,
+            "--view",
+            other_view,
+        ]
+        + ["--background"]
+        + [str(x) for x in PROJECT_DEFAULT_BACKGROUND]
+        + [
+            "--out",
+            os.path.join(work, "reconstruct_true_camera_default_background.json"),
+        ]
         + ["--quiet"]
         + threads
     ]
@@ -129,8 +162,9 @@ def run_case(case, args, models_dir):
             entry.update(score_renders(found, true))
         else:
             entry["psnr"] = None
-        if method == "reconstruct_estimated_view" and status == 0:
-            with open(os.path.join(work, "estimated_view.json")) as f:
+        view_file = os.path.join(work, method + "_view.json")
+        if method in ("match", "match_from_query") and status == 0 and os.path.isfile(view_file):
+            with open(view_file) as f:
                 entry["estimated_camera"] = json.load(f)["camera"]
         results[method] = entry
         psnr = "failed" if entry["psnr"] is None else "%.2f dB" % entry["psnr"]
@@ -148,12 +182,17 @@ def run_case(case, args, models_dir):
 def markdown(records, meta):
     methods = [m for m in METHODS + EXTRA_METHODS if m in meta["methods"]]
     lines = [
-        "# Suite baseline (issue 17, before)",
+        "# Screenshot -> TF methods on the suite",
         "",
         "Score: mean PSNR (dB) of ParaView's renders of the found TF against the true TF at "
         "azimuth 0/120/240, elevation 20, on black and on white (%dx%d); in brackets black / "
         "white. Time: wall clock of the `ddg` commands (s), %s thread(s), %s."
-        % (meta["score_size"][0], meta["score_size"][1], meta["threads"] or "all", meta["host"]),
+        % (
+            meta["score_size"][0],
+            meta["score_size"][1],
+            meta["threads"] or "all",
+            meta["host"],
+        ),
         "",
         "| case | volume | size | format | azimuth / elevation / roll / zoom | "
         + " | ".join(LABELS[m] + ": dB (black / white), s" for m in methods)
@@ -212,6 +251,45 @@ def markdown(records, meta):
     return "\n".join(lines) + "\n"
 
 
+def chart(records, meta, path):
+    """Time against score, one point per case and method, and each method's mean."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for method in [m for m in METHODS + EXTRA_METHODS if m in meta["methods"]]:
+        pts = [
+            (r["methods"][method]["seconds"], r["methods"][method]["psnr"])
+            for r in records
+            if method in r["methods"] and r["methods"][method]["psnr"] is not None
+        ]
+        if not pts:
+            continue
+        xs, ys = zip(*pts)
+        dots = ax.scatter(xs, ys, alpha=0.45, s=22)
+        ax.scatter(
+            [sum(xs) / len(xs)],
+            [sum(ys) / len(ys)],
+            color=dots.get_facecolor()[0],
+            edgecolor="black",
+            s=90,
+            marker="D",
+            label="%s (mean %.1f dB, %.1f s)"
+            % (LABELS[method], sum(ys) / len(ys), sum(xs) / len(xs)),
+        )
+    ax.axhline(35, color="grey", linestyle="--", linewidth=0.8)
+    ax.set_xlabel("wall-clock seconds (ddg commands, %s threads)" % (meta["threads"] or "all"))
+    ax.set_ylabel("score: mean PSNR of canonical renders (dB)")
+    ax.set_title("Screenshot -> TF on the suite (%d cases)" % len(records))
+    ax.legend(fontsize=7, loc="lower right")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
 def main():
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
@@ -220,17 +298,13 @@ def main():
     parser.add_argument("--ddg", required=True, help="the ddg program")
     parser.add_argument("--out", required=True, help="where baseline.json and .md go")
     parser.add_argument(
-        "--models", default=os.path.join(HERE, "..", "..", "Data", "Models"), help="model bundles"
+        "--models",
+        default=os.path.join(HERE, "..", "..", "Data", "Models"),
+        help="model bundles",
     )
     parser.add_argument("--threads", type=int, default=0, help="ddg reconstruct --threads")
     parser.add_argument("--score-size", type=int, nargs=2, default=list(SIZE))
-    parser.add_argument(
-        "--estimate-size",
-        type=int,
-        nargs=2,
-        help="size of the reset view for --estimate-view (default: the screenshot's; another "
-        "size adds --resample)",
-    )
+    parser.add_argument("--chart", help="also chart time against score (PNG) here")
     parser.add_argument("--case", action="append", help="only this case (repeatable)")
     parser.add_argument("--keep-renders", action="store_true")
     parser.add_argument(
@@ -260,7 +334,6 @@ def main():
         "threads": args.threads,
         "methods": args.methods,
         "score_size": args.score_size,
-        "estimate_size": args.estimate_size,
         "host": "%s, %d cores" % (platform.machine(), os.cpu_count()),
         "minutes": (time.time() - start) / 60.0,
     }
@@ -268,6 +341,8 @@ def main():
         json.dump({"meta": meta, "cases": records}, f, indent=2)
     with open(os.path.join(args.out, "baseline.md"), "w") as f:
         f.write(markdown(records, meta))
+    if args.chart:
+        chart(records, meta, args.chart)
     print("wrote %s (%.1f min)" % (os.path.join(args.out, "baseline.md"), meta["minutes"]))
 
 

@@ -1,0 +1,248 @@
+// TestMatch.cxx: the picture match's parts on synthetic pictures and a small synthetic volume —
+// background estimation (uniform, ParaView's gradient, none), the camera moves (vtkCamera's
+// roll, pan in view heights, dolly), and the refusals (tiny, uniform, cancelled, another
+// object). The match on a shipped volume is in Testing/Reconstruction/TestMatch.cxx.
+#include "Reconstruct/Match.h"
+
+#include "Common/Error.h"
+#include "Render/RayCaster.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace ddg;
+
+namespace
+{
+constexpr double kLevel = 1.0 / 255.0;
+
+// A picture over a uniform colour with a filled disc (the object) in the middle.
+Image discPicture(int w, int h, std::array<double, 3> bg, std::array<double, 3> fg)
+{
+  Image img(w, h, 3);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+    {
+      const bool in = std::hypot(x - 0.5 * w, y - 0.5 * h) < 0.25 * h;
+      for (int c = 0; c < 3; ++c)
+        img.pixels[3 * (static_cast<size_t>(y) * w + x) + c] =
+          static_cast<float>(in ? fg[c] : bg[c]);
+    }
+  return img;
+}
+
+// An asymmetric object: an ellipsoid (value 120) holding an off-centre sphere (value 220), with a
+// knob (value 220) on its side.
+Volume blobVolume()
+{
+  const int nx = 40, ny = 32, nz = 28;
+  std::vector<float> v;
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+      {
+        const double e = std::sqrt(std::pow((i - 19.5) / 16.0, 2) + std::pow((j - 15.5) / 10.0, 2) +
+          std::pow((k - 13.5) / 8.0, 2));
+        const double s =
+          std::sqrt(std::pow(i - 27.0, 2) + std::pow(j - 19.0, 2) + std::pow(k - 13.5, 2));
+        double value = std::clamp(1.0 - (e - 1.0) * 6.0, 0.0, 1.0) * 120.0;
+        value = std::max(value, std::clamp(1.0 - (s - 4.0) / 1.5, 0.0, 1.0) * 220.0);
+        const double knob =
+          std::sqrt(std::pow(i - 10.0, 2) + std::pow(j - 26.0, 2) + std::pow(k - 8.0, 2));
+        value = std::max(value, std::clamp(1.0 - (knob - 3.5) / 1.5, 0.0, 1.0) * 220.0);
+        v.push_back(static_cast<float>(value));
+      }
+  return Volume({ nx, ny, nz }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
+}
+} // namespace
+
+TEST(MatchBackground, UniformColour)
+{
+  const std::array<double, 3> bg{ 82 / 255.0, 87 / 255.0, 110 / 255.0 };
+  const auto b = estimateBackground(discPicture(80, 60, bg, { 0.9, 0.8, 0.7 }));
+  EXPECT_FALSE(b.gradient);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(b.bottom[c], bg[c], 0.5 * kLevel);
+  EXPECT_LT(b.noise, kLevel);
+}
+
+TEST(MatchBackground, ParaViewGradient)
+{
+  View v;
+  v.width = 90;
+  v.height = 70;
+  v.background = { 0.8, 0.8, 0.9 };                       // bottom row
+  v.background2 = std::array<double, 3>{ 0.1, 0.2, 0.6 }; // top row
+  Image img(v.width, v.height, 3);
+  for (int y = 0; y < v.height; ++y)
+    for (int x = 0; x < v.width; ++x)
+    {
+      const auto c = v.backgroundAt(y);
+      for (int k = 0; k < 3; ++k)
+        img.pixels[3 * (static_cast<size_t>(y) * v.width + x) + k] = static_cast<float>(c[k]);
+    }
+  const auto b = estimateBackground(img);
+  ASSERT_TRUE(b.gradient);
+  for (int c = 0; c < 3; ++c)
+  {
+    EXPECT_NEAR(b.bottom[c], v.background[c], kLevel);
+    EXPECT_NEAR(b.top[c], (*v.background2)[c], kLevel);
+  }
+  View w;
+  b.applyTo(w);
+  ASSERT_TRUE(w.background2.has_value());
+  EXPECT_NEAR((*w.background2)[2], 0.6, kLevel);
+}
+
+TEST(MatchBackground, NoDominantColourIsRefused)
+{
+  Image noise(64, 64, 3);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (auto& p : noise.pixels)
+    p = u(rng);
+  EXPECT_THROW(estimateBackground(noise), Error);
+}
+
+TEST(MatchCamera, MovesAsParaViewsCamera)
+{
+  View base;
+  base.camera.position = { 0, 0, 10 };
+  base.camera.focalPoint = { 0, 0, 0 };
+  base.camera.viewUp = { 0, 1, 0 };
+  // vtkCamera::Roll(90): view up rotated about the direction of projection (0, 0, -1)
+  const View rolled = cameraMove(base, 0, 0, 90, 1, { 0, 0 });
+  EXPECT_NEAR(rolled.camera.viewUp.x(), 1.0, 1e-9);
+  EXPECT_NEAR(rolled.camera.viewUp.y(), 0.0, 1e-9);
+  // dolly: distance / zoom; pan: focal point and position move by view heights at the focal point
+  const View moved = cameraMove(base, 0, 0, 0, 2, { 0.1, -0.2 });
+  const double height = 2 * 5.0 * std::tan(15 * M_PI / 180);
+  EXPECT_NEAR((moved.camera.position - moved.camera.focalPoint).norm(), 5.0, 1e-9);
+  EXPECT_NEAR(moved.camera.focalPoint.x(), 0.1 * height, 1e-9);
+  EXPECT_NEAR(moved.camera.focalPoint.y(), -0.2 * height, 1e-9);
+  // azimuth 90 about view up: looks from +x
+  const View side = cameraMove(base, 90, 0, 0, 1, { 0, 0 });
+  EXPECT_NEAR(side.camera.position.x(), 10.0, 1e-9);
+}
+
+TEST(Match, FindsTheCameraAndKeepsEmptySpaceClear)
+{
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 0.2, 0.4, 0.9 }, { 120, 0.9, 0.5, 0.2 }, { 255, 1, 1, 0.8 } };
+  tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.3 }, { 200, 0.9 }, { 255, 0.9 } };
+  const auto table = renderer.caster().paraviewTable(tf);
+  View truth = cameraMove(defaultView(vol, 160, 120), 35, 20, 12, 1.2, { 0.03, -0.02 });
+  truth.background = { 82 / 255.0, 87 / 255.0, 110 / 255.0 };
+  Image picture = compositeOverBackground(renderer.caster().render(table, truth), truth.background);
+  // an overlay in a corner: a small white square (as orientation axes or text)
+  for (int y = 100; y < 112; ++y)
+    for (int x = 6; x < 18; ++x)
+      for (int c = 0; c < 3; ++c)
+        picture.pixels[3 * (static_cast<size_t>(y) * 160 + x) + c] = 1.0f;
+
+  MatchOptions opt;
+  opt.reconstruction.iterations = 300;
+  const auto m = matchPicture(renderer, picture, opt);
+  EXPECT_TRUE(m.cameraEstimated);
+  const Eigen::Vector3d fFound = m.view.camera.focalPoint - m.view.camera.position;
+  const Eigen::Vector3d fTrue = truth.camera.focalPoint - truth.camera.position;
+  const double dirError =
+    std::acos(std::clamp(fFound.normalized().dot(fTrue.normalized()), -1.0, 1.0));
+  EXPECT_LT(dirError * 180 / M_PI, 8.0);
+  EXPECT_GT(m.overlap, 0.8);
+  EXPECT_GT(m.fitPSNR, 30.0);
+  // the overlay square is masked, the object is not
+  EXPECT_GT(m.masks.overlay.at(11, 105, 0), 0.5f);
+  EXPECT_LT(m.masks.overlay.at(80, 60, 0), 0.5f);
+  EXPECT_NEAR(m.background.bottom[0], 82 / 255.0, kLevel);
+  // no haze: the air (value 0) is transparent in the found TF
+  EXPECT_LT(m.tf.table1D.rgba[3], 1e-3);
+}
+
+TEST(Match, RefusesWhatItCannotUse)
+{
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
+  // tiny
+  EXPECT_THROW(matchPicture(renderer, discPicture(8, 8, bg, { 1, 1, 1 })), Error);
+  // uniform
+  EXPECT_THROW(matchPicture(renderer, discPicture(64, 48, bg, bg)), Error);
+  // another object: a thin diagonal bar no view of the blob makes
+  Image bar(120, 90, 3);
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 120; ++x)
+    {
+      const bool on = std::abs(y - 0.75 * x) < 1.5;
+      for (int c = 0; c < 3; ++c)
+        bar.pixels[3 * (static_cast<size_t>(y) * 120 + x) + c] =
+          static_cast<float>(on ? 0.9 : bg[c]);
+    }
+  try
+  {
+    matchPicture(renderer, bar);
+    ADD_FAILURE() << "a bar matched";
+  }
+  catch (const Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("no camera explains the picture"), std::string::npos)
+      << e.what();
+  }
+  // cancelled
+  EXPECT_THROW(matchPicture(renderer, discPicture(64, 48, bg, { 0.9, 0.6, 0.3 }), {},
+                 [](const std::string& stage, double, const Image*) { return stage != "camera"; }),
+    Cancelled);
+}
+
+TEST(Match, LetterboxedPictureIsMatchedInside)
+{
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 0.2, 0.4, 0.9 }, { 120, 0.9, 0.5, 0.2 }, { 255, 1, 1, 0.8 } };
+  tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.3 }, { 200, 0.9 }, { 255, 0.9 } };
+  View truth = cameraMove(defaultView(vol, 120, 90), 20, 10, 0, 1.1, { 0, 0 });
+  truth.background = { 82 / 255.0, 87 / 255.0, 110 / 255.0 };
+  const Image inner = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(tf), truth), truth.background);
+  // black bars: 20 pixels left and right, 6 at the top and bottom
+  Image boxed(160, 102, 3);
+  for (int y = 0; y < 90; ++y)
+    for (int x = 0; x < 120; ++x)
+      for (int c = 0; c < 3; ++c)
+        boxed.pixels[3 * (static_cast<size_t>(y + 6) * 160 + x + 20) + c] =
+          inner.pixels[3 * (static_cast<size_t>(y) * 120 + x) + c];
+  MatchOptions opt;
+  opt.view = truth; // the camera given: this is about the bands
+  const auto m = matchPicture(renderer, boxed, opt);
+  EXPECT_GT(m.fitPSNR, 30.0);
+  EXPECT_EQ(m.crop, (std::array<int, 4>{ 20, 6, 120, 90 }));
+  EXPECT_EQ(m.view.width, 120);
+  EXPECT_EQ(m.view.height, 90);
+  EXPECT_NEAR(m.background.bottom[2], 110 / 255.0, kLevel);
+}
+
+TEST(MatchBackground, SteepGradientIsNoLetterbox)
+{
+  // a gradient of 3 levels a row, with an object: matched whole, the gradient found
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 1, 1, 1 }, { 255, 1, 1, 1 } };
+  tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.6 }, { 255, 0.9 } };
+  View v = defaultView(vol, 120, 80);
+  v.background = { 0.95, 0.95, 0.95 };
+  v.background2 = std::array<double, 3>{ 0.95 - 3.0 * 80 / 255.0, 0.95 - 3.0 * 80 / 255.0, 0.95 };
+  const Image render = renderer.caster().render(renderer.caster().paraviewTable(tf), v);
+  const Image picture = compositeOverBackground(render, v.background, *v.background2);
+  MatchOptions opt;
+  opt.view = v;
+  const auto m = matchPicture(renderer, picture, opt);
+  EXPECT_EQ(m.crop, (std::array<int, 4>{ 0, 0, 120, 80 }));
+  EXPECT_TRUE(m.background.gradient);
+  EXPECT_NEAR(m.background.top[0], (*v.background2)[0], 2 * kLevel);
+}
