@@ -29,6 +29,7 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -235,7 +236,21 @@ ddg::Image overBackground(const ddg::Image& rgba, const ddg::View& view)
                           : ddg::compositeOverBackground(rgba, view.background);
 }
 
-/// PSNR (dB) of `render` (RGB) against `picture` (RGB) over the pixels the overlay mask leaves.
+/// The part {x, y, width, height} of an image (the whole image when the part is empty).
+ddg::Image cropped(const ddg::Image& image, const std::array<int, 4>& crop)
+{
+  if (crop[2] <= 0 || crop[3] <= 0 || (crop[2] == image.width && crop[3] == image.height))
+    return image;
+  ddg::Image out(crop[2], crop[3], image.channels);
+  for (int y = 0; y < crop[3]; ++y)
+    for (int x = 0; x < crop[2]; ++x)
+      for (int c = 0; c < image.channels; ++c)
+        out.at(x, y, c) = image.at(crop[0] + x, crop[1] + y, c);
+  return out;
+}
+
+/// PSNR (dB) of `render` (RGB) against `picture` (RGB, the same size) over the pixels the
+/// overlay mask leaves.
 double picturePSNR(const ddg::Image& render, const ddg::Image& picture, const ddg::Image& overlay)
 {
   double sum = 0;
@@ -347,7 +362,11 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   fd->AddArray(converged);
 
   // before / after at the found view, and port 1: the render and the masks
-  const ddg::Image rgbPicture = ddg::toChannels(picture, 3);
+  // the part of the picture matched (inside a letterbox): the view and the masks are its size
+  const ddg::Image rgbPicture = cropped(ddg::toChannels(picture, 3), result.crop);
+  addNumbers(fd, "Crop",
+    { static_cast<double>(result.crop[0]), static_cast<double>(result.crop[1]),
+      static_cast<double>(result.crop[2]), static_cast<double>(result.crop[3]) });
   const ddg::RayCaster& caster = renderer.caster();
   // the TFs as they are applied: the presets (ParaView's table of their nodes); 2D: the table
   const ddg::Image after = overBackground(result.tf.twoD

@@ -40,9 +40,11 @@ class vtkImageData;
  * the estimated background against the picture, overlay pixels left out; before is NaN without
  * InitialTransferFunction), "Background" (bottom RGB, top RGB),
  * "GradientBackground", "Orbit" (azimuth, elevation, roll from the reset camera, degrees),
- * "Zoom", "Pan" (right, up in view heights) and "Timings" (background, camera, fit, total, s).
- * Output port 1 is then an image of the picture's size: "Image" (the found TF rendered at the
- * found view over the background, RGB 8-bit), "Foreground" and "Overlay" (the masks, 0/255).
+ * "Zoom", "Pan" (right, up in view heights), "Timings" (background, camera, fit, total, s) and
+ * "Crop" (x, y, width, height: the part of the picture matched, inside a letterbox; the view is
+ * its size). Output port 1 is then an image of that part's size: "Image" (the found TF rendered
+ * at the found view over the background, RGB 8-bit), "Foreground" and "Overlay" (the masks,
+ * 0/255).
  * Progress text is the stage ("background", "camera", "fit"); GetPreview returns the latest
  * preview render (every PreviewEvery fit steps).
  *

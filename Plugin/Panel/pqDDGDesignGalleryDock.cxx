@@ -298,10 +298,11 @@ void pqDDGDesignGalleryDock::showMatch()
   ui.match->setEnabled(!this->State->queryPicture().isEmpty());
   // the picture, with what the match left out (overlays) tinted red
   QImage picture = QImage::fromData(this->State->queryPicture());
-  if (!picture.isNull() && has && m.Overlay.size() == picture.size())
+  const QRect part = m.Crop.isValid() ? m.Crop : QRect(QPoint(0, 0), m.Overlay.size());
+  if (!picture.isNull() && has && m.Overlay.size() == part.size() && picture.rect().contains(part))
   {
     picture = picture.convertToFormat(QImage::Format_ARGB32);
-    QImage tint(picture.size(), QImage::Format_ARGB32);
+    QImage tint(part.size(), QImage::Format_ARGB32);
     tint.fill(Qt::transparent);
     for (int y = 0; y < tint.height(); ++y)
     {
@@ -312,7 +313,7 @@ void pqDDGDesignGalleryDock::showMatch()
           row[x] = qRgba(255, 0, 0, 140);
     }
     QPainter painter(&picture);
-    painter.drawImage(0, 0, tint);
+    painter.drawImage(part.topLeft(), tint);
   }
   if (picture.isNull())
     ui.pictureView->clear();

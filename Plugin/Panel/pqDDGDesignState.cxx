@@ -619,6 +619,9 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
   m.Iterations = static_cast<int>(first(ddgpanel::fieldNumbers(table, "Iterations")));
   m.Render = ddgpanel::imageOf(images);
   m.Overlay = maskOf(images, "Overlay");
+  const QJsonArray crop = ddgpanel::fieldNumbers(table, "Crop");
+  if (crop.size() == 4)
+    m.Crop = QRect(crop[0].toInt(), crop[1].toInt(), crop[2].toInt(), crop[3].toInt());
   m.Picture = this->QueryName;
   m.Steps = this->Steps;
   m.FromCurrentCamera = fromCurrentCamera;

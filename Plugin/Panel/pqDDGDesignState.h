@@ -11,6 +11,7 @@
 #include <QJsonObject>
 #include <QObject>
 #include <QPointF>
+#include <QRect>
 #include <QRectF>
 #include <QVector>
 
@@ -73,7 +74,8 @@ public:
     QVector<double> Timings; ///< seconds: background, camera, fit, total
     int Iterations = 0;
     QImage Render;                  ///< the matched TF at the picture's camera over its background
-    QImage Overlay;                 ///< the overlay mask (white: left out), the picture's size
+    QImage Overlay;                 ///< the overlay mask (white: left out), the size of Crop
+    QRect Crop;                     ///< the part of the picture matched (inside a letterbox)
     QString Picture;                ///< the picture's name (as the query step records it)
     QJsonArray Steps;               ///< the design's steps the match started from
     bool FromCurrentCamera = false; ///< the camera was given (the current one), not estimated

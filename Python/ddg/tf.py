@@ -79,6 +79,8 @@ class Match:
         orbit: (azimuth, elevation, roll) in degrees from ParaView's reset camera; zoom: the
             distance factor; pan: (right, up) in view heights.
         timings: seconds per stage, dict with "background", "camera", "fit", "total".
+        crop: (x, y, width, height), the part of the picture matched (inside a letterbox; the
+            whole picture otherwise): ``view``, ``image`` and the masks are its size.
         iterations: fit steps taken.
         image: the found TF's render at ``view`` over the background, (h, w, 3) uint8.
         foreground, overlay: the picture's masks, (h, w) bool: what differs from the
@@ -101,6 +103,7 @@ class Match:
         t = _field_numbers(table, "Timings")
         self.timings = dict(zip(("background", "camera", "fit", "total"), (float(x) for x in t)))
         self.iterations = int(_field_numbers(table, "Iterations")[0])
+        self.crop = tuple(int(x) for x in _field_numbers(table, "Crop"))
         pd = images.GetPointData()
         self.image = _rgb(images, pd.GetArray("Image")).astype("uint8")
         self.foreground = (
