@@ -83,14 +83,16 @@ vtkTypeBool vtkDDGAlgorithm::ProcessRequest(
     return this->RequestDataObject(outputVector);
   if (request->Has(vtkDemandDrivenPipeline::REQUEST_INFORMATION()))
   {
-    if (this->GetNumberOfOutputPorts() > 0 &&
-      this->GetOutputPortInformation(0)->Has(vtkDataObject::DATA_TYPE_NAME()) &&
-      std::string(this->GetOutputPortInformation(0)->Get(vtkDataObject::DATA_TYPE_NAME())) ==
-        "vtkImageData")
+    for (int port = 0; port < this->GetNumberOfOutputPorts(); ++port)
     {
-      int width = 0, height = 0;
-      this->PreviewSize(width, height);
-      ddg::setImageInformation(outputVector->GetInformationObject(0), width, height);
+      vtkInformation* portInfo = this->GetOutputPortInformation(port);
+      if (!portInfo->Has(vtkDataObject::DATA_TYPE_NAME()) ||
+        std::string(portInfo->Get(vtkDataObject::DATA_TYPE_NAME())) != "vtkImageData")
+        continue;
+      int width = 0, height = 0; // other image ports: an empty extent unless the filter knows
+      if (port == 0)
+        this->PreviewSize(width, height);
+      ddg::setImageInformation(outputVector->GetInformationObject(port), width, height);
     }
     return 1;
   }
@@ -104,6 +106,9 @@ vtkTypeBool vtkDDGAlgorithm::ProcessRequest(
     if (ddg::skipPiece(outputVector)) // distributed: the first piece computes
       return 1;
     this->ResetOutputs(outputVector);
+    // VTK 9.2's pipeline does not clear AbortExecute: a run cancelled before must not cancel
+    // this one
+    this->SetAbortExecute(0);
     try
     {
       this->Execute(vtkImageData::GetData(inputVector[0]),

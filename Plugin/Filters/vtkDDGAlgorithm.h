@@ -25,8 +25,10 @@ class vtkImageData;
  * - the request of the input's whole extent (the filters need the whole volume);
  * - piece skipping under MPI: piece 0 computes, the other pieces output empty data;
  * - the output reset before a run and after a failure or a cancellation (ddg::Cancelled:
- *   LastError "cancelled", no error message);
- * - the image information of output port 0 when it is an image (PreviewSize).
+ *   LastError "cancelled", no error message); AbortExecute cleared before each run (VTK 9.2
+ *   keeps it set after an abort);
+ * - the image information of its image outputs (port 0: PreviewSize; other ports an empty
+ *   extent, filled when they run: so that an empty image does not re-run the filter).
  *
  * A subclass implements Execute (throwing ddg::Error, or any std::exception, for bad input)
  * and, if port 0 is an image, PreviewSize.

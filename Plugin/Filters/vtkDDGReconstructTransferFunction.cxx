@@ -1,5 +1,6 @@
 // vtkDDGReconstructTransferFunction.cxx: converts the input, calls
-// ddg::reconstructTransferFunction, returns the TF as a table and a preset string.
+// ddg::reconstructTransferFunction (or ddg::matchPicture), returns the TF as a table and a preset
+// string (and the match's camera, background, figures and masks).
 #include "vtkDDGReconstructTransferFunction.h"
 
 #include "DDGFilterInputs.h"
@@ -10,6 +11,7 @@
 
 #include "Common/FileUtil.h"
 #include "Image/Image.h"
+#include "Reconstruct/Match.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
@@ -21,12 +23,22 @@
 #include <vtkInformation.h>
 #include <vtkIntArray.h>
 #include <vtkObjectFactory.h>
+#include <vtkPointData.h>
 #include <vtkStringArray.h>
 #include <vtkTable.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
 
 vtkStandardNewMacro(vtkDDGReconstructTransferFunction);
 
-vtkDDGReconstructTransferFunction::vtkDDGReconstructTransferFunction() {}
+vtkDDGReconstructTransferFunction::vtkDDGReconstructTransferFunction()
+{
+  this->SetNumberOfOutputPorts(2);
+}
 
 vtkDDGReconstructTransferFunction::~vtkDDGReconstructTransferFunction() = default;
 
@@ -43,6 +55,21 @@ void vtkDDGReconstructTransferFunction::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "Smoothness: " << this->Smoothness << "\n";
   os << indent << "LearningRate: " << this->LearningRate << "\n";
+  os << indent << "MatchPicture: " << this->MatchPicture << "\n";
+  os << indent << "EstimateCamera: " << this->EstimateCamera << "\n";
+  os << indent << "InitialTransferFunction: " << this->InitialTransferFunction.size()
+     << " characters\n";
+  os << indent << "OpacityUnitDistance: " << this->OpacityUnitDistance << "\n";
+  os << indent << "CameraCandidates: " << this->CameraCandidates << "\n";
+  os << indent << "MinimumOverlap: " << this->MinimumOverlap << "\n";
+  os << indent << "EmptySpaceWeight: " << this->EmptySpaceWeight << "\n";
+  os << indent << "MaskOverlays: " << this->MaskOverlays << "\n";
+  os << indent << "PreviewEvery: " << this->PreviewEvery << "\n";
+}
+
+vtkImageData* vtkDDGReconstructTransferFunction::GetPreview()
+{
+  return this->Preview;
 }
 
 namespace
@@ -62,42 +89,12 @@ void addString(vtkFieldData* fd, const char* name, const std::string& value)
   s->InsertNextValue(value);
   fd->AddArray(s);
 }
-} // namespace
 
-int vtkDDGReconstructTransferFunction::FillOutputPortInformation(int, vtkInformation* info)
+/// Fills `output` with the TF of `result` (rows per bin, its preset or 2D JSON in field data) and
+/// returns that JSON.
+std::string writeTable(vtkTable* output, const ddg::ReconstructionResult& result,
+  const ddg::Volume& volume, const ddg::View& view)
 {
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), "vtkTable");
-  return 1;
-}
-
-void vtkDDGReconstructTransferFunction::Execute(
-  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
-{
-  vtkTable* output = vtkTable::GetData(outputVector);
-  ddg::ReconstructionTarget target;
-  target.image = ddg::filterImage(this->TargetImageData, this->TargetImageFile, "TargetImage");
-  target.view = ddg::filterView(this->ViewJSON, this->ViewFile);
-  if (target.image.width != target.view.width || target.image.height != target.view.height)
-    throw ddg::Error("the target image is " + std::to_string(target.image.width) + " x " +
-      std::to_string(target.image.height) + ", the view " + std::to_string(target.view.width) +
-      " x " + std::to_string(target.view.height) + ": save the screenshot at the view's size");
-  if (target.image.channels == 1 || target.image.channels == 2)
-    target.image = ddg::toChannels(target.image, target.image.channels == 2 ? 4 : 3);
-  const ddg::Volume volume = ddg::toCoreVolume(input, array);
-  const ddg::DifferentiableRenderer renderer(volume);
-  ddg::ReconstructionOptions opt;
-  opt.twoD = this->TwoD;
-  opt.bins = this->Bins;
-  opt.iterations = this->Iterations;
-  opt.smoothness = this->Smoothness;
-  opt.learningRate = this->LearningRate;
-  const auto result = ddg::reconstructTransferFunction(renderer, { target }, opt,
-    [this](int step, double, const ddg::ReconstructionResult*)
-    {
-      this->UpdateProgress(static_cast<double>(step) / this->Iterations);
-      return !this->GetAbortExecute();
-    });
-
   auto value = column(output, "Value");
   vtkSmartPointer<vtkDoubleArray> gradient;
   if (result.twoD)
@@ -127,7 +124,7 @@ void vtkDDGReconstructTransferFunction::Execute(
     json = ddg::transferFunction2DToJson(tf);
     addString(output->GetFieldData(), "TransferFunction2D", json);
     addString(output->GetFieldData(), "ParaViewTransferFunction2D",
-      ddg::paraViewTransferFunction2DJson(ddg::RayCaster(volume), tf, target.view));
+      ddg::paraViewTransferFunction2DJson(ddg::RayCaster(volume), tf, view));
   }
   else
   {
@@ -143,6 +140,50 @@ void vtkDDGReconstructTransferFunction::Execute(
     json = ddg::presetToJson(ddg::tableToTransferFunction(t, 1.0 / 512.0, "DDG reconstruction"));
     addString(output->GetFieldData(), "Preset", json);
   }
+  return json;
+}
+} // namespace
+
+int vtkDDGReconstructTransferFunction::FillOutputPortInformation(int port, vtkInformation* info)
+{
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkTable" : "vtkImageData");
+  return 1;
+}
+
+void vtkDDGReconstructTransferFunction::Execute(
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
+{
+  if (this->MatchPicture)
+  {
+    this->ExecuteMatch(input, array, outputVector);
+    return;
+  }
+  vtkTable* output = vtkTable::GetData(outputVector, 0);
+  ddg::ReconstructionTarget target;
+  target.image = ddg::filterImage(this->TargetImageData, this->TargetImageFile, "TargetImage");
+  target.view = ddg::filterView(this->ViewJSON, this->ViewFile);
+  if (target.image.width != target.view.width || target.image.height != target.view.height)
+    throw ddg::Error("the target image is " + std::to_string(target.image.width) + " x " +
+      std::to_string(target.image.height) + ", the view " + std::to_string(target.view.width) +
+      " x " + std::to_string(target.view.height) + ": save the screenshot at the view's size");
+  if (target.image.channels == 1 || target.image.channels == 2)
+    target.image = ddg::toChannels(target.image, target.image.channels == 2 ? 4 : 3);
+  const ddg::Volume volume = ddg::toCoreVolume(input, array);
+  const ddg::DifferentiableRenderer renderer(volume);
+  ddg::ReconstructionOptions opt;
+  opt.twoD = this->TwoD;
+  opt.bins = this->Bins;
+  opt.iterations = this->Iterations;
+  opt.smoothness = this->Smoothness;
+  opt.learningRate = this->LearningRate;
+  const auto result = ddg::reconstructTransferFunction(renderer, { target }, opt,
+    [this](int step, double, const ddg::ReconstructionResult*)
+    {
+      this->UpdateProgress(static_cast<double>(step) / this->Iterations);
+      return !this->GetAbortExecute();
+    });
+
+  const std::string json = writeTable(output, result, volume, target.view);
   auto info = vtkSmartPointer<vtkIntArray>::New();
   info->SetName("Iterations");
   info->InsertNextValue(result.iterations);
@@ -151,6 +192,199 @@ void vtkDDGReconstructTransferFunction::Execute(
   converged->SetName("Converged");
   converged->InsertNextValue(result.converged ? 1 : 0);
   output->GetFieldData()->AddArray(converged);
+  if (!this->OutputFile.empty())
+    ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
+}
+
+// --- matching a picture (ddg::matchPicture) ------------------------------------------------------
+
+namespace
+{
+void addNumbers(vtkFieldData* fd, const char* name, std::initializer_list<double> values)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName(name);
+  for (double v : values)
+    a->InsertNextValue(v);
+  fd->AddArray(a);
+}
+
+/// An image (1 or 3+ channels in [0, 1], row 0 at the top) as an 8-bit point array of `data`
+/// (VTK rows go up), which gets the image's dimensions.
+void addImageArray(vtkImageData* data, const ddg::Image& image, const char* name, int channels)
+{
+  data->SetDimensions(image.width, image.height, 1);
+  auto a = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  a->SetName(name);
+  a->SetNumberOfComponents(channels);
+  a->SetNumberOfTuples(static_cast<vtkIdType>(image.width) * image.height);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < channels; ++c)
+      {
+        const float v = image.at(x, y, std::min(c, image.channels - 1));
+        a->SetTypedComponent(static_cast<vtkIdType>(image.height - 1 - y) * image.width + x, c,
+          static_cast<unsigned char>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)));
+      }
+  data->GetPointData()->AddArray(a);
+}
+
+/// A render (premultiplied RGBA) over the view's background (uniform or gradient).
+ddg::Image overBackground(const ddg::Image& rgba, const ddg::View& view)
+{
+  return view.background2 ? ddg::compositeOverBackground(rgba, view.background, *view.background2)
+                          : ddg::compositeOverBackground(rgba, view.background);
+}
+
+/// The part {x, y, width, height} of an image (the whole image when the part is empty).
+ddg::Image cropped(const ddg::Image& image, const std::array<int, 4>& crop)
+{
+  if (crop[2] <= 0 || crop[3] <= 0 || (crop[2] == image.width && crop[3] == image.height))
+    return image;
+  ddg::Image out(crop[2], crop[3], image.channels);
+  for (int y = 0; y < crop[3]; ++y)
+    for (int x = 0; x < crop[2]; ++x)
+      for (int c = 0; c < image.channels; ++c)
+        out.at(x, y, c) = image.at(crop[0] + x, crop[1] + y, c);
+  return out;
+}
+
+/// PSNR (dB) of `render` (RGB) against `picture` (RGB, the same size) over the pixels the
+/// overlay mask leaves.
+double picturePSNR(const ddg::Image& render, const ddg::Image& picture, const ddg::Image& overlay)
+{
+  double sum = 0;
+  size_t n = 0;
+  for (int y = 0; y < picture.height; ++y)
+    for (int x = 0; x < picture.width; ++x)
+    {
+      if (!overlay.empty() && overlay.at(x, y, 0) > 0.5f)
+        continue;
+      for (int c = 0; c < 3; ++c)
+      {
+        const double d = render.at(x, y, c) - picture.at(x, y, c);
+        sum += d * d;
+      }
+      n += 3;
+    }
+  return n == 0 || sum == 0 ? std::numeric_limits<double>::infinity()
+                            : 10 * std::log10(static_cast<double>(n) / sum);
+}
+} // namespace
+
+void vtkDDGReconstructTransferFunction::ExecuteMatch(
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
+{
+  this->Preview = nullptr;
+  ddg::Image picture =
+    ddg::filterImage(this->TargetImageData, this->TargetImageFile, "TargetImage");
+  if (picture.channels == 1 || picture.channels == 2)
+    picture = ddg::toChannels(picture, picture.channels == 2 ? 4 : 3);
+  const ddg::Volume volume = ddg::toCoreVolume(input, array);
+  const ddg::DifferentiableRenderer renderer(volume);
+
+  ddg::MatchOptions opt;
+  if (!this->ViewJSON.empty() || !this->ViewFile.empty())
+    opt.view = ddg::filterView(this->ViewJSON, this->ViewFile);
+  opt.refineGivenView = this->EstimateCamera;
+  if (this->OpacityUnitDistance > 0)
+    opt.opacityUnitDistance = this->OpacityUnitDistance;
+  opt.cameraCandidates = this->CameraCandidates;
+  opt.minimumOverlap = this->MinimumOverlap;
+  opt.emptySpaceWeight = this->EmptySpaceWeight;
+  opt.maskOverlays = this->MaskOverlays;
+  auto& rec = opt.reconstruction;
+  rec.twoD = this->TwoD;
+  rec.bins = this->Bins;
+  rec.iterations = this->Iterations;
+  rec.smoothness = this->Smoothness;
+  rec.learningRate = this->LearningRate;
+  rec.snapshotEvery = this->PreviewEvery;
+  std::optional<ddg::TransferFunction1D> initialTF;
+  if (!this->InitialTransferFunction.empty())
+  {
+    if (this->TwoD)
+      throw ddg::Error("InitialTransferFunction is a 1D preset: it cannot start a 2D match");
+    initialTF = ddg::parsePreset(this->InitialTransferFunction, "InitialTransferFunction");
+    const auto range = volume.range();
+    rec.initial1D = ddg::bakeTable(*initialTF, range[0], range[1], this->Bins);
+  }
+
+  // the preview is shown over the picture's background (when it has one: else matchPicture
+  // says why it cannot use the picture)
+  ddg::View previewView;
+  try
+  {
+    ddg::estimateBackground(ddg::toChannels(picture, 3)).applyTo(previewView);
+  }
+  catch (const ddg::Error&)
+  {
+  }
+  const auto result = ddg::matchPicture(renderer, picture, opt,
+    [this, &previewView](const std::string& stage, double fraction, const ddg::Image* preview)
+    {
+      if (preview && !preview->empty())
+      {
+        auto image = vtkSmartPointer<vtkImageData>::New();
+        addImageArray(image, overBackground(*preview, previewView), "Image", 3);
+        this->Preview = image;
+      }
+      this->SetProgressText(stage.c_str());
+      this->UpdateProgress(std::clamp(fraction, 0.0, 1.0));
+      return !this->GetAbortExecute();
+    });
+  this->SetProgressText(nullptr);
+
+  // port 0: the TF, the camera, the background, the figures
+  vtkTable* output = vtkTable::GetData(outputVector, 0);
+  const std::string json = writeTable(output, result.tf, volume, result.view);
+  vtkFieldData* fd = output->GetFieldData();
+  addString(fd, "View", ddg::viewToJson(result.view));
+  addNumbers(fd, "CameraEstimated", { result.cameraEstimated ? 1.0 : 0.0 });
+  addNumbers(fd, "Overlap", { result.overlap });
+  addNumbers(fd, "FitPSNR", { result.fitPSNR });
+  const auto& bg = result.background;
+  addNumbers(fd, "Background",
+    { bg.bottom[0], bg.bottom[1], bg.bottom[2], bg.top[0], bg.top[1], bg.top[2] });
+  addNumbers(fd, "GradientBackground", { bg.gradient ? 1.0 : 0.0 });
+  addNumbers(fd, "Orbit", { result.orbit[0], result.orbit[1], result.orbit[2] });
+  addNumbers(fd, "Zoom", { result.zoom });
+  addNumbers(fd, "Pan", { result.pan[0], result.pan[1] });
+  addNumbers(fd, "Timings",
+    { result.backgroundSeconds, result.cameraSeconds, result.fitSeconds, result.seconds });
+  auto iterations = vtkSmartPointer<vtkIntArray>::New();
+  iterations->SetName("Iterations");
+  iterations->InsertNextValue(result.tf.iterations);
+  fd->AddArray(iterations);
+  auto converged = vtkSmartPointer<vtkIntArray>::New();
+  converged->SetName("Converged");
+  converged->InsertNextValue(result.tf.converged ? 1 : 0);
+  fd->AddArray(converged);
+
+  // before / after at the found view, and port 1: the render and the masks
+  // the part of the picture matched (inside a letterbox): the view and the masks are its size
+  const ddg::Image rgbPicture = cropped(ddg::toChannels(picture, 3), result.crop);
+  addNumbers(fd, "Crop",
+    { static_cast<double>(result.crop[0]), static_cast<double>(result.crop[1]),
+      static_cast<double>(result.crop[2]), static_cast<double>(result.crop[3]) });
+  const ddg::RayCaster& caster = renderer.caster();
+  // the TFs as they are applied: the presets (ParaView's table of their nodes); 2D: the table
+  const ddg::Image after = overBackground(result.tf.twoD
+      ? caster.render(result.tf.table2D, result.view)
+      : caster.render(caster.paraviewTable(ddg::parsePreset(json)), result.view),
+    result.view);
+  double before = std::numeric_limits<double>::quiet_NaN();
+  if (initialTF && !result.tf.twoD)
+    before = picturePSNR(
+      overBackground(caster.render(caster.paraviewTable(*initialTF), result.view), result.view),
+      rgbPicture, result.masks.overlay);
+  addNumbers(fd, "PicturePSNR", { before, picturePSNR(after, rgbPicture, result.masks.overlay) });
+  vtkImageData* masks = vtkImageData::GetData(outputVector, 1);
+  addImageArray(masks, after, "Image", 3);
+  if (!result.masks.foreground.empty())
+    addImageArray(masks, result.masks.foreground, "Foreground", 1);
+  if (!result.masks.overlay.empty())
+    addImageArray(masks, result.masks.overlay, "Overlay", 1);
   if (!this->OutputFile.empty())
     ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
 }

@@ -1,12 +1,16 @@
 // vtkDDGReconstructTransferFunction.h: finds the TF whose rendering of the input volume matches a
-// target image (ddg::reconstructTransferFunction: the differentiable ray caster and Adam).
+// target image (ddg::reconstructTransferFunction: the differentiable ray caster and Adam), or,
+// with MatchPicture on, a TF and the camera for a picture as users have it (ddg::matchPicture).
 #ifndef vtkDDGReconstructTransferFunction_h
 #define vtkDDGReconstructTransferFunction_h
 
 #include "DDGFiltersModule.h" // export macro
 #include "vtkDDGAlgorithm.h"
+#include "vtkSmartPointer.h" // for Preview
 
 #include <string>
+
+class vtkImageData;
 
 /**
  * @class vtkDDGReconstructTransferFunction
@@ -24,9 +28,31 @@
  * data holds "TransferFunction2D" (the DDG 2D TF JSON) instead of "Preset". OutputFile, when
  * set, receives the same JSON (written atomically).
  *
- * Progress is reported per step and Abort stops the optimisation (empty output). Bad input
- * (missing or unreadable files, a target of the wrong size, a degenerate view, a constant
- * volume) gives one error message and an empty output.
+ * MatchPicture on (ddg::matchPicture, the `ddg reconstruct` of pictures whose camera, framing
+ * and background nobody wrote down): the target may have any size; its background is estimated
+ * and overlays are masked; the camera is the given view (ViewJSON / ViewFile, its size replaced
+ * by the picture's) or, without one or with EstimateCamera on, found from ParaView's reset
+ * camera. InitialTransferFunction (a preset's JSON text, e.g. a queried design's) is where the
+ * fit starts. The table's field data then also holds "View" (the picture's camera as view JSON,
+ * with the estimated background), "CameraEstimated", "Overlap" (silhouette IoU of the camera),
+ * "FitPSNR" (Core's PSNR of the fit over the compared pixels), "PicturePSNR" (before, after: the
+ * initial preset's and the output preset's render, as ParaView gets them, at the found view over
+ * the estimated background against the picture, overlay pixels left out; before is NaN without
+ * InitialTransferFunction), "Background" (bottom RGB, top RGB),
+ * "GradientBackground", "Orbit" (azimuth, elevation, roll from the reset camera, degrees),
+ * "Zoom", "Pan" (right, up in view heights), "Timings" (background, camera, fit, total, s) and
+ * "Crop" (x, y, width, height: the part of the picture matched, inside a letterbox; the view is
+ * its size). Output port 1 is then an image of that part's size: "Image" (the found TF rendered
+ * at the found view over the background, RGB 8-bit), "Foreground" and "Overlay" (the masks,
+ * 0/255).
+ * Progress text is the stage ("background", "camera", "fit"); GetPreview returns the latest
+ * preview render (every PreviewEvery fit steps).
+ *
+ * Progress is reported per step and Abort stops the optimisation (LastError "cancelled", empty
+ * outputs). Bad input (missing or unreadable files, a target of the wrong size without
+ * MatchPicture, a degenerate view, a constant volume; with MatchPicture: a uniform picture, one
+ * no camera explains, a picture under 16 pixels a side) gives one error message and empty
+ * outputs.
  */
 class DDGFILTERS_EXPORT vtkDDGReconstructTransferFunction : public vtkDDGAlgorithm
 {
@@ -99,6 +125,77 @@ public:
   vtkGetMacro(LearningRate, double);
   ///@}
 
+  ///@{
+  /// Match a picture as users have it (ddg::matchPicture: any size, background estimated,
+  /// overlays masked, the camera given or estimated) instead of reconstructing from a
+  /// screenshot at a known view of its size. (default: off)
+  vtkSetMacro(MatchPicture, bool);
+  vtkGetMacro(MatchPicture, bool);
+  vtkBooleanMacro(MatchPicture, bool);
+  ///@}
+
+  ///@{
+  /// MatchPicture: search the camera even when a view is given (the view is then a hint the
+  /// search starts from); without a view the camera is always estimated. (default: off)
+  vtkSetMacro(EstimateCamera, bool);
+  vtkGetMacro(EstimateCamera, bool);
+  vtkBooleanMacro(EstimateCamera, bool);
+  ///@}
+
+  ///@{
+  /// MatchPicture: the TF the fit starts from, as a ParaView preset's JSON text (1D); empty:
+  /// grey at opacity 0.02. (default: empty)
+  vtkSetStdStringFromCharMacro(InitialTransferFunction);
+  vtkGetCharFromStdStringMacro(InitialTransferFunction);
+  ///@}
+
+  ///@{
+  /// MatchPicture: opacity unit distance of the views; 0: ParaView's default for the volume (or
+  /// the given view's). (default: 0)
+  vtkSetClampMacro(OpacityUnitDistance, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(OpacityUnitDistance, double);
+  ///@}
+
+  ///@{
+  /// MatchPicture: camera candidates scored by a short fit. (default: 6)
+  vtkSetClampMacro(CameraCandidates, int, 1, 64);
+  vtkGetMacro(CameraCandidates, int);
+  ///@}
+
+  ///@{
+  /// MatchPicture: below this silhouette overlap (IoU) of the best camera the match fails with
+  /// "no camera explains the picture". (default: 0.6)
+  vtkSetClampMacro(MinimumOverlap, double, 0.0, 1.0);
+  vtkGetMacro(MinimumOverlap, double);
+  ///@}
+
+  ///@{
+  /// MatchPicture: weight of the empty-space term (background pixels pull the render to
+  /// transparent). (default: 1)
+  vtkSetClampMacro(EmptySpaceWeight, double, 0.0, VTK_DOUBLE_MAX);
+  vtkGetMacro(EmptySpaceWeight, double);
+  ///@}
+
+  ///@{
+  /// MatchPicture: mask overlays (parts of the picture the object does not explain).
+  /// (default: on)
+  vtkSetMacro(MaskOverlays, bool);
+  vtkGetMacro(MaskOverlays, bool);
+  vtkBooleanMacro(MaskOverlays, bool);
+  ///@}
+
+  ///@{
+  /// MatchPicture: render a preview every this many fit steps (GetPreview); 0: none.
+  /// (default: 0)
+  vtkSetClampMacro(PreviewEvery, int, 0, 100000);
+  vtkGetMacro(PreviewEvery, int);
+  ///@}
+
+  /// The latest preview of a running match: the current TF at the found view over the
+  /// background, RGB 8-bit array "Image" at a quarter of the picture's size (empty before the
+  /// first preview). Read it from a ProgressEvent observer; it is the filter's own object.
+  vtkImageData* GetPreview();
+
 protected:
   vtkDDGReconstructTransferFunction();
   ~vtkDDGReconstructTransferFunction() override;
@@ -106,6 +203,7 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
+  void ExecuteMatch(vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector);
 
 private:
   vtkDDGReconstructTransferFunction(const vtkDDGReconstructTransferFunction&) = delete;
@@ -121,6 +219,16 @@ private:
   int Iterations = 500;
   double Smoothness = 0.01;
   double LearningRate = 0.2;
+  bool MatchPicture = false;
+  bool EstimateCamera = false;
+  std::string InitialTransferFunction;
+  double OpacityUnitDistance = 0.0;
+  int CameraCandidates = 6;
+  double MinimumOverlap = 0.6;
+  double EmptySpaceWeight = 1.0;
+  bool MaskOverlays = true;
+  int PreviewEvery = 0;
+  vtkSmartPointer<vtkImageData> Preview;
 };
 
 #endif

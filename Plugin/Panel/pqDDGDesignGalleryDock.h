@@ -2,8 +2,8 @@
 // pqDDGDesignGalleryDock.ui, its state (filter proxies on the active volume, history steps, the
 // current design, pins, lock) is a pqDDGDesignState, the pinned designs are a pqDDGPinStrip. The
 // dock follows the active source, forwards the user's actions to the state, shows what the
-// state reports and writes the chosen design's transfer function into the active
-// representation's maps as one undoable step.
+// state reports and writes the chosen design's (or the match's) transfer function into the
+// active representation's maps as one undoable step (the match's with the picture's camera).
 #pragma once
 
 #include <QDockWidget>
@@ -46,6 +46,10 @@ private Q_SLOTS:
   void axesReleased();
   void lockChanged();
   void apply();
+  void runMatch();
+  void applyMatch();
+  void showMatch();
+  void showMatchProgress(const QString& stage, double fraction, const QImage& preview);
   void exportPreset();
   void exportSlicer();
   void exportHistory();

@@ -1,6 +1,7 @@
 // pqDDGDesignState.h: the Design Gallery panel's state without any widget: the volume, the
 // server-side filter proxies on it, the outline being browsed, the history steps of the current
-// design and what DDG Design made of them, the pins and the lock. The dock panel shows it and
+// design and what DDG Design made of them, the query's picture and its match, the pins and the
+// lock. The dock panel shows it and
 // forwards the user's actions; a test drives it directly (Testing/Plugin/TestDesignState.cxx).
 #pragma once
 
@@ -10,6 +11,7 @@
 #include <QJsonObject>
 #include <QObject>
 #include <QPointF>
+#include <QRect>
 #include <QRectF>
 #include <QVector>
 
@@ -57,6 +59,28 @@ public:
     QRectF Box;                 ///< the plane part shown (when BoxKnown)
     bool BoxKnown = false;
   };
+  /// What a match of the query's picture found (DDG Reconstruct Transfer Function with
+  /// MatchPicture): the TF, the picture's camera, the figures and the masks.
+  struct Match
+  {
+    QString Preset;     ///< ParaView preset (1D) or DDG 2D TF JSON (2D models)
+    QString ParaView2D; ///< 2D: the TransferFunction2D proxy's properties (JSON)
+    QJsonObject View;   ///< the picture's camera as view JSON (the background estimated)
+    bool CameraEstimated = false;
+    double Overlap = 0;      ///< silhouette IoU of the camera
+    double FitPSNR = 0;      ///< Core's PSNR of the fit over the compared pixels
+    double PSNRBefore = 0;   ///< the query's design at that camera vs the picture (NaN: none)
+    double PSNRAfter = 0;    ///< the matched TF at that camera vs the picture
+    QVector<double> Timings; ///< seconds: background, camera, fit, total
+    int Iterations = 0;
+    QImage Render;                  ///< the matched TF at the picture's camera over its background
+    QImage Overlay;                 ///< the overlay mask (white: left out), the size of Crop
+    QRect Crop;                     ///< the part of the picture matched (inside a letterbox)
+    QString Picture;                ///< the picture's name (as the query step records it)
+    QJsonArray Steps;               ///< the design's steps the match started from
+    bool FromCurrentCamera = false; ///< the camera was given (the current one), not estimated
+  };
+
   /// Makes the view JSON of the current camera with `maxSide` pixels on its longer side (empty
   /// when there is no view).
   using ViewFunction = std::function<QJsonObject(int maxSide)>;
@@ -93,7 +117,7 @@ public:
   bool isBusy() const { return this->Busy; }
   void setBusy(bool busy);
   bool isCancelled() const { return this->Cancelled; }
-  /// Asks the running build or animation to stop.
+  /// Asks the running build, animation or match to stop.
   void cancel() { this->Cancelled = true; }
 
   /// True when there is a volume, a model and (`needDesign`) a design; else says what is missing.
@@ -130,6 +154,21 @@ public:
   const QJsonArray& lockSteps() const { return this->LockSteps; }
   const Design& design() const { return this->Current; }
 
+  // --- matching the query's picture
+  // ---------------------------------------------------------------
+  /// Refines a TF toward the last query's picture by differentiable rendering (DDG Reconstruct
+  /// Transfer Function with MatchPicture), starting from the current design's TF, at the current
+  /// camera (`fromCurrentCamera`: the picture was taken from it) or at a camera estimated from
+  /// the picture. Reports progress (matchProgress, with a preview in a builtin session), stops on
+  /// cancel(); true when a match was found (matchChanged), false with a message (the scene is
+  /// never touched here).
+  bool match(bool fromCurrentCamera);
+  bool hasMatch() const { return !this->LastMatch.Preset.isEmpty(); }
+  const Match& lastMatch() const { return this->LastMatch; }
+  /// The picture of the last query (an image file's bytes) and its name.
+  const QByteArray& queryPicture() const { return this->QueryPicture; }
+  const QString& queryName() const { return this->QueryName; }
+
   // --- pins ----------------------------------------------------------------------------------
   /// Pins the current design (pinAdded).
   void pin();
@@ -137,7 +176,8 @@ public:
   void unpin(QVector<int> rows);
   const QVector<Pin>& pins() const { return this->Pins; }
 
-  /// Says `text` in the panel (statusChanged); `error` shows it as one.
+  /// Says `text` in the panel (statusChanged); `error` shows it as one (and in Output Messages,
+  /// as a warning).
   void report(const QString& text, bool error = false);
   /// The last text reported.
   const QString& lastMessage() const { return this->LastMessage; }
@@ -168,13 +208,20 @@ Q_SIGNALS:
   void pathStarted();
   void designChanged();
   void pinAdded();
+  /// A query succeeded and its design shows.
+  void queryDone();
+  /// A match runs: its stage ("background", "camera", "fit"), the fraction done and, every few
+  /// fit steps in a builtin session, a preview (else a null image).
+  void matchProgress(const QString& stage, double fraction, const QImage& preview);
+  /// The match was found or dropped (a new query, a new model).
+  void matchChanged();
 
 private:
   vtkWeakPointer<vtkSMSourceProxy> Source;
   QString Array;
   ViewFunction View;
   QString ModelDirectory;
-  vtkSmartPointer<vtkSMSourceProxy> GalleryProxy, QueryProxy, DesignProxy, BuildProxy;
+  vtkSmartPointer<vtkSMSourceProxy> GalleryProxy, QueryProxy, DesignProxy, BuildProxy, MatchProxy;
   bool Loaded = false;
   bool Busy = false;
   bool Cancelled = false;
@@ -189,4 +236,7 @@ private:
   QVector<int> Locked;
   Design Current;
   QVector<Pin> Pins;
+  QByteArray QueryPicture;
+  QString QueryName;
+  Match LastMatch;
 };

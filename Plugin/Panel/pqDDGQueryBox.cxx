@@ -11,6 +11,9 @@
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QImage>
+#include <QImageReader>
+
+#include <algorithm>
 
 pqDDGQueryBox::pqDDGQueryBox(QWidget* parent)
   : QGroupBox(parent)
@@ -67,6 +70,33 @@ void pqDDGQueryBox::queryFile(const QString& path)
   {
     this->State->report(tr("Cannot open the query image '%1'.").arg(path), true);
     return;
+  }
+  // huge pictures: refused beyond what the server reads (16384 a side, 64 Mpixel), downscaled to
+  // 2048 on the longer side beyond 4096 (the query and the match work at any size)
+  QImageReader header(path);
+  const QSize size = header.size();
+  constexpr qint64 maxSide = 16384, maxPixels = 64LL * 1024 * 1024, downscaleAbove = 4096;
+  if (size.isValid() &&
+    (size.width() > maxSide || size.height() > maxSide ||
+      static_cast<qint64>(size.width()) * size.height() > maxPixels))
+  {
+    this->State->report(tr("'%1' is %2 x %3 pixels: too large (at most 16384 on a side and 64 "
+                           "Mpixel). Downscale it first.")
+                          .arg(path)
+                          .arg(size.width())
+                          .arg(size.height()),
+      true);
+    return;
+  }
+  if (size.isValid() && std::max(size.width(), size.height()) > downscaleAbove)
+  {
+    header.setScaledSize(size.scaled(2048, 2048, Qt::KeepAspectRatio));
+    const QImage scaled = header.read();
+    if (!scaled.isNull())
+    {
+      this->queryImage(scaled, QFileInfo(path).fileName());
+      return;
+    }
   }
   const QByteArray bytes = file.readAll();
   const bool direct = bytes.startsWith("\x89PNG") || bytes.startsWith("\xff\xd8\xff") ||

@@ -15,6 +15,7 @@
 #include <vtkDataObject.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
+#include <vtkObjectFactory.h>
 #include <vtkPVDataMover.h>
 #include <vtkPointData.h>
 #include <vtkSMDDGScene.h>
@@ -22,8 +23,11 @@
 #include <vtkSMPropertyHelper.h>
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
+#include <vtkSMUndoElement.h>
+#include <vtkSMViewProxy.h>
 #include <vtkStringArray.h>
 #include <vtkTable.h>
+#include <vtkWeakPointer.h>
 
 #include <QCoreApplication>
 #include <QJsonArray>
@@ -106,6 +110,55 @@ QString applyTransferFunction2D(pqDataRepresentation* repr, const QString& array
   if (error.empty())
     repr->renderViewEventually();
   return QString::fromStdString(error);
+}
+
+namespace
+{
+/// Sets a render view's camera back on Undo and forth on Redo (ParaView's undo stack leaves
+/// camera properties out). A vtkSMUndoElement with the view's session: vtkSMUndoStack takes
+/// every element of a set to be one.
+class CameraUndo : public vtkSMUndoElement
+{
+public:
+  static CameraUndo* New();
+  vtkTypeMacro(CameraUndo, vtkSMUndoElement);
+  vtkWeakPointer<vtkSMProxy> View;
+  std::string Before, After; ///< view JSON
+
+  int Undo() override { return this->Set(this->Before); }
+  int Redo() override { return this->Set(this->After); }
+
+private:
+  int Set(const std::string& json)
+  {
+    if (!this->View)
+      return 0;
+    const bool ok = vtkSMDDGScene::SetCamera(this->View, json.c_str()).empty();
+    if (auto* view = vtkSMViewProxy::SafeDownCast(this->View))
+      view->StillRender();
+    return ok ? 1 : 0;
+  }
+};
+vtkStandardNewMacro(CameraUndo);
+} // namespace
+
+QString setCamera(pqRenderView* view, const QJsonObject& viewJson, bool undoable)
+{
+  if (!view)
+    return "there is no render view";
+  vtkNew<CameraUndo> undo;
+  undo->View = view->getProxy();
+  undo->SetSession(view->getProxy()->GetSession());
+  undo->Before = vtkSMDDGScene::ViewJSON(view->getProxy(), nullptr, 0);
+  undo->After = jsonText(viewJson).toStdString();
+  const std::string error = vtkSMDDGScene::SetCamera(view->getProxy(), undo->After.c_str());
+  if (!error.empty())
+    return QString::fromStdString(error);
+  if (undoable)
+    if (auto* stack = pqApplicationCore::instance()->getUndoStack())
+      stack->addToActiveUndoSet(undo);
+  view->render();
+  return {};
 }
 
 QString currentPreset(pqDataRepresentation* repr)

@@ -52,6 +52,12 @@ QString applyPreset(pqDataRepresentation* repr, const QString& array, const QStr
 QString applyTransferFunction2D(pqDataRepresentation* repr, const QString& array,
   const QString& boxesText, const QString& label, bool undoable = true);
 
+/// Sets `view`'s camera to the "camera" of a view JSON (vtkSMDDGScene::SetCamera). ParaView's undo
+/// stack does not record camera changes: with `undoable`, an element that sets the camera back
+/// (and forth on Redo) is added to the undo set open now (BEGIN_UNDO_SET), so the camera moves
+/// with the rest of that step. Returns an empty string or the reason (nothing changed then).
+QString setCamera(pqRenderView* view, const QJsonObject& viewJson, bool undoable);
+
 /// The current RGBPoints and opacity Points of `repr`'s maps as a preset text (to restore them).
 QString currentPreset(pqDataRepresentation* repr);
 

@@ -47,6 +47,15 @@ public:
    */
   static std::string ViewJSON(vtkSMProxy* view, vtkSMProxy* representationOrSource, int maxSide);
 
+  /**
+   * Sets render view `view`'s camera from a DDG view JSON's "camera" (position, focal_point,
+   * view_up, view_angle, parallel_projection, parallel_scale; defaults as the view contract's)
+   * through its properties (so that it is recorded on an open undo set) and pushes them. The
+   * size and background of the JSON are not used. Returns an empty string, or the reason (not a
+   * render view, JSON without a valid camera) and then changes nothing.
+   */
+  static std::string SetCamera(vtkSMProxy* view, const char* viewJSON);
+
   /// Result of CheckVolume.
   enum VolumeCheck
   {

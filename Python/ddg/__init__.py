@@ -30,8 +30,8 @@ Images are numpy arrays (height, width, 3) of uint8, top row first.
 
 The package's modules: ``ddg.plugin`` (loading the plugin, ``DDGError``, ``data_path``),
 ``ddg.scene`` (the volume's array, views, images, ``apply``, ``render``), ``ddg.designs`` (models,
-designs, queries, the gallery, ``animate``) and ``ddg.tf`` (``reconstruct``, ``paraview_2d``,
-``export``); every public name is also ``ddg.<name>``.
+designs, queries, the gallery, ``animate``) and ``ddg.tf`` (``reconstruct``, ``match``,
+``paraview_2d``, ``export``); every public name is also ``ddg.<name>``.
 """
 from .plugin import DDGError, _ensure_plugin, data_path
 
@@ -51,7 +51,7 @@ from .designs import (  # noqa: E402
     pick,
     query,
 )
-from .tf import export, paraview_2d, reconstruct  # noqa: E402
+from .tf import Match, export, match, paraview_2d, reconstruct  # noqa: E402
 
 __all__ = [
     "Model",
@@ -63,6 +63,8 @@ __all__ = [
     "query",
     "pick",
     "reconstruct",
+    "match",
+    "Match",
     "apply",
     "interpolate",
     "edit",

@@ -193,15 +193,23 @@ def _read_png(path):
 # --- transfer functions in the scene --------------------------------------------------------------
 
 
-def apply(tf, display=None, source=None, view=None):
-    """Writes a TF (Design, preset dict or file, DDG 2D JSON) into ``display``'s maps (default:
-    the active source's display in the active view; shown first if needed), switches it to the
-    Volume representation and renders. A Design's TF is made at the view's camera. 1D TFs go
-    into the colour and opacity maps (2D rendering off); 2D TFs into ParaView's
-    TransferFunction2D (``paraview_2d``) with UseTransfer2D on. Returns the display."""
+def apply(tf, display=None, source=None, view=None, camera=None):
+    """Writes a TF (Design, preset dict or file, DDG 2D JSON, or a ``Match``: its TF) into
+    ``display``'s maps (default: the active source's display in the active view; shown first if
+    needed), switches it to the Volume representation and renders. A Design's TF is made at the
+    view's camera. 1D TFs go into the colour and opacity maps (2D rendering off); 2D TFs into
+    ParaView's TransferFunction2D (``paraview_2d``) with UseTransfer2D on. ``camera``: also
+    moves the view's camera there (a view JSON dict or file, e.g. a ``Match``'s ``view``; True
+    with a ``Match``: its camera; default: the camera stays). Returns the display."""
     from .designs import Design  # these modules build on this one
-    from .tf import _tf_dict, paraview_2d
+    from .tf import Match, _tf_dict, paraview_2d
 
+    if isinstance(tf, Match):
+        if camera is True:
+            camera = tf.view
+        tf = tf.tf
+    elif camera is True:
+        raise ValueError("apply: camera=True needs a Match (give a view JSON dict or file)")
     view = _view(view)
     source = _source(source)
     display = display or simple.Show(source, view)
@@ -223,6 +231,8 @@ def apply(tf, display=None, source=None, view=None):
     )
     if error:
         raise DDGError("apply: " + error)
+    if camera is not None:
+        set_camera(camera, view)
     simple.Render(view)
     return display
 

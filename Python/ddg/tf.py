@@ -1,13 +1,14 @@
-"""ddg.tf: transfer functions as dicts: reconstructed from a screenshot, converted to ParaView's
-TransferFunction2D, exported as files.
+"""ddg.tf: transfer functions as dicts: reconstructed from a screenshot, matched to a picture as
+users have it (camera and background estimated), converted to ParaView's TransferFunction2D,
+exported as files.
 """
 import json
 
 from paraview import servermanager
 
 from .designs import Design
-from .plugin import DDGError, _field_string, _first_tf, _tf_text
-from .scene import _image_text, _proxy, _source, view_json
+from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _run, _tf_text
+from .scene import _image_text, _proxy, _rgb, _source, view_json
 
 
 def _tf_dict(tf, view=None):
@@ -57,6 +58,148 @@ def reconstruct(
     if not text:
         raise DDGError("the reconstruction failed (see the Output Messages)")
     return _first_tf(json.loads(text))
+
+
+class Match:
+    """What ``match`` found for a picture.
+
+    Attributes:
+        tf: the fitted TF (ParaView preset dict; 2D: the DDG 2D TF dict).
+        view: the picture's camera as a view JSON dict (README "View file"): camera, the
+            picture's size, the estimated background (``background``, and ``background2`` for
+            ParaView's gradient background) and the opacity unit distance. ``set_camera(view)``
+            or ``apply(tf, camera=view)`` moves a render view there.
+        camera_estimated: True when the camera came from the search (not given as is).
+        overlap: silhouette IoU of the camera (1 = exact).
+        fit_psnr: PSNR (dB) of the fit over the compared pixels (Core's figure).
+        psnr_before, psnr_after: PSNR (dB) against the picture of the project's render at
+            ``view`` over the estimated background of the initial TF (NaN without ``initial``)
+            and of the found TF, overlay pixels left out.
+        background: ((r, g, b) bottom, (r, g, b) top) in [0, 1]; gradient: True for a gradient.
+        orbit: (azimuth, elevation, roll) in degrees from ParaView's reset camera; zoom: the
+            distance factor; pan: (right, up) in view heights.
+        timings: seconds per stage, dict with "background", "camera", "fit", "total".
+        crop: (x, y, width, height), the part of the picture matched (inside a letterbox; the
+            whole picture otherwise): ``view``, ``image`` and the masks are its size.
+        iterations: fit steps taken.
+        image: the found TF's render at ``view`` over the background, (h, w, 3) uint8.
+        foreground, overlay: the picture's masks, (h, w) bool: what differs from the
+            background, and what was judged an overlay and left out.
+    """
+
+    def __init__(self, table, images):
+        self.tf = _first_tf(json.loads(_tf_text(table)))
+        self.view = json.loads(_field_string(table, "View"))
+        self.camera_estimated = bool(_field_numbers(table, "CameraEstimated")[0])
+        self.overlap = float(_field_numbers(table, "Overlap")[0])
+        self.fit_psnr = float(_field_numbers(table, "FitPSNR")[0])
+        self.psnr_before, self.psnr_after = (float(x) for x in _field_numbers(table, "PicturePSNR"))
+        bg = _field_numbers(table, "Background")
+        self.background = (tuple(bg[:3]), tuple(bg[3:]))
+        self.gradient = bool(_field_numbers(table, "GradientBackground")[0])
+        self.orbit = tuple(float(x) for x in _field_numbers(table, "Orbit"))
+        self.zoom = float(_field_numbers(table, "Zoom")[0])
+        self.pan = tuple(float(x) for x in _field_numbers(table, "Pan"))
+        t = _field_numbers(table, "Timings")
+        self.timings = dict(zip(("background", "camera", "fit", "total"), (float(x) for x in t)))
+        self.iterations = int(_field_numbers(table, "Iterations")[0])
+        self.crop = tuple(int(x) for x in _field_numbers(table, "Crop"))
+        pd = images.GetPointData()
+        self.image = _rgb(images, pd.GetArray("Image")).astype("uint8")
+        self.foreground = (
+            _rgb(images, pd.GetArray("Foreground"))[:, :, 0] > 127
+            if pd.GetArray("Foreground")
+            else None
+        )
+        self.overlay = (
+            _rgb(images, pd.GetArray("Overlay"))[:, :, 0] > 127 if pd.GetArray("Overlay") else None
+        )
+
+    def __repr__(self):
+        return (
+            "Match(PSNR %.1f -> %.1f dB against the picture, fit %.1f dB, overlap %.2f, camera %s, "
+            "%.1f s)"
+            % (
+                self.psnr_before,
+                self.psnr_after,
+                self.fit_psnr,
+                self.overlap,
+                "estimated" if self.camera_estimated else "given",
+                self.timings["total"],
+            )
+        )
+
+
+def match(
+    image,
+    source=None,
+    camera=None,
+    initial=None,
+    refine_camera=False,
+    iterations=None,
+    bins=128,
+    two_d=False,
+    mask_overlays=True,
+    minimum_overlap=None,
+):
+    """A TF and the camera that make ``source`` (default: the active source) look like
+    ``image``, a picture as users have it (a file path or a numpy image (h, w, 3); any size,
+    ParaView's GUI background or gradient, orientation axes or a scalar bar in it): DDG
+    Reconstruct Transfer Function with Match Picture on (Core's ``matchPicture``). The
+    background is estimated from the picture, overlays are masked, and the TF keeps empty space
+    transparent.
+
+    ``camera``: None (default) estimates it from ParaView's reset camera (azimuth, elevation,
+    roll, distance, pan); "current" takes the active render view's camera (the picture was taken
+    from it); a view JSON file path or dict gives it. ``refine_camera`` searches from a given
+    camera instead of taking it as is. ``initial``: the TF the fit starts from (a Design, e.g.
+    ``query(image)``'s, a preset dict or file; 1D); None: grey. ``iterations``: the final fit's
+    maximum steps (default: the filter's, 500; it stops once converged). ``minimum_overlap``:
+    below this silhouette IoU (default 0.6) no camera explains the picture.
+
+    Returns a ``Match``: ``.tf`` (preset dict, for ``apply``/``export``), ``.view`` (the
+    camera as a view JSON dict, for ``set_camera`` or ``apply(tf, camera=...)``), and the
+    figures (``psnr_before``, ``psnr_after``, ``overlap``, ``timings``, the masks). Raises
+    DDGError with the filter's reason (a uniform picture, a picture under 16 pixels a side, one
+    no camera explains: another volume, an unreadable image)."""
+    source = _source(source)
+    if isinstance(camera, str) and camera == "current":
+        v = view_json(None, source)
+    elif camera is not None:
+        v = view_json(camera)
+    else:
+        v = None
+    init = None
+    if initial is not None:
+        d = _tf_dict(initial, v)
+        if "RGBPoints" not in d:
+            raise ValueError("match: initial is a 1D transfer function (a ParaView preset)")
+        init = json.dumps([d])
+    props = dict(
+        MatchPicture=1,
+        TargetImageData=_image_text(image),
+        ViewJSON=json.dumps(v) if v is not None else "",
+        EstimateCamera=int(bool(refine_camera)),
+        InitialTransferFunction=init or "",
+        Bins=int(bins),
+        TwoD=int(two_d),
+        MaskOverlays=int(bool(mask_overlays)),
+    )
+    if iterations is not None:
+        props["Iterations"] = int(iterations)
+    if minimum_overlap is not None:
+        props["MinimumOverlap"] = float(minimum_overlap)
+    proxy = _proxy("DDGReconstructTransferFunction", source, **props)
+    try:
+        _run(proxy)
+        table = servermanager.Fetch(proxy, idx=0)
+        if not _tf_text(table):
+            raise DDGError("no transfer function (see the Output Messages)")
+        return Match(table, servermanager.Fetch(proxy, idx=1))
+    except DDGError as e:
+        raise DDGError("match: %s" % e) from None
+    finally:
+        proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
 
 
 def paraview_2d(tf, source=None, view=None):

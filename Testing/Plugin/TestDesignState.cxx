@@ -19,8 +19,12 @@
 // the outline (50 000 designs, 32 thumbnails of 64 px), the query's 5 neighbours, the preview
 // (192 px on the longer side), the blend corner u = v = 0 reproducing the first pin's latent
 // (tolerance 1e-5: float latents through JSON; latents in steps are compared as floats), a
-// failing edit dropped with its message, the messages of a state without a model, and a failed
-// build (constant volume) reported as failed (Plugin.GuiBuildFails checks the LastError text).
+// failing edit dropped with its message, the messages of a state without a model, a failed
+// build (constant volume) reported as failed (Plugin.GuiBuildFails checks the LastError text),
+// and a match of the query's picture at the current camera: cancelled from its progress signal
+// ("Match cancelled: ..."), then run (the camera given back as it is, PSNR against the picture
+// >= 35 dB and above the query design's, the render and overlay mask at the picture's size,
+// previews while fitting).
 //
 // Usage: TestDesignState BODY PLUGIN DATA TESTDATA OUTDIR (BODY: this module)
 #include "pqDDGDesignState.h"
@@ -186,6 +190,46 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       latentStep.value("latent").toArray().size() == latentSize && latentStep.keys().size() == 3,
     "query step: action latent, image " + latentStep.value("image").toString());
   check(neighbours.size() == 5, QString("query neighbours: %1").arg(neighbours.size()));
+
+  // --- match the query's picture at the current camera: cancelled from its progress, then run ---
+  int progressEvents = 0;
+  auto cancelling = QObject::connect(&state, &pqDDGDesignState::matchProgress,
+    [&](const QString&, double, const QImage&)
+    {
+      ++progressEvents;
+      state.cancel();
+    });
+  const bool cancelledMatch = state.match(true);
+  QObject::disconnect(cancelling);
+  check(!cancelledMatch && !state.hasMatch() && progressEvents > 0 &&
+      state.lastMessage() == "Match cancelled: nothing was applied, the scene is unchanged.",
+    "cancelled match: " + state.lastMessage());
+  QStringList stages;
+  QImage lastPreview;
+  QObject::connect(&state, &pqDDGDesignState::matchProgress,
+    [&](const QString& stage, double, const QImage& preview)
+    {
+      if (!stages.contains(stage))
+        stages << stage;
+      if (!preview.isNull())
+        lastPreview = preview;
+    });
+  const bool matched = state.match(true);
+  const pqDDGDesignState::Match& m = state.lastMatch();
+  const QJsonArray position = m.View.value("camera").toObject().value("position").toArray();
+  const QJsonArray truePosition = viewFile.value("camera").toObject().value("position").toArray();
+  check(matched && m.Preset.contains("RGBPoints") && !m.CameraEstimated && m.PSNRAfter >= 35 &&
+      m.PSNRAfter > m.PSNRBefore && position.size() == 3 &&
+      std::abs(position[0].toDouble() - truePosition[0].toDouble()) < 1e-9 &&
+      std::abs(position[2].toDouble() - truePosition[2].toDouble()) < 1e-9 &&
+      m.Render.size() == QSize(400, 320) && m.Overlay.size() == QSize(400, 320) &&
+      m.Steps == state.steps() && m.Picture == shot && !lastPreview.isNull() &&
+      stages.contains("fit"),
+    QString("match at the current camera: PSNR %1 -> %2 dB, stages %3, %4 s")
+      .arg(m.PSNRBefore, 0, 'f', 1)
+      .arg(m.PSNRAfter, 0, 'f', 1)
+      .arg(stages.join(" "))
+      .arg(m.Timings.value(3), 0, 'f', 1));
   state.pin();
   check(state.pins().size() == 2 && state.pins()[1].Steps == state.steps() &&
       !state.pins()[1].Icon.isNull(),

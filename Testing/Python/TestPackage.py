@@ -183,6 +183,18 @@ check(
     f"our render of the TF vs. the screenshot {psnr(ours, target):.1f} dB",
 )
 
+# match (builtin and against the pvserver): the screenshot at its camera, from the query's design
+m = ddg.match(shot, tooth, camera=white, initial=found, iterations=100)
+check(
+    "match",
+    not m.camera_estimated
+    and np.allclose(m.view["camera"]["position"], white["camera"]["position"])
+    and "RGBPoints" in m.tf
+    and m.psnr_after > m.psnr_before
+    and m.image.shape == (h, w, 3),
+    f"{m}",
+)
+
 cli(
     "render",
     "--volume",

@@ -6,6 +6,8 @@ small_view.json's camera, for a 2D model; "constant": Testing/Data/constant.vti 
 camera, a volume no design space can be built for; "sphere": a Sphere source, not a volume),
 DDG_DATA_DIR, DDG_GUI_RECORD (a file that gets one JSON line per change of the volume's colour
 map RGBPoints, starting with the initial one: what the panel wrote, read back from the LUT proxy;
+"tooth" also writes DDG_GUI_RECORD + ".camera", one line per change of the view's
+CameraPosition property;
 "small2d" and "constant": per change of UseTransfer2D or the TransferFunction2D's Boxes, Range or
 OutputDimensions, {"use2d": 0/1, "boxes": [...], "range": [...], "dims": [...]}).
 """
@@ -74,5 +76,13 @@ else:
             display.TransferFunction2D.SMProxy.GetProperty(name).AddObserver("ModifiedEvent", write)
     else:
         lut.SMProxy.GetProperty("RGBPoints").AddObserver("ModifiedEvent", write)
+
+        def write_camera(*_):
+            with open(record + ".camera", "a") as f:
+                f.write(json.dumps(list(view.CameraPosition)) + "\n")
+
+        open(record + ".camera", "w").close()
+        write_camera()
+        view.SMProxy.GetProperty("CameraPosition").AddObserver("ModifiedEvent", write_camera)
     SetActiveSource(volume)
     Render()

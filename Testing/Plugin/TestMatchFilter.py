@@ -1,0 +1,316 @@
+"""DDG Reconstruct Transfer Function with Match Picture on (Core's matchPicture) in pvpython.
+
+Compared: pictures made here by the project's own render (`ddg render`) of NegHip with a known
+TF (Data/TransferFunctions/neghip_shells.json) are matched; the found TF is rendered again by DDG
+Volume Render at the camera the filter returns ("View") and compared with the picture (numpy PSNR
+over all pixels).
+- Camera given (ViewJSON = the picture's camera): the View field holds that camera (relative
+  1e-9), CameraEstimated 0, render PSNR >= 35 dB; started from another TF (neghip_cool_warm), the
+  filter's PicturePSNR goes up (after > before) and its after equals ours within 0.5 dB; output 1
+  holds Image, Foreground, Overlay at the picture's size. The same picture letterboxed (black
+  bands of 24 rows): Crop is the part inside, the view and output 1 its size, PSNR >= 35 dB.
+- Camera unknown (no view; the picture at ParaView's reset camera moved by azimuth 25, elevation
+  15, roll 10 degrees, zoom 1.2): the found view direction within 5 degrees of the true one, the
+  view up within 5 degrees, render PSNR >= 30 dB.
+- Cancel (AbortExecute from a ProgressEvent observer): LastError "cancelled", both outputs
+  empty, no error message.
+- Bad input: a uniform picture, a 6x6 picture, a file that is no image, a picture of another
+  volume (Engine's shipped screenshot): LastError says why, one error message each, empty
+  outputs.
+
+Usage: pvpython TestMatchFilter.py PLUGIN DDG DATA TESTDATA OUTDIR
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+from paraview import servermanager
+from paraview.simple import LoadPlugin, XMLImageDataReader
+import paraview.simple as simple
+from vtkmodules.util import numpy_support
+from vtkmodules.util.misc import calldata_type
+from vtkmodules.util.vtkConstants import VTK_STRING
+from vtkmodules.vtkCommonCore import vtkCommand
+from vtkmodules.vtkCommonDataModel import vtkImageData
+from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
+
+plugin, ddg, data, testdata, outdir = sys.argv[1:6]
+os.makedirs(outdir, exist_ok=True)
+LoadPlugin(plugin, remote=False)
+
+volume = os.path.join(data, "Volumes", "neghip.vti")
+true_tf = os.path.join(data, "TransferFunctions", "neghip_shells.json")
+other_tf = os.path.join(data, "TransferFunctions", "neghip_cool_warm.json")
+size = [240, 180]
+
+
+def write_view(view, name):
+    path = os.path.join(outdir, name)
+    with open(path, "w") as f:
+        json.dump(view, f)
+    return path
+
+
+def render_picture(view, name, vol=volume, tf=true_tf):
+    path = os.path.join(outdir, name)
+    subprocess.run(
+        [ddg, "render", "--volume", vol, "--tf", tf, "--view", write_view(view, name + ".json")]
+        + ["--out", path],
+        check=True,
+    )
+    return path
+
+
+def read_png(path):
+    r = vtkPNGReader()
+    r.SetFileName(path)
+    r.Update()
+    out = r.GetOutput()
+    w, h, _ = out.GetDimensions()
+    a = numpy_support.vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, -1)
+    return a[::-1, :, :3].astype(np.float64)
+
+
+def write_png(pixels, name):
+    """A (h, w, 3) uint8 array, top row first, as a PNG in OUTDIR."""
+    data = vtkImageData()
+    h, w, _ = pixels.shape
+    data.SetDimensions(w, h, 1)
+    data.GetPointData().SetScalars(
+        numpy_support.numpy_to_vtk(np.ascontiguousarray(pixels[::-1]).reshape(-1, 3), deep=True)
+    )
+    writer = vtkPNGWriter()
+    writer.SetInputData(data)
+    writer.SetFileName(os.path.join(outdir, name))
+    writer.Write()
+    return os.path.join(outdir, name)
+
+
+def image_array(image, name):
+    w, h, _ = image.GetDimensions()
+    a = numpy_support.vtk_to_numpy(image.GetPointData().GetArray(name))
+    return a.reshape(h, w, -1)[::-1].astype(np.float64)
+
+
+def psnr(a, b):
+    mse = np.mean((a / 255.0 - b / 255.0) ** 2)
+    return float("inf") if mse == 0 else 10 * math.log10(1 / mse)
+
+
+def field(table, name):
+    a = table.GetFieldData().GetAbstractArray(name)
+    if a is None:
+        return None
+    if a.IsA("vtkStringArray"):
+        return a.GetValue(0)
+    return [a.GetValue(i) for i in range(a.GetNumberOfValues())]
+
+
+def unit(v):
+    v = np.asarray(v, dtype=float)
+    return v / np.linalg.norm(v)
+
+
+def angle(a, b):
+    return math.degrees(math.acos(max(-1.0, min(1.0, float(np.dot(unit(a), unit(b)))))))
+
+
+reader = XMLImageDataReader(FileName=[volume])
+match = simple.DDGReconstructTransferFunction(Input=reader)
+check = simple.DDGVolumeRender(Input=reader)
+
+
+def rerender(preset_text, view):
+    """Our render of the found TF at the found view (DDG Volume Render), (h, w, 3) in 0..255."""
+    check.TransferFunctionJSON = preset_text
+    check.ViewJSON = json.dumps(view)
+    check.UpdatePipeline()
+    return image_array(servermanager.Fetch(check), "Image")
+
+
+def run(**props):
+    for key, value in props.items():
+        setattr(match, key, value)
+    match.UpdatePipeline()
+    match.UpdatePropertyInformation()
+    return (
+        match.GetPropertyValue("LastError"),
+        servermanager.Fetch(match, idx=0),
+        servermanager.Fetch(match, idx=1),
+    )
+
+
+with open(os.path.join(data, "Views", "neghip_oblique.json")) as f:
+    known = json.load(f)
+known["size"] = size
+known["background"] = [0.32, 0.34, 0.43]  # ParaView's palette background
+
+messages = []
+
+
+@calldata_type(VTK_STRING)
+def on_error(obj, event, calldata):
+    messages.append(calldata)
+
+
+algorithm = match.GetClientSideObject()
+algorithm.AddObserver(vtkCommand.ErrorEvent, on_error)
+
+
+def main_cases():
+    """The camera given, the camera estimated, cancel."""
+    global picture_path
+    # --- the camera given ---------------------------------------------------------------------------
+    picture_path = render_picture(known, "known_camera.png")
+    picture = read_png(picture_path)
+    with open(other_tf) as f:
+        start = f.read()
+    error, table, images = run(
+        MatchPicture=1,
+        TargetImageFile=picture_path,
+        ViewJSON=json.dumps(known),
+        EstimateCamera=0,
+        InitialTransferFunction=start,
+        Iterations=300,
+    )
+    assert error == "", error
+    found = json.loads(field(table, "View"))
+    for key in ("position", "focal_point", "view_up"):
+        assert np.allclose(found["camera"][key], known["camera"][key], rtol=1e-9, atol=1e-9), key
+    assert found["size"] == size, found["size"]
+    assert field(table, "CameraEstimated") == [0.0]
+    ours = psnr(rerender(field(table, "Preset"), found), picture)
+    before, after = field(table, "PicturePSNR")
+    print(
+        f"given camera: render PSNR {ours:.2f} dB; the filter's figures: {before:.2f} -> {after:.2f} "
+        f"dB, fit {field(table, 'FitPSNR')[0]:.2f} dB, overlap {field(table, 'Overlap')[0]:.3f}, "
+        f"timings {field(table, 'Timings')}"
+    )
+    assert ours >= 35, ours
+    assert after > before, (before, after)
+    assert abs(after - ours) < 0.5, (after, ours)
+    assert images.GetDimensions()[:2] == tuple(size), images.GetDimensions()
+    for name in ("Image", "Foreground", "Overlay"):
+        assert images.GetPointData().GetArray(name) is not None, name
+
+    # letterboxed (black bands of 24 rows above and below): the part inside is matched
+    boxed = np.zeros((size[1] + 48, size[0], 3), np.uint8)
+    boxed[24 : 24 + size[1]] = picture.astype(np.uint8)
+    boxed_path = write_png(boxed, "letterboxed.png")
+    error, table, images = run(TargetImageFile=boxed_path, InitialTransferFunction="")
+    assert error == "", error
+    crop = field(table, "Crop")
+    found = json.loads(field(table, "View"))
+    ours = psnr(rerender(field(table, "Preset"), found), picture)
+    print(f"letterboxed: crop {crop}, render PSNR {ours:.2f} dB against the part inside")
+    assert crop == [0, 24, size[0], size[1]], crop
+    assert found["size"] == size and images.GetDimensions()[:2] == tuple(size)
+    assert ours >= 35, ours
+
+    # --- the camera estimated -----------------------------------------------------------------------
+    # ParaView's reset camera for NegHip (Core's defaultView: looking down -z, +y up, distance =
+    # radius / sin(15 deg)), then moved as a user does (cameraMove's order): azimuth about the view
+    # up, elevation about the right axis, roll, dolly
+    bounds = np.array(servermanager.Fetch(reader).GetBounds()).reshape(3, 2)
+    centre = bounds.mean(axis=1)
+    radius = 0.5 * np.linalg.norm(bounds[:, 1] - bounds[:, 0])
+    distance = radius / math.sin(math.radians(15))
+
+    def rotation(axis, degrees):
+        axis = unit(axis)
+        a = math.radians(degrees)
+        k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+        return np.eye(3) + math.sin(a) * k + (1 - math.cos(a)) * k @ k
+
+    direction = np.array([0.0, 0.0, 1.0])  # focal point -> position
+    up = np.array([0.0, 1.0, 0.0])
+    r = rotation(up, 25)
+    direction, up = r @ direction, r @ up
+    r = rotation(np.cross(up, direction), -15)  # elevation: the camera goes up
+    direction, up = r @ direction, r @ up
+    up = rotation(-direction, 10) @ up  # roll about the view direction
+    moved = {
+        "camera": {
+            "position": list(centre + direction * distance / 1.2),
+            "focal_point": list(centre),
+            "view_up": list(up),
+            "view_angle": 30,
+        },
+        "size": size,
+        "background": [0.32, 0.34, 0.43],
+    }
+    unknown_path = render_picture(moved, "unknown_camera.png")
+    error, table, images = run(
+        TargetImageFile=unknown_path, ViewJSON="", InitialTransferFunction="", Iterations=300
+    )
+    assert error == "", error
+    found = json.loads(field(table, "View"))
+    c = found["camera"]
+    direction_error = angle(np.subtract(c["position"], c["focal_point"]), direction)
+    up_error = angle(c["view_up"], up)
+    ours = psnr(rerender(field(table, "Preset"), found), read_png(unknown_path))
+    print(
+        f"estimated camera: direction off by {direction_error:.2f} deg, view up by {up_error:.2f} "
+        f"deg; orbit {field(table, 'Orbit')}, zoom {field(table, 'Zoom')}, pan {field(table, 'Pan')}; "
+        f"render PSNR {ours:.2f} dB; timings {field(table, 'Timings')}"
+    )
+    assert field(table, "CameraEstimated") == [1.0]
+    assert direction_error <= 5, direction_error
+    assert up_error <= 5, up_error
+    assert ours >= 30, ours
+
+    # --- cancel: AbortExecute from the progress callback -------------------------------------------
+    stages = []
+
+    def on_progress(obj, event):
+        stages.append((obj.GetProgressText(), obj.GetProgress()))
+        obj.SetAbortExecute(1)
+
+    observer = algorithm.AddObserver(vtkCommand.ProgressEvent, on_progress)
+    error, table, images = run(
+        TargetImageFile=picture_path, ViewJSON=json.dumps(known), Iterations=301
+    )
+    algorithm.RemoveObserver(observer)
+    print(f"cancel at the first progress event {stages[:1]}: LastError '{error}'")
+    assert stages, "no progress event"
+    assert error == "cancelled", error
+    assert table.GetNumberOfRows() == 0 and table.GetFieldData().GetNumberOfArrays() == 0
+    assert images.GetNumberOfPoints() == 0
+    assert messages == [], messages
+
+
+main_cases()
+
+
+# --- bad input: the reason, one message, empty outputs -----------------------------------------
+
+
+def expect_error(label, expected, **props):
+    messages.clear()
+    error, table, images = run(**props)
+    assert expected.lower() in error.lower(), f"{label}: '{expected}' not in '{error}'"
+    assert len(messages) == 1, f"{label}: expected one error message, got {messages}"
+    assert table.GetNumberOfRows() == 0 and images.GetNumberOfPoints() == 0, label
+    print(f"{label}: {error}")
+
+
+match.Iterations = 50
+expect_error(
+    "uniform",
+    "nothing but its background",
+    TargetImageFile=os.path.join(testdata, "query_uniform.png"),
+    ViewJSON="",
+)
+expect_error("6x6", "at least 16 x 16", TargetImageFile=os.path.join(testdata, "query_tiny.png"))
+expect_error("not an image", "cannot read", TargetImageFile=os.path.join(testdata, "garbage.png"))
+# Engine's shipped ParaView screenshot matched on NegHip (Core's fit-PSNR floor refuses it; a
+# picture of Tooth's side is still explained by a NegHip camera: 38 dB, see the issue)
+expect_error(
+    "another volume",
+    "no camera explains",
+    TargetImageFile=os.path.join(data, "Screenshots", "engine_block_oblique.png"),
+)
+print("ok")

@@ -1,0 +1,135 @@
+"""ddg.match and ddg.apply(camera=...) round trip (build/bin/pvpython).
+
+Compared: a picture of NegHip made by the project's render (`ddg render`, neghip_shells.json at
+neghip_oblique.json's camera, ParaView's palette background) is matched
+- with camera="current" (the active view set to the picture's camera first): the Match's view
+  holds that camera (1e-6), camera_estimated False, psnr_after >= 35 dB and > psnr_before
+  (started from neghip_cool_warm);
+- with camera=a view dict that is off, refine_camera=False: the given camera comes back as is.
+Then ddg.apply(m, camera=True) from another camera: the view's camera properties equal the
+Match's view (1e-6), the LUT's RGBPoints equal the Match's preset (1e-6), and ParaView's
+screenshot at the picture's size (orientation axes off, the background the Match estimated) is
+within 30 dB of the picture. Bad input: ddg.match on a uniform picture raises DDGError naming it.
+
+Usage: build/bin/pvpython TestMatch.py DDG OUTDIR
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+import ddg
+from paraview.simple import (
+    GetActiveViewOrCreate,
+    GetColorTransferFunction,
+    Render,
+    SaveScreenshot,
+    Show,
+    XMLImageDataReader,
+)
+from vtkmodules.util import numpy_support
+from vtkmodules.vtkIOImage import vtkPNGReader
+
+ddg_exe, outdir = sys.argv[1:3]
+os.makedirs(outdir, exist_ok=True)
+volume = ddg.data_path("Volumes/neghip.vti")
+with open(ddg.data_path("Views/neghip_oblique.json")) as f:
+    known = json.load(f)
+known["size"] = [240, 180]
+known["background"] = [0.32, 0.34, 0.43]
+view_path = os.path.join(outdir, "picture_view.json")
+with open(view_path, "w") as f:
+    json.dump(known, f)
+picture_path = os.path.join(outdir, "picture.png")
+subprocess.run(
+    [ddg_exe, "render", "--volume", volume, "--view", view_path, "--out", picture_path]
+    + ["--tf", ddg.data_path("TransferFunctions/neghip_shells.json")],
+    check=True,
+)
+
+
+def read_png(path):
+    r = vtkPNGReader()
+    r.SetFileName(path)
+    r.Update()
+    out = r.GetOutput()
+    w, h, _ = out.GetDimensions()
+    a = numpy_support.vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, -1)
+    return a[::-1, :, :3].astype(np.float64)
+
+
+def psnr(a, b):
+    mse = np.mean((a / 255.0 - b / 255.0) ** 2)
+    return float("inf") if mse == 0 else 10 * math.log10(1 / mse)
+
+
+def same_camera(a, b, tol=1e-6):
+    return all(np.allclose(a[k], b[k], rtol=tol, atol=tol) for k in ("position", "focal_point"))
+
+
+neghip = XMLImageDataReader(FileName=[volume])
+view = GetActiveViewOrCreate("RenderView")
+view.ViewSize = [480, 360]
+view.OrientationAxesVisibility = 0
+Show(neghip, view)
+ddg.set_camera(known, view)
+
+# the picture was taken from the current camera
+m = ddg.match(
+    picture_path,
+    neghip,
+    camera="current",
+    initial=ddg.data_path("TransferFunctions/neghip_cool_warm.json"),
+    iterations=300,
+)
+print(m)
+assert not m.camera_estimated
+assert same_camera(m.view["camera"], known["camera"]), m.view["camera"]
+assert m.view["size"] == known["size"], m.view["size"]
+assert m.psnr_after >= 35 and m.psnr_after > m.psnr_before, (m.psnr_before, m.psnr_after)
+assert m.image.shape == (180, 240, 3) and m.overlay.shape == (180, 240)
+assert "RGBPoints" in m.tf and "Points" in m.tf
+
+# a given camera comes back as it is (its size becomes the picture's)
+off = json.loads(json.dumps(known))
+off["camera"]["position"] = [p * 1.01 for p in off["camera"]["position"]]
+off["size"] = [100, 100]
+given = ddg.match(picture_path, neghip, camera=off, iterations=20)
+assert same_camera(given.view["camera"], off["camera"]) and given.view["size"] == [240, 180]
+
+# apply with the camera, from elsewhere
+view.CameraPosition = [0, 0, 300]
+view.CameraFocalPoint = [31.5, 31.5, 31.5]
+view.CameraViewUp = [0, 1, 0]
+Render(view)
+ddg.apply(m, source=neghip, view=view, camera=True)
+camera = {
+    "position": list(view.CameraPosition),
+    "focal_point": list(view.CameraFocalPoint),
+    "view_up": list(view.CameraViewUp),
+}
+assert same_camera(camera, m.view["camera"]), camera
+assert np.allclose(view.CameraViewUp, m.view["camera"]["view_up"], atol=1e-6)
+lut = GetColorTransferFunction(ddg.scene.volume_array(neghip, view))
+assert np.allclose(list(lut.RGBPoints), m.tf["RGBPoints"], rtol=1e-6, atol=1e-6)
+view.UseColorPaletteForBackground = 0
+view.Background = m.view["background"]
+shot = os.path.join(outdir, "paraview.png")
+SaveScreenshot(shot, view, ImageResolution=m.view["size"])
+figure = psnr(read_png(shot), read_png(picture_path))
+print(f"ParaView's render of the match at its camera vs the picture: PSNR {figure:.2f} dB")
+assert figure >= 30, figure
+
+# a picture the match cannot use
+uniform = os.path.join(outdir, "uniform.png")
+ddg.save_image(np.full((60, 80, 3), 0.4), uniform)
+try:
+    ddg.match(uniform, neghip)
+    raise AssertionError("a uniform picture was matched")
+except ddg.DDGError as e:
+    print("uniform picture:", e)
+    assert "nothing but its background" in str(e), e
+print("ok")
