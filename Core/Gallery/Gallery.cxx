@@ -299,17 +299,7 @@ TransferFunctionFile DesignGallery::explicitTransferFunction(
   ReconstructionTarget target;
   target.image = compositeOverBackground(render(latent, view), view.background);
   target.view = view;
-  const auto result = reconstructTransferFunction(diff, { target }, opt);
-  TransferFunctionFile tf;
-  tf.is2D = result.twoD;
-  if (result.twoD)
-  {
-    tf.tf2D.name = "ddg design";
-    tf.tf2D.table = result.table2D;
-  }
-  else
-    tf.tf1D = tableToTransferFunction(result.table1D, 1.0 / 512.0, "ddg design");
-  return tf;
+  return resultTransferFunction(reconstructTransferFunction(diff, { target }, opt), "ddg design");
 }
 
 namespace

@@ -1,6 +1,8 @@
 // History.cxx: history files and their replay.
 #include "Gallery/History.h"
 
+#include "Reconstruct/Match.h"
+
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
 #include "Render/View.h"
@@ -17,14 +19,14 @@ namespace
 {
 using json = nlohmann::json;
 
-const char* const kActions[] = { "query", "pick", "latent", "blend", "edit", "axes" };
+const char* const kActions[] = { "query", "pick", "latent", "blend", "edit", "axes", "match" };
 
 void validateStep(const HistoryStep& s, size_t i, const std::string& origin)
 {
   const std::string where = origin + ": step " + std::to_string(i + 1) + " (" + s.action + ")";
   if (std::find(std::begin(kActions), std::end(kActions), s.action) == std::end(kActions))
     throw Error(origin + ": step " + std::to_string(i + 1) + " has the unknown action '" +
-      s.action + "' (query, pick, latent, blend, edit or axes)");
+      s.action + "' (query, pick, latent, blend, edit, axes or match)");
   if (s.action == "query" && s.image.empty())
     throw Error(where + " needs \"image\"");
   if (s.action == "pick" && s.row < 0)
@@ -44,6 +46,13 @@ void validateStep(const HistoryStep& s, size_t i, const std::string& origin)
   }
   if (s.action == "axes" && s.steps.empty())
     throw Error(where + " needs \"steps\"");
+  if (s.action == "match")
+  {
+    if (s.viewJson.empty() || s.tfJson.empty())
+      throw Error(where + " needs the \"view\" of the picture and the \"tf\" it gave");
+    if (s.bins < 2 || s.iterations < 1)
+      throw Error(where + " needs \"bins\" >= 2 and \"iterations\" >= 1");
+  }
   const bool starts =
     s.action == "query" || s.action == "pick" || s.action == "latent" || s.action == "blend";
   if (i == 0 && !starts)
@@ -115,6 +124,29 @@ HistoryStep HistoryStep::axes(const std::vector<double>& steps)
   return s;
 }
 
+HistoryStep HistoryStep::match(const std::string& image, const std::string& viewJson,
+  bool cameraEstimated, const std::string& tfJson, bool twoD, int bins, int iterations)
+{
+  HistoryStep s;
+  s.action = "match";
+  s.image = image;
+  s.viewJson = viewJson;
+  s.cameraEstimated = cameraEstimated;
+  s.tfJson = tfJson;
+  s.twoD = twoD;
+  s.bins = bins;
+  s.iterations = iterations;
+  return s;
+}
+
+void DesignHistory::checkMatchLast(const std::string& origin) const
+{
+  for (size_t i = 0; i + 1 < steps.size(); ++i)
+    if (steps[i].action == "match")
+      throw Error(origin + ": step " + std::to_string(i + 1) +
+        " (match) is not the last: a match gives the TF and ends a history");
+}
+
 void DesignHistory::setAxes(const std::vector<double>& values)
 {
   if (!steps.empty() && steps.back().action == "axes")
@@ -161,6 +193,15 @@ std::string DesignHistory::toJson() const
     }
     else if (s.action == "axes")
       j["steps"] = s.steps;
+    else if (s.action == "match")
+    {
+      if (!s.image.empty())
+        j["image"] = s.image;
+      j["view"] = json::parse(s.viewJson);
+      j.update({ { "camera", s.cameraEstimated ? "estimated" : "given" }, { "two_d", s.twoD },
+        { "bins", s.bins }, { "iterations", s.iterations } });
+      j["tf"] = json::parse(s.tfJson);
+    }
     steps.push_back(j);
   }
   return json{ { "format", "ddg-history" }, { "version", 1 }, { "steps", steps } }.dump(2) + "\n";
@@ -203,6 +244,12 @@ DesignHistory DesignHistory::fromJson(const std::string& text, const std::string
       s.visibility = e.value("visibility", 1.0);
       s.white = e.value("white", false);
       s.steps = e.value("steps", std::vector<double>());
+      s.cameraEstimated = e.value("camera", std::string("given")) == "estimated";
+      s.twoD = e.value("two_d", false);
+      s.bins = e.value("bins", 128);
+      s.iterations = e.value("iterations", 500);
+      if (e.contains("tf"))
+        s.tfJson = e.at("tf").dump();
       h.steps.push_back(std::move(s));
     }
   }
@@ -214,6 +261,7 @@ DesignHistory DesignHistory::fromJson(const std::string& text, const std::string
     throw Error(origin + " has no steps");
   for (size_t i = 0; i < h.steps.size(); ++i)
     validateStep(h.steps[i], i, origin);
+  h.checkMatchLast(origin);
   return h;
 }
 
@@ -231,6 +279,7 @@ void DesignHistory::write(const std::string& path) const
 {
   for (size_t i = 0; i < steps.size(); ++i)
     validateStep(steps[i], i, path);
+  checkMatchLast(path);
   writeFileAtomic(path, toJson(), "history");
 }
 
@@ -264,6 +313,8 @@ std::vector<float> applyHistoryStep(
     throw Error("a history's " + s.action + " step needs a design before it");
   if (s.action == "axes")
     return gallery.outline().moveAlongAxes(current, s.steps);
+  if (s.action == "match")
+    return current; // the design stays; the TF comes from replayMatch
   if (s.action == "edit")
     return editDesign(gallery, current, DesignEdit::fromStep(s)).latent;
   throw Error("unknown history action '" + s.action + "'");
@@ -334,6 +385,51 @@ std::vector<float> replayHistory(const DesignGallery& gallery, const DesignHisto
   for (const auto& s : history.steps)
     z = applyHistoryStep(gallery, s, z);
   return z;
+}
+
+} // namespace ddg
+
+namespace ddg
+{
+
+TransferFunctionFile replayMatch(const DesignGallery& gallery, const std::vector<float>& latent,
+  const HistoryStep& step, bool* rematched, double* fitPSNR)
+{
+  if (step.action != "match")
+    throw Error("replayMatch needs a match step, not " + step.action);
+  if (rematched)
+    *rematched = false;
+  if (fitPSNR)
+    *fitPSNR = 0;
+  Image picture;
+  try
+  {
+    if (!step.image.empty())
+      picture = readImage(step.image);
+  }
+  catch (const Error&)
+  {
+    picture = Image();
+  }
+  if (picture.empty())
+    return parseTransferFunctionFile(step.tfJson, "the history's match step");
+  const View view = parseView(step.viewJson, "the history's match view");
+  MatchOptions opt;
+  opt.view = view;
+  opt.reconstruction.twoD = step.twoD;
+  opt.reconstruction.bins = step.bins;
+  opt.reconstruction.iterations = step.iterations;
+  const auto range = gallery.caster().volume().range();
+  const TransferFunctionFile design = gallery.explicitTransferFunction(latent, view);
+  if (!design.is2D && !step.twoD)
+    opt.reconstruction.initial1D = bakeTable(design.tf1D, range[0], range[1], 1024);
+  const DifferentiableRenderer renderer(gallery.caster().volume());
+  const MatchResult m = matchPicture(renderer, picture, opt);
+  if (rematched)
+    *rematched = true;
+  if (fitPSNR)
+    *fitPSNR = m.fitPSNR;
+  return resultTransferFunction(m.tf, "ddg match");
 }
 
 } // namespace ddg

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "Gallery/Gallery.h"
+#include "TransferFunction/TransferFunctionIO.h"
 
 #include <string>
 #include <vector>
@@ -16,7 +17,9 @@ struct HistoryStep
   /// "query" (image), "pick" (row), "latent" (latent: a design given by its latent, e.g. a
   /// query's result whose image the replaying process cannot read; "image" may name it),
   /// "blend" (rows or latents, u, v: a cell of a navigation grid), "edit" (view, cluster or
-  /// pick, hue, saturation, lightness, visibility, clusters, white), "axes" (steps).
+  /// pick, hue, saturation, lightness, visibility, clusters, white), "axes" (steps), "match"
+  /// (image, view, camera, two_d, bins, iterations, tf: the design matched to a picture at its
+  /// camera — the last step; it leaves the design as it is and gives the TF, see replayMatch).
   std::string action;
   std::string image;                       ///< query: the image file
   int row = -1;                            ///< pick: the outline row
@@ -29,8 +32,13 @@ struct HistoryStep
   int pickX = -1, pickY = -1;              ///< edit: the pixel whose cluster was edited
   int clusters = 4;                        ///< edit: clusters found
   double hue = 0, saturation = 1, lightness = 0, visibility = 1; ///< edit
-  bool white = false;        ///< edit: re-analyzed over white instead of black
-  std::vector<double> steps; ///< axes
+  bool white = false;           ///< edit: re-analyzed over white instead of black
+  std::vector<double> steps;    ///< axes
+  bool cameraEstimated = false; ///< match: the camera was estimated ("camera": "estimated")
+  bool twoD = false;            ///< match: a 2D TF
+  int bins = 128;               ///< match: TF bins along the value
+  int iterations = 500;         ///< match: the fit's steps
+  std::string tfJson; ///< match: the TF it gave (preset or 2D JSON), for an unreadable picture
 
   /// The steps as the front ends record them (the one place that builds each kind).
   static HistoryStep query(const std::string& image);
@@ -44,6 +52,10 @@ struct HistoryStep
   static HistoryStep edit(const std::string& viewJson, int cluster, int pickX, int pickY,
     int clusters, double hue, double saturation, double lightness, double visibility, bool white);
   static HistoryStep axes(const std::vector<double>& steps);
+  /// The design matched to the picture `image` at the camera `viewJson` (found or given), with
+  /// the TF it gave (a preset or 2D TF file's JSON).
+  static HistoryStep match(const std::string& image, const std::string& viewJson,
+    bool cameraEstimated, const std::string& tfJson, bool twoD, int bins, int iterations);
 };
 
 /// A replayable path. JSON file: {"format": "ddg-history", "version": 1, "steps": [...]}.
@@ -58,6 +70,8 @@ struct DesignHistory
   static DesignHistory fromJson(const std::string& text, const std::string& origin = "history");
   static DesignHistory read(const std::string& path);
   void write(const std::string& path) const;
+  /// Throws ddg::Error (naming `origin`) when a "match" step is not the last step.
+  void checkMatchLast(const std::string& origin) const;
 
   /// Appends an "axes" step, or replaces the last step when it is one (the principal-axis
   /// sliders move one design, not a chain of them).
@@ -102,7 +116,14 @@ DesignEditResult editDesign(const DesignGallery& gallery, const std::vector<floa
 std::vector<float> applyHistoryStep(
   const DesignGallery& gallery, const HistoryStep& step, const std::vector<float>& current);
 
-/// Replays every step: the design the path ends on.
+/// Replays every step: the design the path ends on (a "match" step leaves it as it is).
 std::vector<float> replayHistory(const DesignGallery& gallery, const DesignHistory& history);
+
+/// What a "match" step gives: the design `latent`'s TF matched again to the step's picture at
+/// the step's camera (Core's matchPicture, the camera given), or, when the picture cannot be
+/// read (a pasted picture), the TF the step recorded. `rematched` tells which; `fitPSNR` the
+/// new fit's PSNR over the object (0 when not rematched).
+TransferFunctionFile replayMatch(const DesignGallery& gallery, const std::vector<float>& latent,
+  const HistoryStep& step, bool* rematched = nullptr, double* fitPSNR = nullptr);
 
 } // namespace ddg

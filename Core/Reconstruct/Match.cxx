@@ -877,7 +877,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   const long foregroundArea = std::accumulate(pic.area.begin(), pic.area.end(), 0L);
   if (foregroundArea < 16)
   {
-    throw Error("the picture shows nothing but its background: there is nothing to match");
+    throw Error("the picture shows nothing but the background colour: there is nothing to match");
   }
   const int largest =
     static_cast<int>(std::max_element(pic.area.begin(), pic.area.end()) - pic.area.begin());
@@ -1056,7 +1056,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     }
     finalists.push_back(best);
   }
-  if (finalists.empty() || finalists.front().score < opt.minimumOverlap)
+  if (search && (finalists.empty() || finalists.front().score < opt.minimumOverlap))
   {
     std::ostringstream msg;
     msg << "no camera explains the picture: the best camera's silhouette overlaps the picture's "
@@ -1302,7 +1302,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       if (snapshot)
         shot = renderResult(caster, *snapshot, preview, ropt.render);
       report(
-        "fit", 0.5 + 0.5 * std::min(1.0, (step + 1.0) / iterations), snapshot ? &shot : nullptr);
+        "fit", 0.5 + 0.4 * std::min(1.0, (step + 1.0) / iterations), snapshot ? &shot : nullptr);
       return true;
     });
 
@@ -1314,9 +1314,9 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   const Image object = resizeImage(
     toImage(dilate(pic.foreground, std::max(1, W / 200))), preview.width, preview.height);
   std::vector<double> residual;
-  auto assess = [&]
+  auto assess = [&](const ReconstructionResult& tf)
   {
-    const Image render = renderResult(caster, result.tf, preview, ropt.render);
+    const Image render = renderResult(caster, tf, preview, ropt.render);
     const Image ours = pic.alpha
       ? render
       : (preview.background2
@@ -1342,9 +1342,15 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       }
       residual[i] = largest;
     }
-    result.fitPSNR = se > 0 ? 10.0 * std::log10(n / se) : 100.0;
+    return se > 0 ? 10.0 * std::log10(n / se) : 100.0;
   };
-  assess();
+  if (opt.reconstruction.initial1D && !opt.reconstruction.twoD)
+  {
+    ReconstructionResult start1D;
+    start1D.table1D = *opt.reconstruction.initial1D;
+    result.initialPSNR = assess(start1D);
+  }
+  result.fitPSNR = assess(result.tf);
   // outliers: what the fit cannot explain on the object (text, arrows or marks drawn over it):
   // residuals above 6 times the median and above 0.2, on at least 0.2 % of the object, are
   // masked as overlays and the TF refitted without them (1D)
@@ -1377,16 +1383,16 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       again.iterations = std::min(ropt.iterations, 150);
       const ReconstructionTarget masked = makeTarget(found, pic.alpha ? pic.rgba : pic.rgb, W, H);
       result.tf = reconstructTransferFunction(renderer, { masked }, again,
-        [&](int, double, const ReconstructionResult*)
+        [&](int step, double, const ReconstructionResult*)
         {
-          report("fit", 1.0, nullptr);
+          report("fit", 0.9 + 0.1 * std::min(1.0, (step + 1.0) / again.iterations), nullptr);
           return true;
         });
-      assess();
+      result.fitPSNR = assess(result.tf);
     }
   }
   result.fitSeconds = secondsSince(tFit);
-  if (result.fitPSNR < opt.minimumFitPSNR)
+  if (search && result.fitPSNR < opt.minimumFitPSNR)
   {
     std::ostringstream msg;
     msg.precision(3);

@@ -110,6 +110,9 @@ struct MatchResult
   bool cameraEstimated = false; ///< the camera came from the search (not given as is)
   double overlap = 0;           ///< silhouette IoU of the found camera (1 = exact)
   double fitPSNR = 0; ///< PSNR of the fit over the object (see minimumFitPSNR), picture vs render
+  /// The same for the TF the match started from (reconstruction.initial1D: e.g. the query's
+  /// design) at the found camera: the "before" [0 when no initial TF was given].
+  double initialPSNR = 0;
   std::array<double, 3> orbit{ 0, 0, 0 }; ///< azimuth, elevation, roll from the reset camera (deg)
   double zoom = 1;                        ///< distance factor from the reset camera
   std::array<double, 2> pan{ 0, 0 };      ///< pan right, up, in view heights at the focal point
@@ -127,9 +130,10 @@ using MatchProgress =
 /// `picture` (RGB in [0, 1], any size and aspect; RGBA with straight alpha is taken as a picture
 /// over a transparent background). Throws ddg::Error with the reason for a picture it cannot
 /// use: smaller than 16 pixels a side, a uniform picture (nothing but background), no dominant
-/// background, or no camera whose silhouette overlaps the picture's object by `minimumOverlap`
-/// or whose fit reaches `minimumFitPSNR` ("no camera explains the picture": another volume, a
-/// crop into the object).
+/// background, or, when the camera is searched, no camera whose silhouette overlaps the
+/// picture's object by `minimumOverlap` or whose fit reaches `minimumFitPSNR` ("no camera
+/// explains the picture": another volume, a crop into the object). A camera given as the
+/// picture's is trusted: its fit's figures say how well it explains the picture.
 MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& picture,
   const MatchOptions& options = {}, const MatchProgress& progress = {});
 

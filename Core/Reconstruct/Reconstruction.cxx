@@ -600,6 +600,23 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   return result;
 }
 
+TransferFunctionFile resultTransferFunction(
+  const ReconstructionResult& result, const std::string& name)
+{
+  TransferFunctionFile f;
+  f.is2D = result.twoD;
+  if (f.is2D)
+  {
+    f.tf2D.name = name;
+    f.tf2D.table = result.table2D;
+  }
+  else
+  {
+    f.tf1D = tableToTransferFunction(result.table1D, 1.0 / 512.0, name);
+  }
+  return f;
+}
+
 Image renderResult(const RayCaster& caster, const ReconstructionResult& result, const View& view,
   const RenderOptions& options)
 {

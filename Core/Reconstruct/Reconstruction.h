@@ -8,6 +8,7 @@
 #include "TransferFunction/GaussianPrimitive.h"
 #include "TransferFunction/TransferFunction1D.h"
 #include "TransferFunction/TransferFunction2D.h"
+#include "TransferFunction/TransferFunctionIO.h"
 
 #include <functional>
 #include <optional>
@@ -116,6 +117,11 @@ using ReconstructionProgress =
 ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& renderer,
   const std::vector<ReconstructionTarget>& targets, const ReconstructionOptions& options,
   const ReconstructionProgress& progress = {});
+
+/// `result` as a TF file: a ParaView preset (1D: nodes at the bins, ParaView's midpoint and
+/// sharpness defaults) or the 2D TF; `name` is its name.
+TransferFunctionFile resultTransferFunction(
+  const ReconstructionResult& result, const std::string& name);
 
 /// Renders `result` with the RayCaster at `view` (RGBA premultiplied).
 Image renderResult(const RayCaster& caster, const ReconstructionResult& result, const View& view,

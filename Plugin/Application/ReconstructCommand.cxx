@@ -19,6 +19,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 namespace
@@ -38,8 +39,9 @@ struct ReconstructArgs
   unsigned seed = 1;
 };
 
-// Reads a target image for reconstruction and checks what the reconstruction can use.
-ddg::Image readTarget(const std::string& path, const ddg::View& view, bool resample)
+// Reads a target image for reconstruction and checks what the reconstruction can use; the size
+// against `view`'s when there is one (a match without a view takes any size).
+ddg::Image readTarget(const std::string& path, const ddg::View* view, bool resample)
 {
   ddg::ImageFileInfo info;
   ddg::Image img = ddg::readImage(path, &info);
@@ -62,15 +64,15 @@ ddg::Image readTarget(const std::string& path, const ddg::View& view, bool resam
       "ddg reconstruct: note: target '%s' is %s per channel; using its values in [0, 1]\n",
       path.c_str(), info.format.c_str());
   }
-  if (img.width != view.width || img.height != view.height)
+  if (view && (img.width != view->width || img.height != view->height))
   {
     if (!resample)
     {
       throw ddg::Error("target '" + path + "' is " + std::to_string(img.width) + " x " +
-        std::to_string(img.height) + " but its view is " + std::to_string(view.width) + " x " +
-        std::to_string(view.height) + " (pass --resample to resize the target to the view)");
+        std::to_string(img.height) + " but its view is " + std::to_string(view->width) + " x " +
+        std::to_string(view->height) + " (pass --resample to resize the target to the view)");
     }
-    img = ddg::resizeImage(img, view.width, view.height);
+    img = ddg::resizeImage(img, view->width, view->height);
   }
   return img;
 }
@@ -104,17 +106,14 @@ ddg::ReconstructionOptions reconstructionOptions(
 
 void writeResult(const ddg::ReconstructionResult& result, const std::string& path)
 {
-  if (result.twoD)
+  const auto tf = ddg::resultTransferFunction(result, "ddg reconstruct");
+  if (tf.is2D)
   {
-    ddg::TransferFunction2D tf;
-    tf.name = "ddg reconstruct";
-    tf.table = result.table2D;
-    ddg::writeTransferFunction2D(tf, path);
+    ddg::writeTransferFunction2D(tf.tf2D, path);
   }
   else
   {
-    ddg::writePreset(
-      ddg::tableToTransferFunction(result.table1D, 1.0 / 512.0, "ddg reconstruct"), path);
+    ddg::writePreset(tf.tf1D, path);
   }
 }
 
@@ -123,16 +122,18 @@ void writeResult(const ddg::ReconstructionResult& result, const std::string& pat
 int runMatch(const ReconstructArgs& a)
 {
   const auto t0 = Clock::now();
-  const ddg::Image picture = ddg::readImage(a.targets[0]);
+  std::optional<ddg::View> view;
+  if (!a.views.empty())
+  {
+    view = ddg::readView(a.views[0]);
+  }
+  const ddg::Image picture = readTarget(a.targets[0], view ? &*view : nullptr, a.resample);
   const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
   const ddg::DifferentiableRenderer renderer(volume);
   ddg::MatchOptions opt;
   opt.reconstruction = reconstructionOptions(a, volume, ddg::matchReconstructionDefaults());
-  if (!a.views.empty())
-  {
-    opt.view = ddg::readView(a.views[0]);
-    opt.refineGivenView = a.estimateView;
-  }
+  opt.view = view;
+  opt.refineGivenView = a.estimateView;
   if (!a.background.empty())
   {
     opt.background = std::array<double, 3>{ a.background[0], a.background[1], a.background[2] };
@@ -236,10 +237,10 @@ int runReconstruct(const ReconstructArgs& a)
     {
       targets[i].view.background = { a.background[0], a.background[1], a.background[2] };
     }
-    targets[i].image = readTarget(a.targets[i], targets[i].view, a.resample);
+    targets[i].image = readTarget(a.targets[i], &targets[i].view, a.resample);
     if (!a.masks.empty())
     {
-      targets[i].mask = readTarget(a.masks[i], targets[i].view, a.resample);
+      targets[i].mask = readTarget(a.masks[i], &targets[i].view, a.resample);
     }
   }
   const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);

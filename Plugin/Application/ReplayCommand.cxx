@@ -54,8 +54,27 @@ int runReplay(const ReplayArgs& a)
     ddg::writeImage(ddg::compositeOverBackground(g.render(z, view), view.background), a.outDesign);
   if (!a.outTF.empty())
   {
-    ddg::exportTransferFunction(
-      g.explicitTransferFunction(z, view), a.outTF, a.format, g.caster(), view);
+    const auto& last = history.steps.back();
+    if (last.action == "match")
+    {
+      // the design matched to the picture again at its camera (or the TF it recorded)
+      bool rematched = false;
+      double fit = 0;
+      const auto tf = ddg::replayMatch(g, z, last, &rematched, &fit);
+      if (rematched)
+        std::printf("match: the design matched to %s again at its camera (fit %.2f dB)\n",
+          last.image.c_str(), fit);
+      else
+        std::printf("match: the picture %s cannot be read; the TF the history recorded\n",
+          last.image.empty() ? "(unnamed)" : last.image.c_str());
+      ddg::exportTransferFunction(
+        tf, a.outTF, a.format, g.caster(), ddg::parseView(last.viewJson, "the match's view"));
+    }
+    else
+    {
+      ddg::exportTransferFunction(
+        g.explicitTransferFunction(z, view), a.outTF, a.format, g.caster(), view);
+    }
   }
   return 0;
 }
@@ -73,7 +92,9 @@ ddg::cli::Command ddg::cli::addReplayCommand(CLI::App& app)
   replay->add_option("--history", pa->history, "History file")->required();
   replay->add_option(
     "--view", pa->view, "View JSON of the outputs (default: the volume's default view)");
-  replay->add_option("--out-tf", pa->outTF, "Write the final design's explicit TF");
+  replay->add_option("--out-tf", pa->outTF,
+    "Write the final design's explicit TF (after a match step: the design matched to the "
+    "step's picture again at its camera, or the TF it recorded when the picture is unreadable)");
   replay->add_option("--format", pa->format, "TF file format: paraview (default) or slicer")
     ->check(CLI::IsMember({ "paraview", "slicer" }));
   replay->add_option("--out-design", pa->outDesign, "Write the final design's render (PNG)");

@@ -4,6 +4,8 @@
 #include "Common/Error.h"
 #include "Gallery/History.h"
 #include "Gallery/Navigation.h"
+#include "Render/View.h"
+#include "TransferFunction/TransferFunctionIO.h"
 
 #include <vtkObjectFactory.h>
 
@@ -144,6 +146,25 @@ bool vtkDDGDesignHistory::AddEdit(const std::string& viewJson, int cluster, int 
       (void)nlohmann::json::parse(viewJson); // the history holds the view as JSON
       this->Internal->History.steps.push_back(ddg::HistoryStep::edit(
         viewJson, cluster, pickX, pickY, clusters, hue, saturation, lightness, visibility, white));
+      this->Modified();
+    });
+}
+
+bool vtkDDGDesignHistory::AddMatch(const std::string& image, const std::string& viewJson,
+  bool cameraEstimated, const std::string& tfJson, bool twoD, int bins, int iterations)
+{
+  return this->Internal->attempt(
+    [&]
+    {
+      ddg::parseView(viewJson, "the match's view");
+      (void)ddg::parseTransferFunctionFile(tfJson, "the match's TF");
+      auto& steps = this->Internal->History.steps;
+      const auto step =
+        ddg::HistoryStep::match(image, viewJson, cameraEstimated, tfJson, twoD, bins, iterations);
+      if (!steps.empty() && steps.back().action == "match")
+        steps.back() = step;
+      else
+        steps.push_back(step);
       this->Modified();
     });
 }

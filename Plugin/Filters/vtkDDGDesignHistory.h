@@ -48,6 +48,11 @@ public:
   bool AddBlend(const std::string& latentsJson, double u, double v);
   bool AddEdit(const std::string& viewJson, int cluster, int pickX, int pickY, int clusters,
     double hue, double saturation, double lightness, double visibility, bool white);
+  /// The design matched to a picture (HistoryStep::match): replaces a match that ends the
+  /// history (a new match of the same design), else appends; false for a view or TF Core
+  /// cannot read.
+  bool AddMatch(const std::string& image, const std::string& viewJson, bool cameraEstimated,
+    const std::string& tfJson, bool twoD, int bins, int iterations);
   ///@}
   /// An "axes" step, replacing the last step when it is one (DesignHistory::setAxes).
   bool SetAxes(const std::string& stepsJson);

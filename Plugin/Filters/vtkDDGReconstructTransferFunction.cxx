@@ -137,7 +137,7 @@ std::string writeTable(vtkTable* output, const ddg::ReconstructionResult& result
       b->InsertNextValue(t.rgba[4 * i + 2]);
       a->InsertNextValue(t.rgba[4 * i + 3]);
     }
-    json = ddg::presetToJson(ddg::tableToTransferFunction(t, 1.0 / 512.0, "DDG reconstruction"));
+    json = ddg::presetToJson(ddg::resultTransferFunction(result, "DDG reconstruction").tf1D);
     addString(output->GetFieldData(), "Preset", json);
   }
   return json;

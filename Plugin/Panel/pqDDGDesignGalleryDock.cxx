@@ -694,6 +694,7 @@ void pqDDGDesignGalleryDock::exportHistory()
     return;
   const QString path = QFileDialog::getSaveFileName(
     this, tr("Export design history (ddg replay)"), "history.json", tr("JSON (*.json)"));
-  if (!path.isEmpty() && !writeText(path, pqDDGDesignState::historyText(this->State->steps())))
+  if (!path.isEmpty() &&
+    !writeText(path, pqDDGDesignState::historyText(this->State->exportSteps())))
     this->setStatus(tr("Cannot write %1.").arg(path), true);
 }

@@ -189,6 +189,11 @@ public:
   static QJsonObject blendStep(const QJsonArray& latents, double u, double v);
   static QJsonObject editStep(const QJsonObject& view, int cluster, double hue, double visibility);
   static QJsonObject axesStep(const QVector<double>& steps);
+  /// The "match" step of a match (the picture, its camera, the TF found) for ddg replay.
+  static QJsonObject matchStep(const Match& match);
+  /// The history to export: the design's steps, and the last match's step when it matched the
+  /// design those steps give.
+  QJsonArray exportSteps() const;
   /// `steps` with `step` appended; an axes step after an axes step replaces it (one move).
   static QJsonArray appendStep(QJsonArray steps, const QJsonObject& step);
   /// The history file's text of `steps` (what `ddg replay` reads).

@@ -79,6 +79,26 @@ QJsonObject pqDDGDesignState::axesStep(const QVector<double>& steps)
   return lastStep(h);
 }
 
+QJsonObject pqDDGDesignState::matchStep(const Match& match)
+{
+  vtkNew<vtkDDGDesignHistory> h; // the panel matches with the filter's 128 bins and 500 steps
+  h->AddMatch(match.Picture.toStdString(), compact(match.View), match.CameraEstimated,
+    match.Preset.toStdString(), !match.ParaView2D.isEmpty(), 128, 500);
+  return lastStep(h);
+}
+
+QJsonArray pqDDGDesignState::exportSteps() const
+{
+  QJsonArray steps = this->Steps;
+  if (!this->LastMatch.Preset.isEmpty() && this->LastMatch.Steps == this->Steps)
+  {
+    const QJsonObject step = matchStep(this->LastMatch);
+    if (!step.isEmpty())
+      steps.append(step);
+  }
+  return steps;
+}
+
 QJsonArray pqDDGDesignState::appendStep(QJsonArray steps, const QJsonObject& step)
 {
   vtkNew<vtkDDGDesignHistory> h;

@@ -235,7 +235,7 @@ int main(int argc, char** argv)
   ropt.patience = steps + 1;
   ropt.raysPerIteration = rays;
   ropt.render.threads = threads;
-  ReconstructionTarget rt{ target, view, {}, {}, 1.0 };
+  ReconstructionTarget rt(target, view);
   if (rt.image.channels == 4)
   {
     // a screenshot: opaque RGB

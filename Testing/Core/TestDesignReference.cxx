@@ -113,6 +113,37 @@ TEST(HistoryStep, BuildersWriteTheDocumentedJson)
   EXPECT_EQ(back.toJson(), h.toJson());
 }
 
+TEST(HistoryStep, MatchEndsAHistoryAndKeepsItsTF)
+{
+  const std::string view = "{\"camera\": {\"position\": [0, 0, 5], \"focal_point\": [0, 0, 0], "
+                           "\"view_up\": [0, 1, 0], \"view_angle\": 30}, \"size\": [64, 48]}";
+  const std::string preset = "[{\"Name\": \"m\", \"ColorSpace\": \"RGB\", \"RGBPoints\": "
+                             "[0, 1, 0, 0, 1, 0, 0, 1], \"Points\": [0, 0, 0.5, 0, 1, 1, 0.5, 0]}]";
+  ddg::DesignHistory h;
+  h.steps = { ddg::HistoryStep::pick(3),
+    ddg::HistoryStep::match("shot.png", view, true, preset, false, 64, 200) };
+  const auto j = nlohmann::json::parse(h.toJson());
+  const auto& m = j.at("steps")[1];
+  EXPECT_EQ(m.at("action"), "match");
+  EXPECT_EQ(m.at("image"), "shot.png");
+  EXPECT_EQ(m.at("camera"), "estimated");
+  EXPECT_EQ(m.at("bins"), 64);
+  EXPECT_EQ(m.at("iterations"), 200);
+  EXPECT_EQ(m.at("two_d"), false);
+  EXPECT_TRUE(m.at("tf").is_array());
+  const auto back = ddg::DesignHistory::fromJson(h.toJson());
+  EXPECT_EQ(back.toJson(), h.toJson());
+  EXPECT_TRUE(back.steps[1].cameraEstimated);
+  // a match is the last step; it needs its view and TF
+  ddg::DesignHistory after = h;
+  after.steps.push_back(ddg::HistoryStep::pick(1));
+  EXPECT_THROW(ddg::DesignHistory::fromJson(after.toJson()), ddg::Error);
+  ddg::DesignHistory noTF = h;
+  noTF.steps[1].tfJson.clear();
+  EXPECT_THROW(noTF.write("never_written.json"), ddg::Error);
+  EXPECT_FALSE(std::ifstream("never_written.json").good());
+}
+
 TEST(HistoryStep, AxesMoveOneStep)
 {
   ddg::DesignHistory h;

@@ -300,7 +300,7 @@ def expect_error(label, expected, **props):
 match.Iterations = 50
 expect_error(
     "uniform",
-    "nothing but its background",
+    "nothing but the background colour",
     TargetImageFile=os.path.join(testdata, "query_uniform.png"),
     ViewJSON="",
 )

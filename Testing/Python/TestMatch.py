@@ -131,5 +131,5 @@ try:
     raise AssertionError("a uniform picture was matched")
 except ddg.DDGError as e:
     print("uniform picture:", e)
-    assert "nothing but its background" in str(e), e
+    assert "nothing but the background colour" in str(e), e
 print("ok")
