@@ -49,6 +49,31 @@ double psnr(const Image& a0, const Image& b0)
   return mse == 0 ? std::numeric_limits<double>::infinity() : 10.0 * std::log10(1.0 / mse);
 }
 
+double psnr(const Image& a0, const Image& b0, const Image& ignore)
+{
+  if (ignore.empty())
+    return psnr(a0, b0);
+  checkPair(a0, b0);
+  if (ignore.width != a0.width || ignore.height != a0.height)
+    throw Error("psnr: the mask's size differs from the images'");
+  const Image a = toChannels(a0, 3), b = toChannels(b0, 3);
+  double se = 0;
+  size_t n = 0;
+  for (size_t p = 0, np = static_cast<size_t>(a.width) * a.height; p < np; ++p)
+  {
+    if (ignore.pixels[p * ignore.channels] > 0.5f)
+      continue;
+    for (int c = 0; c < 3; ++c)
+    {
+      const double d = static_cast<double>(a.pixels[3 * p + c]) - b.pixels[3 * p + c];
+      se += d * d;
+    }
+    n += 3;
+  }
+  return n == 0 || se == 0 ? std::numeric_limits<double>::infinity()
+                           : 10.0 * std::log10(static_cast<double>(n) / se);
+}
+
 double ssim(const Image& a0, const Image& b0)
 {
   checkPair(a0, b0);

@@ -11,6 +11,9 @@ namespace ddg
 /// 10 log10(1 / MSE). Returns +infinity for identical images. Throws ddg::Error when the
 /// sizes differ or an image has fewer than 3 channels (grey images are expanded first).
 double psnr(const Image& a, const Image& b);
+/// The same over the pixels `ignore` (one channel, the same size; empty: none) leaves: those
+/// where it is at most 0.5 (e.g. a picture's overlays left out). Infinite when nothing differs.
+double psnr(const Image& a, const Image& b, const Image& ignore);
 
 /// Mean SSIM (Wang et al. 2004) over RGB: 11 x 11 Gaussian window (sigma 1.5), K1 = 0.01,
 /// K2 = 0.03, dynamic range 1, computed per channel on the "valid" window positions

@@ -11,6 +11,7 @@
 
 #include "Common/FileUtil.h"
 #include "Image/Image.h"
+#include "Image/ImageMetrics.h"
 #include "Reconstruct/Match.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/TransferFunctionIO.h"
@@ -249,27 +250,6 @@ ddg::Image cropped(const ddg::Image& image, const std::array<int, 4>& crop)
   return out;
 }
 
-/// PSNR (dB) of `render` (RGB) against `picture` (RGB, the same size) over the pixels the
-/// overlay mask leaves.
-double picturePSNR(const ddg::Image& render, const ddg::Image& picture, const ddg::Image& overlay)
-{
-  double sum = 0;
-  size_t n = 0;
-  for (int y = 0; y < picture.height; ++y)
-    for (int x = 0; x < picture.width; ++x)
-    {
-      if (!overlay.empty() && overlay.at(x, y, 0) > 0.5f)
-        continue;
-      for (int c = 0; c < 3; ++c)
-      {
-        const double d = render.at(x, y, c) - picture.at(x, y, c);
-        sum += d * d;
-      }
-      n += 3;
-    }
-  return n == 0 || sum == 0 ? std::numeric_limits<double>::infinity()
-                            : 10 * std::log10(static_cast<double>(n) / sum);
-}
 } // namespace
 
 void vtkDDGReconstructTransferFunction::ExecuteMatch(
@@ -375,10 +355,10 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
     result.view);
   double before = std::numeric_limits<double>::quiet_NaN();
   if (initialTF && !result.tf.twoD)
-    before = picturePSNR(
+    before = ddg::psnr(
       overBackground(caster.render(caster.paraviewTable(*initialTF), result.view), result.view),
       rgbPicture, result.masks.overlay);
-  addNumbers(fd, "PicturePSNR", { before, picturePSNR(after, rgbPicture, result.masks.overlay) });
+  addNumbers(fd, "PicturePSNR", { before, ddg::psnr(after, rgbPicture, result.masks.overlay) });
   vtkImageData* masks = vtkImageData::GetData(outputVector, 1);
   addImageArray(masks, after, "Image", 3);
   if (!result.masks.foreground.empty())

@@ -45,6 +45,17 @@ TEST(ImageMetrics, IdentitiesAndKnownNoise)
   EXPECT_THROW(psnr(a, c), Error);
 }
 
+TEST(ImageMetrics, PsnrLeavesOutTheMaskedPixels)
+{
+  Image a(4, 2, 3), b(4, 2, 3), ignore(4, 2, 1);
+  b.pixels[3 * 5] = 0.5f; // pixel (1, 1) differs
+  EXPECT_TRUE(std::isfinite(psnr(a, b, ignore)));
+  EXPECT_NEAR(psnr(a, b, ignore), psnr(a, b), 1e-12); // nothing ignored: the plain PSNR
+  ignore.pixels[5] = 1.0f;
+  EXPECT_TRUE(std::isinf(psnr(a, b, ignore)));
+  EXPECT_THROW(psnr(a, b, Image(3, 2, 1)), Error);
+}
+
 TEST(ImageIO, PngRoundTripIsExactOn8BitValues)
 {
   Image a(7, 5, 4);
