@@ -27,6 +27,9 @@ import subprocess
 import sys
 
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Common"))
+from pictures import psnr, read_png  # noqa: E402
 from paraview import servermanager
 from paraview.simple import LoadPlugin, XMLImageDataReader
 import paraview.simple as simple
@@ -35,7 +38,7 @@ from vtkmodules.util.misc import calldata_type
 from vtkmodules.util.vtkConstants import VTK_STRING
 from vtkmodules.vtkCommonCore import vtkCommand
 from vtkmodules.vtkCommonDataModel import vtkImageData
-from vtkmodules.vtkIOImage import vtkPNGReader, vtkPNGWriter
+from vtkmodules.vtkIOImage import vtkPNGWriter
 
 plugin, ddg, data, testdata, outdir = sys.argv[1:6]
 os.makedirs(outdir, exist_ok=True)
@@ -64,16 +67,6 @@ def render_picture(view, name, vol=volume, tf=true_tf):
     return path
 
 
-def read_png(path):
-    r = vtkPNGReader()
-    r.SetFileName(path)
-    r.Update()
-    out = r.GetOutput()
-    w, h, _ = out.GetDimensions()
-    a = numpy_support.vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, -1)
-    return a[::-1, :, :3].astype(np.float64)
-
-
 def write_png(pixels, name):
     """A (h, w, 3) uint8 array, top row first, as a PNG in OUTDIR."""
     data = vtkImageData()
@@ -93,11 +86,6 @@ def image_array(image, name):
     w, h, _ = image.GetDimensions()
     a = numpy_support.vtk_to_numpy(image.GetPointData().GetArray(name))
     return a.reshape(h, w, -1)[::-1].astype(np.float64)
-
-
-def psnr(a, b):
-    mse = np.mean((a / 255.0 - b / 255.0) ** 2)
-    return float("inf") if mse == 0 else 10 * math.log10(1 / mse)
 
 
 def field(table, name):

@@ -21,6 +21,9 @@ import sys
 
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Common"))
+from pictures import psnr, read_png  # noqa: E402
+
 import ddg
 from paraview.simple import (
     GetActiveViewOrCreate,
@@ -30,8 +33,6 @@ from paraview.simple import (
     Show,
     XMLImageDataReader,
 )
-from vtkmodules.util import numpy_support
-from vtkmodules.vtkIOImage import vtkPNGReader
 
 ddg_exe, outdir = sys.argv[1:3]
 os.makedirs(outdir, exist_ok=True)
@@ -49,21 +50,6 @@ subprocess.run(
     + ["--tf", ddg.data_path("TransferFunctions/neghip_shells.json")],
     check=True,
 )
-
-
-def read_png(path):
-    r = vtkPNGReader()
-    r.SetFileName(path)
-    r.Update()
-    out = r.GetOutput()
-    w, h, _ = out.GetDimensions()
-    a = numpy_support.vtk_to_numpy(out.GetPointData().GetScalars()).reshape(h, w, -1)
-    return a[::-1, :, :3].astype(np.float64)
-
-
-def psnr(a, b):
-    mse = np.mean((a / 255.0 - b / 255.0) ** 2)
-    return float("inf") if mse == 0 else 10 * math.log10(1 / mse)
 
 
 def same_camera(a, b, tol=1e-6):
