@@ -25,10 +25,14 @@ model sweep's U-Net with a 2000-design outline), (b') analyzer -> TF decoder (`d
 that TF refined by differentiable reconstruction, (c) differentiable reconstruction from scratch,
 (d) parametric fit of PRIMITIVES Gaussian primitives (`ddg reconstruct --primitives`), (e)
 multi-view reconstruction (the screenshot and a second view of the same TF); (b'+c), (c), (d) and
-(e) at several iteration budgets (curves). Stability: the same methods on perturbed
-screenshots (viewpoint, zoom, crop, noise, JPEG, gamma, colour shift, background, annotation,
-another volume, shading); success = ParaView's render at the reference view within
-SUCCESS_DB of the unperturbed reference. Optimisation: random initial TFs and seeds, learning
+(e) at several iteration budgets (curves). Stability: (b'), (b'+c), (c), (d), (f) the match
+(`ddg reconstruct` without --view: background, overlays and camera estimated, from grey) and
+(b'+f) the match from the query's TF, on perturbed screenshots (viewpoint, zoom, roll, pan, crop,
+noise, JPEG, gamma, colour shift, a wrong background, backgrounds as screenshots have them:
+ParaView's palette, black, its gradient; annotation and ParaView's orientation axes, another
+volume, shading); success = ParaView's render at the reference view within SUCCESS_DB of the
+unperturbed reference. (b'+f) runs on the unperturbed and the strongest of each kind; --quick runs
+(f) on a few kinds only and (b'+f) nowhere. Optimisation: random initial TFs and seeds, learning
 rates. TF resolution and smoothness prior. Renderer speed (BenchRayCaster, BenchDifferentiable,
 bench_torch_autograd.py). Model size (Testing/Benchmarks/model_sweep.py: every configuration on
 Tooth, the three decoder widths on Engine; --quick plots the last committed tables).

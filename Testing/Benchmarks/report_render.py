@@ -409,7 +409,15 @@ def stability_markdown(results):
     md += [
         "",
         "Success rate over all perturbations (the cases each method ran on): "
-        + ", ".join(f"{m} {100 * rate[m]:.0f} % of {len(ran[m])}" for m in methods)
+        + ", ".join(
+            f"{m} {100 * rate[m]:.0f} % of {len(ran[m])}"
+            + (
+                f" ({refused} refused)"
+                if (refused := sum(bool(r["error"]) for r in ran[m]))
+                else ""
+            )
+            for m in methods
+        )
         + f". Most robust of the methods run on every case: {best}.",
         "",
     ]
