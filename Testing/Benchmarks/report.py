@@ -53,6 +53,7 @@ import report_render
 from report_common import (
     RESULTS,
     ROOT,
+    commit,
     log,
     machine,
     minutes,
@@ -157,6 +158,7 @@ if args.sections:  # the full run's minutes stay; the re-run is recorded beside 
         {
             "sections": args.sections,
             "date": time.strftime("%Y-%m-%d"),
+            "commit": commit(),
             "minutes": minutes(),
             "section_minutes": section_minutes(),
             "machine": dict(at_start, load_average_end=os.getloadavg()[0]),
@@ -167,6 +169,7 @@ else:
     results["model_confirmations"] = report_models.confirmations(results["models"], args.out)
     results["minutes"] = minutes()
     results["machine"] = dict(at_start, load_average_end=os.getloadavg()[0])
+    results["commit"] = commit()
 write_report(results, args.out)
 report_render.write_markdown(read_report(report_json(args.out)), args.out)  # from report.json
 log(f"wrote {args.out}/report.md, report.json and the report_*.png charts")

@@ -4,6 +4,7 @@
 import json
 import os
 import platform
+import subprocess
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -63,6 +64,15 @@ def machine():
     except (OSError, StopIteration):
         pass
     return {"cpu": cpu, "cores": os.cpu_count(), "load_average": os.getloadavg()[0]}
+
+
+def commit():
+    """The source tree's commit (the report's scripts; the `ddg` program's unless --build points
+    elsewhere), or None outside a git checkout."""
+    r = subprocess.run(
+        ["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True
+    )
+    return r.stdout.strip() or None
 
 
 # --- report.json --------------------------------------------------------------------------------

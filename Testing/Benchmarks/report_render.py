@@ -533,6 +533,7 @@ def markdown(results, out):
         f"# Speed against accuracy, stability, model size{' (quick run)' if quick else ''}",
         "",
         f"Produced by `Testing/Benchmarks/report.py{quick}` on 2 cores in {results['minutes']:.1f} min"
+        + (f" at commit {results['commit']}" if results.get("commit") else "")
         + (
             " (before --confirm, whose time is in its section)"
             if confirmed_in_this_run(results)
@@ -548,7 +549,9 @@ def markdown(results, out):
     for rerun in results.get("reruns", []):
         mach = rerun["machine"]
         md += [
-            f"Re-measured on {rerun['date']} with `report.py{quick} --sections "
+            f"Re-measured on {rerun['date']}"
+            + (f" at commit {rerun['commit']}" if rerun.get("commit") else "")
+            + f" with `report.py{quick} --sections "
             f"{' '.join(rerun['sections'])}` in {rerun['minutes']:.1f} min ("
             + ", ".join(f"{name} {m:.1f}" for name, m in rerun["section_minutes"].items())
             + f"): the {', '.join(rerun['sections'])} section(s) below; the others are from the "
