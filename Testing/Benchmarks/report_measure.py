@@ -331,7 +331,7 @@ def stability(m, volume, case, quick):
                     psnr = m.compare(png, case["refs"]["reference"])["psnr"]
                     error = ""
                 except RuntimeError as e:
-                    psnr, seconds, error = 0.0, 0.0, str(e).splitlines()[-1][:120]
+                    psnr, seconds, error = 0.0, 0.0, str(e).splitlines()[-1][:160]  # the reason
                 rows.append(
                     {
                         "perturbation": kind,

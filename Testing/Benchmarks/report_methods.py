@@ -135,7 +135,7 @@ class Methods:
         t = time.time()
         r = subprocess.run([self.exe, *map(str, a)], capture_output=True, text=True)
         if check and r.returncode != 0:
-            raise RuntimeError(f"ddg {' '.join(map(str, a))}: {r.stderr.strip()}")
+            raise RuntimeError(f"ddg {' '.join(map(str, a))}:\n{r.stderr.strip()}")  # reason last
         return r, time.time() - t
 
     def compare(self, a, b):

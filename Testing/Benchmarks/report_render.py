@@ -61,6 +61,7 @@ REMEDIES = {
     "roll (deg)": CAMERA,
     "pan (view heights)": CAMERA,
     "crop (fraction)": "use the uncropped screenshot (its border shows the background)",
+    "noise (sigma, grey levels)": "a screenshot without the noise (PNG as ParaView saved it)",
     "gamma": AS_SAVED,
     "colour shift (warm, x)": AS_SAVED,
     "wrong background": "`--background` with the screenshot's background colour",
@@ -286,8 +287,8 @@ def method_guide(results):
             alt = max(tried, key=lambda m: (sum(tried[m]), -len(tried[m])), default=None)
             if alt and sum(tried[alt]):
                 beyond = f"{alt}: {sum(tried[alt])} of its {len(tried[alt])} there succeed"
-            else:
-                beyond = REMEDIES.get(kind, "-") + " (not measured)"
+            elif kind in REMEDIES:
+                beyond = REMEDIES[kind] + " (not measured)"
         cell = lambda m: (  # noqa: E731
             "-"
             if m not in stats
@@ -354,6 +355,15 @@ def stability_markdown(results):
     cases = results["cases"]
     methods = stable_methods(results)
     seconds = lambda r: f"{r['seconds']:.1f}" if "seconds" in r else "-"  # noqa: E731
+
+    def refusal(r):
+        """The reason `ddg` gave ("... error: REASON"), "yes" when the row holds none (a report.json
+        that recorded the command instead), "-" when it did not refuse."""
+        if not r["error"]:
+            return "-"
+        reason = r["error"].split(" error: ", 1)
+        return reason[1].replace("|", "/") if len(reason) == 2 else "yes"
+
     md = ["## Stability: where each method breaks", "", "![stability](report_stability.png)", ""]
     if MATCH in methods:
         md += [
@@ -387,7 +397,7 @@ def stability_markdown(results):
                     ("PSNR", lambda r: f"{r['psnr']:.1f}"),
                     ("success", lambda r: "yes" if r["success"] else "no"),
                     ("time s", seconds),
-                    ("refused", lambda r: r["error"].replace("|", "/") or "-"),
+                    ("refused", refusal),
                 ],
             ),
             "",
