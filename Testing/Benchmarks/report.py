@@ -10,7 +10,8 @@ report_optimisation.png, report_tf_resolution.png, report_renderer.png, report_m
 sufficient model of the sweep when it is smaller than the shipped one, else the next smaller model
 (width 8), with the shipped bundle's recipe (about 12 min for Tooth, 20-25 for Engine) and compares
 it with the shipped bundle (Testing/Models/confirm.py): the model-size verdict at full training.
---render-only redraws report.md and the charts from DIR's report.json without measuring (also
+--sections S.. re-measures only the named sections (methods, stability, optimisation, renderer) and
+keeps the others from DIR's report.json. --render-only redraws report.md and the charts from DIR's report.json without measuring (also
 `/usr/bin/python3 Testing/Benchmarks/report_render.py --out DIR`).
 
 What is measured. A reference: ParaView renders a shipped preset on a shipped volume at the
@@ -24,10 +25,14 @@ model sweep's U-Net with a 2000-design outline), (b') analyzer -> TF decoder (`d
 that TF refined by differentiable reconstruction, (c) differentiable reconstruction from scratch,
 (d) parametric fit of PRIMITIVES Gaussian primitives (`ddg reconstruct --primitives`), (e)
 multi-view reconstruction (the screenshot and a second view of the same TF); (b'+c), (c), (d) and
-(e) at several iteration budgets (curves). Stability: the same methods on perturbed
-screenshots (viewpoint, zoom, crop, noise, JPEG, gamma, colour shift, background, annotation,
-another volume, shading); success = ParaView's render at the reference view within
-SUCCESS_DB of the unperturbed reference. Optimisation: random initial TFs and seeds, learning
+(e) at several iteration budgets (curves). Stability: (b'), (b'+c), (c), (d), (f) the match
+(`ddg reconstruct` without --view: background, overlays and camera estimated, from grey) and
+(b'+f) the match from the query's TF, on perturbed screenshots (viewpoint, zoom, roll, pan, crop,
+noise, JPEG, gamma, colour shift, a wrong background, backgrounds as screenshots have them:
+ParaView's palette, black, its gradient; annotation and ParaView's orientation axes, another
+volume, shading); success = ParaView's render at the reference view within SUCCESS_DB of the
+unperturbed reference. (b'+f) runs on the unperturbed and the strongest of each kind; --quick runs
+(f) on a few kinds only and (b'+f) nowhere. Optimisation: random initial TFs and seeds, learning
 rates. TF resolution and smoothness prior. Renderer speed (BenchRayCaster, BenchDifferentiable,
 bench_torch_autograd.py). Model size (Testing/Benchmarks/model_sweep.py: every configuration on
 Tooth, the three decoder widths on Engine; --quick plots the last committed tables).
@@ -41,13 +46,16 @@ import argparse
 import os
 import sys
 import tempfile
+import time
 
 import report_models
 import report_render
 from report_common import (
     RESULTS,
     ROOT,
+    commit,
     log,
+    machine,
     minutes,
     read_report,
     report_json,
@@ -78,7 +86,21 @@ parser.add_argument(
     action="store_true",
     help="measure nothing: redraw report.md and the charts in --out from its report.json",
 )
+parser.add_argument(
+    "--sections",
+    nargs="+",
+    metavar="SECTION",
+    choices=["methods", "stability", "optimisation", "renderer"],
+    help="measure only these sections (methods, stability, optimisation, renderer) and keep the "
+    "others' results from --out's report.json (the model sweep is never rerun); report.json "
+    "records the re-run (its minutes, the machine and its load)",
+)
 args = parser.parse_args()
+if args.sections and (args.confirm or args.models_only or args.render_only):
+    parser.error(
+        "--sections re-measures report sections; it goes with neither --confirm, "
+        "--models-only nor --render-only"
+    )
 if args.confirm and args.quick:
     parser.error(
         "--confirm trains full-size models (about 25 min each); it does not go with --quick"
@@ -117,12 +139,37 @@ if args.models_only:  # redraw the model-size chart and section of an existing r
 
 from report_measure import measure  # noqa: E402  (pvpython: ParaView renders every result)
 
-results = measure(DDG, work, args.out, args.quick, args.confirm)
+saved = None
+if args.sections:
+    if not os.path.exists(report_json(args.out)):
+        parser.error(f"--sections keeps the other sections from {report_json(args.out)}: missing")
+    saved = read_report(report_json(args.out))
+    if saved["quick"] != args.quick:
+        parser.error(
+            f"{report_json(args.out)} is a {'quick' if saved['quick'] else 'full'} report: "
+            f"re-measure its sections {'with' if saved['quick'] else 'without'} --quick"
+        )
+at_start = machine()
+results = measure(DDG, work, args.out, args.quick, args.confirm, args.sections, saved)
 section("charts")
 report_render.charts(results, args.out)
-results["section_minutes"] = section_minutes()
-results["model_confirmations"] = report_models.confirmations(results["models"], args.out)
-results["minutes"] = minutes()
+if args.sections:  # the full run's minutes stay; the re-run is recorded beside them
+    results.setdefault("reruns", []).append(
+        {
+            "sections": args.sections,
+            "date": time.strftime("%Y-%m-%d"),
+            "commit": commit(),
+            "minutes": minutes(),
+            "section_minutes": section_minutes(),
+            "machine": dict(at_start, load_average_end=os.getloadavg()[0]),
+        }
+    )
+else:
+    results["section_minutes"] = section_minutes()
+    results["model_confirmations"] = report_models.confirmations(results["models"], args.out)
+    results["minutes"] = minutes()
+    results["machine"] = dict(at_start, load_average_end=os.getloadavg()[0])
+    results["commit"] = commit()
 write_report(results, args.out)
 report_render.write_markdown(read_report(report_json(args.out)), args.out)  # from report.json
 log(f"wrote {args.out}/report.md, report.json and the report_*.png charts")

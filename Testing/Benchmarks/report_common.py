@@ -3,6 +3,8 @@
 """
 import json
 import os
+import platform
+import subprocess
 import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -20,8 +22,12 @@ REFINE = "b' + reconstruction"
 DIRECT = "reconstruction (c)"
 PRIMITIVE_FIT = f"{PRIMITIVES} primitives (d)"
 TWO_VIEW = "2-view reconstruction (e)"
-METHODS = [NEAREST, NEURAL, QUERY, REFINE, DIRECT, PRIMITIVE_FIT, TWO_VIEW]
-STABLE_METHODS = [QUERY, REFINE, DIRECT, PRIMITIVE_FIT]  # the ones run on perturbed screenshots
+MATCH = "match, no view (f)"  # `ddg reconstruct` without --view: background, overlays, camera, TF
+QUERY_MATCH = "b' + match"  # the match started from the query's TF
+METHODS = [NEAREST, NEURAL, QUERY, REFINE, DIRECT, PRIMITIVE_FIT, TWO_VIEW, MATCH, QUERY_MATCH]
+# the ones run on perturbed screenshots; all but the match get the reference view's file
+STABLE_METHODS = [QUERY, REFINE, DIRECT, PRIMITIVE_FIT, MATCH, QUERY_MATCH]
+EXACT_VIEW_METHODS = [REFINE, DIRECT, PRIMITIVE_FIT]  # reconstructions at the view they are given
 
 # --- the log and the minutes of each section ----------------------------------------------------
 
@@ -47,6 +53,26 @@ def section_minutes():
 def minutes():
     """Minutes since the start."""
     return (time.time() - started) / 60
+
+
+def machine():
+    """The processor, its cores and the load average (1 min) now: what the timings depend on."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return {"cpu": cpu, "cores": os.cpu_count(), "load_average": os.getloadavg()[0]}
+
+
+def commit():
+    """The source tree's commit (the report's scripts; the `ddg` program's unless --build points
+    elsewhere), or None outside a git checkout."""
+    r = subprocess.run(
+        ["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True
+    )
+    return r.stdout.strip() or None
 
 
 # --- report.json --------------------------------------------------------------------------------

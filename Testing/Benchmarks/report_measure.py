@@ -13,6 +13,8 @@ from PIL import Image, ImageDraw
 from report_common import (
     DATA,
     DIRECT,
+    MATCH,
+    QUERY_MATCH,
     NEAREST,
     NEURAL,
     PRIMITIVE_FIT,
@@ -148,6 +150,22 @@ def methods(m, volume, case, budgets, unet):
 
 # --- 2. stability: perturbed screenshots --------------------------------------------------------
 
+PALETTE = [0.32, 0.34, 0.43]  # ParaView 5.11's default palette background (a new view's)
+PALETTE2 = [0.0, 0.0, 0.16]  # the palette's Background2: the top of its gradient
+# the perturbations the match runs on in --quick (every strength; the others only unperturbed)
+QUICK_MATCH_KINDS = ("viewpoint (deg)", "roll (deg)", "background (view gives it)")
+
+
+def runs_on(method, kind, index, count, quick):
+    """Whether `method` runs on the index-th of a kind's `count` strengths (0: unperturbed).
+    The match runs on every strength (--quick: on QUICK_MATCH_KINDS); the query + match, as long,
+    on the unperturbed and the strongest of each kind (--quick: nowhere); the others everywhere."""
+    if method == MATCH:
+        return not quick or index == 0 or kind in QUICK_MATCH_KINDS
+    if method == QUERY_MATCH:
+        return not quick and index in (0, count - 1)
+    return True
+
 
 def perturbations(m, case, quick):
     """name -> list of (strength label, numeric strength, image file, view file the method gets)."""
@@ -180,6 +198,21 @@ def perturbations(m, case, quick):
             vfile,
         )
         for z in zooms
+    ]
+    rolls = [0, 10, 20, 45] if not quick else [0, 20]
+    out["roll (deg)"] = [
+        (r, r, scene.render(preset, rotated(view, roll=r), m.path(f"{tag}_roll{r}.png")), vfile)
+        for r in rolls
+    ]
+    pans = [0.0, 0.05, 0.1] if not quick else [0.0, 0.1]  # view heights, right and up
+    out["pan (view heights)"] = [
+        (
+            p,
+            p,
+            scene.render(preset, rotated(view, pan=(p, p / 2)), m.path(f"{tag}_pan{p}.png")),
+            vfile,
+        )
+        for p in pans
     ]
     h, w, _ = img.shape
     crops = [0.0, 0.1, 0.25] if not quick else [0.0, 0.25]
@@ -221,6 +254,23 @@ def perturbations(m, case, quick):
             vfile,
         ),
     ]
+    # the background as screenshots have it; the methods with a view get it in their view file
+    backgrounds = [
+        ("white", 0, view, None),
+        ("palette 0.32 0.34 0.43", 1, dict(view, background=PALETTE), None),
+        ("black", 2, black, None),
+        ("gradient", 3, dict(view, background=PALETTE, background2=PALETTE2), None),
+    ]
+    out["background (view gives it)"] = [
+        (
+            label,
+            k,
+            ref if k == 0 else scene.render(preset, v, m.path(f"{tag}_bg{k}.png")),
+            vfile if k == 0 else m.write_json(v, f"{tag}_bg{k}_view.json"),
+        )
+        for label, k, v, _ in backgrounds
+        if not quick or k in (0, 3)
+    ]
     annotated = Image.open(ref).convert("RGB")
     d = ImageDraw.Draw(annotated)
     d.line([(20, 20), (w // 2, h // 2)], fill=(220, 0, 0), width=4)
@@ -229,6 +279,12 @@ def perturbations(m, case, quick):
     out["annotation"] = [
         ("none", 0, ref, vfile),
         ("arrow, box, text", 1, save(np.asarray(annotated).astype(float), "annot"), vfile),
+        (
+            "orientation axes",
+            2,
+            scene.render(preset, view, m.path(f"{tag}_axes.png"), axes=True),
+            vfile,
+        ),
     ]
     out["shading (lit render)"] = [
         ("unlit", 0, ref, vfile),
@@ -251,14 +307,20 @@ def stability(m, volume, case, quick):
         REFINE: lambda c, s, v, t: m.refine(c, s, v, t, steps),
         DIRECT: lambda c, s, v, t: m.direct(c, s, v, t, steps),
         PRIMITIVE_FIT: lambda c, s, v, t: m.primitives(c, s, v, t, steps),
+        MATCH: lambda c, s, v, t: m.match(c, s, t),
+        QUERY_MATCH: lambda c, s, v, t: m.query_match(c, s, v, t),
     }
     rows = []
     baseline = {}  # method -> its result on the unperturbed screenshot (every kind's strength 0)
     for kind, items in perturbations(m, case, quick).items():
-        for label, strength, image, vfile in items:
+        for index, (label, strength, image, vfile) in enumerate(items):
+            done = []
             for name, run in runs.items():
+                if not runs_on(name, kind, index, len(items), quick):
+                    continue
                 if strength == 0 and name in baseline:
                     rows.append(dict(baseline[name], perturbation=kind, label=str(label)))
+                    done.append(rows[-1])
                     continue
                 tag = f"{volume}_{re.sub('[^a-z0-9]', '', kind.lower())}_{strength}_{re.sub('[^a-z]', '', name)}"
                 try:
@@ -269,7 +331,7 @@ def stability(m, volume, case, quick):
                     psnr = m.compare(png, case["refs"]["reference"])["psnr"]
                     error = ""
                 except RuntimeError as e:
-                    psnr, seconds, error = 0.0, 0.0, str(e).splitlines()[-1][:120]
+                    psnr, seconds, error = 0.0, 0.0, str(e).splitlines()[-1][:160]  # the reason
                 rows.append(
                     {
                         "perturbation": kind,
@@ -278,15 +340,19 @@ def stability(m, volume, case, quick):
                         "method": name,
                         "psnr": psnr,
                         "success": psnr >= SUCCESS_DB,
+                        "seconds": seconds,
                         "error": error,
                     }
                 )
+                done.append(rows[-1])
                 if strength == 0:
                     baseline[name] = rows[-1]
             log(
                 f"{volume} {kind} {label}: "
                 + ", ".join(
-                    f"{r['method'].split(' ')[0]} {r['psnr']:.1f}" for r in rows[-len(runs) :]
+                    f"{r['method']} {r['psnr']:.1f} ({r['seconds']:.0f} s)"
+                    + (" refused" if r["error"] else "")
+                    for r in done
                 )
             )
     return rows
@@ -458,35 +524,51 @@ def renderer(m, quick):
 # --- all of it -------------------------------------------------------------------------------------
 
 
-def measure(exe, work, out, quick, confirm):
+SECTIONS = ["methods", "stability", "optimisation", "renderer"]  # what --sections may name
+
+
+def measure(exe, work, out, quick, confirm, sections=None, saved=None):
     """Every section with the `ddg` program `exe`, scratch files in `work` and the sweep tables in
     `out`: the dict report.json holds, without the keys report.py adds when it is done
-    (section_minutes, model_confirmations, minutes)."""
+    (section_minutes, model_confirmations, minutes). With `sections` (names of SECTIONS), only
+    those are measured and the others' results are kept from `saved` (report.json's content);
+    the model sweep is not rerun (its tables in `out` are read)."""
     m = Methods(exe, work)
     cases = [("tooth", "tooth_dentin_enamel")] + ([] if quick else [("engine", "engine_block")])
     budgets = [30, 150] if quick else [10, 30, 100, 300, 1000]
-    results = {"quick": quick, "confirm": confirm, "success_db": SUCCESS_DB, "cases": {}}
+    wanted = set(sections or SECTIONS)
+    if sections:
+        results = json.loads(json.dumps(saved))
+    else:
+        results = {"quick": quick, "confirm": confirm, "success_db": SUCCESS_DB, "cases": {}}
     scenes = {}  # volume -> its case (scene, views, references)
 
-    section("model sweep")
-    unet = None if quick else model_sweep(m, out)
+    if not sections:
+        section("model sweep")
+    unet = None if quick or sections else model_sweep(m, out)
 
-    section("methods")
-    for volume, preset_name in cases:
-        log(f"{volume}: references")
-        scenes[volume] = new_case(m, volume, preset_name)
-        rows = methods(m, volume, scenes[volume], budgets, unet)
-        results["cases"][volume] = {"preset": preset_name, "methods": rows}
+    if wanted & {"methods", "stability", "optimisation"}:  # these need the references
+        section("methods" if "methods" in wanted else "references")
+        for volume, preset_name in cases:
+            log(f"{volume}: references")
+            scenes[volume] = new_case(m, volume, preset_name)
+            if "methods" in wanted:
+                rows = methods(m, volume, scenes[volume], budgets, unet)
+                results["cases"][volume] = {"preset": preset_name, "methods": rows}
 
-    section("stability")
-    for volume, case in scenes.items():
-        results["cases"][volume]["stability"] = stability(m, volume, case, quick)
+    if "stability" in wanted:
+        section("stability")
+        for volume, case in scenes.items():
+            results["cases"][volume]["stability"] = stability(m, volume, case, quick)
 
-    section("optimisation and TF resolution")
-    results["optimisation"], results["tf_resolution"] = optimisation(m, scenes["tooth"], quick)
+    if "optimisation" in wanted:
+        section("optimisation and TF resolution")
+        results["optimisation"], results["tf_resolution"] = optimisation(m, scenes["tooth"], quick)
 
-    section("renderer")
-    results["renderer"], results["renderer_samples"] = renderer(m, quick)
+    if "renderer" in wanted:
+        section("renderer")
+        results["renderer"], results["renderer_samples"] = renderer(m, quick)
 
-    results["models"] = read_sweeps(out)  # the sweeps ran first (section 0)
+    if not sections:
+        results["models"] = read_sweeps(out)  # the sweeps ran first (section 0)
     return results

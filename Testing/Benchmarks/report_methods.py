@@ -34,8 +34,10 @@ def load_view(volume, name):
     return v
 
 
-def rotated(view, azimuth=0.0, elevation=0.0, zoom=1.0):
-    """The view's camera orbited about its focal point (degrees) and moved closer by `zoom`."""
+def rotated(view, azimuth=0.0, elevation=0.0, zoom=1.0, roll=0.0, pan=(0.0, 0.0)):
+    """The view's camera orbited about its focal point (degrees), moved closer by `zoom`, rolled
+    about its direction of view (degrees) and panned by `pan` (right, up) view heights at the
+    focal point (the picture's content moves the other way)."""
     v = json.loads(json.dumps(view))
     c = v["camera"]
     f, p, up = (np.array(c[k], float) for k in ("focal_point", "position", "view_up"))
@@ -54,7 +56,14 @@ def rotated(view, azimuth=0.0, elevation=0.0, zoom=1.0):
     d = rot(d, up, azimuth)
     right = np.cross(d, up)
     d, up = rot(d, right, elevation), rot(up, right, elevation)
-    c["position"] = list(f + d / zoom)
+    up = rot(up, -d, roll)  # about the direction of view (focal point - position)
+    d = d / zoom
+    right = np.cross(-d, up)
+    right /= np.linalg.norm(right)
+    height = 2 * np.linalg.norm(d) * math.tan(math.radians(c.get("view_angle", 30.0)) / 2)
+    shift = height * (pan[0] * right + pan[1] * up)
+    c["focal_point"] = list(f + shift)
+    c["position"] = list(f + shift + d)
     c["view_up"] = list(up)
     return v
 
@@ -80,7 +89,10 @@ class ParaViewScene:
         self.lut.AutomaticRescaleRangeMode = "Never"
         Render(self.view)
 
-    def render(self, preset_file, view, out, shade=False):
+    def render(self, preset_file, view, out, shade=False, axes=False):
+        """ParaView's screenshot of the preset at `view` (its "background2": ParaView's gradient,
+        Background at the bottom, Background2 at the top); `axes`: with the orientation axes, as
+        a screenshot of the GUI has them."""
         with open(preset_file) as f:
             p = json.load(f)
         p = p[0] if isinstance(p, list) else p
@@ -90,6 +102,11 @@ class ParaViewScene:
         self.pwf.Points = p["Points"]
         self.display.Shade = int(shade)
         self.view.Background = view["background"]
+        gradient = view.get("background2") is not None
+        self.view.BackgroundColorMode = "Gradient" if gradient else "Single Color"
+        if gradient:
+            self.view.Background2 = view["background2"]
+        self.view.OrientationAxesVisibility = int(axes)
         self.view.ViewSize = view["size"]
         c = view["camera"]
         self.view.CameraPosition, self.view.CameraFocalPoint = c["position"], c["focal_point"]
@@ -97,6 +114,8 @@ class ParaViewScene:
         self.view.CameraViewAngle = c.get("view_angle", 30.0)
         SaveScreenshot(out, self.view, ImageResolution=view["size"], TransparentBackground=0)
         self.display.Shade = 0
+        self.view.BackgroundColorMode = "Single Color"
+        self.view.OrientationAxesVisibility = 0
         return out
 
 
@@ -116,7 +135,7 @@ class Methods:
         t = time.time()
         r = subprocess.run([self.exe, *map(str, a)], capture_output=True, text=True)
         if check and r.returncode != 0:
-            raise RuntimeError(f"ddg {' '.join(map(str, a))}: {r.stderr.strip()}")
+            raise RuntimeError(f"ddg {' '.join(map(str, a))}:\n{r.stderr.strip()}")  # reason last
         return r, time.time() - t
 
     def compare(self, a, b):
@@ -229,6 +248,22 @@ class Methods:
             iterations,
             extra=["--primitives", PRIMITIVES],
         )
+
+    def match(self, case, shot, tag, init=None):
+        """(f): the match, `ddg reconstruct` without --view: the picture's background, overlays
+        and camera (from ParaView's reset camera) estimated, then the TF fitted; from grey, or
+        from `init`. Returns the TF and the seconds; raises RuntimeError when it refuses."""
+        out = self.path(f"{tag}_match.json")
+        cmd = ["reconstruct", "--volume", case["volume"], "--target", shot, "--out", out]
+        _, s = self.ddg(*cmd, "--quiet", *(["--init", init] if init else []))
+        return out, s
+
+    def query_match(self, case, shot, view_file, tag):
+        """(b' + f): the match started from the query's TF (the query at `view_file`, the current
+        camera)."""
+        init, s1 = self.query(case, shot, view_file, tag)
+        out, s2 = self.match(case, shot, f"{tag}_from_query", init=init)
+        return out, s1 + s2
 
     def neural(self, case, shot, view_file, tag):
         """(b): the U-Net bundle's analyzer and renderer, then reconstruction from its render."""

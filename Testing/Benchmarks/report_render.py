@@ -19,12 +19,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 from report_common import (  # noqa: E402
     DIRECT,
+    EXACT_VIEW_METHODS,
+    MATCH,
     METHODS,
     NEAREST,
     NEURAL,
     PRIMITIVE_FIT,
     PRIMITIVES,
     QUERY,
+    QUERY_MATCH,
     REFINE,
     RESULTS,
     STABLE_METHODS,
@@ -43,19 +46,26 @@ COLORS = {
     DIRECT: "tab:blue",
     PRIMITIVE_FIT: "tab:orange",
     TWO_VIEW: "tab:green",
+    MATCH: "tab:cyan",
+    QUERY_MATCH: "tab:pink",
 }
-MARKERS = {m: k for m, k in zip(METHODS, "o^vsDPX")}
+MARKERS = {m: k for m, k in zip(METHODS, "o^vsDPX*h")}
 
-# advice for a screenshot problem beyond what the methods withstand (not measured by this report)
-CAMERA = "match ParaView's camera to the screenshot, or `ddg reconstruct --estimate-view`"
+# advice for a screenshot problem where no measured method held (not measured by this report);
+# where another method held, the table names it and its measured rate instead
+CAMERA = "give the screenshot's camera: ParaView's camera when it was taken, as `--view`"
 AS_SAVED = "use the screenshot as ParaView saved it, without colour management"
 REMEDIES = {
     "viewpoint (deg)": CAMERA,
     "zoom (x)": CAMERA,
-    "crop (fraction)": "use the uncropped screenshot, or `ddg reconstruct --estimate-view`",
+    "roll (deg)": CAMERA,
+    "pan (view heights)": CAMERA,
+    "crop (fraction)": "use the uncropped screenshot (its border shows the background)",
+    "noise (sigma, grey levels)": "a screenshot without the noise (PNG as ParaView saved it)",
     "gamma": AS_SAVED,
     "colour shift (warm, x)": AS_SAVED,
     "wrong background": "`--background` with the screenshot's background colour",
+    "background (view gives it)": "`--background` with the screenshot's background colour",
     "annotation": "`--mask` over the annotations",
     "shading (lit render)": "take the screenshot with the volume's Shade off",
     "another volume's screenshot": "none: the TF of another volume's picture is not this volume's",
@@ -92,37 +102,43 @@ def plot_methods(results, out):
     fig.savefig(os.path.join(out, "report_methods.png"), dpi=110)
 
 
+def stable_methods(results):
+    """The methods of the stability section that report.json holds rows of, in the charts' order."""
+    cases = results["cases"]
+    ran = {r["method"] for v in cases for r in cases[v]["stability"]}
+    return [m for m in STABLE_METHODS if m in ran]
+
+
 def plot_stability(results, out):
     cases = results["cases"]
-    tooth = cases["tooth"]["stability"]
-    kinds = list(dict.fromkeys(r["perturbation"] for r in tooth))
+    stable = stable_methods(results)
+    rows = [r for v in cases for r in cases[v]["stability"]]
+    kinds = list(dict.fromkeys(r["perturbation"] for r in rows))
     rows_of_charts = int(math.ceil(len(kinds) / 4))
     fig, axes = plt.subplots(rows_of_charts, 4, figsize=(16, 3.3 * rows_of_charts), squeeze=False)
     for k, kind in enumerate(kinds):
         ax = axes[k // 4][k % 4]
-        for q, method in enumerate(STABLE_METHODS):
+        labels = {r["strength"]: r["label"] for r in rows if r["perturbation"] == kind}
+        xs = sorted(labels)
+        for q, method in enumerate(stable):
             pts = {}
-            for volume in cases:
-                for r in cases[volume]["stability"]:
-                    if r["perturbation"] == kind and r["method"] == method:
-                        pts.setdefault(r["strength"], []).append(r["success"])
-            xs = sorted(pts)
-            shift = (q - (len(STABLE_METHODS) - 1) / 2) * 0.06  # equal rates stay visible
+            for r in rows:
+                if r["perturbation"] == kind and r["method"] == method:
+                    pts.setdefault(r["strength"], []).append(r["success"])
+            if not pts:
+                continue
+            shift = (q - (len(stable) - 1) / 2) * 0.06  # equal rates stay visible
             ax.plot(
-                [i + shift for i in range(len(xs))],
-                [np.mean(pts[x]) + shift / 3 for x in xs],
+                [xs.index(x) + shift for x in sorted(pts)],
+                [np.mean(pts[x]) + shift / 3 for x in sorted(pts)],
                 "-",
                 marker=MARKERS[method],
                 color=COLORS[method],
                 label=method,
                 alpha=0.85,
             )
-            labels = [
-                next(r["label"] for r in tooth if r["perturbation"] == kind and r["strength"] == x)
-                for x in xs
-            ]
-            ax.set_xticks(range(len(xs)))
-            ax.set_xticklabels(labels, fontsize=7)
+        ax.set_xticks(range(len(xs)))
+        ax.set_xticklabels([labels[x] for x in xs], fontsize=7)
         ax.set_ylim(-0.05, 1.05)
         ax.set_title(kind, fontsize=9)
         ax.set_ylabel("success rate", fontsize=8)
@@ -225,42 +241,63 @@ def charts(results, out):
 
 
 def method_guide(results):
-    """Markdown table: per perturbation kind, each method's success rate on the perturbed cases and
-    the one to use, how far it held and where it broke."""
+    """Markdown table: per perturbation kind, each method's success rate on the perturbed cases, the
+    one to use (among the methods that ran on every perturbed case: the highest success, then mean
+    PSNR), how far it held, where it broke and, beyond that, the method that held where it broke
+    (measured) or, where none did, advice (REMEDIES, not measured)."""
     cases = results["cases"]
+    methods = stable_methods(results)
     kinds = list(dict.fromkeys(r["perturbation"] for v in cases for r in cases[v]["stability"]))
-    methods = list(STABLE_METHODS)
     rows = []
     for kind in kinds:
         perturbed = [
-            r
+            (v, r)
             for v in cases
             for r in cases[v]["stability"]
             if r["perturbation"] == kind and r["strength"] != 0
         ]
         if not perturbed:
             continue
+        every = {(v, r["strength"]) for v, r in perturbed}
+        ran = {m: [(v, r) for v, r in perturbed if r["method"] == m] for m in methods}
         stats = {
-            m: (
-                np.mean([r["success"] for r in perturbed if r["method"] == m]),
-                np.mean([r["psnr"] for r in perturbed if r["method"] == m]),
-            )
+            m: (np.mean([r["success"] for _, r in ran[m]]), np.mean([r["psnr"] for _, r in ran[m]]))
             for m in methods
+            if ran[m]
         }
-        use = max(methods, key=lambda m: stats[m])
-        held, broke = "-", "-"
-        for strength in sorted({r["strength"] for r in perturbed}):
-            mine = [r for r in perturbed if r["method"] == use and r["strength"] == strength]
-            if all(r["success"] for r in mine):
-                held = mine[0]["label"]
+        full = [m for m in stats if {(v, r["strength"]) for v, r in ran[m]} == every]
+        use = max(full, key=lambda m: stats[m])
+        held, broke, failed = "-", "-", set()
+        for strength in sorted({r["strength"] for _, r in perturbed}):
+            mine = [(v, r) for v, r in ran[use] if r["strength"] == strength]
+            if all(r["success"] for _, r in mine):
+                held = mine[0][1]["label"]
             else:
-                broke = mine[0]["label"]
+                broke = mine[0][1]["label"]
+                failed = {(v, r["strength"]) for v, r in ran[use] if r["strength"] >= strength}
+                failed -= {(v, r["strength"]) for v, r in ran[use] if r["success"]}
                 break
+        beyond = "-"
+        if failed:
+            tried = {
+                m: [r["success"] for v, r in ran[m] if (v, r["strength"]) in failed]
+                for m in stats
+                if m != use
+            }
+            alt = max(tried, key=lambda m: (sum(tried[m]), -len(tried[m])), default=None)
+            if alt and sum(tried[alt]):
+                beyond = f"{alt}: {sum(tried[alt])} of its {len(tried[alt])} there succeed"
+            elif kind in REMEDIES:
+                beyond = REMEDIES[kind] + " (not measured)"
+        cell = lambda m: (  # noqa: E731
+            "-"
+            if m not in stats
+            else f"{100 * stats[m][0]:.0f} %" + ("" if m in full else f" ({len(ran[m])} cases)")
+        )
         rows.append(
             [kind]
-            + [f"{100 * stats[m][0]:.0f} %" for m in methods]
-            + [use if stats[use][0] > 0 else "none succeeds", held, broke]
-            + [REMEDIES.get(kind, "-") if broke != "-" else "-"]
+            + [cell(m) for m in methods]
+            + [use if stats[use][0] > 0 else "none succeeds", held, broke, beyond]
         )
     head = ["screenshot problem"] + methods + ["use", "withstood up to", "broke at", "beyond that"]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -316,7 +353,35 @@ def methods_markdown(results):
 
 def stability_markdown(results):
     cases = results["cases"]
+    methods = stable_methods(results)
+    seconds = lambda r: f"{r['seconds']:.1f}" if "seconds" in r else "-"  # noqa: E731
+
+    def refusal(r):
+        """The reason `ddg` gave ("... error: REASON"), "yes" when the row holds none (a report.json
+        that recorded the command instead), "-" when it did not refuse."""
+        if not r["error"]:
+            return "-"
+        reason = r["error"].split(" error: ", 1)
+        return reason[1].replace("|", "/") if len(reason) == 2 else "yes"
+
     md = ["## Stability: where each method breaks", "", "![stability](report_stability.png)", ""]
+    if MATCH in methods:
+        md += [
+            f"{MATCH} is `ddg reconstruct` without `--view`, started from grey: it estimates the "
+            "background (uniform or ParaView's gradient), masks overlays and estimates the camera "
+            "(azimuth, elevation, roll, distance, pan from ParaView's reset camera) before fitting "
+            f"the TF. {QUERY_MATCH} starts it from the query's TF"
+            + (
+                " (on the unperturbed screenshot and the strongest of each kind only)"
+                if QUERY_MATCH in methods
+                else ""
+            )
+            + ". The other methods get the reference view's file (camera and white background) "
+            "whatever the perturbation; in *background (view gives it)* their view file has the "
+            "screenshot's background (the gradient as `background2`), the match is told nothing. "
+            "Time: the `ddg` commands' wall-clock, as in the methods section.",
+            "",
+        ]
     fails = {}
     for volume in cases:
         st = cases[volume]["stability"]
@@ -331,6 +396,8 @@ def stability_markdown(results):
                     ("method", lambda r: r["method"]),
                     ("PSNR", lambda r: f"{r['psnr']:.1f}"),
                     ("success", lambda r: "yes" if r["success"] else "no"),
+                    ("time s", seconds),
+                    ("refused", refusal),
                 ],
             ),
             "",
@@ -342,24 +409,47 @@ def stability_markdown(results):
                 )
     md += ["Failures seen (perturbation, method: cases):", ""]
     md += [f"- {k[0]}, {k[1]}: {', '.join(v)}" for k, v in sorted(fails.items())] or ["- none"]
-    rate = {
-        m: np.mean([r["success"] for v in cases for r in cases[v]["stability"] if r["method"] == m])
-        for m in STABLE_METHODS
+    ran = {
+        m: [r for v in cases for r in cases[v]["stability"] if r["method"] == m] for m in methods
     }
-    best = max(rate, key=rate.get)
+    rate = {m: np.mean([r["success"] for r in ran[m]]) for m in methods}
+    everywhere = [m for m in methods if len(ran[m]) == max(len(x) for x in ran.values())]
+    best = max(everywhere, key=rate.get)
+    timed = {m: [r["seconds"] for r in ran[m] if r.get("seconds")] for m in methods}
     md += [
         "",
-        "Success rate over all perturbations: "
-        + ", ".join(f"{m} {100 * s:.0f} %" for m, s in rate.items())
-        + f". Most robust here: {best}.",
+        "Success rate over all perturbations (the cases each method ran on): "
+        + ", ".join(
+            f"{m} {100 * rate[m]:.0f} % of {len(ran[m])}"
+            + (
+                f" ({refused} refused)"
+                if (refused := sum(bool(r["error"]) for r in ran[m]))
+                else ""
+            )
+            for m in methods
+        )
+        + f". Most robust of the methods run on every case: {best}.",
         "",
+    ]
+    if any(timed.values()):
+        md += [
+            "Time per case (median, min-max, s): "
+            + ", ".join(
+                f"{m} {np.median(t):.1f} ({min(t):.1f}-{max(t):.1f})" for m, t in timed.items() if t
+            )
+            + ".",
+            "",
+        ]
+    md += [
         "### Which method to use when",
         "",
         "Per kind of screenshot problem, over its perturbed cases on "
         + " and ".join(cases)
-        + ": each method's success rate, the method to use (highest success, then mean PSNR), the "
+        + ": each method's success rate (with its number of cases where it did not run on all), "
+        "the method to use (of those that ran on all: highest success, then mean PSNR), the "
         "strongest perturbation it withstood on every volume and the first it did not. The last "
-        "column is advice for what no method withstands (not measured here).",
+        "column is what held where it broke: another method's measured successes there, or, "
+        "where none held, advice (not measured here).",
         "",
         method_guide(results),
         "",
@@ -453,6 +543,7 @@ def markdown(results, out):
         f"# Speed against accuracy, stability, model size{' (quick run)' if quick else ''}",
         "",
         f"Produced by `Testing/Benchmarks/report.py{quick}` on 2 cores in {results['minutes']:.1f} min"
+        + (f" at commit {results['commit']}" if results.get("commit") else "")
         + (
             " (before --confirm, whose time is in its section)"
             if confirmed_in_this_run(results)
@@ -465,6 +556,20 @@ def markdown(results, out):
         + ".",
         "",
     ]
+    for rerun in results.get("reruns", []):
+        mach = rerun["machine"]
+        md += [
+            f"Re-measured on {rerun['date']}"
+            + (f" at commit {rerun['commit']}" if rerun.get("commit") else "")
+            + f" with `report.py{quick} --sections "
+            f"{' '.join(rerun['sections'])}` in {rerun['minutes']:.1f} min ("
+            + ", ".join(f"{name} {m:.1f}" for name, m in rerun["section_minutes"].items())
+            + f"): the {', '.join(rerun['sections'])} section(s) below; the others are from the "
+            f"run above. Machine: {mach['cpu']}, {mach['cores']} cores shared with other jobs "
+            f"(load average {mach['load_average']:.1f} at the start, "
+            f"{mach['load_average_end']:.1f} at the end), so its times are upper bounds.",
+            "",
+        ]
     md += methods_markdown(results)
     md += stability_markdown(results)
     md += optimisation_markdown(results)
