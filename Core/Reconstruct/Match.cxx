@@ -755,7 +755,7 @@ PictureBackground estimateBackground(const Image& picture)
   const double near =
     static_cast<double>(std::count_if(dev.begin(), dev.end(), [&](double d) { return d <= tol; })) /
     static_cast<double>(dev.size());
-  if (near < 0.75 || bg.noise > 12.0 / 255.0)
+  if (near < 0.75)
   {
     std::ostringstream msg;
     msg << "the picture has no background colour: only " << std::lround(100 * near)
