@@ -750,7 +750,26 @@ PictureBackground estimateBackground(const Image& picture)
       d = std::max(d, std::abs(px(x, y, c) - m[c]));
     dev.push_back(d);
   }
-  bg.noise = 1.4826 * median(dev);
+  // the noise from neighbouring border pixels (a scene's two colours do not count as noise)
+  std::vector<double> steps;
+  auto step = [&](int x0, int y0, int x1, int y1)
+  {
+    double d = 0;
+    for (int c = 0; c < 3; ++c)
+      d = std::max(d, std::abs(px(x0, y0, c) - px(x1, y1, c)));
+    steps.push_back(d);
+  };
+  for (int x = 0; x + 1 < w; ++x)
+  {
+    step(x, 0, x + 1, 0);
+    step(x, h - 1, x + 1, h - 1);
+  }
+  for (int y = 0; y + 1 < h; ++y)
+  {
+    step(0, y, 0, y + 1);
+    step(w - 1, y, w - 1, y + 1);
+  }
+  bg.noise = 1.4826 * median(std::move(steps)) / std::sqrt(2.0);
   const double tol = std::max(4.0 / 255.0, 3.0 * bg.noise);
   const double near =
     static_cast<double>(std::count_if(dev.begin(), dev.end(), [&](double d) { return d <= tol; })) /

@@ -98,12 +98,29 @@ TEST(MatchBackground, ParaViewGradient)
 
 TEST(MatchBackground, NoDominantColourIsRefused)
 {
-  Image noise(64, 64, 3);
+  // a scene, not a background: the border is half dark, half light
+  Image scene(64, 64, 3);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c)
+        scene.pixels[3 * (static_cast<size_t>(y) * 64 + x) + c] = x < 32 ? 0.1f : 0.9f;
+  EXPECT_THROW(estimateBackground(scene), Error);
+  // a noisy screenshot keeps its background: the noise widens the tolerance
+  Image noisy = discPicture(64, 48, { 0.32, 0.34, 0.43 }, { 0.9, 0.8, 0.7 });
   std::mt19937 rng(3);
+  std::normal_distribution<float> n(0.0f, 15.0f / 255.0f);
+  for (auto& p : noisy.pixels)
+    p = std::clamp(p + n(rng), 0.0f, 1.0f);
+  const auto b = estimateBackground(noisy);
+  EXPECT_NEAR(b.bottom[2], 0.43, 4 * kLevel);
+  // nothing but noise: nothing to match
+  Image noise(64, 64, 3);
   std::uniform_real_distribution<float> u(0, 1);
   for (auto& p : noise.pixels)
     p = u(rng);
-  EXPECT_THROW(estimateBackground(noise), Error);
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  EXPECT_THROW(matchPicture(renderer, noise), Error);
 }
 
 TEST(MatchCamera, MovesAsParaViewsCamera)
