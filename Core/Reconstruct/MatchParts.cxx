@@ -1,0 +1,310 @@
+// MatchParts.cxx: binary rasters, their moments and overlaps, and a picture's letterbox
+// (MatchParts.h).
+#include "Reconstruct/MatchParts.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ddg
+{
+namespace matchparts
+{
+
+
+Image toImage(const Mask& mask)
+{
+  Image img(mask.w, mask.h, 1);
+  for (size_t i = 0; i < mask.m.size(); ++i)
+    img.pixels[i] = mask.m[i] ? 1.0f : 0.0f;
+  return img;
+}
+
+// Dilation by a (2r+1)^2 box (separable).
+Mask dilate(const Mask& in, int r)
+{
+  if (r <= 0)
+    return in;
+  Mask tmp(in.w, in.h), out(in.w, in.h);
+  for (int y = 0; y < in.h; ++y)
+  {
+    int last = -1000000; // x of the last set pixel seen, sweeping right then left
+    for (int x = 0; x < in.w; ++x)
+    {
+      if (in(x, y))
+        last = x;
+      tmp(x, y) = x - last <= r;
+    }
+    last = 1000000;
+    for (int x = in.w - 1; x >= 0; --x)
+    {
+      if (in(x, y))
+        last = x;
+      tmp(x, y) = tmp(x, y) || last - x <= r;
+    }
+  }
+  for (int x = 0; x < in.w; ++x)
+  {
+    int last = -1000000;
+    for (int y = 0; y < in.h; ++y)
+    {
+      if (tmp(x, y))
+        last = y;
+      out(x, y) = y - last <= r;
+    }
+    last = 1000000;
+    for (int y = in.h - 1; y >= 0; --y)
+    {
+      if (tmp(x, y))
+        last = y;
+      out(x, y) = out(x, y) || last - y <= r;
+    }
+  }
+  return out;
+}
+
+// Downsampling of a mask: a coarse pixel is set when at least half of its area is.
+Mask shrink(const Mask& in, int w, int h)
+{
+  Mask out(w, h);
+  for (int y = 0; y < h; ++y)
+  {
+    const int y0 = y * in.h / h, y1 = std::max(y0 + 1, (y + 1) * in.h / h);
+    for (int x = 0; x < w; ++x)
+    {
+      const int x0 = x * in.w / w, x1 = std::max(x0 + 1, (x + 1) * in.w / w);
+      int count = 0;
+      for (int yy = y0; yy < y1; ++yy)
+        for (int xx = x0; xx < x1; ++xx)
+          count += in(xx, yy);
+      out(x, y) = 2 * count >= (y1 - y0) * (x1 - x0);
+    }
+  }
+  return out;
+}
+
+// The mask with every unset region that does not reach the border set (4-neighbourhood).
+Mask fillHoles(const Mask& in)
+{
+  Mask outside(in.w, in.h);
+  std::vector<int> stack;
+  auto seed = [&](int x, int y)
+  {
+    if (!in(x, y) && !outside(x, y))
+    {
+      outside(x, y) = 1;
+      stack.push_back(y * in.w + x);
+    }
+  };
+  for (int x = 0; x < in.w; ++x)
+    seed(x, 0), seed(x, in.h - 1);
+  for (int y = 0; y < in.h; ++y)
+    seed(0, y), seed(in.w - 1, y);
+  while (!stack.empty())
+  {
+    const int p = stack.back();
+    stack.pop_back();
+    const int x = p % in.w, y = p / in.w;
+    if (x > 0)
+      seed(x - 1, y);
+    if (x + 1 < in.w)
+      seed(x + 1, y);
+    if (y > 0)
+      seed(x, y - 1);
+    if (y + 1 < in.h)
+      seed(x, y + 1);
+  }
+  Mask out(in.w, in.h);
+  for (size_t i = 0; i < out.m.size(); ++i)
+    out.m[i] = !outside.m[i];
+  return out;
+}
+
+// Connected parts (8-neighbourhood) of a mask: label per pixel (-1 = unset) and areas.
+std::vector<int> components(const Mask& mask, std::vector<int>& area)
+{
+  std::vector<int> label(mask.m.size(), -1);
+  area.clear();
+  std::vector<int> stack;
+  for (int start = 0; start < static_cast<int>(mask.m.size()); ++start)
+  {
+    if (!mask.m[start] || label[start] >= 0)
+      continue;
+    const int id = static_cast<int>(area.size());
+    area.push_back(0);
+    label[start] = id;
+    stack.push_back(start);
+    while (!stack.empty())
+    {
+      const int p = stack.back();
+      stack.pop_back();
+      ++area[id];
+      const int px = p % mask.w, py = p / mask.w;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx)
+        {
+          const int qx = px + dx, qy = py + dy;
+          if (qx < 0 || qy < 0 || qx >= mask.w || qy >= mask.h)
+            continue;
+          const int q = qy * mask.w + qx;
+          if (mask.m[q] && label[q] < 0)
+          {
+            label[q] = id;
+            stack.push_back(q);
+          }
+        }
+    }
+  }
+  return label;
+}
+
+double median(std::vector<double> v)
+{
+  if (v.empty())
+    return 0;
+  const size_t k = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+// --- silhouettes of the volume -------------------------------------------------------------
+
+
+Moments moments(const Mask& m, const Mask* care)
+{
+  Moments r;
+  double sx = 0, sy = 0, sxx = 0, syy = 0, sxy = 0;
+  for (int y = 0; y < m.h; ++y)
+    for (int x = 0; x < m.w; ++x)
+      if (m(x, y) && (!care || (*care)(x, y)))
+      {
+        const double px = x + 0.5, py = y + 0.5;
+        r.area += 1;
+        sx += px;
+        sy += py;
+        sxx += px * px;
+        syy += py * py;
+        sxy += px * py;
+      }
+  if (r.area == 0)
+    return r;
+  r.cx = sx / r.area;
+  r.cy = sy / r.area;
+  const double mxx = sxx / r.area - r.cx * r.cx, myy = syy / r.area - r.cy * r.cy,
+               mxy = sxy / r.area - r.cx * r.cy;
+  r.angle = 0.5 * std::atan2(2 * mxy, mxx - myy);
+  const double tr = mxx + myy, det = mxx * myy - mxy * mxy;
+  const double disc = std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  const double l1 = 0.5 * tr + disc, l2 = std::max(1e-12, 0.5 * tr - disc);
+  r.anisotropy = std::sqrt(l1 / l2);
+  return r;
+}
+
+// IoU of the target with `rendered` moved by the image-plane similarity that takes the point
+// cr of the render to ct of the target, rotated by rho (pixel coordinates, y down) and scaled.
+double similarityIoU(const Mask& target, const Mask& care, const Mask& rendered, double cr_x,
+  double cr_y, double ct_x, double ct_y, double rho, double scale)
+{
+  const double c = std::cos(rho), s = std::sin(rho);
+  long inter = 0, uni = 0;
+  for (int y = 0; y < target.h; ++y)
+    for (int x = 0; x < target.w; ++x)
+    {
+      if (!care(x, y))
+        continue;
+      const double px = x + 0.5 - ct_x, py = y + 0.5 - ct_y;
+      // q = cr + Rot(-rho) p / scale
+      const double qx = cr_x + (c * px + s * py) / scale, qy = cr_y + (-s * px + c * py) / scale;
+      const int ix = static_cast<int>(std::floor(qx)), iy = static_cast<int>(std::floor(qy));
+      const bool r = ix >= 0 && iy >= 0 && ix < rendered.w && iy < rendered.h && rendered(ix, iy);
+      const bool t = target(x, y);
+      inter += r && t;
+      uni += r || t;
+    }
+  return uni ? static_cast<double>(inter) / uni : 0.0;
+}
+
+double maskIoU(const Mask& target, const Mask& care, const Mask& rendered)
+{
+  long inter = 0, uni = 0;
+  for (size_t i = 0; i < target.m.size(); ++i)
+  {
+    if (!care.m[i])
+      continue;
+    inter += target.m[i] && rendered.m[i];
+    uni += target.m[i] || rendered.m[i];
+  }
+  return uni ? static_cast<double>(inter) / uni : 0.0;
+}
+
+// Bands of one colour along the picture's edges, each followed by a line of another colour: a
+// letterbox (or pillarbox) put around a picture. Returns the part inside {x, y, width, height}
+// (the whole picture when there is none).
+std::array<int, 4> letterbox(const Image& img)
+{
+  const int w = img.width, h = img.height, ch = img.channels;
+  // a line (row or column) of one colour: 98 % of its middle half (a band on the other axis
+  // may cover its ends) within 4 levels of its median
+  auto lineColour = [&](bool row, int index, std::array<double, 3>& colour)
+  {
+    const int full = row ? w : h, first = full / 4, n = std::max(1, full / 2);
+    std::vector<std::array<float, 3>> px(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i)
+    {
+      const int x = row ? first + i : index, y = row ? index : first + i;
+      for (int c = 0; c < 3; ++c)
+        px[static_cast<size_t>(i)][c] = img.pixels[(static_cast<size_t>(y) * w + x) * ch + c];
+    }
+    for (int c = 0; c < 3; ++c)
+    {
+      std::vector<double> v;
+      v.reserve(px.size());
+      for (const auto& p : px)
+        v.push_back(p[c]);
+      colour[c] = median(std::move(v));
+    }
+    int near = 0;
+    for (const auto& p : px)
+    {
+      double d = 0;
+      for (int c = 0; c < 3; ++c)
+        d = std::max(d, std::abs(p[c] - colour[c]));
+      near += d <= 4.0 / 255.0;
+    }
+    return near >= 0.98 * n;
+  };
+  auto distance = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::max({ std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2]) });
+  };
+  // the band's thickness on one side (0 when none): lines of the edge's colour, then (after at
+  // most two lines of transition) a line of one other colour
+  auto band = [&](bool row, bool fromStart)
+  {
+    const int n = row ? h : w;
+    auto line = [&](int k) { return fromStart ? k : n - 1 - k; };
+    std::array<double, 3> edge{}, c{};
+    if (!lineColour(row, line(0), edge))
+      return 0;
+    int k = 1;
+    while (k < n / 3 && lineColour(row, line(k), c) && distance(c, edge) <= 4.0 / 255.0)
+      ++k;
+    if (k < 2 || k >= n / 3)
+      return 0;
+    // the other colour holds for two more lines (a gradient background drifts instead)
+    std::array<double, 3> next{};
+    for (int t = k; t < std::min(n / 3, k + 3); ++t)
+      if (lineColour(row, line(t), c) && distance(c, edge) > 8.0 / 255.0)
+      {
+        for (int u = t + 1; u <= t + 2; ++u)
+          if (!lineColour(row, line(u), next) || distance(next, c) > 1.5 / 255.0)
+            return 0;
+        return t;
+      }
+    return 0;
+  };
+  const int top = band(true, true), bottom = band(true, false), left = band(false, true),
+            right = band(false, false);
+  return { left, top, w - left - right, h - top - bottom };
+}
+
+} // namespace matchparts
+} // namespace ddg

@@ -1,0 +1,87 @@
+// MatchParts.h: the picture match's inner parts, for Match.cxx only: binary rasters, their
+// moments and overlaps, the volume's block silhouettes, and a picture's letterbox.
+#pragma once
+
+#include "Image/Image.h"
+#include "Render/View.h"
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace ddg
+{
+class Volume;
+
+namespace matchparts
+{
+
+// A binary raster (row 0 at the top).
+struct Mask
+{
+  int w = 0, h = 0;
+  std::vector<std::uint8_t> m;
+  Mask() = default;
+  Mask(int width, int height)
+    : w(width)
+    , h(height)
+    , m(static_cast<size_t>(width) * height, 0)
+  {
+  }
+  std::uint8_t operator()(int x, int y) const { return m[static_cast<size_t>(y) * w + x]; }
+  std::uint8_t& operator()(int x, int y) { return m[static_cast<size_t>(y) * w + x]; }
+};
+
+Image toImage(const Mask& mask);
+/// Dilation by a (2r+1)^2 box.
+Mask dilate(const Mask& in, int r);
+/// Downsampling: a coarse pixel is set when at least half of its area is.
+Mask shrink(const Mask& in, int w, int h);
+/// The mask with every unset region that does not reach the border set.
+Mask fillHoles(const Mask& in);
+/// Connected parts (8-neighbourhood): label per pixel (-1 = unset) and areas.
+std::vector<int> components(const Mask& mask, std::vector<int>& area);
+double median(std::vector<double> v);
+
+// Area, centroid and principal axis of a mask's set pixels (where care is set).
+struct Moments
+{
+  double area = 0, cx = 0, cy = 0, angle = 0, anisotropy = 1;
+};
+Moments moments(const Mask& m, const Mask* care = nullptr);
+/// IoU of the target with `rendered` moved by the image-plane similarity taking its point cr
+/// to the target's ct, rotated by rho (pixel coordinates, y down) and scaled.
+double similarityIoU(const Mask& target, const Mask& care, const Mask& rendered, double cr_x,
+  double cr_y, double ct_x, double ct_y, double rho, double scale);
+/// IoU of two masks over the pixels `care` keeps.
+double maskIoU(const Mask& target, const Mask& care, const Mask& rendered);
+
+// The volume as blocks: per occupancy level (a value threshold), the centres of the occupied
+// blocks on the surface of the occupied set; their projections (discs) make the silhouette of
+// "opaque above the threshold" at any camera, far faster than ray casting.
+class SilhouetteModel
+{
+public:
+  explicit SilhouetteModel(const Volume& vol);
+
+  int levels() const { return static_cast<int>(Points.size()); }
+  /// The value threshold of a level (opaque at and above it).
+  float threshold(int level) const { return Thresholds[static_cast<size_t>(level)]; }
+
+  // The silhouette of level `level` at `view` in a w x h raster (the view's framing).
+  void render(const View& view, int level, int w, int h, Mask& out) const;
+
+private:
+  std::vector<std::vector<Eigen::Vector3f>> Points;
+  std::vector<float> Thresholds;
+  double Radius = 0;
+};
+
+/// Bands of one colour along the picture's edges, each followed by a line of another colour:
+/// a letterbox (or pillarbox). The part inside {x, y, width, height} (all when there is none).
+std::array<int, 4> letterbox(const Image& img);
+
+} // namespace matchparts
+} // namespace ddg
