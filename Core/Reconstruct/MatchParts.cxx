@@ -10,7 +10,6 @@ namespace ddg
 namespace matchparts
 {
 
-
 Image toImage(const Mask& mask)
 {
   Image img(mask.w, mask.h, 1);
@@ -167,7 +166,6 @@ double median(std::vector<double> v)
 }
 
 // --- silhouettes of the volume -------------------------------------------------------------
-
 
 Moments moments(const Mask& m, const Mask* care)
 {

@@ -67,8 +67,7 @@ SilhouetteModel::SilhouetteModel(const Volume& vol)
   Eigen::Vector3d half;
   for (int k = 0; k < 3; ++k)
     half[k] = 0.5 * bs * std::abs(s[k]);
-  Radius =
-    half.minCoeff(); // the inscribed sphere: occupied blocks already reach past the surface
+  Radius = half.minCoeff(); // the inscribed sphere: occupied blocks already reach past the surface
   for (float t : thresholds)
   {
     std::vector<Eigen::Vector3f> pts;

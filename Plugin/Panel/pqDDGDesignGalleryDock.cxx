@@ -3,6 +3,7 @@
 #include "ui_pqDDGDesignGalleryDock.h"
 
 #include "pqDDGDesignState.h"
+#include "pqDDGInputGuard.h"
 #include "pqDDGNavigationPad.h"
 #include "pqDDGOutlineView.h"
 #include "pqDDGPinStrip.h"
@@ -41,70 +42,6 @@
 #ifndef DDG_DATA_DIR
 #define DDG_DATA_DIR ""
 #endif
-
-namespace
-{
-/// While a long filter run processes events (match, build): user input reaches only the given
-/// Cancel buttons. pqProgressManager's own blocking lets "non-blockable" widgets through by the
-/// receiver of the event, but a click first goes to the top-level QWindow, which it blocks, so
-/// no button gets it; its blocking is lifted for the run and this filter blocks instead: input
-/// to windows passes (they route it to the widget under the cursor), input to any widget but the
-/// Cancel buttons, and shortcuts, are dropped (no re-entrant pipeline updates from the GUI).
-class InputGuard : public QObject
-{
-public:
-  InputGuard(std::initializer_list<QWidget*> allowed)
-    : Allowed(allowed)
-  {
-    auto* progress = pqApplicationCore::instance()->getProgressManager();
-    this->WasUnblocked = progress->unblockEvents(true);
-    QApplication::instance()->installEventFilter(this);
-  }
-  ~InputGuard() override
-  {
-    QApplication::instance()->removeEventFilter(this);
-    pqApplicationCore::instance()->getProgressManager()->unblockEvents(this->WasUnblocked);
-  }
-
-protected:
-  bool eventFilter(QObject* receiver, QEvent* event) override
-  {
-    switch (event->type())
-    {
-      case QEvent::MouseButtonPress:
-      case QEvent::MouseButtonRelease:
-      case QEvent::MouseButtonDblClick:
-      case QEvent::KeyPress:
-      case QEvent::KeyRelease:
-      case QEvent::Wheel:
-      case QEvent::Shortcut:
-      case QEvent::ShortcutOverride:
-      case QEvent::Drop:
-        if (receiver->isWindowType() && event->type() != QEvent::Shortcut &&
-          event->type() != QEvent::ShortcutOverride)
-          return false;
-        for (QWidget* w : this->Allowed)
-          if (receiver == w)
-            return false;
-        return true;
-      default:
-        return false;
-    }
-  }
-
-private:
-  QList<QWidget*> Allowed;
-  bool WasUnblocked = false;
-};
-
-bool writeText(const QString& path, const QString& text)
-{
-  QFile f(path);
-  if (!f.open(QIODevice::WriteOnly | QIODevice::Truncate))
-    return false;
-  return f.write(text.toUtf8()) >= 0;
-}
-} // namespace
 
 pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
   : QDockWidget(tr("Design Gallery"), parent)
@@ -279,139 +216,6 @@ void pqDDGDesignGalleryDock::setStatus(const QString& text, bool error)
   this->Ui->status->setStyleSheet(error ? "color: #b00000;" : "");
 }
 
-namespace
-{
-/// `image` scaled into `label`'s minimum size.
-QPixmap fitted(const QImage& image, const QLabel* label)
-{
-  return QPixmap::fromImage(
-    image.scaled(label->minimumSize(), Qt::KeepAspectRatio, Qt::SmoothTransformation));
-}
-} // namespace
-
-void pqDDGDesignGalleryDock::showMatch()
-{
-  auto& ui = *this->Ui;
-  const pqDDGDesignState::Match& m = this->State->lastMatch();
-  const bool has = this->State->hasMatch();
-  ui.applyMatch->setEnabled(has);
-  ui.match->setEnabled(!this->State->queryPicture().isEmpty());
-  // the picture, with what the match left out (overlays) tinted red
-  QImage picture = QImage::fromData(this->State->queryPicture());
-  const QRect part = m.Crop.isValid() ? m.Crop : QRect(QPoint(0, 0), m.Overlay.size());
-  if (!picture.isNull() && has && m.Overlay.size() == part.size() && picture.rect().contains(part))
-  {
-    picture = picture.convertToFormat(QImage::Format_ARGB32);
-    QImage tint(part.size(), QImage::Format_ARGB32);
-    tint.fill(Qt::transparent);
-    for (int y = 0; y < tint.height(); ++y)
-    {
-      const uchar* mask = m.Overlay.constScanLine(y);
-      auto* row = reinterpret_cast<QRgb*>(tint.scanLine(y));
-      for (int x = 0; x < tint.width(); ++x)
-        if (mask[x] > 127)
-          row[x] = qRgba(255, 0, 0, 140);
-    }
-    QPainter painter(&picture);
-    painter.drawImage(part.topLeft(), tint);
-  }
-  if (picture.isNull())
-    ui.pictureView->clear();
-  else
-    ui.pictureView->setPixmap(fitted(picture, ui.pictureView));
-  if (!has)
-  {
-    ui.matchPreview->clear();
-    ui.matchInfo->setText(this->State->queryPicture().isEmpty()
-        ? tr("Query with a picture, then Match fits a transfer function (and the camera) to it.")
-        : tr("Match refines the design toward the picture."));
-    return;
-  }
-  ui.matchPreview->setPixmap(fitted(m.Render, ui.matchPreview));
-  const auto t = [&m](int k) { return m.Timings.size() > k ? m.Timings[k] : 0.0; };
-  ui.matchInfo->setText(
-    tr("PSNR against the picture: the query's design %1 dB \u2192 the match %2 dB (fit %3 dB, "
-       "%4 steps)\nCamera %5, silhouette overlap %6\nTime: background %7 s, camera %8 s, fit "
-       "%9 s")
-      .arg(m.PSNRBefore, 0, 'f', 1)
-      .arg(m.PSNRAfter, 0, 'f', 1)
-      .arg(m.FitPSNR, 0, 'f', 1)
-      .arg(m.Iterations)
-      .arg(m.CameraEstimated ? tr("estimated") : tr("given (the current one)"))
-      .arg(m.Overlap, 0, 'f', 2)
-      .arg(t(0), 0, 'f', 1)
-      .arg(t(1), 0, 'f', 1)
-      .arg(t(2), 0, 'f', 1));
-}
-
-void pqDDGDesignGalleryDock::showMatchProgress(
-  const QString& stage, double fraction, const QImage& preview)
-{
-  this->Ui->progress->setValue(static_cast<int>(std::lround(100 * fraction)));
-  this->Ui->matchInfo->setText(tr("Matching: %1 (%2 %)")
-                                 .arg(stage.isEmpty() ? tr("starting") : stage)
-                                 .arg(std::lround(100 * fraction)));
-  if (!preview.isNull())
-    this->Ui->matchPreview->setPixmap(fitted(preview, this->Ui->matchPreview));
-}
-
-void pqDDGDesignGalleryDock::runMatch()
-{
-  this->Ui->match->setEnabled(false);
-  bool matched = false;
-  {
-    InputGuard guard{ this->Ui->cancelMatch, this->Ui->cancel };
-    matched = this->State->match(this->Ui->pictureCamera->isChecked());
-  }
-  this->showMatch();
-  if (!matched) // why, next to the Match button too
-    this->Ui->matchInfo->setText(this->State->lastMessage());
-}
-
-void pqDDGDesignGalleryDock::applyMatch()
-{
-  if (!this->State->ready(true))
-    return;
-  if (!this->State->hasMatch())
-  {
-    this->setStatus(tr("Match the picture first."), true);
-    return;
-  }
-  const pqDDGDesignState::Match& m = this->State->lastMatch();
-  const bool twoD = !m.ParaView2D.isEmpty();
-  const bool moveCamera = this->Ui->moveCamera->isChecked();
-  pqDataRepresentation* repr = ddgpanel::representation(this->State->volume());
-  auto* view = qobject_cast<pqRenderView*>(pqActiveObjects::instance().activeView());
-  if (moveCamera && !view)
-  {
-    this->setStatus(tr("Apply failed: there is no render view to move the camera of."), true);
-    return;
-  }
-  // one undo step: the TF, and the camera when asked (after the TF was written: on an error
-  // nothing is recorded and the scene stays as it was)
-  const QString label = tr("Apply Design Gallery Match");
-  BEGIN_UNDO_SET(label);
-  QString error = twoD
-    ? ddgpanel::applyTransferFunction2D(repr, this->State->array(), m.ParaView2D, label, false)
-    : ddgpanel::applyPreset(repr, this->State->array(), m.Preset, label, false);
-  if (error.isEmpty() && moveCamera)
-    error = ddgpanel::setCamera(view, m.View, true);
-  END_UNDO_SET();
-  if (!error.isEmpty())
-  {
-    if (auto* undo = pqApplicationCore::instance()->getUndoStack())
-      if (undo->canUndo() && undo->undoLabel() == label)
-        undo->undo(); // the TF went in, the camera did not: take the TF back too
-    this->setStatus(tr("Apply failed: %1").arg(error), true);
-    return;
-  }
-  if (view)
-    view->render();
-  this->setStatus(
-    tr("Applied the match to '%1'%2 (Edit > Undo takes it back).")
-      .arg(this->Source->getSMName(), moveCamera ? tr(" with the picture's camera") : QString()));
-}
-
 void pqDDGDesignGalleryDock::clearModel()
 {
   this->Ui->preview->clear();
@@ -570,7 +374,7 @@ void pqDDGDesignGalleryDock::buildModel()
   const QString dir = dialog.getSelectedFiles().first();
   bool built = false;
   {
-    InputGuard guard{ this->Ui->cancel };
+    pqDDGInputGuard guard{ this->Ui->cancel };
     built = this->State->buildModel(dir);
   }
   if (!built)
@@ -623,78 +427,4 @@ void pqDDGDesignGalleryDock::lockChanged()
     if (this->Locks[k]->isChecked())
       locked.push_back(k);
   this->State->setLockedRegions(locked);
-}
-
-// --- apply and export ----------------------------------------------------------------------------
-
-void pqDDGDesignGalleryDock::apply()
-{
-  if (!this->State->ready(true) || !this->State->updateDesign()) // the TF at the current camera
-    return;
-  const pqDDGDesignState::Design& d = this->State->design();
-  const bool twoD = !d.ParaView2D.isEmpty();
-  pqDataRepresentation* repr = ddgpanel::representation(this->State->volume());
-  const QString error = twoD ? ddgpanel::applyTransferFunction2D(repr, this->State->array(),
-                                 d.ParaView2D, tr("Apply Design Gallery 2D Transfer Function"))
-                             : ddgpanel::applyPreset(repr, this->State->array(), d.Preset,
-                                 tr("Apply Design Gallery Transfer Function"));
-  if (!error.isEmpty())
-  {
-    this->setStatus(tr("Apply failed: %1").arg(error), true);
-    return;
-  }
-  if (auto* view = pqActiveObjects::instance().activeView())
-    view->render();
-  if (twoD)
-  {
-    const QJsonObject pv = QJsonDocument::fromJson(d.ParaView2D.toUtf8()).object();
-    this->setStatus(tr("Applied to '%1' as ParaView 2D boxes (Edit > Undo takes it back; the Color "
-                       "Map Editor's 2D editor shows them).")
-                      .arg(this->Source->getSMName()));
-    this->Ui->status->setToolTip(
-      tr("%1 Gaussian boxes fitted to the design: RMSE %2 of emission and "
-         "per-sample opacity (largest opacity %3)")
-        .arg(pv.value("Boxes").toArray().size() / 8)
-        .arg(pv.value("Fit").toObject().value("rmse").toDouble(), 0, 'f', 4)
-        .arg(pv.value("Fit").toObject().value("max_alpha").toDouble(), 0, 'f', 3));
-    return;
-  }
-  this->setStatus(tr("Applied to '%1' (Edit > Undo takes it back; the Color Map Editor shows it).")
-                    .arg(this->Source->getSMName()));
-}
-
-void pqDDGDesignGalleryDock::exportPreset()
-{
-  if (!this->State->ready(true) || this->State->design().Preset.isEmpty())
-    return;
-  const QString path = QFileDialog::getSaveFileName(
-    this, tr("Export ParaView preset"), "design.json", tr("JSON (*.json)"));
-  if (!path.isEmpty() && !writeText(path, this->State->design().Preset))
-    this->setStatus(tr("Cannot write %1.").arg(path), true);
-}
-
-void pqDDGDesignGalleryDock::exportSlicer()
-{
-  if (!this->State->ready(true))
-    return;
-  if (this->State->design().Slicer.isEmpty())
-  {
-    this->setStatus(tr("3D Slicer's format holds 1D transfer functions only."), true);
-    return;
-  }
-  const QString path = QFileDialog::getSaveFileName(
-    this, tr("Export 3D Slicer volume property"), "design.vp.json", tr("JSON (*.json)"));
-  if (!path.isEmpty() && !writeText(path, this->State->design().Slicer))
-    this->setStatus(tr("Cannot write %1.").arg(path), true);
-}
-
-void pqDDGDesignGalleryDock::exportHistory()
-{
-  if (!this->State->ready(true))
-    return;
-  const QString path = QFileDialog::getSaveFileName(
-    this, tr("Export design history (ddg replay)"), "history.json", tr("JSON (*.json)"));
-  if (!path.isEmpty() &&
-    !writeText(path, pqDDGDesignState::historyText(this->State->exportSteps())))
-    this->setStatus(tr("Cannot write %1.").arg(path), true);
 }

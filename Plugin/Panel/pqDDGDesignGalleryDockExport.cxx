@@ -1,0 +1,120 @@
+// pqDDGDesignGalleryDockExport.cxx: the Design Gallery panel's Apply and its exports (preset,
+// Slicer, history) (pqDDGDesignGalleryDock).
+#include "pqDDGDesignGalleryDock.h"
+#include "ui_pqDDGDesignGalleryDock.h"
+#include "pqDDGDesignState.h"
+#include "pqDDGNavigationPad.h"
+#include "pqDDGOutlineView.h"
+#include "pqDDGPinStrip.h"
+#include "pqDDGQueryBox.h"
+#include "pqDDGScene.h"
+#include <pqActiveObjects.h>
+#include <pqApplicationCore.h>
+#include <pqDataRepresentation.h>
+#include <pqFileDialog.h>
+#include <pqPipelineSource.h>
+#include <pqProgressManager.h>
+#include <pqRenderView.h>
+#include <pqServer.h>
+#include <pqUndoStack.h>
+#include <vtkSMDDGScene.h>
+#include <vtkSMSourceProxy.h>
+#include <QApplication>
+#include <QCheckBox>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QJsonDocument>
+#include <QMimeData>
+#include <QPainter>
+#include <QScrollArea>
+#include <QShortcut>
+#include <QTimer>
+#include <cmath>
+
+namespace
+{
+bool writeText(const QString& path, const QString& text)
+{
+  QFile f(path);
+  if (!f.open(QIODevice::WriteOnly | QIODevice::Truncate))
+    return false;
+  return f.write(text.toUtf8()) >= 0;
+}
+} // namespace
+
+// --- apply and export ----------------------------------------------------------------------------
+
+void pqDDGDesignGalleryDock::apply()
+{
+  if (!this->State->ready(true) || !this->State->updateDesign()) // the TF at the current camera
+    return;
+  const pqDDGDesignState::Design& d = this->State->design();
+  const bool twoD = !d.ParaView2D.isEmpty();
+  pqDataRepresentation* repr = ddgpanel::representation(this->State->volume());
+  const QString error = twoD ? ddgpanel::applyTransferFunction2D(repr, this->State->array(),
+                                 d.ParaView2D, tr("Apply Design Gallery 2D Transfer Function"))
+                             : ddgpanel::applyPreset(repr, this->State->array(), d.Preset,
+                                 tr("Apply Design Gallery Transfer Function"));
+  if (!error.isEmpty())
+  {
+    this->setStatus(tr("Apply failed: %1").arg(error), true);
+    return;
+  }
+  if (auto* view = pqActiveObjects::instance().activeView())
+    view->render();
+  if (twoD)
+  {
+    const QJsonObject pv = QJsonDocument::fromJson(d.ParaView2D.toUtf8()).object();
+    this->setStatus(tr("Applied to '%1' as ParaView 2D boxes (Edit > Undo takes it back; the Color "
+                       "Map Editor's 2D editor shows them).")
+                      .arg(this->Source->getSMName()));
+    this->Ui->status->setToolTip(
+      tr("%1 Gaussian boxes fitted to the design: RMSE %2 of emission and "
+         "per-sample opacity (largest opacity %3)")
+        .arg(pv.value("Boxes").toArray().size() / 8)
+        .arg(pv.value("Fit").toObject().value("rmse").toDouble(), 0, 'f', 4)
+        .arg(pv.value("Fit").toObject().value("max_alpha").toDouble(), 0, 'f', 3));
+    return;
+  }
+  this->setStatus(tr("Applied to '%1' (Edit > Undo takes it back; the Color Map Editor shows it).")
+                    .arg(this->Source->getSMName()));
+}
+
+void pqDDGDesignGalleryDock::exportPreset()
+{
+  if (!this->State->ready(true) || this->State->design().Preset.isEmpty())
+    return;
+  const QString path = QFileDialog::getSaveFileName(
+    this, tr("Export ParaView preset"), "design.json", tr("JSON (*.json)"));
+  if (!path.isEmpty() && !writeText(path, this->State->design().Preset))
+    this->setStatus(tr("Cannot write %1.").arg(path), true);
+}
+
+void pqDDGDesignGalleryDock::exportSlicer()
+{
+  if (!this->State->ready(true))
+    return;
+  if (this->State->design().Slicer.isEmpty())
+  {
+    this->setStatus(tr("3D Slicer's format holds 1D transfer functions only."), true);
+    return;
+  }
+  const QString path = QFileDialog::getSaveFileName(
+    this, tr("Export 3D Slicer volume property"), "design.vp.json", tr("JSON (*.json)"));
+  if (!path.isEmpty() && !writeText(path, this->State->design().Slicer))
+    this->setStatus(tr("Cannot write %1.").arg(path), true);
+}
+
+void pqDDGDesignGalleryDock::exportHistory()
+{
+  if (!this->State->ready(true))
+    return;
+  const QString path = QFileDialog::getSaveFileName(
+    this, tr("Export design history (ddg replay)"), "history.json", tr("JSON (*.json)"));
+  if (!path.isEmpty() &&
+    !writeText(path, pqDDGDesignState::historyText(this->State->exportSteps())))
+    this->setStatus(tr("Cannot write %1.").arg(path), true);
+}

@@ -1,0 +1,169 @@
+// pqDDGDesignGalleryDockMatch.cxx: the Design Gallery panel's "Match the picture" box: its
+// figures, previews and progress, and Apply with the camera (pqDDGDesignGalleryDock).
+#include "pqDDGDesignGalleryDock.h"
+#include "ui_pqDDGDesignGalleryDock.h"
+#include "pqDDGDesignState.h"
+#include "pqDDGInputGuard.h"
+#include "pqDDGNavigationPad.h"
+#include "pqDDGOutlineView.h"
+#include "pqDDGPinStrip.h"
+#include "pqDDGQueryBox.h"
+#include "pqDDGScene.h"
+#include <pqActiveObjects.h>
+#include <pqApplicationCore.h>
+#include <pqDataRepresentation.h>
+#include <pqFileDialog.h>
+#include <pqPipelineSource.h>
+#include <pqProgressManager.h>
+#include <pqRenderView.h>
+#include <pqServer.h>
+#include <pqUndoStack.h>
+#include <vtkSMDDGScene.h>
+#include <vtkSMSourceProxy.h>
+#include <QApplication>
+#include <QCheckBox>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QJsonDocument>
+#include <QMimeData>
+#include <QPainter>
+#include <QScrollArea>
+#include <QShortcut>
+#include <QTimer>
+#include <cmath>
+
+namespace
+{
+/// `image` scaled into `label`'s minimum size.
+QPixmap fitted(const QImage& image, const QLabel* label)
+{
+  return QPixmap::fromImage(
+    image.scaled(label->minimumSize(), Qt::KeepAspectRatio, Qt::SmoothTransformation));
+}
+} // namespace
+
+void pqDDGDesignGalleryDock::showMatch()
+{
+  auto& ui = *this->Ui;
+  const pqDDGDesignState::Match& m = this->State->lastMatch();
+  const bool has = this->State->hasMatch();
+  ui.applyMatch->setEnabled(has);
+  ui.match->setEnabled(!this->State->queryPicture().isEmpty());
+  // the picture, with what the match left out (overlays) tinted red
+  QImage picture = QImage::fromData(this->State->queryPicture());
+  const QRect part = m.Crop.isValid() ? m.Crop : QRect(QPoint(0, 0), m.Overlay.size());
+  if (!picture.isNull() && has && m.Overlay.size() == part.size() && picture.rect().contains(part))
+  {
+    picture = picture.convertToFormat(QImage::Format_ARGB32);
+    QImage tint(part.size(), QImage::Format_ARGB32);
+    tint.fill(Qt::transparent);
+    for (int y = 0; y < tint.height(); ++y)
+    {
+      const uchar* mask = m.Overlay.constScanLine(y);
+      auto* row = reinterpret_cast<QRgb*>(tint.scanLine(y));
+      for (int x = 0; x < tint.width(); ++x)
+        if (mask[x] > 127)
+          row[x] = qRgba(255, 0, 0, 140);
+    }
+    QPainter painter(&picture);
+    painter.drawImage(part.topLeft(), tint);
+  }
+  if (picture.isNull())
+    ui.pictureView->clear();
+  else
+    ui.pictureView->setPixmap(fitted(picture, ui.pictureView));
+  if (!has)
+  {
+    ui.matchPreview->clear();
+    ui.matchInfo->setText(this->State->queryPicture().isEmpty()
+        ? tr("Query with a picture, then Match fits a transfer function (and the camera) to it.")
+        : tr("Match refines the design toward the picture."));
+    return;
+  }
+  ui.matchPreview->setPixmap(fitted(m.Render, ui.matchPreview));
+  const auto t = [&m](int k) { return m.Timings.size() > k ? m.Timings[k] : 0.0; };
+  ui.matchInfo->setText(
+    tr("PSNR against the picture: the query's design %1 dB \u2192 the match %2 dB (fit %3 dB, "
+       "%4 steps)\nCamera %5, silhouette overlap %6\nTime: background %7 s, camera %8 s, fit "
+       "%9 s")
+      .arg(m.PSNRBefore, 0, 'f', 1)
+      .arg(m.PSNRAfter, 0, 'f', 1)
+      .arg(m.FitPSNR, 0, 'f', 1)
+      .arg(m.Iterations)
+      .arg(m.CameraEstimated ? tr("estimated") : tr("given (the current one)"))
+      .arg(m.Overlap, 0, 'f', 2)
+      .arg(t(0), 0, 'f', 1)
+      .arg(t(1), 0, 'f', 1)
+      .arg(t(2), 0, 'f', 1));
+}
+
+void pqDDGDesignGalleryDock::showMatchProgress(
+  const QString& stage, double fraction, const QImage& preview)
+{
+  this->Ui->progress->setValue(static_cast<int>(std::lround(100 * fraction)));
+  this->Ui->matchInfo->setText(tr("Matching: %1 (%2 %)")
+                                 .arg(stage.isEmpty() ? tr("starting") : stage)
+                                 .arg(std::lround(100 * fraction)));
+  if (!preview.isNull())
+    this->Ui->matchPreview->setPixmap(fitted(preview, this->Ui->matchPreview));
+}
+
+void pqDDGDesignGalleryDock::runMatch()
+{
+  this->Ui->match->setEnabled(false);
+  bool matched = false;
+  {
+    pqDDGInputGuard guard{ this->Ui->cancelMatch, this->Ui->cancel };
+    matched = this->State->match(this->Ui->pictureCamera->isChecked());
+  }
+  this->showMatch();
+  if (!matched) // why, next to the Match button too
+    this->Ui->matchInfo->setText(this->State->lastMessage());
+}
+
+void pqDDGDesignGalleryDock::applyMatch()
+{
+  if (!this->State->ready(true))
+    return;
+  if (!this->State->hasMatch())
+  {
+    this->setStatus(tr("Match the picture first."), true);
+    return;
+  }
+  const pqDDGDesignState::Match& m = this->State->lastMatch();
+  const bool twoD = !m.ParaView2D.isEmpty();
+  const bool moveCamera = this->Ui->moveCamera->isChecked();
+  pqDataRepresentation* repr = ddgpanel::representation(this->State->volume());
+  auto* view = qobject_cast<pqRenderView*>(pqActiveObjects::instance().activeView());
+  if (moveCamera && !view)
+  {
+    this->setStatus(tr("Apply failed: there is no render view to move the camera of."), true);
+    return;
+  }
+  // one undo step: the TF, and the camera when asked (after the TF was written: on an error
+  // nothing is recorded and the scene stays as it was)
+  const QString label = tr("Apply Design Gallery Match");
+  BEGIN_UNDO_SET(label);
+  QString error = twoD
+    ? ddgpanel::applyTransferFunction2D(repr, this->State->array(), m.ParaView2D, label, false)
+    : ddgpanel::applyPreset(repr, this->State->array(), m.Preset, label, false);
+  if (error.isEmpty() && moveCamera)
+    error = ddgpanel::setCamera(view, m.View, true);
+  END_UNDO_SET();
+  if (!error.isEmpty())
+  {
+    if (auto* undo = pqApplicationCore::instance()->getUndoStack())
+      if (undo->canUndo() && undo->undoLabel() == label)
+        undo->undo(); // the TF went in, the camera did not: take the TF back too
+    this->setStatus(tr("Apply failed: %1").arg(error), true);
+    return;
+  }
+  if (view)
+    view->render();
+  this->setStatus(
+    tr("Applied the match to '%1'%2 (Edit > Undo takes it back).")
+      .arg(this->Source->getSMName(), moveCamera ? tr(" with the picture's camera") : QString()));
+}

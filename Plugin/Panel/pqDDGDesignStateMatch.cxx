@@ -1,0 +1,184 @@
+// pqDDGDesignStateMatch.cxx: the panel state's match of the query's picture (DDG Reconstruct
+// Transfer Function with MatchPicture) and what it found (pqDDGDesignState).
+#include "pqDDGDesignState.h"
+#include "pqDDGScene.h"
+#include <vtkAlgorithm.h>
+#include <vtkCallbackCommand.h>
+#include <vtkCommand.h>
+#include <vtkDDGReconstructTransferFunction.h>
+#include <vtkDataArray.h>
+#include <vtkDataObject.h>
+#include <vtkImageData.h>
+#include <vtkOutputWindow.h>
+#include <vtkPointData.h>
+#include <vtkSMPropertyHelper.h>
+#include <vtkSMSessionProxyManager.h>
+#include <vtkSMSourceProxy.h>
+#include <vtkTable.h>
+#include <QCoreApplication>
+#include <QJsonDocument>
+#include <algorithm>
+#include <limits>
+#include <vector>
+
+// --- matching the query's picture ---------------------------------------------------------------
+
+namespace
+{
+/// A 1-component 8-bit array of an image output as a grey QImage (null when there is none).
+QImage maskOf(vtkDataObject* data, const char* name)
+{
+  auto* image = vtkImageData::SafeDownCast(data);
+  vtkDataArray* a = image ? image->GetPointData()->GetArray(name) : nullptr;
+  if (!a)
+    return {};
+  int dims[3];
+  image->GetDimensions(dims);
+  QImage out(dims[0], dims[1], QImage::Format_Grayscale8);
+  for (int y = 0; y < dims[1]; ++y)
+  {
+    uchar* row = out.scanLine(y);
+    for (int x = 0; x < dims[0]; ++x) // VTK rows go up
+      row[x] = static_cast<uchar>(
+        a->GetComponent(static_cast<vtkIdType>(dims[1] - 1 - y) * dims[0] + x, 0));
+  }
+  return out;
+}
+
+double first(const QJsonArray& values, int k = 0)
+{
+  return values.size() > k ? values[k].toDouble() : std::numeric_limits<double>::quiet_NaN();
+}
+} // namespace
+
+bool pqDDGDesignState::match(bool fromCurrentCamera)
+{
+  if (this->Busy || !this->ready(true))
+    return false;
+  if (this->QueryPicture.isEmpty())
+  {
+    this->report(tr("Query with a picture first: Match fits a transfer function to the "
+                    "query's picture."),
+      true);
+    return false;
+  }
+  if (!this->MatchProxy)
+    this->MatchProxy = ddgpanel::newFilter("DDGReconstructTransferFunction", this->Source, 0);
+  if (!this->MatchProxy || !this->MatchProxy->GetProperty("MatchPicture"))
+  {
+    this->MatchProxy = nullptr;
+    this->report(tr("The DesignGallery plugin on the server cannot match pictures (load this "
+                    "version of it on the server too)."),
+      true);
+    return false;
+  }
+  const QJsonObject view = this->currentView(PreviewSide);
+  const bool twoD = !this->Current.ParaView2D.isEmpty();
+  vtkSMSourceProxy* p = this->MatchProxy;
+  vtkSMPropertyHelper(p, "SelectInputScalars")
+    .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
+  vtkSMPropertyHelper(p, "MatchPicture").Set(1);
+  vtkSMPropertyHelper(p, "TargetImageData").Set(this->QueryPicture.toBase64().constData());
+  // the picture's camera: the current one (its size becomes the picture's), or estimated from
+  // ParaView's reset camera; the representation's opacity unit distance either way
+  vtkSMPropertyHelper(p, "ViewJSON")
+    .Set(fromCurrentCamera ? ddgpanel::jsonText(view).toUtf8().constData() : "");
+  vtkSMPropertyHelper(p, "EstimateCamera").Set(0);
+  vtkSMPropertyHelper(p, "OpacityUnitDistance")
+    .Set(view.value("opacity_unit_distance").toDouble(0.0));
+  // from the query's design (its TF at the current camera); 2D models fit a 2D TF from grey
+  vtkSMPropertyHelper(p, "TwoD").Set(twoD ? 1 : 0);
+  vtkSMPropertyHelper(p, "InitialTransferFunction")
+    .Set(twoD ? "" : this->Current.Preset.toUtf8().constData());
+  vtkSMPropertyHelper(p, "PreviewEvery").Set(10);
+  p->UpdateVTKObjects();
+
+  this->LastMatch = Match();
+  Q_EMIT this->matchChanged();
+  this->report(tr("Matching the picture (Cancel stops it)..."));
+  this->setBusy(true);
+  // progress and cancel: ParaView processes events while the filter reports progress; in a
+  // builtin session the filter is reachable here, so Cancel sets its AbortExecute and its
+  // preview shows (with a remote server the progress bar follows pqProgressManager and the
+  // match runs to its end)
+  auto* filter = vtkDDGReconstructTransferFunction::SafeDownCast(p->GetClientSideObject());
+  struct Watch
+  {
+    pqDDGDesignState* Self;
+    vtkMTimeType PreviewTime = 0;
+  } watch{ this };
+  vtkNew<vtkCallbackCommand> onProgress;
+  onProgress->SetClientData(&watch);
+  onProgress->SetCallback(
+    [](vtkObject* caller, unsigned long, void* data, void*)
+    {
+      auto* w = static_cast<Watch*>(data);
+      auto* f = static_cast<vtkDDGReconstructTransferFunction*>(caller);
+      QImage preview;
+      if (vtkImageData* image = f->GetPreview())
+        if (image->GetMTime() != w->PreviewTime)
+        {
+          w->PreviewTime = image->GetMTime();
+          preview = ddgpanel::imageOf(image);
+        }
+      const char* stage = f->GetProgressText();
+      Q_EMIT w->Self->matchProgress(
+        QString::fromUtf8(stage ? stage : ""), f->GetProgress(), preview);
+      QCoreApplication::processEvents();
+      if (w->Self->Cancelled)
+        f->SetAbortExecute(1);
+    });
+  const unsigned long observer =
+    filter ? filter->AddObserver(vtkCommand::ProgressEvent, onProgress) : 0;
+  p->UpdatePipeline();
+  if (filter)
+    filter->RemoveObserver(observer);
+  const bool cancelled = this->Cancelled;
+  this->setBusy(false);
+
+  const QString error = ddgpanel::lastError(p);
+  vtkSmartPointer<vtkTable> table = vtkTable::SafeDownCast(ddgpanel::fetch(p, 0));
+  vtkSmartPointer<vtkDataObject> images = table ? ddgpanel::fetch(p, 1) : nullptr;
+  vtkSMPropertyHelper(p, "TargetImageData").Set(""); // do not keep megabytes around
+  vtkSMPropertyHelper(p, "InitialTransferFunction").Set("");
+  p->UpdateVTKObjects();
+  if (cancelled || error == "cancelled" || !table || !error.isEmpty())
+  {
+    const QString text = cancelled || error == "cancelled"
+      ? tr("Match cancelled: nothing was applied, the scene is unchanged.")
+      : tr("The match failed: %1. Nothing was applied, the scene is unchanged.")
+          .arg(error.isEmpty() ? tr("no transfer function (see the Output Messages)") : error);
+    this->report(text, true);
+    return false;
+  }
+  Match& m = this->LastMatch;
+  m.Preset = ddgpanel::fieldText(table, "Preset");
+  if (m.Preset.isEmpty())
+    m.Preset = ddgpanel::fieldText(table, "TransferFunction2D");
+  m.ParaView2D = ddgpanel::fieldText(table, "ParaViewTransferFunction2D");
+  m.View = QJsonDocument::fromJson(ddgpanel::fieldText(table, "View").toUtf8()).object();
+  m.CameraEstimated = first(ddgpanel::fieldNumbers(table, "CameraEstimated")) != 0;
+  m.Overlap = first(ddgpanel::fieldNumbers(table, "Overlap"));
+  m.FitPSNR = first(ddgpanel::fieldNumbers(table, "FitPSNR"));
+  const QJsonArray psnr = ddgpanel::fieldNumbers(table, "PicturePSNR");
+  m.PSNRBefore = first(psnr, 0);
+  m.PSNRAfter = first(psnr, 1);
+  for (const auto& t : ddgpanel::fieldNumbers(table, "Timings"))
+    m.Timings.push_back(t.toDouble());
+  m.Iterations = static_cast<int>(first(ddgpanel::fieldNumbers(table, "Iterations")));
+  m.Render = ddgpanel::imageOf(images);
+  m.Overlay = maskOf(images, "Overlay");
+  const QJsonArray crop = ddgpanel::fieldNumbers(table, "Crop");
+  if (crop.size() == 4)
+    m.Crop = QRect(crop[0].toInt(), crop[1].toInt(), crop[2].toInt(), crop[3].toInt());
+  m.Picture = this->QueryName;
+  m.Steps = this->Steps;
+  m.FromCurrentCamera = fromCurrentCamera;
+  Q_EMIT this->matchChanged();
+  this->report(tr("Matched in %1 s: PSNR against the picture %2 dB (the query's design: %3 dB). "
+                  "Apply writes it.")
+                 .arg(m.Timings.size() == 4 ? m.Timings[3] : 0.0, 0, 'f', 1)
+                 .arg(m.PSNRAfter, 0, 'f', 1)
+                 .arg(m.PSNRBefore, 0, 'f', 1));
+  return true;
+}
