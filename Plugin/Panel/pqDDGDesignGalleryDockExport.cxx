@@ -1,24 +1,13 @@
 // pqDDGDesignGalleryDockExport.cxx: the Design Gallery panel's Apply and its exports (preset,
 // Slicer, history) (pqDDGDesignGalleryDock).
 #include "pqDDGDesignGalleryDock.h"
-#include "ui_pqDDGDesignGalleryDock.h"
 #include "pqDDGDesignState.h"
 #include "pqDDGNavigationPad.h"
 #include "pqDDGOutlineView.h"
 #include "pqDDGPinStrip.h"
 #include "pqDDGQueryBox.h"
 #include "pqDDGScene.h"
-#include <pqActiveObjects.h>
-#include <pqApplicationCore.h>
-#include <pqDataRepresentation.h>
-#include <pqFileDialog.h>
-#include <pqPipelineSource.h>
-#include <pqProgressManager.h>
-#include <pqRenderView.h>
-#include <pqServer.h>
-#include <pqUndoStack.h>
-#include <vtkSMDDGScene.h>
-#include <vtkSMSourceProxy.h>
+#include "ui_pqDDGDesignGalleryDock.h"
 #include <QApplication>
 #include <QCheckBox>
 #include <QDragEnterEvent>
@@ -33,6 +22,17 @@
 #include <QShortcut>
 #include <QTimer>
 #include <cmath>
+#include <pqActiveObjects.h>
+#include <pqApplicationCore.h>
+#include <pqDataRepresentation.h>
+#include <pqFileDialog.h>
+#include <pqPipelineSource.h>
+#include <pqProgressManager.h>
+#include <pqRenderView.h>
+#include <pqServer.h>
+#include <pqUndoStack.h>
+#include <vtkSMDDGScene.h>
+#include <vtkSMSourceProxy.h>
 
 namespace
 {

@@ -1,7 +1,6 @@
 // pqDDGDesignGalleryDockMatch.cxx: the Design Gallery panel's "Match the picture" box: its
 // figures, previews and progress, and Apply with the camera (pqDDGDesignGalleryDock).
 #include "pqDDGDesignGalleryDock.h"
-#include "ui_pqDDGDesignGalleryDock.h"
 #include "pqDDGDesignState.h"
 #include "pqDDGInputGuard.h"
 #include "pqDDGNavigationPad.h"
@@ -9,17 +8,7 @@
 #include "pqDDGPinStrip.h"
 #include "pqDDGQueryBox.h"
 #include "pqDDGScene.h"
-#include <pqActiveObjects.h>
-#include <pqApplicationCore.h>
-#include <pqDataRepresentation.h>
-#include <pqFileDialog.h>
-#include <pqPipelineSource.h>
-#include <pqProgressManager.h>
-#include <pqRenderView.h>
-#include <pqServer.h>
-#include <pqUndoStack.h>
-#include <vtkSMDDGScene.h>
-#include <vtkSMSourceProxy.h>
+#include "ui_pqDDGDesignGalleryDock.h"
 #include <QApplication>
 #include <QCheckBox>
 #include <QDragEnterEvent>
@@ -34,6 +23,17 @@
 #include <QShortcut>
 #include <QTimer>
 #include <cmath>
+#include <pqActiveObjects.h>
+#include <pqApplicationCore.h>
+#include <pqDataRepresentation.h>
+#include <pqFileDialog.h>
+#include <pqPipelineSource.h>
+#include <pqProgressManager.h>
+#include <pqRenderView.h>
+#include <pqServer.h>
+#include <pqUndoStack.h>
+#include <vtkSMDDGScene.h>
+#include <vtkSMSourceProxy.h>
 
 namespace
 {

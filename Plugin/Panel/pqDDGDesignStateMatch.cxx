@@ -2,6 +2,11 @@
 // Transfer Function with MatchPicture) and what it found (pqDDGDesignState).
 #include "pqDDGDesignState.h"
 #include "pqDDGScene.h"
+#include <QCoreApplication>
+#include <QJsonDocument>
+#include <algorithm>
+#include <limits>
+#include <vector>
 #include <vtkAlgorithm.h>
 #include <vtkCallbackCommand.h>
 #include <vtkCommand.h>
@@ -15,11 +20,6 @@
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
 #include <vtkTable.h>
-#include <QCoreApplication>
-#include <QJsonDocument>
-#include <algorithm>
-#include <limits>
-#include <vector>
 
 // --- matching the query's picture ---------------------------------------------------------------
 
