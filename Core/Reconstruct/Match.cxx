@@ -183,7 +183,6 @@ struct Picture
   Image rgba;                   // RGBA straight, when the picture has transparency
   bool alpha = false;           // compare premultiplied RGBA (no background)
   Mask foreground;              // differs from the background
-  Mask overlay;                 // foreground parts judged overlays (ignored)
   std::vector<int> label, area; // connected parts of the foreground
 };
 
