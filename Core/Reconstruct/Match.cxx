@@ -1,9 +1,11 @@
-// Match.cxx: background, masks, silhouette camera search, then the reconstruction (Match.h).
+// Match.cxx: background, masks, the camera search (silhouettes, colours), then the reconstruction
+// (Match.h).
 #include "Reconstruct/Match.h"
 
-#include "Reconstruct/MatchParts.h"
+#include "Reconstruct/MatchCamera.h"
 
 #include "Common/Error.h"
+#include "Common/Parallel.h"
 #include "Render/RayCaster.h"
 #include "Volume/Volume.h"
 
@@ -13,6 +15,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <iterator>
+#include <limits>
+#include <memory>
 #include <numeric>
 #include <random>
 #include <sstream>
@@ -55,125 +60,6 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t)
 {
   return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-// A camera in the search's parameters (relative to the reset camera).
-struct CameraParams
-{
-  double az = 0, el = 0, roll = 0, logZoom = 0, panX = 0, panY = 0;
-  int level = 0;
-  double score = 0;
-
-  View view(const View& base) const
-  {
-    return cameraMove(
-      base, az, std::clamp(el, -89.0, 89.0), roll, std::exp(logZoom), { panX, panY });
-  }
-};
-
-// The larger of the angles (degrees) between two cameras' directions and between their view-ups.
-double orientationDistance(const View& a, const View& b)
-{
-  auto angle = [](const Eigen::Vector3d& u, const Eigen::Vector3d& v)
-  { return std::acos(std::clamp(u.normalized().dot(v.normalized()), -1.0, 1.0)) * 180.0 / M_PI; };
-  const Eigen::Vector3d fa = a.camera.focalPoint - a.camera.position,
-                        fb = b.camera.focalPoint - b.camera.position;
-  return std::max(angle(fa, fb), angle(a.camera.viewUp, b.camera.viewUp));
-}
-
-// Nelder-Mead maximisation of f over the six camera parameters.
-template <typename F>
-CameraParams nelderMead(const CameraParams& start, F&& f, int evaluations, double stepScale = 1)
-{
-  constexpr int n = 6;
-  double steps[n] = { 6, 6, 6, 0.06, 0.03, 0.03 };
-  for (double& st : steps)
-    st *= stepScale;
-  auto toVec = [](const CameraParams& p) {
-    return std::array<double, n>{ p.az, p.el, p.roll, p.logZoom, p.panX, p.panY };
-  };
-  auto fromVec = [&](const std::array<double, n>& v)
-  {
-    CameraParams p = start;
-    p.az = v[0];
-    p.el = std::clamp(v[1], -89.0, 89.0);
-    p.roll = v[2];
-    p.logZoom = std::clamp(v[3], -2.0, 2.0);
-    p.panX = v[4];
-    p.panY = v[5];
-    return p;
-  };
-  std::vector<std::array<double, n>> x(n + 1, toVec(start));
-  std::vector<double> fx(n + 1);
-  for (int i = 0; i < n; ++i)
-    x[i + 1][i] += steps[i];
-  int used = 0;
-  for (int i = 0; i <= n; ++i, ++used)
-    fx[i] = -f(fromVec(x[i]));
-  while (used < evaluations)
-  {
-    std::vector<int> order(n + 1);
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](int a, int b) { return fx[a] < fx[b]; });
-    const int best = order[0], worst = order[n], second = order[n - 1];
-    std::array<double, n> centroid{};
-    for (int i = 0; i <= n; ++i)
-      if (i != worst)
-        for (int k = 0; k < n; ++k)
-          centroid[k] += x[i][k] / n;
-    auto along = [&](double t)
-    {
-      std::array<double, n> p;
-      for (int k = 0; k < n; ++k)
-        p[k] = centroid[k] + t * (x[worst][k] - centroid[k]);
-      return p;
-    };
-    const auto xr = along(-1.0);
-    const double fr = -f(fromVec(xr));
-    ++used;
-    if (fr < fx[best])
-    {
-      const auto xe = along(-2.0);
-      const double fe = -f(fromVec(xe));
-      ++used;
-      if (fe < fr)
-        x[worst] = xe, fx[worst] = fe;
-      else
-        x[worst] = xr, fx[worst] = fr;
-    }
-    else if (fr < fx[second])
-    {
-      x[worst] = xr;
-      fx[worst] = fr;
-    }
-    else
-    {
-      const auto xc = along(fr < fx[worst] ? -0.5 : 0.5);
-      const double fc = -f(fromVec(xc));
-      ++used;
-      if (fc < std::min(fr, fx[worst]))
-      {
-        x[worst] = xc;
-        fx[worst] = fc;
-      }
-      else
-      {
-        for (int i = 0; i <= n; ++i)
-        {
-          if (i == best)
-            continue;
-          for (int k = 0; k < n; ++k)
-            x[i][k] = x[best][k] + 0.5 * (x[i][k] - x[best][k]);
-          fx[i] = -f(fromVec(x[i]));
-          ++used;
-        }
-      }
-    }
-  }
-  const int bestIndex = static_cast<int>(std::min_element(fx.begin(), fx.end()) - fx.begin());
-  CameraParams r = fromVec(x[bestIndex]);
-  r.score = -fx[bestIndex];
-  return r;
 }
 
 // The picture prepared for the match: RGB (alpha composited away) or RGBA, and its masks.
@@ -355,12 +241,15 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
 
   CameraParams best;
   std::vector<CameraParams> finalists;
+  std::unique_ptr<EmissionScreen> screen; // the colours' screening (stage 2b)
   Mask scratch;
-  auto exactIoU = [&](const CameraParams& p)
+  auto iouAt = [&](const CameraParams& p, Mask& buffer)
   {
-    model.render(p.view(start), p.level, sw, sh, scratch);
-    return maskIoU(target, care, scratch);
+    model.render(p.view(start), p.level, sw, sh, buffer);
+    return maskIoU(target, care, buffer);
   };
+  auto exactIoU = [&](const CameraParams& p) { return iouAt(p, scratch); };
+  const int threads = opt.reconstruction.render.threads;
   const bool search = !opt.view || opt.refineGivenView;
   if (search)
   {
@@ -377,43 +266,55 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       directions.emplace_back(0, 89);
       directions.emplace_back(0, -89);
     }
-    Mask rendered;
-    for (const auto& [az, el] : directions)
-      for (int level = 0; level < model.levels(); ++level)
+    // per direction, its alignments to the picture (for the colours' screening below)
+    std::vector<Aligned> aligned(directions.size());
+    std::vector<std::vector<CameraParams>> coarseOf(directions.size());
+    parallelFor(static_cast<std::int64_t>(directions.size()), threads,
+      [&](std::int64_t d, int)
       {
-        CameraParams p;
-        p.az = az;
-        p.el = el;
-        p.level = level;
-        model.render(p.view(start), level, sw, sh, rendered);
-        const Moments mr = moments(rendered);
-        if (mr.area < 4)
-          continue;
-        const double scale = std::sqrt(mt.area / mr.area);
-        std::vector<double> rhos{ mt.angle - mr.angle, mt.angle - mr.angle + M_PI };
-        if (mt.anisotropy < 1.3 || mr.anisotropy < 1.3)
-          for (int k = 0; k < 12; ++k)
-            rhos.push_back(k * M_PI / 6);
-        for (double rho : rhos)
+        Mask rendered;
+        for (int level = 0; level < model.levels(); ++level)
         {
-          const double iou =
-            similarityIoU(target, care, rendered, mr.cx, mr.cy, mt.cx, mt.cy, rho, scale);
-          CameraParams q = p;
-          // roll: a camera roll of +a turns the picture by -a in pixel coordinates (y down)
-          q.roll = -rho * 180.0 / M_PI;
-          q.logZoom = std::log(scale);
-          // where the render's centroid lands after the roll and zoom about the centre, and
-          // the pan that moves it onto the target's
-          const double c = std::cos(rho), s = std::sin(rho);
-          const double rx = mr.cx - 0.5 * sw, ry = mr.cy - 0.5 * sh;
-          const double lx = 0.5 * sw + scale * (c * rx - s * ry),
-                       ly = 0.5 * sh + scale * (s * rx + c * ry);
-          q.panX = -(mt.cx - lx) / sh;
-          q.panY = (mt.cy - ly) / sh;
-          q.score = iou;
-          coarse.push_back(q);
+          const auto [az, el] = directions[static_cast<size_t>(d)];
+          CameraParams p;
+          p.az = az;
+          p.el = el;
+          p.level = level;
+          model.render(p.view(start), level, sw, sh, rendered);
+          const Moments mr = moments(rendered);
+          if (mr.area < 4)
+            continue;
+          const double scale = std::sqrt(mt.area / mr.area);
+          std::vector<double> rhos{ mt.angle - mr.angle, mt.angle - mr.angle + M_PI };
+          if (mt.anisotropy < 1.3 || mr.anisotropy < 1.3)
+            for (int k = 0; k < 12; ++k)
+              rhos.push_back(k * M_PI / 6);
+          for (double rho : rhos)
+          {
+            const double iou =
+              similarityIoU(target, care, rendered, mr.cx, mr.cy, mt.cx, mt.cy, rho, scale);
+            CameraParams q = p;
+            // roll: a camera roll of +a turns the picture by -a in pixel coordinates (y down)
+            q.roll = -rho * 180.0 / M_PI;
+            q.logZoom = std::log(scale);
+            // where the render's centroid lands after the roll and zoom about the centre, and
+            // the pan that moves it onto the target's
+            const double c = std::cos(rho), s = std::sin(rho);
+            const double rx = mr.cx - 0.5 * sw, ry = mr.cy - 0.5 * sh;
+            const double lx = 0.5 * sw + scale * (c * rx - s * ry),
+                         ly = 0.5 * sh + scale * (s * rx + c * ry);
+            q.panX = -(mt.cx - lx) / sh;
+            q.panY = (mt.cy - ly) / sh;
+            q.score = iou;
+            coarseOf[static_cast<size_t>(d)].push_back(q);
+            if (iou >= 0.5)
+              aligned[static_cast<size_t>(d)].push_back(
+                { { mr.cx, mr.cy, mt.cx, mt.cy, rho, scale }, q });
+          }
         }
-      }
+      });
+    for (const auto& c : coarseOf)
+      coarse.insert(coarse.end(), c.begin(), c.end());
     std::sort(coarse.begin(), coarse.end(),
       [](const CameraParams& a, const CameraParams& b) { return a.score > b.score; });
     report("camera", 0.15, nullptr);
@@ -429,11 +330,51 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       if (seeds.size() >= 12)
         break;
     }
-    for (size_t i = 0; i < seeds.size(); ++i)
+    finalists.resize(seeds.size());
+    parallelFor(static_cast<std::int64_t>(seeds.size()), threads,
+      [&](std::int64_t i, int)
+      {
+        Mask local;
+        finalists[static_cast<size_t>(i)] = nelderMead(
+          seeds[static_cast<size_t>(i)], [&](const CameraParams& p) { return iouAt(p, local); },
+          160);
+      });
+    report("camera", 0.3, nullptr);
+    // stage 2b: the colours. Silhouettes cannot tell apart the directions of a roundish or
+    // translucent object; the emission model (MatchCamera.h) ranks every alignment of stage 1
+    // by how well its rays explain the picture's colours; the best distinct ones, refined on
+    // it, join the finalists (and the short fits below, whatever their overlap)
     {
-      auto refined = nelderMead(seeds[i], exactIoU, 160);
-      finalists.push_back(refined);
-      report("camera", 0.15 + 0.25 * (i + 1) / seeds.size(), nullptr);
+      Image difference(sw, sh, 3);
+      {
+        const Image small = resizeImage(pic.alpha ? pic.rgba : pic.rgb, sw, sh);
+        for (int y = 0; y < sh; ++y)
+        {
+          // the background of the raster's row: the picture's row at its centre
+          const auto bgc = view.backgroundAt(std::min(H - 1, static_cast<int>((y + 0.5) * H / sh)));
+          for (int x = 0; x < sw; ++x)
+            for (int c = 0; c < 3; ++c)
+            {
+              const float* p = &small.pixels[(static_cast<size_t>(y) * sw + x) * small.channels];
+              difference.pixels[3 * (static_cast<size_t>(y) * sw + x) + c] =
+                pic.alpha ? p[c] * p[3] : static_cast<float>(p[c] - bgc[c]);
+            }
+        }
+      }
+      // one thread a ray cast: the directions, then the candidates, run side by side
+      RenderOptions how = opt.reconstruction.render;
+      how.sampleDistance = 3.0 * caster.defaultSampleDistance();
+      how.threads = 1;
+      screen = std::make_unique<EmissionScreen>(renderer, how, difference, care);
+      auto refined =
+        screenByColours(*screen, start, directions, aligned, opt.colourCandidates, threads);
+      for (auto& r : refined)
+      {
+        Mask local;
+        r.score = iouAt(r, local);
+      }
+      finalists.insert(finalists.end(), refined.begin(), refined.end());
+      report("camera", 0.45, nullptr);
     }
     // the discs of the blocks make a silhouette a little larger than the volume's own (and the
     // search then moves the camera away): the distance corrected by the ratio of the sizes of
@@ -444,6 +385,8 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       const auto range = volume.range();
       for (auto& f : finalists)
       {
+        if (f.fromColours)
+          continue; // its distance was fitted on the colours
         TransferFunction1D occupancy;
         const double t = model.threshold(f.level), eps = 1e-4 * (range[1] - range[0]);
         occupancy.color = { { range[0], 1, 1, 1 } };
@@ -550,9 +493,38 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       bool distinct = true;
       for (const auto& s : scored)
         distinct = distinct && orientationDistance(f.view(start), s.view(start)) > 15;
-      if (distinct && f.score >= finalists.front().score - 0.1 &&
+      if (distinct && !f.fromColours && f.score >= finalists.front().score - 0.1 &&
         static_cast<int>(scored.size()) < std::max(1, opt.cameraCandidates))
         scored.push_back(f);
+    }
+    // and the colours' cameras that explain the picture's colours clearly better (a residual
+    // under 0.8 of theirs) than all of those, whose silhouettes then misled them; the best
+    // explained first. (Refined on the colours, a colour camera has the edge over a silhouette
+    // camera near the right one: the margin keeps it from displacing it.)
+    double silhouettesColour = std::numeric_limits<double>::infinity();
+    for (auto& f : scored)
+      silhouettesColour = std::min(silhouettesColour, f.colour = screen->residual(f.view(start)));
+    std::vector<CameraParams> byColour;
+    std::copy_if(finalists.begin(), finalists.end(), std::back_inserter(byColour),
+      [&](const CameraParams& f) { return f.fromColours && f.colour < 0.8 * silhouettesColour; });
+    std::sort(byColour.begin(), byColour.end(),
+      [](const CameraParams& a, const CameraParams& b) { return a.colour < b.colour; });
+    // (one near a silhouettes' camera replaces it: the same direction, better explained)
+    for (const auto& f : byColour)
+    {
+      std::vector<CameraParams> kept;
+      bool nearColours = false;
+      for (const auto& s : scored)
+      {
+        const bool near = orientationDistance(f.view(start), s.view(start)) <= 15;
+        nearColours = nearColours || (near && s.fromColours);
+        if (!near || s.fromColours)
+          kept.push_back(s);
+      }
+      if (nearColours)
+        continue;
+      kept.push_back(f);
+      scored = std::move(kept);
     }
     ReconstructionOptions sopt = opt.reconstruction;
     sopt.twoD = false;
@@ -680,7 +652,8 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       fits.begin(), fits.end(), [](const Scored& a, const Scored& b) { return a.loss < b.loss; });
     best = winner->camera;
     // a polish: a longer fit at the winner (more rays, all the bins, full sampling), the camera
-    // refined with it
+    // refined with it; up to 3 times, until the camera moves by less than 0.25 degrees (and a
+    // quarter of a percent in distance and pan)
     {
       ReconstructionOptions o = sopt;
       o.initial1D = winner->tf.table1D;
@@ -688,11 +661,28 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       o.raysPerIteration = 1024;
       o.bins = opt.reconstruction.bins;
       o.render.sampleDistance = opt.reconstruction.render.sampleDistance;
-      winner->tf =
-        reconstructTransferFunction(renderer, { makeTarget(best.view(start), workImage, W, H) }, o);
-      best = refine(winner->tf, best, 150, o.render); // fine rims need full sampling
+      for (int round = 0; round < 3; ++round)
+      {
+        winner->tf = reconstructTransferFunction(
+          renderer, { makeTarget(best.view(start), workImage, W, H) }, o);
+        const CameraParams before = best;
+        best = refine(winner->tf, best, 150, o.render); // fine rims need full sampling
+        o.initial1D = winner->tf.table1D;
+        // again while the camera still moves (a better TF places it better, and back)
+        if (orientationDistance(before.view(start), best.view(start)) < 0.25 &&
+          std::abs(before.logZoom - best.logZoom) < 0.0025 &&
+          std::hypot(before.panX - best.panX, before.panY - best.panY) < 0.0025)
+          break;
+      }
     }
-    best.score = exactIoU(best);
+    // the overlap: at the level whose silhouette fits best (a colours' camera kept its seed's)
+    best.score = 0;
+    for (int level = 0; level < model.levels(); ++level)
+    {
+      CameraParams at = best;
+      at.level = level;
+      best.score = std::max(best.score, exactIoU(at));
+    }
     if (!opt.reconstruction.twoD)
       warm = winner->tf.table1D; // started from the given initial TF, if any
   }

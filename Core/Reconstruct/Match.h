@@ -2,8 +2,9 @@
 // ParaView's GUI, a figure — whose camera, framing and background nobody wrote down. The
 // background is estimated (uniform or ParaView's vertical gradient), overlays (orientation
 // axes, scalar bar, text) are masked out, the camera (azimuth, elevation, roll, distance, pan)
-// is estimated from ParaView's reset camera by silhouettes, and the differentiable
-// reconstruction then fits the TF with empty space kept transparent.
+// is estimated from ParaView's reset camera by silhouettes and by the picture's colours (an
+// emission model of each camera's rays), and the differentiable reconstruction then fits the TF
+// with empty space kept transparent.
 #pragma once
 
 #include "Image/Image.h"
@@ -82,9 +83,14 @@ struct MatchOptions
   bool maskOverlays = true;
   /// Camera candidates scored by a short reconstruction [6].
   int cameraCandidates = 6;
+  /// Cameras found by the picture's colours (an emission model of each camera's rays, no TF)
+  /// rather than silhouettes, refined and scored by a short reconstruction too: they tell apart
+  /// the directions of a roundish or translucent object, whose silhouettes are alike [8].
+  int colourCandidates = 8;
   /// Rounds of the camera's refinement on the picture's colours, each a Nelder-Mead search
-  /// with the TF held, then a short refit of the TF [4].
-  int cameraRounds = 4;
+  /// with the TF held, then a short refit of the TF [2]. The winner's polish then repeats a
+  /// longer fit and a refinement until the camera settles (at most 3 times).
+  int cameraRounds = 2;
   /// Below this silhouette overlap (IoU) of the best camera, no camera explains the picture and
   /// matchPicture throws [0.6].
   double minimumOverlap = 0.6;

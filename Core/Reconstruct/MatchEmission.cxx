@@ -1,0 +1,196 @@
+// MatchEmission.cxx: the emission model's screening of cameras by a picture's colours
+// (MatchCamera.h).
+#include "Reconstruct/MatchCamera.h"
+
+#include "Common/Error.h"
+#include "Common/Parallel.h"
+
+#include <Eigen/Cholesky>
+
+namespace ddg
+{
+namespace matchparts
+{
+
+EmissionScreen::EmissionScreen(const DifferentiableRenderer& renderer, const RenderOptions& how,
+  const Image& difference, const Mask& care, int stride, int bins)
+  : Renderer(renderer)
+  , How(how)
+  , Difference(difference)
+  , Care(care)
+  , Bins(bins)
+{
+  if (difference.width != care.w || difference.height != care.h || difference.channels != 3)
+    throw Error("EmissionScreen: the picture's difference (RGB) and its mask differ in size");
+  for (int y = stride / 2; y < care.h; y += stride)
+    for (int x = stride / 2; x < care.w; x += stride)
+    {
+      const int i = y * care.w + x;
+      Pixels.push_back(i);
+      if (care.m[static_cast<size_t>(i)])
+        for (int c = 0; c < 3; ++c)
+          Energy += static_cast<double>(difference.pixels[3 * static_cast<size_t>(i) + c]) *
+            difference.pixels[3 * static_cast<size_t>(i) + c];
+    }
+}
+
+// Per cast pixel, its ray's samples counted per value bin (rows: pixels, columns: bins). A ray
+// whose samples were not kept (beyond the renderer's record budget) counts none.
+Eigen::MatrixXd EmissionScreen::histograms(const View& view) const
+{
+  View v = view;
+  v.width = Difference.width;
+  v.height = Difference.height;
+  const auto& range = Renderer.caster().volume().range();
+  // a transparent table: every ray is marched to its end, all its samples kept
+  const int tableWidth = 2;
+  const std::vector<float> table(4 * tableWidth, 0.0f);
+  std::vector<float> rgba;
+  std::vector<RayRecord> records;
+  Renderer.forward(table.data(), tableWidth, range[0], range[1], v, How, Pixels, rgba, records);
+  Eigen::MatrixXd n = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(Pixels.size()), Bins);
+  const double scale = Bins / std::max(range[1] - range[0], 1e-30);
+  for (size_t q = 0; q < records.size(); ++q)
+    for (float x : records[q].samples)
+    {
+      const int b = std::clamp(static_cast<int>((x - range[0]) * scale), 0, Bins - 1);
+      n(static_cast<Eigen::Index>(q), b) += 1;
+    }
+  return n;
+}
+
+// The RMS residual of d ~ n k by ridge least squares (the ridge a thousandth of the mean
+// diagonal of n'n: bins no ray reaches get k = 0).
+double EmissionScreen::solve(const Eigen::MatrixXd& n, const Eigen::MatrixXd& d) const
+{
+  Eigen::MatrixXd ntn = n.transpose() * n;
+  const double ridge = 1e-3 * std::max(ntn.trace() / Bins, 1e-12);
+  ntn.diagonal().array() += ridge;
+  const Eigen::MatrixXd ntd = n.transpose() * d;
+  const Eigen::MatrixXd k = ntn.ldlt().solve(ntd);
+  const double r = (n * k - d).squaredNorm();
+  return std::sqrt(r / static_cast<double>(3 * std::max<Eigen::Index>(1, d.rows())));
+}
+
+double EmissionScreen::residual(const View& view) const
+{
+  const Eigen::MatrixXd n = histograms(view);
+  Eigen::MatrixXd d = Eigen::MatrixXd::Zero(n.rows(), 3);
+  for (size_t q = 0; q < Pixels.size(); ++q)
+  {
+    const int i = Pixels[q];
+    if (!Care.m[static_cast<size_t>(i)])
+      continue;
+    for (int c = 0; c < 3; ++c)
+      d(static_cast<Eigen::Index>(q), c) = Difference.pixels[3 * static_cast<size_t>(i) + c];
+  }
+  return solve(n, d);
+}
+
+std::vector<double> EmissionScreen::residuals(
+  const View& view, const std::vector<Alignment>& alignments) const
+{
+  const Eigen::MatrixXd n = histograms(view);
+  // n'n is the same for every alignment: factored once
+  Eigen::MatrixXd ntn = n.transpose() * n;
+  const double ridge = 1e-3 * std::max(ntn.trace() / Bins, 1e-12);
+  ntn.diagonal().array() += ridge;
+  const Eigen::LDLT<Eigen::MatrixXd> factor(ntn);
+  const int w = Difference.width, h = Difference.height;
+  std::vector<double> out;
+  out.reserve(alignments.size());
+  Eigen::MatrixXd d(n.rows(), 3);
+  for (const auto& a : alignments)
+  {
+    const double c = std::cos(a.rho), s = std::sin(a.rho);
+    for (size_t q = 0; q < Pixels.size(); ++q)
+    {
+      const int i = Pixels[q];
+      const double px = i % w + 0.5 - a.crx, py = i / w + 0.5 - a.cry;
+      // the picture's point, then bilinear between pixel centres
+      const double u = a.ctx + a.scale * (c * px - s * py) - 0.5,
+                   v = a.cty + a.scale * (s * px + c * py) - 0.5;
+      const int x0 = static_cast<int>(std::floor(u)), y0 = static_cast<int>(std::floor(v));
+      const double fx = u - x0, fy = v - y0;
+      double value[3] = { 0, 0, 0 };
+      for (int k = 0; k < 4; ++k)
+      {
+        const int x = x0 + (k & 1), y = y0 + (k >> 1);
+        if (x < 0 || y < 0 || x >= w || y >= h || !Care(x, y))
+          continue; // off the picture, or an overlay: taken as background
+        const double wk = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
+        for (int cc = 0; cc < 3; ++cc)
+          value[cc] += wk * Difference.pixels[3 * (static_cast<size_t>(y) * w + x) + cc];
+      }
+      for (int cc = 0; cc < 3; ++cc)
+        d(static_cast<Eigen::Index>(q), cc) = value[cc];
+    }
+    const Eigen::MatrixXd ntd = n.transpose() * d;
+    const Eigen::MatrixXd k = factor.solve(ntd);
+    // |n k - d|^2 = d'd - 2 k'(n'd) + k'(n'n) k, with n'n the unridged product
+    const double r = d.squaredNorm() - 2.0 * (k.array() * ntd.array()).sum() +
+      (k.array() * ((ntn * k) - ridge * k).array()).sum();
+    // in the picture's pixels: a render pixel stands for scale^2 of them, and the picture's
+    // difference that no render pixel lands on is unexplained
+    const double a2 = a.scale * a.scale;
+    const double uncovered = std::max(0.0, Energy - a2 * d.squaredNorm());
+    out.push_back(std::sqrt((a2 * std::max(0.0, r) + uncovered) / (3.0 * Pixels.size())));
+  }
+  return out;
+}
+
+std::vector<CameraParams> screenByColours(const EmissionScreen& screen, const View& start,
+  const std::vector<std::pair<double, double>>& directions, std::vector<Aligned>& aligned,
+  int count, int threads)
+{
+  // one ray cast per direction for all its alignments; the directions side by side
+  parallelFor(static_cast<std::int64_t>(directions.size()), threads,
+    [&](std::int64_t d, int)
+    {
+      auto& of = aligned[static_cast<size_t>(d)];
+      if (of.empty())
+        return;
+      CameraParams at;
+      at.az = directions[static_cast<size_t>(d)].first;
+      at.el = directions[static_cast<size_t>(d)].second;
+      std::vector<EmissionScreen::Alignment> a;
+      for (const auto& e : of)
+        a.push_back(e.first);
+      const auto r = screen.residuals(at.view(start), a);
+      for (size_t k = 0; k < r.size(); ++k)
+        of[k].second.colour = r[k];
+    });
+  std::vector<CameraParams> ranked;
+  for (const auto& of : aligned)
+    for (const auto& e : of)
+      ranked.push_back(e.second);
+  std::sort(ranked.begin(), ranked.end(),
+    [](const CameraParams& a, const CameraParams& b) { return a.colour < b.colour; });
+  std::vector<CameraParams> picked;
+  for (const auto& c : ranked)
+  {
+    if (static_cast<int>(picked.size()) >= count)
+      break;
+    bool distinct = true;
+    for (const auto& p : picked)
+      distinct = distinct && orientationDistance(c.view(start), p.view(start)) > 20;
+    if (distinct)
+      picked.push_back(c);
+  }
+  // each refined by Nelder-Mead on the residual, side by side
+  std::vector<CameraParams> refined(picked.size());
+  parallelFor(static_cast<std::int64_t>(picked.size()), threads,
+    [&](std::int64_t i, int)
+    {
+      CameraParams& r = refined[static_cast<size_t>(i)];
+      r = nelderMead(
+        picked[static_cast<size_t>(i)],
+        [&](const CameraParams& p) { return -screen.residual(p.view(start)); }, 100);
+      r.colour = -r.score;
+      r.fromColours = true;
+    });
+  return refined;
+}
+
+} // namespace matchparts
+} // namespace ddg

@@ -1,0 +1,110 @@
+// TestMatchEmission.cxx: the colours' screening of the picture match (MatchCamera.h) on a
+// synthetic volume whose silhouette is a ball from every direction — the emission model's
+// residual is least at the picture's camera, and its image-plane alignments agree with renders
+// at the moved cameras. The match that needs it (a translucent CT head from the front) is in
+// Testing/Reconstruction/TestMatch.cxx.
+#include "Reconstruct/MatchCamera.h"
+
+#include "Render/RayCaster.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+using namespace ddg;
+using namespace ddg::matchparts;
+
+namespace
+{
+
+// A ball (value 90, a shell a little denser: 110) holding two blobs off its centre (values 200
+// and 160) and a rod (value 140): round from every direction, its inside tells directions apart.
+Volume ballVolume()
+{
+  const int n = 36;
+  std::vector<float> v;
+  auto bump = [](double d, double r) { return std::clamp(1.0 - (d - r) / 1.5, 0.0, 1.0); };
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const double x = i - 17.5, y = j - 17.5, z = k - 17.5;
+        const double r = std::sqrt(x * x + y * y + z * z);
+        double value = bump(r, 15.0) * (r > 13.0 ? 110.0 : 90.0);
+        value = std::max(value, 200.0 * bump(std::hypot(x - 6, y - 4, z + 3), 3.5));
+        value = std::max(value, 160.0 * bump(std::hypot(x + 5, y + 7, z - 5), 3.0));
+        const double rod = std::hypot(y - 6, z - 6); // along x, on one side
+        value = std::max(value, 140.0 * bump(rod, 1.8) * (x > -10 && x < 4));
+        v.push_back(static_cast<float>(value));
+      }
+  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
+}
+
+TransferFunction1D translucent()
+{
+  TransferFunction1D tf;
+  tf.color = { { 0, 0.2, 0.8, 0.7 }, { 110, 0.3, 0.9, 0.8 }, { 150, 0.9, 0.9, 0.2 },
+    { 255, 1.0, 0.3, 0.2 } };
+  tf.opacity = { { 0, 0 }, { 70, 0 }, { 100, 0.03 }, { 130, 0.05 }, { 150, 0.5 }, { 255, 0.8 } };
+  return tf;
+}
+
+// The picture minus its background at w x h (the screen's input).
+Image difference(const Image& picture, const std::array<double, 3>& bg, int w, int h)
+{
+  Image small = resizeImage(picture, w, h);
+  for (size_t i = 0; i < small.pixels.size(); ++i)
+    small.pixels[i] -= static_cast<float>(bg[i % 3]);
+  return small;
+}
+
+Mask all(int w, int h)
+{
+  Mask m(w, h);
+  std::fill(m.m.begin(), m.m.end(), 1);
+  return m;
+}
+
+} // namespace
+
+TEST(MatchEmission, ResidualIsLeastAtThePicturesCamera)
+{
+  const Volume vol = ballVolume();
+  const DifferentiableRenderer renderer(vol);
+  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
+  const View base = defaultView(vol, 96, 72);
+  const View truth = cameraMove(base, 40, 15, 10, 1.1, { 0.02, -0.01 });
+  const Image picture = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg);
+  const EmissionScreen screen(
+    renderer, RenderOptions{}, difference(picture, bg, 96, 72), all(96, 72));
+  const double atTruth = screen.residual(truth);
+  for (const auto& other : { cameraMove(base, 70, 15, 10, 1.1, { 0.02, -0.01 }),
+         cameraMove(base, 40, 15, 100, 1.1, { 0.02, -0.01 }),
+         cameraMove(base, -140, -15, 190, 1.1, { 0.02, -0.01 }) })
+    EXPECT_LT(atTruth, 0.6 * screen.residual(other));
+}
+
+TEST(MatchEmission, AlignmentsAgreeWithRendersAtTheMovedCameras)
+{
+  const Volume vol = ballVolume();
+  const DifferentiableRenderer renderer(vol);
+  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
+  const int w = 96, h = 72;
+  const View base = defaultView(vol, w, h);
+  const View truth = cameraMove(base, 40, 15, 0, 1, { 0, 0 });
+  const Image picture = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg);
+  const EmissionScreen screen(renderer, RenderOptions{}, difference(picture, bg, w, h), all(w, h));
+  const View at = cameraMove(base, 40, 15, 0, 1, { 0, 0 });
+  // the identity alignment is the render itself
+  const double c = 0.5 * w, m = 0.5 * h;
+  const auto same = screen.residuals(at, { { c, m, c, m, 0, 1 } });
+  EXPECT_NEAR(same[0], screen.residual(at), 1e-6);
+  // a roll of 30 degrees and a dolly by 1.2, about the centre: the image turned by -30 degrees
+  // (y down) and scaled by 1.2
+  const View moved = cameraMove(base, 40, 15, 30, 1.2, { 0, 0 });
+  const double rho = -30 * M_PI / 180;
+  const auto warped = screen.residuals(at, { { c, m, c, m, rho, 1.2 } });
+  EXPECT_NEAR(warped[0], screen.residual(moved), 0.15 * screen.residual(moved));
+}
