@@ -199,6 +199,13 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
 
   // --- the camera -------------------------------------------------------------------------
   const auto tCamera = Clock::now();
+  auto tLap = tCamera;
+  auto lap = [&]
+  {
+    const double s = secondsSince(tLap);
+    tLap = Clock::now();
+    return s;
+  };
   const RayCaster& caster = renderer.caster();
   const Volume& volume = caster.volume();
   const SilhouetteModel model(volume);
@@ -340,6 +347,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
           160);
       });
     report("camera", 0.3, nullptr);
+    result.cameraStages.silhouettes = lap();
     // stage 2b: the colours. Silhouettes cannot tell apart the directions of a roundish or
     // translucent object; the emission model (MatchCamera.h) ranks every alignment of stage 1
     // by how well its rays explain the picture's colours; the best distinct ones, refined on
@@ -375,6 +383,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       }
       finalists.insert(finalists.end(), refined.begin(), refined.end());
       report("camera", 0.45, nullptr);
+      result.cameraStages.colours = lap();
     }
     // the discs of the blocks make a silhouette a little larger than the volume's own (and the
     // search then moves the camera away): the distance corrected by the ratio of the sizes of
@@ -431,6 +440,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     throw Error(msg.str());
   }
 
+  result.cameraStages.silhouettes += lap(); // with the distances corrected
   // stage 3: the finalists whose overlap is close to the best scored by a short reconstruction
   // (mirror views have alike silhouettes; colours tell them apart)
   const Image& workImage = pic.alpha ? pic.rgba : pic.rgb;
@@ -651,6 +661,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     const auto winner = std::min_element(
       fits.begin(), fits.end(), [](const Scored& a, const Scored& b) { return a.loss < b.loss; });
     best = winner->camera;
+    result.cameraStages.candidates = lap();
     // a polish: a longer fit at the winner (more rays, all the bins, full sampling), the camera
     // refined with it; up to 3 times, until the camera moves by less than 0.25 degrees (and a
     // quarter of a percent in distance and pan)
@@ -668,6 +679,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
         const CameraParams before = best;
         best = refine(winner->tf, best, 150, o.render); // fine rims need full sampling
         o.initial1D = winner->tf.table1D;
+        o.iterations = o.patience = 60; // warm: a shorter refit
         // again while the camera still moves (a better TF places it better, and back)
         if (orientationDistance(before.view(start), best.view(start)) < 0.25 &&
           std::abs(before.logZoom - best.logZoom) < 0.0025 &&
@@ -686,6 +698,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     if (!opt.reconstruction.twoD)
       warm = winner->tf.table1D; // started from the given initial TF, if any
   }
+  result.cameraStages.polish = lap();
   result.cameraEstimated = search;
   result.overlap = best.score;
   result.orbit = { std::remainder(best.az, 360.0), best.el, std::remainder(best.roll, 360.0) };

@@ -124,6 +124,13 @@ struct MatchResult
   std::array<double, 2> pan{ 0, 0 };      ///< pan right, up, in view heights at the focal point
   /// Seconds per stage: background and masks, camera search, the final fit, and in all.
   double backgroundSeconds = 0, cameraSeconds = 0, fitSeconds = 0, seconds = 0;
+  /// The camera search's seconds by part (camera searched; a given camera: silhouettes only):
+  /// the silhouettes (directions, their refinement, the distance's correction), the colours'
+  /// screening, the candidates' short fits and refinement, the winner's polish.
+  struct CameraStages
+  {
+    double silhouettes = 0, colours = 0, candidates = 0, polish = 0;
+  } cameraStages;
 };
 
 /// Called with (stage, fraction of the whole in [0, 1], preview): stage is "background",

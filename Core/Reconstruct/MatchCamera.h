@@ -143,7 +143,6 @@ CameraParams nelderMead(const CameraParams& start, F&& f, int evaluations, doubl
   return r;
 }
 
-
 // The emission model of a picture at a camera, for screening cameras by the picture's colours
 // where silhouettes cannot tell them apart (a roundish, translucent object): each pixel's
 // difference from the background, d_p = picture_p - background_p, is fitted as a linear

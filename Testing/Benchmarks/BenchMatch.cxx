@@ -3,7 +3,9 @@
 // seconds per stage (background and masks, camera search, fit) of Core's matchPicture on
 // screenshots made like ParaView's GUI leaves them (the palette's background, a rolled, panned,
 // zoomed camera, an orientation-axes-sized mark), with the camera estimated and with it given,
-// on 1 and on all threads, and the ratios. A program that prints figures: no timed assertions.
+// on 1 and on all threads, and the ratios; and the camera search by part (silhouettes, the
+// colours' screening, the candidates' short fits and refinement, the winner's polish). A program
+// that prints figures: no timed assertions.
 //
 //   BenchMatch [--repeat N]    (default 1)
 #include "DDGVolumeAdaptor.h"
@@ -27,6 +29,7 @@ namespace
 struct Row
 {
   double background = 0, camera = 0, fit = 0, total = 0, fitPSNR = 0;
+  MatchResult::CameraStages stages; // the camera search's parts
 };
 
 Row median(std::vector<Row> rows)
@@ -39,8 +42,18 @@ Row median(std::vector<Row> rows)
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
     return v[v.size() / 2];
   };
+  auto stage = [&](double MatchResult::CameraStages::*field)
+  {
+    std::vector<double> v;
+    for (const auto& r : rows)
+      v.push_back(r.stages.*field);
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+    return v[v.size() / 2];
+  };
   return { med(&Row::background), med(&Row::camera), med(&Row::fit), med(&Row::total),
-    med(&Row::fitPSNR) };
+    med(&Row::fitPSNR),
+    { stage(&MatchResult::CameraStages::silhouettes), stage(&MatchResult::CameraStages::colours),
+      stage(&MatchResult::CameraStages::candidates), stage(&MatchResult::CameraStages::polish) } };
 }
 } // namespace
 
@@ -54,8 +67,9 @@ int main(int argc, char** argv)
   const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
   std::printf(
     "BenchMatch: 800 x 600 screenshots, %d run(s) each (median), %u cores\n", repeat, cores);
-  std::printf("%-8s %-9s %7s | %8s %8s %8s %8s | %8s\n", "volume", "camera", "threads", "bg (s)",
-    "cam (s)", "fit (s)", "all (s)", "fit dB");
+  std::printf("%-8s %-9s %7s | %8s %8s %8s %8s | %8s | camera by part (s): %6s %6s %6s %6s\n",
+    "volume", "camera", "threads", "bg (s)", "cam (s)", "fit (s)", "all (s)", "fit dB", "silh",
+    "colour", "cands", "polish");
   struct Case
   {
     const char* volume;
@@ -88,14 +102,15 @@ int main(int argc, char** argv)
           if (given)
             opt.view = truth;
           const auto m = matchPicture(renderer, picture, opt);
-          rows.push_back(
-            { m.backgroundSeconds, m.cameraSeconds, m.fitSeconds, m.seconds, m.fitPSNR });
+          rows.push_back({ m.backgroundSeconds, m.cameraSeconds, m.fitSeconds, m.seconds, m.fitPSNR,
+            m.cameraStages });
         }
         const Row row = median(rows);
         totals[given][t] = row.total;
-        std::printf("%-8s %-9s %7s | %8.2f %8.2f %8.2f %8.2f | %8.2f\n", c.volume,
-          given ? "given" : "estimated", t == 0 ? "1" : "all", row.background, row.camera, row.fit,
-          row.total, row.fitPSNR);
+        std::printf("%-8s %-9s %7s | %8.2f %8.2f %8.2f %8.2f | %8.2f | %6.2f %6.2f %6.2f %6.2f\n",
+          c.volume, given ? "given" : "estimated", t == 0 ? "1" : "all", row.background, row.camera,
+          row.fit, row.total, row.fitPSNR, row.stages.silhouettes, row.stages.colours,
+          row.stages.candidates, row.stages.polish);
       }
     std::printf("%-8s ratios: all threads / 1 thread %.2f (estimated), %.2f (given); estimated / "
                 "given %.2f (all threads)\n",
