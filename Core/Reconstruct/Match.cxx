@@ -739,9 +739,17 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   const Image object = resizeImage(
     toImage(dilate(pic.foreground, std::max(1, W / 200))), preview.width, preview.height);
   std::vector<double> residual;
+  Mask edge; // the render's silhouette edge (opacity across 0.5), 2 preview pixels either side
   auto assess = [&](const ReconstructionResult& tf)
   {
     const Image render = renderResult(caster, tf, preview, ropt.render);
+    Mask inside(preview.width, preview.height), outside(preview.width, preview.height);
+    for (size_t i = 0; i < inside.m.size(); ++i)
+      (render.pixels[4 * i + 3] > 0.5f ? inside : outside).m[i] = 1;
+    edge = dilate(inside, 2);
+    const Mask out = dilate(outside, 2);
+    for (size_t i = 0; i < edge.m.size(); ++i)
+      edge.m[i] = edge.m[i] && out.m[i];
     const Image ours = pic.alpha
       ? render
       : (preview.background2
@@ -778,7 +786,9 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   result.fitPSNR = assess(result.tf);
   // outliers: what the fit cannot explain on the object (text, arrows or marks drawn over it):
   // residuals above 6 times the median and above 0.2, on at least 0.2 % of the object, are
-  // masked as overlays and the TF refitted without them (1D)
+  // masked as overlays and the TF refitted without them (1D). Not along the render's silhouette
+  // edge: a rim the fit misses is the object's, not a mark over it (and masking it would let a
+  // picture of another volume pass as explained)
   if (opt.maskOverlays && !result.tf.twoD)
   {
     std::vector<double> onObject;
@@ -789,7 +799,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     Mask outliers(preview.width, preview.height);
     size_t count = 0;
     for (size_t i = 0; i < residual.size(); ++i)
-      if (residual[i] > limit)
+      if (residual[i] > limit && !edge.m[i])
         outliers.m[i] = 1, ++count;
     if (count > 3 && static_cast<double>(count) >= 0.002 * static_cast<double>(onObject.size()))
     {
