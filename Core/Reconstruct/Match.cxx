@@ -351,24 +351,11 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     // stage 2b: the colours. Silhouettes cannot tell apart the directions of a roundish or
     // translucent object; the emission model (MatchCamera.h) ranks every alignment of stage 1
     // by how well its rays explain the picture's colours; the best distinct ones, refined on
-    // it, join the finalists (and the short fits below, whatever their overlap)
+    // it, join the finalists (and the short fits below when they explain the colours clearly
+    // better than the silhouettes' cameras; see stage 3)
+    if (opt.colourCandidates > 0)
     {
-      Image difference(sw, sh, 3);
-      {
-        const Image small = resizeImage(pic.alpha ? pic.rgba : pic.rgb, sw, sh);
-        for (int y = 0; y < sh; ++y)
-        {
-          // the background of the raster's row: the picture's row at its centre
-          const auto bgc = view.backgroundAt(std::min(H - 1, static_cast<int>((y + 0.5) * H / sh)));
-          for (int x = 0; x < sw; ++x)
-            for (int c = 0; c < 3; ++c)
-            {
-              const float* p = &small.pixels[(static_cast<size_t>(y) * sw + x) * small.channels];
-              difference.pixels[3 * (static_cast<size_t>(y) * sw + x) + c] =
-                pic.alpha ? p[c] * p[3] : static_cast<float>(p[c] - bgc[c]);
-            }
-        }
-      }
+      const Image difference = pictureDifference(pic.alpha ? pic.rgba : pic.rgb, view, sw, sh);
       // one thread a ray cast: the directions, then the candidates, run side by side
       RenderOptions how = opt.reconstruction.render;
       how.sampleDistance = 3.0 * caster.defaultSampleDistance();
@@ -507,13 +494,20 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
         static_cast<int>(scored.size()) < std::max(1, opt.cameraCandidates))
         scored.push_back(f);
     }
+    if (scored.empty()) // a colours' camera overlaps best by far: the best silhouettes' one
+    {
+      const auto first = std::find_if(
+        finalists.begin(), finalists.end(), [](const CameraParams& f) { return !f.fromColours; });
+      scored.push_back(first != finalists.end() ? *first : finalists.front());
+    }
     // and the colours' cameras that explain the picture's colours clearly better (a residual
     // under 0.8 of theirs) than all of those, whose silhouettes then misled them; the best
     // explained first. (Refined on the colours, a colour camera has the edge over a silhouette
     // camera near the right one: the margin keeps it from displacing it.)
     double silhouettesColour = std::numeric_limits<double>::infinity();
-    for (auto& f : scored)
-      silhouettesColour = std::min(silhouettesColour, f.colour = screen->residual(f.view(start)));
+    if (screen)
+      for (auto& f : scored)
+        silhouettesColour = std::min(silhouettesColour, f.colour = screen->residual(f.view(start)));
     std::vector<CameraParams> byColour;
     std::copy_if(finalists.begin(), finalists.end(), std::back_inserter(byColour),
       [&](const CameraParams& f) { return f.fromColours && f.colour < 0.8 * silhouettesColour; });
@@ -641,7 +635,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     {
       auto [tf, loss] = shortFit(scored[i], std::nullopt);
       fits.push_back({ scored[i], std::move(tf), loss });
-      report("camera", 0.4 + 0.1 * (i + 1) / scored.size(), nullptr);
+      report("camera", 0.45 + 0.05 * (i + 1) / scored.size(), nullptr);
     }
     std::sort(
       fits.begin(), fits.end(), [](const Scored& a, const Scored& b) { return a.loss < b.loss; });

@@ -84,8 +84,10 @@ struct MatchOptions
   /// Camera candidates scored by a short reconstruction [6].
   int cameraCandidates = 6;
   /// Cameras found by the picture's colours (an emission model of each camera's rays, no TF)
-  /// rather than silhouettes, refined and scored by a short reconstruction too: they tell apart
-  /// the directions of a roundish or translucent object, whose silhouettes are alike [8].
+  /// rather than silhouettes, refined on it; those that explain the colours clearly better than
+  /// every silhouette camera (a residual under 0.8 of theirs) are scored by a short
+  /// reconstruction too. They tell apart the directions of a roundish or translucent object,
+  /// whose silhouettes are alike [8; 0: silhouettes only].
   int colourCandidates = 8;
   /// Rounds of the camera's refinement on the picture's colours, each a Nelder-Mead search
   /// with the TF held, then a short refit of the TF [2]. The winner's polish then repeats a
@@ -96,7 +98,7 @@ struct MatchOptions
   double minimumOverlap = 0.6;
   /// Below this PSNR of the fit over the object (the picture's foreground or what the render
   /// shows, overlays left out), no camera explains the picture and matchPicture throws [25 dB:
-  /// an RMS error of 5.6 % of the range. Measured: pictures of the volume matched at 29.5-41.4 dB
+  /// an RMS error of 5.6 % of the range. Measured: pictures of the volume matched at 29.2-41.6 dB
   /// (24 suite screenshots), another volume's at 14.8-22.7 dB (16 pairs; chosen on 8, checked
   /// on 8 others)].
   double minimumFitPSNR = 25.0;

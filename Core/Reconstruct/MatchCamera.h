@@ -155,8 +155,13 @@ class EmissionScreen
 {
 public:
   /// `difference`: the picture minus its background at the search raster (RGB, w x h; a picture
-  /// with transparency: its premultiplied colour); `care`: its pixels compared (overlays left
-  /// out). Rays are cast through every `stride`-th pixel along x and y.
+  /// with transparency: its premultiplied colour); `care`: 0 on overlays, whose colour is
+  /// taken as the background's (d = 0): overlays mostly sit over the background, as orientation
+  /// axes in a corner, and the faint fragments around a translucent object that are taken for
+  /// overlay candidates nearly are background (leaving their rays out instead lost the camera of
+  /// a translucent CT head: Match.TranslucentHeadOrientedByItsColours).
+  /// Rays are cast through every `stride`-th pixel along x and y. Throws ddg::Error when no
+  /// pixel would be cast.
   EmissionScreen(const DifferentiableRenderer& renderer, const RenderOptions& how,
     const Image& difference, const Mask& care, int stride = 2, int bins = 24);
 
@@ -188,10 +193,15 @@ private:
   int Bins;
 };
 
+/// The screen's input: `picture` (RGB over `view`'s background, or RGBA with straight alpha)
+/// at a w x h raster minus its background (RGBA: its premultiplied colour).
+Image pictureDifference(const Image& picture, const View& view, int w, int h);
+
 /// A direction's alignment to the picture and the camera it makes (stage 1 of the search).
 using Aligned = std::vector<std::pair<EmissionScreen::Alignment, CameraParams>>;
 
-/// The colours' screening (stage 2b of the search): every alignment of every direction (its
+/// The colours' screening (stage 2b of the search): every alignment in `aligned` (per direction;
+/// the caller keeps those whose silhouette overlaps the picture's by half or more; their
 /// camera relative to `start`) gets the emission residual (into its CameraParams::colour); the
 /// best `count` distinct ones (20 degrees apart) are refined by Nelder-Mead on the residual (100
 /// evaluations) and returned, marked fromColours, colour = their residual. Runs the directions,

@@ -22,6 +22,8 @@ EmissionScreen::EmissionScreen(const DifferentiableRenderer& renderer, const Ren
 {
   if (difference.width != care.w || difference.height != care.h || difference.channels != 3)
     throw Error("EmissionScreen: the picture's difference (RGB) and its mask differ in size");
+  if (stride < 1 || bins < 1 || care.w <= stride / 2 || care.h <= stride / 2)
+    throw Error("EmissionScreen: no pixel to cast (stride, bins or raster too small)");
   for (int y = stride / 2; y < care.h; y += stride)
     for (int x = stride / 2; x < care.w; x += stride)
     {
@@ -117,7 +119,7 @@ std::vector<double> EmissionScreen::residuals(
       {
         const int x = x0 + (k & 1), y = y0 + (k >> 1);
         if (x < 0 || y < 0 || x >= w || y >= h || !Care(x, y))
-          continue; // off the picture, or an overlay: taken as background
+          continue; // off the picture, or an overlay: taken as background (see MatchCamera.h)
         const double wk = ((k & 1) ? fx : 1 - fx) * ((k >> 1) ? fy : 1 - fy);
         for (int cc = 0; cc < 3; ++cc)
           value[cc] += wk * Difference.pixels[3 * (static_cast<size_t>(y) * w + x) + cc];
@@ -137,6 +139,26 @@ std::vector<double> EmissionScreen::residuals(
     out.push_back(std::sqrt((a2 * std::max(0.0, r) + uncovered) / (3.0 * Pixels.size())));
   }
   return out;
+}
+
+Image pictureDifference(const Image& picture, const View& view, int w, int h)
+{
+  const Image small = resizeImage(picture, w, h);
+  Image difference(w, h, 3);
+  for (int y = 0; y < h; ++y)
+  {
+    // the background of the raster's row: the picture's row at its centre
+    const auto bg = view.backgroundAt(
+      std::min(picture.height - 1, static_cast<int>((y + 0.5) * picture.height / h)));
+    for (int x = 0; x < w; ++x)
+    {
+      const float* p = &small.pixels[(static_cast<size_t>(y) * w + x) * small.channels];
+      for (int c = 0; c < 3; ++c)
+        difference.pixels[3 * (static_cast<size_t>(y) * w + x) + c] =
+          small.channels == 4 ? p[c] * p[3] : static_cast<float>(p[c] - bg[c]);
+    }
+  }
+  return difference;
 }
 
 std::vector<CameraParams> screenByColours(const EmissionScreen& screen, const View& start,

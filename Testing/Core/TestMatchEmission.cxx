@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 using namespace ddg;
 using namespace ddg::matchparts;
@@ -92,19 +93,63 @@ TEST(MatchEmission, AlignmentsAgreeWithRendersAtTheMovedCameras)
   const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
   const int w = 96, h = 72;
   const View base = defaultView(vol, w, h);
-  const View truth = cameraMove(base, 40, 15, 0, 1, { 0, 0 });
-  const Image picture = compositeOverBackground(
-    renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg);
-  const EmissionScreen screen(renderer, RenderOptions{}, difference(picture, bg, w, h), all(w, h));
   const View at = cameraMove(base, 40, 15, 0, 1, { 0, 0 });
-  // the identity alignment is the render itself
+  // the picture: the same direction, rolled by 30 degrees and dollied by 1.2
+  const View moved = cameraMove(base, 40, 15, 30, 1.2, { 0, 0 });
+  const Image picture = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(translucent()), moved), bg);
+  const EmissionScreen screen(renderer, RenderOptions{}, difference(picture, bg, w, h), all(w, h));
   const double c = 0.5 * w, m = 0.5 * h;
+  // the identity alignment is the render at `at` itself
   const auto same = screen.residuals(at, { { c, m, c, m, 0, 1 } });
   EXPECT_NEAR(same[0], screen.residual(at), 1e-6);
-  // a roll of 30 degrees and a dolly by 1.2, about the centre: the image turned by -30 degrees
-  // (y down) and scaled by 1.2
-  const View moved = cameraMove(base, 40, 15, 30, 1.2, { 0, 0 });
+  // a camera roll of +30 degrees turns the image by -30 degrees (y down), the dolly scales it:
+  // that alignment of the render at `at` explains the picture nearly as well as the render at
+  // `moved`, and far better than the opposite turn, the inverse scale or no move at all
   const double rho = -30 * M_PI / 180;
-  const auto warped = screen.residuals(at, { { c, m, c, m, rho, 1.2 } });
-  EXPECT_NEAR(warped[0], screen.residual(moved), 0.15 * screen.residual(moved));
+  const auto r = screen.residuals(
+    at, { { c, m, c, m, rho, 1.2 }, { c, m, c, m, -rho, 1.2 }, { c, m, c, m, rho, 1 / 1.2 } });
+  const double exact = screen.residual(moved);
+  std::printf("aligned %.4f, rendered there %.4f; opposite turn %.4f, inverse scale %.4f, no move "
+              "%.4f\n",
+    r[0], exact, r[1], r[2], same[0]);
+  EXPECT_LT(r[0], 2 * exact); // a dolly is not quite a zoom, nor a resampled image a render
+  for (double wrong : { r[1], r[2], same[0] })
+    EXPECT_LT(r[0], 0.5 * wrong);
+}
+
+TEST(MatchEmission, OverlaysAreTakenAsBackground)
+{
+  // a grey square painted over the picture and left out of `care`: what it covers is never read
+  // (taken as background), so the residuals are those of the clean picture with the same care,
+  // rendered or aligned
+  const Volume vol = ballVolume();
+  const DifferentiableRenderer renderer(vol);
+  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
+  const int w = 96, h = 72;
+  const View truth = cameraMove(defaultView(vol, w, h), 40, 15, 10, 1.1, { 0, 0 });
+  const Image clean = difference(
+    compositeOverBackground(
+      renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg),
+    bg, w, h);
+  Image marked = clean;
+  Mask care = all(w, h);
+  for (int y = 20; y < 40; ++y)
+    for (int x = 30; x < 50; ++x)
+    {
+      care(x, y) = 0;
+      for (int c = 0; c < 3; ++c)
+        marked.pixels[3 * (static_cast<size_t>(y) * w + x) + c] = 0.6f;
+    }
+  const EmissionScreen a(renderer, RenderOptions{}, clean, care),
+    b(renderer, RenderOptions{}, marked, care);
+  const View other = cameraMove(defaultView(vol, w, h), 70, -10, 0, 1, { 0, 0 });
+  for (const View& v : { truth, other })
+    EXPECT_DOUBLE_EQ(a.residual(v), b.residual(v));
+  const double c = 0.5 * w, m = 0.5 * h;
+  const std::vector<EmissionScreen::Alignment> moves{ { c, m, c, m, 0.3, 1.1 },
+    { c, m, c + 5, m - 3, -0.5, 0.9 } };
+  const auto ra = a.residuals(other, moves), rb = b.residuals(other, moves);
+  for (size_t k = 0; k < moves.size(); ++k)
+    EXPECT_DOUBLE_EQ(ra[k], rb[k]);
 }
