@@ -154,7 +154,11 @@ results = measure(DDG, work, args.out, args.quick, args.confirm, args.sections, 
 section("charts")
 report_render.charts(results, args.out)
 if args.sections:  # the full run's minutes stay; the re-run is recorded beside them
-    results.setdefault("reruns", []).append(
+    # an earlier re-run of only these sections no longer describes any of them: dropped
+    results["reruns"] = [
+        r for r in results.get("reruns", []) if not set(r["sections"]) <= set(args.sections)
+    ]
+    results["reruns"].append(
         {
             "sections": args.sections,
             "date": time.strftime("%Y-%m-%d"),
