@@ -256,6 +256,16 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     return maskIoU(target, care, buffer);
   };
   auto exactIoU = [&](const CameraParams& p) { return iouAt(p, scratch); };
+  // p at the level whose silhouette overlaps the picture's object best, that overlap its score
+  auto atBestLevel = [&](CameraParams p)
+  {
+    CameraParams best = p;
+    best.score = -1;
+    for (p.level = 0; p.level < model.levels(); ++p.level)
+      if (const double iou = exactIoU(p); iou > best.score)
+        best = p, best.score = iou;
+    return best;
+  };
   const int threads = opt.reconstruction.render.threads;
   const bool search = !opt.view || opt.refineGivenView;
   if (search)
@@ -406,15 +416,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   }
   else
   {
-    CameraParams given;
-    double bestIoU = -1;
-    for (int level = 0; level < model.levels(); ++level)
-    {
-      given.level = level;
-      const double iou = exactIoU(given);
-      if (iou > bestIoU)
-        bestIoU = iou, best = given, best.score = iou;
-    }
+    best = atBestLevel(CameraParams{});
     finalists.push_back(best);
   }
   if (search && (finalists.empty() || finalists.front().score < opt.minimumOverlap))
@@ -682,13 +684,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
       }
     }
     // the overlap: at the level whose silhouette fits best (a colours' camera kept its seed's)
-    best.score = 0;
-    for (int level = 0; level < model.levels(); ++level)
-    {
-      CameraParams at = best;
-      at.level = level;
-      best.score = std::max(best.score, exactIoU(at));
-    }
+    best.score = std::max(0.0, atBestLevel(best).score);
     if (!opt.reconstruction.twoD)
       warm = winner->tf.table1D; // started from the given initial TF, if any
   }

@@ -36,6 +36,15 @@ EmissionScreen::EmissionScreen(const DifferentiableRenderer& renderer, const Ren
     }
 }
 
+namespace
+{
+// The ridge: a thousandth of the mean diagonal of n'n (bins no ray reaches get k = 0).
+double ridgeOf(const Eigen::MatrixXd& ntn, int bins)
+{
+  return 1e-3 * std::max(ntn.trace() / bins, 1e-12);
+}
+} // namespace
+
 // Per cast pixel, its ray's samples counted per value bin (rows: pixels, columns: bins). A ray
 // whose samples were not kept (beyond the renderer's record budget) counts none.
 Eigen::MatrixXd EmissionScreen::histograms(const View& view) const
@@ -61,12 +70,11 @@ Eigen::MatrixXd EmissionScreen::histograms(const View& view) const
   return n;
 }
 
-// The RMS residual of d ~ n k by ridge least squares (the ridge a thousandth of the mean
-// diagonal of n'n: bins no ray reaches get k = 0).
+// The RMS residual of d ~ n k by ridge least squares (ridgeOf).
 double EmissionScreen::solve(const Eigen::MatrixXd& n, const Eigen::MatrixXd& d) const
 {
   Eigen::MatrixXd ntn = n.transpose() * n;
-  const double ridge = 1e-3 * std::max(ntn.trace() / Bins, 1e-12);
+  const double ridge = ridgeOf(ntn, Bins);
   ntn.diagonal().array() += ridge;
   const Eigen::MatrixXd ntd = n.transpose() * d;
   const Eigen::MatrixXd k = ntn.ldlt().solve(ntd);
@@ -95,7 +103,7 @@ std::vector<double> EmissionScreen::residuals(
   const Eigen::MatrixXd n = histograms(view);
   // n'n is the same for every alignment: factored once
   Eigen::MatrixXd ntn = n.transpose() * n;
-  const double ridge = 1e-3 * std::max(ntn.trace() / Bins, 1e-12);
+  const double ridge = ridgeOf(ntn, Bins);
   ntn.diagonal().array() += ridge;
   const Eigen::LDLT<Eigen::MatrixXd> factor(ntn);
   const int w = Difference.width, h = Difference.height;
