@@ -25,6 +25,8 @@ VOLUMES = {
     "neghip_64x64x64_uint8": "neghip",
     "vtk_headsq_64x64x93_int16": "headsq",
     "lidc_chest_ct_256x256x133_uint8": "chest",
+    "mni152_2009a_t1_197x233x189_uint8": "mri",
+    "vtk_ironprot_68x68x68_uint8": "ironprot",
 }
 
 

@@ -85,7 +85,8 @@ ValueHistogram valueHistogram(const Volume& volume)
 }
 } // namespace
 
-std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegions)
+std::vector<FeatureRegion> findFeatureRegions(
+  const Volume& volume, int maxRegions, const std::function<bool(const FeatureRegion&)>& keep)
 {
   const auto range = volume.range();
   const ValueHistogram vh = valueHistogram(volume);
@@ -137,6 +138,8 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
     for (int i = p.lo; i <= p.hi; ++i)
       mass += hist[i];
     r.mass = nonAir > 0 ? mass / nonAir : 0;
+    if (keep && !keep(r))
+      continue;
     regions.push_back(r);
   }
   if (regions.empty())
@@ -148,7 +151,8 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
   return regions;
 }
 
-std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxRegions)
+std::vector<FeatureRegion> findFeatureRegions2D(
+  const Volume& volume, int maxRegions, const std::function<bool(const FeatureRegion&)>& keep)
 {
   constexpr int V = 128, G = 64;
   const auto range = volume.range();
@@ -287,6 +291,8 @@ std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxReg
     r.gradientHi = std::min(b1 + 1.0, mb + 2 * sb) * dg;
     r.gradientPeak = std::clamp((m / V + 0.5) * dg, r.gradientLo, r.gradientHi);
     r.mass = mass / nonAir;
+    if (keep && !keep(r))
+      continue;
     regions.push_back(r);
   }
   if (regions.empty())
@@ -494,7 +500,9 @@ std::array<double, 3> hslToRgb(double h, double s, double l)
   return { f(0), f(8), f(4) };
 }
 
-View orbit(const Volume& volume, int size, double azimuthDeg, double elevationDeg, double zoom)
+} // namespace
+
+View orbitView(const Volume& volume, int size, double azimuthDeg, double elevationDeg, double zoom)
 {
   View v = defaultView(volume, size, size);
   const Eigen::Vector3d f = v.camera.focalPoint;
@@ -506,8 +514,6 @@ View orbit(const Volume& volume, int size, double azimuthDeg, double elevationDe
   v.camera.parallelScale /= zoom;
   return v;
 }
-
-} // namespace
 
 Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size)
@@ -545,8 +551,8 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
     }
     e.primitives.push_back(g);
   }
-  e.viewExp = orbit(volume, size, 360 * u(rng), in(spec.elevation), in(spec.zoom));
-  e.viewView = orbit(volume, size, 360 * u(rng), in(spec.elevation), in(spec.zoom));
+  e.viewExp = orbitView(volume, size, 360 * u(rng), in(spec.elevation), in(spec.zoom));
+  e.viewView = orbitView(volume, size, 360 * u(rng), in(spec.elevation), in(spec.zoom));
   e.background = u(rng) < 0.5 ? 0 : 1;
   e.viewExp.background = { static_cast<double>(e.background), static_cast<double>(e.background),
     static_cast<double>(e.background) };

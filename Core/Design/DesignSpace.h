@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,8 +30,10 @@ struct FeatureRegion
 /// Finds up to maxRegions feature regions: the 256-bin value histogram, log-scaled and smoothed
 /// (Gaussian, 2 bins), minus "air" (when the most frequent value lies in the lowest 30 % of the
 /// range, everything up to the first valley above it; bins with < 1e-4 of the voxels count as
-/// noise), then the most prominent peaks, each spanning the valleys on either side.
-std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegions = 4);
+/// noise), then the most prominent peaks, each spanning the valleys on either side. A region
+/// `keep` refuses is left out and the next most prominent peak is taken (see DesignCheck.h).
+std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegions = 4,
+  const std::function<bool(const FeatureRegion&)>& keep = {});
 
 /// Finds up to maxRegions 2D feature regions in the value x gradient-magnitude histogram
 /// (128 x 64 bins over the value range x [0, 99.5th percentile of the gradient magnitude]),
@@ -39,8 +42,9 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
 /// inside an earlier region is the same feature. Regions under 0.5 % of the non-air voxels are
 /// noise. A region spans +- 2 standard deviations of its voxels along each axis (within its
 /// bins) and peaks at its maximum. Materials appear at low gradient, the boundaries between them
-/// at high gradient.
-std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxRegions = 4);
+/// at high gradient. `keep` as in findFeatureRegions.
+std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxRegions = 4,
+  const std::function<bool(const FeatureRegion&)>& keep = {});
 
 /// The base primitive of a region: mean at the peak, stddev = (hi - lo) / 4 (2D regions the
 /// same along gradient magnitude), neutral colour, opacity 0.5.
@@ -89,6 +93,10 @@ struct Exemplar
 /// Draws exemplar `index` of the design space deterministically from (seed, index).
 Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size);
+
+/// The view the exemplars use: ParaView's reset camera (defaultView, size x size) orbited by
+/// azimuth (about +y) and elevation, +y up, zoomed (distance and parallel scale / zoom).
+View orbitView(const Volume& volume, int size, double azimuthDeg, double elevationDeg, double zoom);
 
 /// Ray casts a TF of primitives (none: an empty image) as the generator does: a 256-entry 1D
 /// table, or (dimensions 2) a 256 x 64 table over the value range x

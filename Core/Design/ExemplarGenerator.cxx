@@ -1,6 +1,7 @@
 // ExemplarGenerator.cxx: parallel rendering of exemplars, shard files, the dataset index.
 #include "Design/ExemplarGenerator.h"
 
+#include "Design/DesignCheck.h"
 #include "Design/DesignJson.h"
 
 #include "Common/Error.h"
@@ -9,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -71,9 +73,13 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
   fs::remove(fs::path(dir) / "dataset.json", ec);
   GenerateReport report;
   const bool twoD = spec.dimensions == 2;
-  report.regions = !spec.regions.empty() ? spec.regions
-                                         : (twoD ? findFeatureRegions2D(volume, spec.maxRegions)
-                                                 : findFeatureRegions(volume, spec.maxRegions));
+  if (!spec.regions.empty())
+    report.regions = spec.regions;
+  else if (opt.screen)
+    report.regions = findDesignRegions(volume, spec, &report.regionsLeftOut);
+  else
+    report.regions = twoD ? findFeatureRegions2D(volume, spec.maxRegions)
+                          : findFeatureRegions(volume, spec.maxRegions);
   const RayCaster caster(volume);
   const auto aux = auxiliaryPrimitives(spec, report.regions);
   const auto gradientRange =
@@ -83,13 +89,30 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
 
   std::vector<Exemplar> items(static_cast<size_t>(opt.count));
   const size_t rec = recordBytes(opt.size);
+  const size_t px = static_cast<size_t>(opt.size) * opt.size;
   const int shards = (opt.count + opt.shardSize - 1) / opt.shardSize;
+  const std::int64_t maxCandidates = 4LL * opt.count;
+  std::uint64_t next = opt.firstIndex; // the next index to examine
   std::vector<std::string> written;
   auto cleanup = [&]
   {
     for (const auto& f : written)
       fs::remove(f, ec);
   };
+  // progress on the calling thread (parallelFor's worker 0), at most every 0.25 s
+  using Clock = std::chrono::steady_clock;
+  auto lastReport = Clock::now();
+  std::atomic<int> done{ 0 };
+  auto tick = [&](int threadId)
+  {
+    if (!progress || threadId != 0 || Clock::now() - lastReport < std::chrono::milliseconds(250))
+      return;
+    lastReport = Clock::now();
+    if (!progress(std::min(1.0, static_cast<double>(done.load()) / opt.count)))
+      throw Cancelled();
+  };
+  auto render = [&](const std::vector<GaussianPrimitive>& tf, const View& view)
+  { return renderDesign(caster, tf, spec.dimensions, gradientRange, view, ropt); };
   try
   {
     for (int shard = 0; shard < shards; ++shard)
@@ -97,22 +120,60 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
       const int first = shard * opt.shardSize;
       const int n = std::min(opt.shardSize, opt.count - first);
       std::vector<std::uint8_t> data(rec * n);
-      parallelFor(n, opt.threads,
-        [&](std::int64_t q, int)
+      int have = 0;
+      while (have < n)
+      {
+        // a batch of candidate indices, sized by the pass rate so far
+        const bool screening = opt.screen && report.candidates < maxCandidates;
+        const double passRate = report.candidates > 0
+          ? std::max(
+              0.25, 1.0 - static_cast<double>(report.empty + report.flatBox) / report.candidates)
+          : 1.0;
+        const int batch = screening ? static_cast<int>(std::ceil((n - have) / passRate)) : n - have;
+        std::vector<Exemplar> drawn(static_cast<size_t>(batch));
+        std::vector<DesignLook> looks(static_cast<size_t>(batch));
+        std::vector<std::uint8_t> records(rec * batch);
+        parallelFor(batch, opt.threads,
+          [&](std::int64_t q, int threadId)
+          {
+            tick(threadId);
+            Exemplar e = sampleExemplar(volume, spec, report.regions, opt.seed, next + q, opt.size);
+            const Image exp = render(e.primitives, e.viewExp);
+            if (screening)
+            {
+              looks[q] = lookOfDesign(exp, boxFootprint(caster, e.viewExp));
+              if (looks[q].junk())
+                return;
+            }
+            std::uint8_t* out = records.data() + rec * q;
+            toBytes(compositeOverBackground(exp, e.viewExp.background), out);
+            toBytes(render(aux, e.viewView), out + 3 * px);
+            toBytes(render(e.primitives, e.viewView), out + 7 * px);
+            drawn[q] = std::move(e);
+            ++done;
+          });
+        // in index order: the passing candidates until the shard is full
+        for (int q = 0; q < batch && have < n; ++q)
         {
-          const int i = first + static_cast<int>(q);
-          Exemplar e =
-            sampleExemplar(volume, spec, report.regions, opt.seed, opt.firstIndex + i, opt.size);
-          auto render = [&](const std::vector<GaussianPrimitive>& tf, const View& view)
-          { return renderDesign(caster, tf, spec.dimensions, gradientRange, view, ropt); };
-          std::uint8_t* out = data.data() + rec * q;
-          const size_t px = static_cast<size_t>(opt.size) * opt.size;
-          toBytes(
-            compositeOverBackground(render(e.primitives, e.viewExp), e.viewExp.background), out);
-          toBytes(render(aux, e.viewView), out + 3 * px);
-          toBytes(render(e.primitives, e.viewView), out + 7 * px);
-          items[static_cast<size_t>(i)] = std::move(e);
-        });
+          ++next;
+          if (screening)
+          {
+            ++report.candidates;
+            if (looks[q].junk())
+            {
+              report.empty += looks[q].empty();
+              report.flatBox += looks[q].flatBox();
+              continue;
+            }
+          }
+          std::copy_n(records.data() + rec * q, rec, data.data() + rec * have);
+          items[static_cast<size_t>(first + have)] = std::move(drawn[q]);
+          ++have;
+        }
+        done = first + have;
+        if (opt.screen && !screening)
+          report.screenExhausted = true;
+      }
       std::string bytes(kMagic, kMagic + 8);
       const std::uint32_t header[4] = { 1, static_cast<std::uint32_t>(n),
         static_cast<std::uint32_t>(opt.size), 0 };
@@ -125,6 +186,7 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
       {
         throw Cancelled();
       }
+      lastReport = Clock::now();
     }
     json j;
     j["format"] = "ddg-exemplars";
@@ -137,6 +199,10 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
     j["seed"] = opt.seed;
     j["first_index"] = opt.firstIndex;
     j["shard_size"] = opt.shardSize;
+    if (opt.screen)
+      j["screen"] = { { "candidates", report.candidates }, { "empty", report.empty },
+        { "flat_box", report.flatBox }, { "regions_left_out", report.regionsLeftOut },
+        { "exhausted", report.screenExhausted } };
     j["spec"] = json::parse(designSpaceSpecToJson(spec));
     j["regions"] = json::array();
     for (const auto& r : report.regions)

@@ -24,6 +24,12 @@ struct GenerateOptions
   int shardSize = 256;    ///< exemplars per shard file [256]
   int threads = 0;        ///< 0 = all cores
   std::string volumeFile; ///< recorded in dataset.json ("volume_file") so training finds it [""]
+  /// Designs that show structure only (DesignCheck.h): feature regions that paint the box or
+  /// show nothing are left out (findDesignRegions), and a design whose image at V_exp is empty or
+  /// a flat box is passed over for the next index; once 4 x count candidates are examined (checked
+  /// per batch) the rest are kept as drawn [false: every index in turn, as the shipped bundles were
+  /// made]
+  bool screen = false;
 };
 
 struct GenerateReport
@@ -31,6 +37,11 @@ struct GenerateReport
   int count = 0;
   double seconds = 0;
   std::vector<FeatureRegion> regions;
+  /// With GenerateOptions::screen: the indices examined, the designs passed over (empty, flat
+  /// box), the feature regions left out, and whether the candidates ran out (then the last
+  /// exemplars were kept unscreened).
+  int candidates = 0, empty = 0, flatBox = 0, regionsLeftOut = 0;
+  bool screenExhausted = false;
 };
 
 /// Writes `dir` (created if needed; existing dataset files are replaced only when the new ones
@@ -43,7 +54,10 @@ struct GenerateReport
 ///                    and per exemplar its seed, active regions, primitives and both views;
 ///                    written last, so a dataset without it is incomplete.
 /// Each exemplar is rendered on one thread, exemplars in parallel. Progress gets the fraction
-/// done and may cancel (throws ddg::Cancelled; the files of the cancelled run are removed).
+/// done, on the calling thread, at least every 0.25 s of work and after each shard, and may
+/// cancel (throws ddg::Cancelled within about one exemplar's render; the files of the cancelled
+/// run are removed). With options.screen, exemplar i is the i-th index from firstIndex that
+/// passes the screen (deterministic for any thread count); dataset.json records each one's seed.
 GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& spec,
   const std::string& dir, const GenerateOptions& options,
   const std::function<bool(double)>& progress = {});

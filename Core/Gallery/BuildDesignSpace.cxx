@@ -51,7 +51,8 @@ BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile
   g.seed = o.seed;
   g.threads = o.threads;
   g.volumeFile = volumeFile;
-  generateExemplars(volume, o.spec, (fs::path(work) / "train").string(), g,
+  g.screen = o.screen;
+  r.exemplars = generateExemplars(volume, o.spec, (fs::path(work) / "train").string(), g,
     [&](double f) { return !progress || progress("exemplars", 0.1 * f); });
   g.count = o.heldout;
   g.firstIndex = 1000000;
@@ -92,8 +93,9 @@ BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile
   t0 = Clock::now();
   try
   {
-    const auto set = buildOutlineLatents(model, volume, o.outlineCount, o.seed, 0, o.threads,
-      [&](double f) { return !progress || progress("outline", 0.9 + 0.1 * f); });
+    const auto set = buildOutlineLatents(
+      model, volume, o.outlineCount, o.seed, 0, o.threads,
+      [&](double f) { return !progress || progress("outline", 0.9 + 0.1 * f); }, o.screen);
     writeLatentSet(set, outlineFile(bundleDir));
   }
   catch (...)

@@ -25,12 +25,14 @@ struct BuildOptions
   std::uint64_t seed = 1;    ///< [1]
   int threads = 0;           ///< 0 = all cores
   std::string workDirectory; ///< exemplars go here ["" = bundleDir + "/exemplars", removed after]
+  bool screen = true;        ///< designs that show structure only (GenerateOptions::screen) [true]
 };
 
 struct BuildReport
 {
   EvaluationReport evaluation; ///< on the held-out exemplars
   TrainReport training;
+  GenerateReport exemplars; ///< the training exemplars' (regions, the screen's counts)
   double generateSeconds = 0, outlineSeconds = 0;
 };
 

@@ -4,6 +4,7 @@
 #include "Common/Error.h"
 #include "Common/Parallel.h"
 #include "Design/DecoderLayout.h"
+#include "Design/DesignCheck.h"
 #include "Design/DesignSpace.h"
 #include "Gallery/Export.h"
 #include "Image/ImageMetrics.h"
@@ -21,7 +22,7 @@ namespace ddg
 
 LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volume, int count,
   std::uint64_t seed, std::uint64_t firstIndex, int threads,
-  const std::function<bool(double)>& progress)
+  const std::function<bool(double)>& progress, bool screen)
 {
   if (count < 3)
     throw Error("an outline needs at least 3 designs (got " + std::to_string(count) + ")");
@@ -38,26 +39,47 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
   LatentSet set;
   set.dim = model.config().latent;
   set.seed = seed;
-  set.indices.resize(count);
   set.values.resize(static_cast<size_t>(count) * set.dim);
+  // screened: candidates up to 4 x count, then the rest as drawn (as generateExemplars does)
+  const std::int64_t maxCandidates = 4LL * count;
+  std::int64_t examined = 0;
+  std::uint64_t next = firstIndex;
   const int chunk = 512;
-  for (int first = 0; first < count; first += chunk)
+  while (set.count() < count)
   {
-    const int n = std::min(chunk, count - first);
+    const bool screening = screen && examined < maxCandidates;
+    const int n = std::min(chunk, count - set.count());
     std::vector<Image> images(n);
+    std::vector<char> junk(n, 0);
     parallelFor(n, threads,
       [&](std::int64_t q, int)
       {
-        const std::uint64_t index = firstIndex + first + q;
-        const Exemplar e = sampleExemplar(volume, spec, regions, seed, index, s);
-        images[q] = compositeOverBackground(
-          renderDesign(caster, e.primitives, spec.dimensions, gradientRange, e.viewExp, ropt),
-          e.viewExp.background);
-        set.indices[first + q] = index;
+        const Exemplar e = sampleExemplar(volume, spec, regions, seed, next + q, s);
+        const Image rgba =
+          renderDesign(caster, e.primitives, spec.dimensions, gradientRange, e.viewExp, ropt);
+        if (screening && lookOfDesign(rgba, boxFootprint(caster, e.viewExp)).junk())
+          junk[q] = 1;
+        else
+          images[q] = compositeOverBackground(rgba, e.viewExp.background);
       });
-    const auto z = model.analyzeBatch(images);
-    std::copy(z.begin(), z.end(), set.values.begin() + static_cast<size_t>(first) * set.dim);
-    if (progress && !progress(static_cast<double>(first + n) / count))
+    std::vector<Image> kept;
+    for (int q = 0; q < n; ++q)
+    {
+      examined += screening;
+      if (!junk[q])
+      {
+        kept.push_back(std::move(images[q]));
+        set.indices.push_back(next + q);
+      }
+    }
+    next += n;
+    if (!kept.empty())
+    {
+      const auto z = model.analyzeBatch(kept);
+      std::copy(z.begin(), z.end(),
+        set.values.begin() + static_cast<size_t>(set.count() - kept.size()) * set.dim);
+    }
+    if (progress && !progress(static_cast<double>(set.count()) / count))
       throw Cancelled();
   }
   return set;

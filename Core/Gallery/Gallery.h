@@ -21,10 +21,12 @@ namespace ddg
 /// firstIndex + i of seed `seed` (sampleExemplar with the bundle's spec and regions), its RGB
 /// image at V_exp over its background at the model's size, analyzed. Deterministic; designs
 /// 0..N-1 of seed 1 are the training exemplars of scripts/train_model.sh. Progress gets the
-/// fraction done and may cancel (throws ddg::Cancelled).
+/// fraction done and may cancel (throws ddg::Cancelled). With `screen`, designs whose image is
+/// empty or a flat box (DesignCheck.h) are passed over for the next index, as
+/// GenerateOptions::screen does, so a screened build's outline holds its training exemplars.
 LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volume, int count,
   std::uint64_t seed = 1, std::uint64_t firstIndex = 0, int threads = 0,
-  const std::function<bool(double)>& progress = {});
+  const std::function<bool(double)>& progress = {}, bool screen = false);
 
 /// The file of a bundle's outline latents.
 std::string outlineFile(const std::string& bundleDir);

@@ -23,7 +23,7 @@ struct GenerateArgs
   std::string volume, spec, out, array, preview;
   int count = 1000, size = 64, threads = 0, shardSize = 256;
   std::uint64_t seed = 1, firstIndex = 0;
-  bool quiet = false;
+  bool quiet = false, screen = false;
 };
 
 int runGenerate(const GenerateArgs& a)
@@ -38,6 +38,7 @@ int runGenerate(const GenerateArgs& a)
   opt.firstIndex = a.firstIndex;
   opt.threads = a.threads;
   opt.shardSize = a.shardSize;
+  opt.screen = a.screen;
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(a.volume, ec);
   opt.volumeFile = ec ? a.volume : absolute.lexically_normal().string();
@@ -64,6 +65,11 @@ int runGenerate(const GenerateArgs& a)
       std::printf(
         "region [%g, %g] peak %g (%.1f %% of non-air voxels)\n", r.lo, r.hi, r.peak, 100 * r.mass);
   }
+  if (a.screen)
+    std::printf("screen: %d candidates, %d empty and %d flat-box designs passed over, %d feature "
+                "region(s) left out%s\n",
+      report.candidates, report.empty, report.flatBox, report.regionsLeftOut,
+      report.screenExhausted ? "; candidates ran out, the last exemplars kept as drawn" : "");
   std::printf("wrote %d exemplars of %d x %d to %s in %.2f s (%.1f exemplars/s)\n", report.count,
     a.size, a.size, a.out.c_str(), report.seconds, report.count / report.seconds);
   if (!a.preview.empty())
@@ -111,6 +117,10 @@ ddg::cli::Command ddg::cli::addGenerateCommand(CLI::App& app)
     ->check(CLI::Range(1, 1000000));
   generate->add_option("--threads", ga->threads, "Worker threads (default 0: all cores)")
     ->check(CLI::Range(0, 256));
+  generate->add_flag("--screen", ga->screen,
+    "Designs that show structure only: leave out feature regions that paint the volume's box "
+    "or show nothing, and pass over designs whose image is empty or a flat box (the next index "
+    "is taken; see README, 'Design spaces that show structure')");
   generate->add_option(
     "--preview", ga->preview, "Also write a contact sheet of the first exemplars");
   generate->add_option("--array", ga->array, "Point array (default: the active scalars)");

@@ -33,7 +33,7 @@ struct OutlineArgs
   std::string model, volume, out;
   int count = 50000, threads = 0;
   std::uint64_t seed = 1, firstIndex = 0;
-  bool quiet = false;
+  bool quiet = false, screen = false;
 };
 
 int runOutline(const OutlineArgs& a)
@@ -42,7 +42,8 @@ int runOutline(const OutlineArgs& a)
   const auto model = ddg::NeuralDesignModel::loadBundle(a.model, ddg::volumeFingerprint(volume));
   const auto t0 = Clock::now();
   int lastPercent = -1;
-  const auto set = ddg::buildOutlineLatents(model, volume, a.count, a.seed, a.firstIndex, a.threads,
+  const auto set = ddg::buildOutlineLatents(
+    model, volume, a.count, a.seed, a.firstIndex, a.threads,
     [&](double f)
     {
       const int p = static_cast<int>(f * 100);
@@ -53,7 +54,8 @@ int runOutline(const OutlineArgs& a)
       }
       lastPercent = p;
       return true;
-    });
+    },
+    a.screen);
   const double seconds = msSince(t0) / 1000;
   const std::string out = a.out.empty() ? ddg::outlineFile(a.model) : a.out;
   ddg::writeLatentSet(set, out);
@@ -83,6 +85,9 @@ ddg::cli::Command ddg::cli::addOutlineCommand(CLI::App& app)
   outline->add_option("--first-index", oa->firstIndex, "Index of the first design (default 0)");
   outline->add_option("--threads", oa->threads, "Render threads (default 0: all cores)");
   outline->add_option("--out", oa->out, "Output file (default MODEL/outline.bin)");
+  outline->add_flag("--screen", oa->screen,
+    "Pass over designs whose image is empty or a flat box (as generate --screen; ddg build "
+    "screens)");
   outline->add_flag("--quiet", oa->quiet, "Do not print progress");
   return { outline, [oa] { return runOutline(*oa); } };
 }

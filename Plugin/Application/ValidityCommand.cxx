@@ -5,6 +5,7 @@
 #include "DDGVolumeAdaptor.h"
 
 #include "Common/Error.h"
+#include "Gallery/OutlineCheck.h"
 #include "Image/Image.h"
 #include "Neural/DesignValidity.h"
 #include "Neural/NeuralDesignModel.h"
@@ -23,8 +24,8 @@ using namespace ddg::cli;
 
 struct ValidityArgs
 {
-  std::string model, volume, view, out;
-  int count = 6, size = 128;
+  std::string model, volume, view, out, outlineSheet;
+  int count = 6, size = 128, outlineCount = 200;
   std::uint64_t seed = 1;
 };
 
@@ -49,6 +50,22 @@ int runValidity(const ValidityArgs& a)
   ddg::writeImage(r.sheet, a.out);
   std::printf(
     "wrote %s (rows: random latent | nearest by cosine | nearest by distance)\n", a.out.c_str());
+  if (a.outlineCount > 0 && std::filesystem::exists(ddg::outlineFile(a.model)))
+  {
+    ddg::DesignGallery gallery(model, volume, ddg::readLatentSet(ddg::outlineFile(a.model)));
+    const auto check = ddg::checkOutline(gallery, a.outlineCount, a.seed);
+    std::printf("outline: %zu of %d designs checked at azimuth 0/120/240, elevation 20: %d empty, "
+                "%d flat box (%.1f %% junk)\n",
+      check.rows.size(), gallery.outline().count(), check.empty, check.flatBox,
+      100 * check.junkFraction());
+    if (!a.outlineSheet.empty())
+    {
+      ddg::writeImage(check.sheet, a.outlineSheet);
+      std::printf(
+        "wrote %s (the checked designs at azimuth 0; framed blue: empty, red: flat box)\n",
+        a.outlineSheet.c_str());
+    }
+  }
   return 0;
 }
 
@@ -69,6 +86,14 @@ ddg::cli::Command ddg::cli::addValidityCommand(CLI::App& app)
   validity->add_option("--size", vda->size, "Image size without --view (default 128)")
     ->check(CLI::Range(8, 4096));
   validity->add_option("--seed", vda->seed, "Seed of the random latents (default 1)");
+  validity
+    ->add_option("--outline-count", vda->outlineCount,
+      "Outline designs to check for structure (default 200; 0: none): each design's TF at "
+      "azimuth 0/120/240, elevation 20; empty (under 1 % of the volume's box shows alpha >= 0.03) "
+      "at all three, or a flat box (90 % of the box and 80 % of its outline shown) at two")
+    ->check(CLI::Range(0, 1000000));
+  validity->add_option("--outline-sheet", vda->outlineSheet,
+    "Also write the checked outline designs as a PNG sheet (junk framed)");
   return { validity, [vda] { return runValidity(*vda); } };
 }
 #endif

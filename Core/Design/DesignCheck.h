@@ -1,0 +1,69 @@
+// DesignCheck.h: does a design show structure? A design whose image is empty, or a flat box (the
+// volume's whole box painted: air, noise, a scanner's field of view or a container made
+// visible), teaches a gallery nothing. Used to screen exemplars, outline designs and feature
+// regions, and to measure design spaces (`ddg validity`).
+#pragma once
+
+#include "Design/DesignSpace.h"
+#include "Image/Image.h"
+#include "Render/RayCaster.h"
+#include "Render/View.h"
+
+namespace ddg
+{
+
+/// How a design's image covers the volume's box at its view. A pixel shows the design when the
+/// render's alpha there is at least kDesignVisibleAlpha (over black, 0.03 of a mid-light colour
+/// is ~4 of 255 levels: a haze a user sees). The box's footprint is the set of pixels whose ray
+/// enters the volume's box; its ring is the footprint's outermost pixels (a 4-neighbour outside
+/// it, or the image border).
+struct DesignLook
+{
+  double coverage = 0;     ///< fraction of the footprint where the design shows
+  double ringCoverage = 0; ///< the same on the footprint's ring
+  int footprint = 0;       ///< pixels of the footprint (0: the box is not in view)
+  /// Less than 1 % of the footprint shows anything.
+  bool empty() const { return coverage < 0.01; }
+  /// The box itself is painted: 90 % of the footprint and 80 % of its ring show the design (an
+  /// object cut by the box's faces fills part of the ring, not most of it).
+  bool flatBox() const { return coverage >= 0.9 && ringCoverage >= 0.8; }
+  bool junk() const { return empty() || flatBox(); }
+};
+
+constexpr float kDesignVisibleAlpha = 0.03f;
+
+/// The box's footprint at `view`: a 1-channel image, 1 where the pixel's ray enters the box.
+Image boxFootprint(const RayCaster& caster, const View& view);
+
+/// The look of a premultiplied RGBA render against the footprint of the same view (same size;
+/// throws ddg::Error otherwise). A footprint of 0 pixels gives an empty look.
+DesignLook lookOfDesign(const Image& premultipliedRGBA, const Image& footprint);
+
+/// The look of a TF of primitives at `view` (rendered as the generator does).
+DesignLook lookOfPrimitives(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
+  int dimensions, const std::array<double, 2>& gradientRange, const View& view);
+
+/// A TF judged at the three canonical views (azimuth 0, 120, 240, elevation 20, size x size,
+/// exemplar views of zoom 1): empty when empty at all three, a flat box when a flat box at two
+/// or more.
+struct DesignVerdict
+{
+  bool empty = false, flatBox = false;
+  bool junk() const { return empty || flatBox; }
+};
+DesignVerdict judgeDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
+  int dimensions, const std::array<double, 2>& gradientRange, int size = 48);
+
+/// Whether a feature region can carry designs: its base primitive alone (opacity 0.5) is not
+/// junk by judgeDesign.
+bool regionShowsStructure(const RayCaster& caster, const FeatureRegion& region, int dimensions,
+  const std::array<double, 2>& gradientRange);
+
+/// The feature regions of a design space: the spec's own, else the histogram's most prominent
+/// peaks (findFeatureRegions / findFeatureRegions2D) that show structure
+/// (regionShowsStructure); `left` counts the peaks left out. When no peak shows structure, the
+/// unscreened regions are returned (and left stays 0).
+std::vector<FeatureRegion> findDesignRegions(
+  const Volume& volume, const DesignSpaceSpec& spec, int* left = nullptr);
+
+} // namespace ddg
