@@ -38,11 +38,25 @@ for stem in ("enamel_a", "enamel_b"):
     files.append(out)
 out = os.path.join(outdir, "small_reconstructed.json")
 subprocess.run(
-    [ddg, "reconstruct", "--volume", os.path.join(testdata, "small.vti"), "--target",
-     os.path.join(testdata, "small_target.png"), "--target",
-     os.path.join(testdata, "small_target.png"), "--view", os.path.join(testdata, "small_view.json"),
-     "--view", os.path.join(testdata, "small_view.json"), "--iterations", "5", "--out", out,
-     "--quiet"],
+    [
+        ddg,
+        "reconstruct",
+        "--volume",
+        os.path.join(testdata, "small.vti"),
+        "--target",
+        os.path.join(testdata, "small_target.png"),
+        "--target",
+        os.path.join(testdata, "small_target.png"),
+        "--view",
+        os.path.join(testdata, "small_view.json"),
+        "--view",
+        os.path.join(testdata, "small_view.json"),
+        "--iterations",
+        "5",
+        "--out",
+        out,
+        "--quiet",
+    ],
     check=True,
 )
 files.append(out)
