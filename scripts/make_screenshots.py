@@ -1,6 +1,8 @@
 """Writes the shipped reference screenshots (Data/Screenshots/): ParaView's own Volume rendering
 of a shipped volume with a shipped preset at a shipped view, as a user would save them with
 File > Save Screenshot. They are the query images of the examples, the tests and the main job.
+Each picture gets its own view file next to it (<name>.json: the shipped view's camera and size
+with the background it was saved over), the view to reconstruct it with.
 
 Run: xvfb-run -a pvpython scripts/make_screenshots.py   (deterministic: same files every run)
 """
@@ -30,4 +32,7 @@ for volume, preset_name, view_name, background in CASES:
         view["background"] = background
     out = os.path.join(out_dir, f"{preset_name}_{view_name}.png")
     paraview_render(os.path.join(data, "Volumes", volume + ".vti"), preset, view, out)
-    print("wrote", out)
+    with open(out[: -len(".png")] + ".json", "w") as f:  # the picture's own view
+        json.dump(view, f, indent=2, sort_keys=True)
+        f.write("\n")
+    print("wrote", out, "and its view")

@@ -11,6 +11,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <sstream>
 
 namespace ddg
 {
@@ -42,6 +44,44 @@ TransferFunctionFile primitivesToTransferFunction(const std::vector<GaussianPrim
       rasterize1D(primitives, valueRange[0], valueRange[1], 1024), 1.0 / 512.0, name);
   }
   return out;
+}
+
+std::string exportName(
+  const std::string& volume, const std::string& origin, const std::string& path, std::time_t when)
+{
+  const std::string volumeName = std::filesystem::path(volume).stem().string();
+  const std::string stem = std::filesystem::path(path).stem().string();
+  std::tm local{};
+  localtime_r(&when, &local);
+  char date[32];
+  std::strftime(date, sizeof(date), "%Y-%m-%d %H:%M:%S", &local);
+  std::ostringstream name;
+  name << "DDG";
+  for (const std::string& part : { volumeName, origin == stem ? std::string() : origin, stem })
+    if (!part.empty())
+      name << ' ' << part;
+  name << ' ' << date;
+  return name.str();
+}
+
+std::string designOrigin(const std::string& action)
+{
+  if (action == "pick")
+    return "outline design";
+  if (action == "latent")
+    return "design";
+  if (action == "axes")
+    return "edit";
+  return action;
+}
+
+TransferFunctionFile renamed(TransferFunctionFile tf, const std::string& name)
+{
+  if (tf.is2D)
+    tf.tf2D.name = name;
+  else
+    tf.tf1D.name = name;
+  return tf;
 }
 
 std::string slicerVolumePropertyJson(

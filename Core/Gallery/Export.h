@@ -7,6 +7,7 @@
 #include "TransferFunction/TransferFunctionIO.h"
 
 #include <array>
+#include <ctime>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,23 @@ struct View;
 TransferFunctionFile primitivesToTransferFunction(const std::vector<GaussianPrimitive>& primitives,
   int dimensions, std::array<double, 2> valueRange, std::array<double, 2> gradientRange,
   const std::string& name = "ddg design");
+
+/// A unique, meaningful preset name for a TF file written at `path`: "DDG <volume> <origin>
+/// <stem> <date> <time>", e.g. "DDG tooth query design 2026-11-24 05:12:07" (`volume`: a name or
+/// a file path, its folders and extension dropped; `origin`: what made the TF, e.g. "outline
+/// design", "query", "match", "reconstruction"; `stem`: the file's name without its extension;
+/// `when`: local time to the second; empty parts and an origin equal to the stem left out).
+/// ParaView keeps imported presets by name and refuses one whose name it holds already ("Cannot
+/// find a unique name", ParaView 5.11 imports it nameless), so every exported file gets its own.
+std::string exportName(const std::string& volume, const std::string& origin,
+  const std::string& path, std::time_t when = std::time(nullptr));
+
+/// The origin exportName gives a design whose history ends with `action`: "pick" -> "outline
+/// design", "latent" -> "design", "axes" -> "edit"; any other word as it is.
+std::string designOrigin(const std::string& action);
+
+/// `tf` with its "Name" (1D preset or 2D TF) set to `name`.
+TransferFunctionFile renamed(TransferFunctionFile tf, const std::string& name);
 
 /// 3D Slicer's volume property JSON (schema volume-property-schema-v1.0.0: "@schema",
 /// "volumeProperties": [{"effectiveRange", "interpolationType": "linear", "components":

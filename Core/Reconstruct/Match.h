@@ -40,6 +40,28 @@ struct PictureBackground
 /// picture cropped into the object, a photograph): a quarter of the border or more far from it.
 PictureBackground estimateBackground(const Image& picture);
 
+/// The background a reconstruction target (an opaque RGB picture at a known view) is compared
+/// over, and how it was settled.
+struct TargetBackground
+{
+  PictureBackground background; ///< the one to use (write it into the target's view: applyTo)
+  /// Where it came from: "given" (the caller's colour), "view" (the view's background: the
+  /// picture's border agrees with it, or has no one colour) or "picture" (estimated from the
+  /// picture's border, which disagrees with the view's background).
+  std::string source;
+  /// Empty, or why the picture's border and the stated background disagree (for a warning).
+  std::string warning;
+};
+
+/// Settles the background of `picture` (RGB in [0, 1]) taken at `view`. `given`: the colour the
+/// caller states; unset: estimated from the picture's border (estimateBackground). The view's
+/// background (and background2) is kept when the picture's border agrees with it within
+/// max(6 levels of 255, 3 x the border's noise) per channel, or when the border has no one
+/// colour (an object cut by the frame); otherwise the picture's estimate is used and `warning`
+/// says so. With `given`, that colour is used and `warning` says when the border disagrees.
+TargetBackground targetBackground(const Image& picture, const View& view,
+  const std::optional<std::array<double, 3>>& given = std::nullopt);
+
 /// Per pixel of a picture: 1 in `foreground` where it differs from the background by more than
 /// its noise allows (the object and any overlay), 1 in `overlay` where a foreground part is
 /// judged an overlay — a connected part that the object does not explain (see matchPicture).

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 #include <utility>
 
@@ -136,6 +137,80 @@ PictureBackground estimateBackground(const Image& picture)
     throw Error(msg.str());
   }
   return bg;
+}
+
+// --- a reconstruction target's background ---------------------------------------------------
+
+namespace
+{
+std::string colourText(const std::array<double, 3>& c)
+{
+  char text[64];
+  std::snprintf(text, sizeof(text), "(%.3f %.3f %.3f)", c[0], c[1], c[2]);
+  return text;
+}
+
+std::string backgroundText(const PictureBackground& bg)
+{
+  return bg.gradient
+    ? "a gradient from " + colourText(bg.bottom) + " (bottom) to " + colourText(bg.top) + " (top)"
+    : colourText(bg.bottom);
+}
+
+/// The largest difference per channel between two backgrounds (bottom and top rows).
+double backgroundDifference(const PictureBackground& a, const PictureBackground& b)
+{
+  double d = 0;
+  for (int c = 0; c < 3; ++c)
+    d = std::max({ d, std::abs(a.bottom[c] - b.bottom[c]), std::abs(a.top[c] - b.top[c]) });
+  return d;
+}
+
+PictureBackground viewBackground(const View& view)
+{
+  PictureBackground bg;
+  bg.bottom = view.background;
+  bg.gradient = view.background2.has_value();
+  bg.top = view.background2 ? *view.background2 : view.background;
+  return bg;
+}
+} // namespace
+
+TargetBackground targetBackground(
+  const Image& picture, const View& view, const std::optional<std::array<double, 3>>& given)
+{
+  std::optional<PictureBackground> border;
+  try
+  {
+    border = estimateBackground(picture);
+  }
+  catch (const Error&)
+  {
+    // no one colour on the border (the object is cut by the frame): nothing to check against
+  }
+  TargetBackground out;
+  const auto agrees = [&](const PictureBackground& stated)
+  { return backgroundDifference(*border, stated) <= std::max(6.0 / 255.0, 3.0 * border->noise); };
+  if (given)
+  {
+    out.source = "given";
+    out.background.bottom = out.background.top = *given;
+    if (border && !agrees(out.background))
+      out.warning = "the picture's border is " + backgroundText(*border) +
+        ", not the given background " + colourText(*given);
+    return out;
+  }
+  out.background = viewBackground(view);
+  out.source = "view";
+  if (border && !agrees(out.background))
+  {
+    out.warning = "the picture's border is " + backgroundText(*border) +
+      ", the view's background " + backgroundText(out.background) +
+      ": the picture's is used (state the background to override)";
+    out.background = *border;
+    out.source = "picture";
+  }
+  return out;
 }
 
 } // namespace ddg

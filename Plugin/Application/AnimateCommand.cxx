@@ -57,7 +57,9 @@ int runAnimate(const AnimateArgs& a)
   for (int k : anim.keyframes)
   {
     std::snprintf(name, sizeof(name), "/key_%04d.json", k);
-    ddg::exportTransferFunction(g.explicitTransferFunction(anim.latents[k], view, lock.get()),
+    ddg::exportTransferFunction(
+      ddg::renamed(g.explicitTransferFunction(anim.latents[k], view, lock.get()),
+        ddg::exportName(a.volume, "animation keyframe", a.out + name)),
       a.out + name, "paraview", g.caster(), view);
   }
   std::printf("animation: %d frames (%zu keyframes with explicit TFs, %s easing) in %.1f s; wrote "

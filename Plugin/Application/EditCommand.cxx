@@ -109,8 +109,9 @@ int runEdit(const EditArgs& a)
     ddg::writeLatentFile(z, a.outLatent);
   if (!a.outTF.empty())
   {
-    ddg::exportTransferFunction(
-      g.explicitTransferFunction(z, view, lock.get()), a.outTF, a.format, g.caster(), view);
+    ddg::exportTransferFunction(ddg::renamed(g.explicitTransferFunction(z, view, lock.get()),
+                                  ddg::exportName(a.volume, "edit", a.outTF)),
+      a.outTF, a.format, g.caster(), view);
   }
   return 0;
 }

@@ -32,8 +32,11 @@ int runExport(const ExportArgs& a)
   const ddg::Volume volume = ddg::readVolumeFile(a.volume);
   const ddg::RayCaster caster(volume);
   const ddg::View view = a.view.empty() ? ddg::View() : ddg::readView(a.view);
+  // named for the volume, the TF it came from and the file: each export imports into ParaView
+  const std::string origin = std::filesystem::path(a.tf).stem().string();
   const std::string what =
-    ddg::exportTransferFunction(tf, a.out, a.format, caster, view, a.boxIterations);
+    ddg::exportTransferFunction(ddg::renamed(tf, ddg::exportName(a.volume, origin, a.out)), a.out,
+      a.format, caster, view, a.boxIterations);
   std::printf("wrote %s (%s)\n", a.out.c_str(), what.c_str());
   return 0;
 }

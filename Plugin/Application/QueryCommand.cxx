@@ -64,7 +64,8 @@ int runQuery(const QueryArgs& a)
   {
     const auto t2 = Clock::now();
     const auto tf = g.explicitTransferFunction(r.latent, view);
-    ddg::exportTransferFunction(tf, a.outTF, a.format, g.caster(), view);
+    ddg::exportTransferFunction(ddg::renamed(tf, ddg::exportName(a.volume, "query", a.outTF)),
+      a.outTF, a.format, g.caster(), view);
     tfMs = msSince(t2);
   }
   std::printf("times: load %.0f ms (PCA %.0f ms), query (analyzer, neighbours, %dx%d preview) "

@@ -5,6 +5,7 @@
 #include "DDGVolumeAdaptor.h"
 
 #include "Common/Error.h"
+#include "Gallery/Export.h"
 #include "Image/Image.h"
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/Match.h"
@@ -38,6 +39,15 @@ struct ReconstructArgs
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
   unsigned seed = 1;
 };
+
+// Prints a warning (when there is one) on stderr.
+void warn(const std::string& text)
+{
+  if (!text.empty())
+  {
+    std::fprintf(stderr, "ddg reconstruct: warning: %s\n", text.c_str());
+  }
+}
 
 // Reads a target image for reconstruction and checks what the reconstruction can use; the size
 // against `view`'s when there is one (a match without a view takes any size).
@@ -104,17 +114,12 @@ ddg::ReconstructionOptions reconstructionOptions(
   return opt;
 }
 
-void writeResult(const ddg::ReconstructionResult& result, const std::string& path)
+// The TF file, named for the volume, what made it and the file (Core's export).
+void writeResult(const ddg::ReconstructionResult& result, const ReconstructArgs& a,
+  const std::string& origin, const ddg::RayCaster& caster, const ddg::View& view)
 {
-  const auto tf = ddg::resultTransferFunction(result, "ddg reconstruct");
-  if (tf.is2D)
-  {
-    ddg::writeTransferFunction2D(tf.tf2D, path);
-  }
-  else
-  {
-    ddg::writePreset(tf.tf1D, path);
-  }
+  const auto tf = ddg::resultTransferFunction(result, ddg::exportName(a.volume, origin, a.out));
+  ddg::exportTransferFunction(tf, a.out, "paraview", caster, view);
 }
 
 // One picture without a mask: Core's matchPicture (background estimated, overlays masked,
@@ -139,6 +144,10 @@ int runMatch(const ReconstructArgs& a)
     opt.background = std::array<double, 3>{ a.background[0], a.background[1], a.background[2] };
   }
   opt.cameraCandidates = a.cameraCandidates;
+  if (opt.background && picture.channels == 3)
+  {
+    warn(ddg::targetBackground(picture, ddg::View(), opt.background).warning);
+  }
   const double tLoad = msSince(t0);
   std::string lastStage;
   const auto m = ddg::matchPicture(renderer, picture, opt,
@@ -152,7 +161,7 @@ int runMatch(const ReconstructArgs& a)
       }
       return true;
     });
-  writeResult(m.tf, a.out);
+  writeResult(m.tf, a, "match", renderer.caster(), m.view);
   if (!a.outView.empty())
   {
     ddg::writeView(m.view, a.outView);
@@ -233,11 +242,19 @@ int runReconstruct(const ReconstructArgs& a)
   for (size_t i = 0; i < a.targets.size(); ++i)
   {
     targets[i].view = ddg::readView(a.views[i]);
-    if (!a.background.empty())
-    {
-      targets[i].view.background = { a.background[0], a.background[1], a.background[2] };
-    }
     targets[i].image = readTarget(a.targets[i], &targets[i].view, a.resample);
+    if (targets[i].image.channels == 3)
+    {
+      // the picture's background: the one given, else the view's unless the border disagrees
+      std::optional<std::array<double, 3>> given;
+      if (!a.background.empty())
+      {
+        given = std::array<double, 3>{ a.background[0], a.background[1], a.background[2] };
+      }
+      const auto bg = ddg::targetBackground(targets[i].image, targets[i].view, given);
+      bg.background.applyTo(targets[i].view);
+      warn(bg.warning.empty() ? "" : "target '" + a.targets[i] + "': " + bg.warning);
+    }
     if (!a.masks.empty())
     {
       targets[i].mask = readTarget(a.masks[i], &targets[i].view, a.resample);
@@ -257,7 +274,7 @@ int runReconstruct(const ReconstructArgs& a)
       }
       return true;
     });
-  writeResult(result, a.out);
+  writeResult(result, a, "reconstruction", renderer.caster(), targets[0].view);
   std::printf("%s after %d steps (%.2f s, load %.0f ms); wrote %s\n",
     result.converged ? "converged" : "did NOT converge (iteration limit)", result.iterations,
     result.seconds, tLoad, a.out.c_str());
@@ -275,7 +292,9 @@ int runReconstruct(const ReconstructArgs& a)
     {
       target = t.image;
     }
-    ours = ddg::compositeOverBackground(render, t.view.background);
+    ours = t.view.background2
+      ? ddg::compositeOverBackground(render, t.view.background, *t.view.background2)
+      : ddg::compositeOverBackground(render, t.view.background);
     std::printf("target %zu (%s): PSNR %.2f dB  SSIM %.4f  EMD %.3f\n", i, a.targets[i].c_str(),
       ddg::psnr(ours, target), ddg::ssim(ours, target), ddg::colorHistogramEMD(ours, target));
     if (i == 0 && !a.outImage.empty())
@@ -312,9 +331,12 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     "--mask", rc->masks, "Per-target mask image (first channel = weight in [0, 1])");
   reconstruct
     ->add_option("--background", rc->background,
-      "Background r g b of opaque targets (default: one target without --mask: estimated from "
-      "the picture's border, uniform or ParaView's vertical gradient; otherwise the view's)")
-    ->expected(3);
+      "Background r g b in [0, 1] of opaque (RGB) targets; a warning when a picture's border "
+      "disagrees with it (default: estimated from the picture's border: one target without "
+      "--mask: uniform or ParaView's vertical gradient; otherwise the view's background when the "
+      "border agrees with it or has no one colour, else the border's, with a warning)")
+    ->expected(3)
+    ->check(CLI::Range(0.0, 1.0));
   reconstruct->add_flag("--2d", rc->twoD, "Reconstruct a 2D TF (value x gradient magnitude)");
   reconstruct->add_option("--bins", rc->bins, "TF resolution along the value (default 128)")
     ->check(CLI::Range(2, 4096));

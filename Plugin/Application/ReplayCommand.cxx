@@ -67,13 +67,15 @@ int runReplay(const ReplayArgs& a)
       else
         std::printf("match: the picture %s cannot be read; the TF the history recorded\n",
           last.image.empty() ? "(unnamed)" : last.image.c_str());
-      ddg::exportTransferFunction(
-        tf, a.outTF, a.format, g.caster(), ddg::parseView(last.viewJson, "the match's view"));
+      ddg::exportTransferFunction(ddg::renamed(tf, ddg::exportName(a.volume, "match", a.outTF)),
+        a.outTF, a.format, g.caster(), ddg::parseView(last.viewJson, "the match's view"));
     }
     else
     {
       ddg::exportTransferFunction(
-        g.explicitTransferFunction(z, view), a.outTF, a.format, g.caster(), view);
+        ddg::renamed(g.explicitTransferFunction(z, view),
+          ddg::exportName(a.volume, ddg::designOrigin(last.action), a.outTF)),
+        a.outTF, a.format, g.caster(), view);
     }
   }
   return 0;

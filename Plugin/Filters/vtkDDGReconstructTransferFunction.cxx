@@ -51,6 +51,9 @@ void vtkDDGReconstructTransferFunction::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ViewJSON: " << this->ViewJSON << "\n";
   os << indent << "TargetImageData: " << this->TargetImageData.size() << " characters\n";
   os << indent << "OutputFile: " << this->OutputFile << "\n";
+  os << indent << "EstimateBackground: " << this->EstimateBackground << "\n";
+  os << indent << "Background: " << this->Background[0] << " " << this->Background[1] << " "
+     << this->Background[2] << "\n";
   os << indent << "TwoD: " << this->TwoD << "\n";
   os << indent << "Bins: " << this->Bins << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
@@ -91,10 +94,35 @@ void addString(vtkFieldData* fd, const char* name, const std::string& value)
   fd->AddArray(s);
 }
 
+void addBackground(vtkFieldData* fd, const ddg::View& view)
+{
+  auto a = vtkSmartPointer<vtkDoubleArray>::New();
+  a->SetName("Background");
+  const auto& top = view.background2 ? *view.background2 : view.background;
+  for (double v :
+    { view.background[0], view.background[1], view.background[2], top[0], top[1], top[2] })
+    a->InsertNextValue(v);
+  fd->AddArray(a);
+}
+
+/// The TF's preset name: "DDG <origin>" (the Preset field alone: the same for the same input);
+/// with an output file, the volume's array, what made it, the file's stem and the time (Core's
+/// exportName), so that every file imports into ParaView.
+std::string presetName(
+  vtkImageData* input, vtkDataArray* array, const char* origin, const std::string& outputFile)
+{
+  if (outputFile.empty())
+    return std::string("DDG ") + origin;
+  if (!array) // the point scalars (vtkDDGAlgorithm's default)
+    array = input->GetPointData()->GetScalars();
+  const char* arrayName = array ? array->GetName() : nullptr;
+  return ddg::exportName(arrayName ? arrayName : "", origin, outputFile);
+}
+
 /// Fills `output` with the TF of `result` (rows per bin, its preset or 2D JSON in field data) and
 /// returns that JSON.
 std::string writeTable(vtkTable* output, const ddg::ReconstructionResult& result,
-  const ddg::Volume& volume, const ddg::View& view)
+  const ddg::Volume& volume, const ddg::View& view, const std::string& name)
 {
   auto value = column(output, "Value");
   vtkSmartPointer<vtkDoubleArray> gradient;
@@ -120,7 +148,7 @@ std::string writeTable(vtkTable* output, const ddg::ReconstructionResult& result
         a->InsertNextValue(e[3]);
       }
     ddg::TransferFunction2D tf;
-    tf.name = "DDG reconstruction";
+    tf.name = name;
     tf.table = t;
     json = ddg::transferFunction2DToJson(tf);
     addString(output->GetFieldData(), "TransferFunction2D", json);
@@ -138,7 +166,7 @@ std::string writeTable(vtkTable* output, const ddg::ReconstructionResult& result
       b->InsertNextValue(t.rgba[4 * i + 2]);
       a->InsertNextValue(t.rgba[4 * i + 3]);
     }
-    json = ddg::presetToJson(ddg::resultTransferFunction(result, "DDG reconstruction").tf1D);
+    json = ddg::presetToJson(ddg::resultTransferFunction(result, name).tf1D);
     addString(output->GetFieldData(), "Preset", json);
   }
   return json;
@@ -169,6 +197,18 @@ void vtkDDGReconstructTransferFunction::Execute(
       " x " + std::to_string(target.view.height) + ": save the screenshot at the view's size");
   if (target.image.channels == 1 || target.image.channels == 2)
     target.image = ddg::toChannels(target.image, target.image.channels == 2 ? 4 : 3);
+  if (target.image.channels == 3)
+  {
+    // the picture's background: estimated from its border (the view's when they agree), or given
+    std::optional<std::array<double, 3>> given;
+    if (!this->EstimateBackground)
+      given =
+        std::array<double, 3>{ this->Background[0], this->Background[1], this->Background[2] };
+    const auto bg = ddg::targetBackground(target.image, target.view, given);
+    bg.background.applyTo(target.view);
+    if (!bg.warning.empty())
+      vtkWarningMacro(<< "Background: " << bg.warning << ".");
+  }
   const ddg::Volume volume = ddg::toCoreVolume(input, array);
   const ddg::DifferentiableRenderer renderer(volume);
   ddg::ReconstructionOptions opt;
@@ -184,7 +224,9 @@ void vtkDDGReconstructTransferFunction::Execute(
       return !this->GetAbortExecute();
     });
 
-  const std::string json = writeTable(output, result, volume, target.view);
+  const std::string json = writeTable(output, result, volume, target.view,
+    presetName(input, array, "reconstruction", this->OutputFile));
+  addBackground(output->GetFieldData(), target.view);
   auto info = vtkSmartPointer<vtkIntArray>::New();
   info->SetName("Iterations");
   info->InsertNextValue(result.iterations);
@@ -273,6 +315,17 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   opt.minimumOverlap = this->MinimumOverlap;
   opt.emptySpaceWeight = this->EmptySpaceWeight;
   opt.maskOverlays = this->MaskOverlays;
+  if (!this->EstimateBackground)
+  {
+    opt.background =
+      std::array<double, 3>{ this->Background[0], this->Background[1], this->Background[2] };
+    if (picture.channels == 3)
+    {
+      const auto bg = ddg::targetBackground(picture, ddg::View(), opt.background);
+      if (!bg.warning.empty())
+        vtkWarningMacro(<< "Background: " << bg.warning << ".");
+    }
+  }
   auto& rec = opt.reconstruction;
   rec.twoD = this->TwoD;
   rec.bins = this->Bins;
@@ -295,7 +348,10 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   ddg::View previewView;
   try
   {
-    ddg::estimateBackground(ddg::toChannels(picture, 3)).applyTo(previewView);
+    if (opt.background)
+      previewView.background = *opt.background;
+    else
+      ddg::estimateBackground(ddg::toChannels(picture, 3)).applyTo(previewView);
   }
   catch (const ddg::Error&)
   {
@@ -317,7 +373,8 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
 
   // port 0: the TF, the camera, the background, the figures
   vtkTable* output = vtkTable::GetData(outputVector, 0);
-  const std::string json = writeTable(output, result.tf, volume, result.view);
+  const std::string json = writeTable(
+    output, result.tf, volume, result.view, presetName(input, array, "match", this->OutputFile));
   vtkFieldData* fd = output->GetFieldData();
   addString(fd, "View", ddg::viewToJson(result.view));
   addNumbers(fd, "CameraEstimated", { result.cameraEstimated ? 1.0 : 0.0 });

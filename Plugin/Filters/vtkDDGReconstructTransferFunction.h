@@ -23,10 +23,13 @@ class vtkImageData;
  * Output: a vtkTable of the reconstructed 1D TF, one row per bin: "Value", "Red", "Green",
  * "Blue", "Opacity" (uncorrected opacity, as ParaView's Points hold it); its field data holds
  * "Preset" (the TF as a ParaView preset JSON string: RGBPoints, Points, ColorSpace, ready for
- * LookupTable.RGBPoints / ScalarOpacityFunction.Points), "Converged" and "Iterations". With
- * TwoD on, the rows are the 2D table (value fastest, plus "GradientMagnitude") and the field
- * data holds "TransferFunction2D" (the DDG 2D TF JSON) instead of "Preset". OutputFile, when
- * set, receives the same JSON (written atomically).
+ * LookupTable.RGBPoints / ScalarOpacityFunction.Points; its "Name" is "DDG reconstruction" or
+ * "DDG match", and with OutputFile the volume's array, that origin, the file's stem and the time,
+ * so that each file imports into ParaView), "Converged", "Iterations" and "Background" (bottom RGB,
+ * top RGB: what the target was compared over, see EstimateBackground). With TwoD on, the rows are
+ * the 2D table (value fastest, plus "GradientMagnitude") and the field data holds
+ * "TransferFunction2D" (the DDG 2D TF JSON) instead of "Preset". OutputFile, when set, receives the
+ * same JSON (written atomically).
  *
  * MatchPicture on (ddg::matchPicture, the `ddg reconstruct` of pictures whose camera, framing
  * and background nobody wrote down): the target may have any size; its background is estimated
@@ -92,6 +95,25 @@ public:
   /// (default: empty)
   vtkSetStdStringFromCharMacro(OutputFile);
   vtkGetCharFromStdStringMacro(OutputFile);
+  ///@}
+
+  ///@{
+  /// The picture's background colour is estimated from its border: without MatchPicture the
+  /// view's background is kept when the border agrees with it (within 6 levels of 255, or 3x
+  /// the border's noise) or has no one colour, else the border's colour is used and a warning
+  /// says so; with MatchPicture the estimate (uniform or ParaView's gradient) is used. Off: the
+  /// picture's background is Background, with a warning when the border disagrees. RGBA
+  /// targets have no background. (default: on)
+  vtkSetMacro(EstimateBackground, bool);
+  vtkGetMacro(EstimateBackground, bool);
+  vtkBooleanMacro(EstimateBackground, bool);
+  ///@}
+
+  ///@{
+  /// The picture's background colour (RGB in [0, 1]) when EstimateBackground is off.
+  /// (default: 0.329, 0.349, 0.427, ParaView's)
+  vtkSetVector3Macro(Background, double);
+  vtkGetVector3Macro(Background, double);
   ///@}
 
   ///@{
@@ -214,6 +236,8 @@ private:
   std::string ViewJSON;
   std::string TargetImageData;
   std::string OutputFile;
+  bool EstimateBackground = true;
+  double Background[3] = { 0.329, 0.349, 0.427 };
   bool TwoD = false;
   int Bins = 128;
   int Iterations = 500;

@@ -15,7 +15,9 @@
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QJsonArray>
 #include <QJsonDocument>
+#include <QJsonObject>
 #include <QMimeData>
 #include <QPainter>
 #include <QScrollArea>
@@ -42,6 +44,28 @@ bool writeText(const QString& path, const QString& text)
   if (!f.open(QIODevice::WriteOnly | QIODevice::Truncate))
     return false;
   return f.write(text.toUtf8()) >= 0;
+}
+/// `preset` (a ParaView preset list, or a DDG 2D TF object) with its "Name" set to `name`.
+QString renamed(const QString& preset, const QString& name)
+{
+  QJsonDocument doc = QJsonDocument::fromJson(preset.toUtf8());
+  if (doc.isArray() && !doc.array().isEmpty())
+  {
+    QJsonArray list = doc.array();
+    QJsonObject first = list.first().toObject();
+    first["Name"] = name;
+    list[0] = first;
+    doc.setArray(list);
+  }
+  else if (doc.isObject())
+  {
+    QJsonObject tf = doc.object();
+    tf["Name"] = name;
+    doc.setObject(tf);
+  }
+  else
+    return preset;
+  return QString::fromUtf8(doc.toJson(QJsonDocument::Indented));
 }
 } // namespace
 
@@ -89,8 +113,19 @@ void pqDDGDesignGalleryDock::exportPreset()
     return;
   const QString path = QFileDialog::getSaveFileName(
     this, tr("Export ParaView preset"), "design.json", tr("JSON (*.json)"));
-  if (!path.isEmpty() && !writeText(path, this->State->design().Preset))
+  if (path.isEmpty())
+    return;
+  // named for the volume, the design's origin, the file and the time: ParaView imports each
+  const QJsonArray& steps = this->State->steps();
+  const QString action =
+    steps.isEmpty() ? QString("design") : steps.last().toObject().value("action").toString();
+  const QString name =
+    QString::fromStdString(vtkSMDDGScene::ExportName(this->State->volumeName().toUtf8().constData(),
+      action.toUtf8().constData(), path.toUtf8().constData()));
+  if (!writeText(path, renamed(this->State->design().Preset, name)))
     this->setStatus(tr("Cannot write %1.").arg(path), true);
+  else
+    this->setStatus(tr("Wrote %1 (preset \"%2\").").arg(path, name));
 }
 
 void pqDDGDesignGalleryDock::exportSlicer()

@@ -15,6 +15,8 @@
 #include <vtkSMSourceProxy.h>
 #include <vtksys/SystemTools.hxx>
 
+#include "Gallery/Export.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -384,4 +386,15 @@ std::string vtkSMDDGScene::CurrentPreset(vtkSMProxy* representation)
   preset["RGBPoints"] = vtkSMPropertyHelper(lut, "RGBPoints").GetDoubleArray();
   preset["Points"] = vtkSMPropertyHelper(sof, "Points").GetDoubleArray();
   return preset.dump();
+}
+
+std::string vtkSMDDGScene::ExportName(const char* volume, const char* origin, const char* path)
+{
+  return ddg::exportName(
+    volume ? volume : "", ddg::designOrigin(origin ? origin : ""), path ? path : "");
+}
+
+std::string vtkSMDDGScene::DesignOrigin(const char* action)
+{
+  return ddg::designOrigin(action ? action : "");
 }

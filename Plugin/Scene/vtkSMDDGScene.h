@@ -139,6 +139,18 @@ public:
    */
   static std::string CurrentPreset(vtkSMProxy* representation);
 
+  /**
+   * The "Name" of a preset exported to `path` (Core's exportName): "DDG <volume> <origin>
+   * <stem> <date> <time>", unique per file so that ParaView imports every exported preset.
+   * `volume`: the source's name or file (extension dropped); `origin`: what made the TF, or a
+   * design history's last action ("pick" becomes "outline design", see DesignOrigin).
+   */
+  static std::string ExportName(const char* volume, const char* origin, const char* path);
+
+  /// What a design history's last step `action` says of the design's origin ("pick": "outline
+  /// design", "latent": "design", "axes": "edit", others as they are; Core's designOrigin).
+  static std::string DesignOrigin(const char* action);
+
 protected:
   vtkSMDDGScene() = default;
   ~vtkSMDDGScene() override = default;

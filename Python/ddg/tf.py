@@ -3,12 +3,14 @@ users have it (camera and background estimated), converted to ParaView's Transfe
 exported as files.
 """
 import json
+import re
 
 from paraview import servermanager
+from paraview import simple
 
 from .designs import Design
 from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _run, _tf_text
-from .scene import _image_text, _proxy, _rgb, _source, view_json
+from .scene import _image_text, _proxy, _rgb, _scene, _source, view_json
 
 
 def _tf_dict(tf, view=None):
@@ -24,6 +26,16 @@ def _tf_dict(tf, view=None):
     return tf
 
 
+def _background_props(background):
+    """The filter's EstimateBackground / Background for ``background`` (None: estimated)."""
+    if background is None:
+        return dict(EstimateBackground=1)
+    rgb = [float(c) for c in background]
+    if len(rgb) != 3 or not all(0.0 <= c <= 1.0 for c in rgb):
+        raise ValueError("background is (r, g, b) in [0, 1], or None (estimated)")
+    return dict(EstimateBackground=0, Background=rgb)
+
+
 def reconstruct(
     image,
     source=None,
@@ -33,11 +45,15 @@ def reconstruct(
     smoothness=None,
     learning_rate=None,
     two_d=False,
+    background=None,
 ):
     """The TF that renders ``source`` like ``image`` (a screenshot file or numpy image of the
     volume, the view's size) at ``view`` (a view JSON file or dict, or the active view's camera:
     then the image must have the view's size): differentiable reconstruction (DDG Reconstruct
-    Transfer Function), ``iterations`` Adam steps. Returns the TF dict (a ParaView preset)."""
+    Transfer Function), ``iterations`` Adam steps. ``background``: the screenshot's background
+    (r, g, b) in [0, 1]; None (default) estimates it from the screenshot's border (the view's
+    when they agree; otherwise the border's, with a warning). Returns the TF dict (a ParaView
+    preset)."""
     source = _source(source)
     v = view_json(view, source)
     proxy = _proxy(
@@ -48,6 +64,7 @@ def reconstruct(
         Iterations=int(iterations),
         Bins=int(bins),
         TwoD=int(two_d),
+        **_background_props(background),
     )
     if smoothness is not None:
         proxy.SetPropertyWithName("Smoothness", float(smoothness))
@@ -141,6 +158,7 @@ def match(
     two_d=False,
     mask_overlays=True,
     minimum_overlap=None,
+    background=None,
 ):
     """A TF and the camera that make ``source`` (default: the active source) look like
     ``image``, a picture as users have it (a file path or a numpy image (h, w, 3); any size,
@@ -155,7 +173,8 @@ def match(
     camera instead of taking it as is. ``initial``: the TF the fit starts from (a Design, e.g.
     ``query(image)``'s, a preset dict or file; 1D); None: grey. ``iterations``: the final fit's
     maximum steps (default: the filter's, 500; it stops once converged). ``minimum_overlap``:
-    below this silhouette IoU (default 0.6) no camera explains the picture.
+    below this silhouette IoU (default 0.6) no camera explains the picture. ``background``: the
+    picture's background (r, g, b) in [0, 1]; None (default): estimated (uniform or gradient).
 
     Returns a ``Match``: ``.tf`` (preset dict, for ``apply``/``export``), ``.view`` (the
     camera as a view JSON dict, for ``set_camera`` or ``apply(tf, camera=...)``), and the
@@ -184,6 +203,7 @@ def match(
         Bins=int(bins),
         TwoD=int(two_d),
         MaskOverlays=int(bool(mask_overlays)),
+        **_background_props(background),
     )
     if iterations is not None:
         props["Iterations"] = int(iterations)
@@ -232,10 +252,32 @@ def paraview_2d(tf, source=None, view=None):
     return json.loads(boxes)
 
 
-def export(tf, path, format="paraview", view=None):
+def _export_name(tf, d, path, source):
+    """The preset's "Name" for ``path`` (Core's exportName through vtkSMDDGScene): "DDG <volume>
+    <origin> <stem> <date> <time>" (the volume: ``source``'s name, a Design's, or the active
+    source's; the origin: a Design's last step, or the TF's own name without "DDG" and a date),
+    so that ParaView imports each exported file (it refuses a name it holds already)."""
+    if isinstance(tf, Design):
+        source = source or tf.model.source
+        steps = tf.steps
+        origin = steps[-1]["action"] if steps else "design"
+    else:
+        origin = re.sub(r"^(ddg|DDG) ?", "", str(d.get("Name", "")))
+        origin = re.sub(r" ?\d{4}-\d\d-\d\d \d\d:\d\d:\d\d$", "", origin)
+    source = source or simple.GetActiveSource()
+    volume = ""
+    for (name, _), proxy in simple.GetSources().items() if source is not None else []:
+        if proxy == source:
+            volume = name
+    return _scene().ExportName(volume, origin, path)
+
+
+def export(tf, path, format="paraview", view=None, source=None):
     """Writes a TF: ``format`` "paraview" (preset JSON list, importable with
-    ``ImportPresets``), "slicer" (3D Slicer .vp.json; Designs only) or "history" (a Design's
-    path, replayed by ``ddg replay``)."""
+    ``ImportPresets``; its "Name" says the volume (``source``, default: a Design's or the active
+    source), the TF's origin, the file's stem and the time, so that every exported file
+    imports), "slicer" (3D Slicer .vp.json; Designs only) or "history" (a Design's path,
+    replayed by ``ddg replay``)."""
     if format == "history":
         if not isinstance(tf, Design):
             raise TypeError("export history: give a Design")
@@ -247,7 +289,8 @@ def export(tf, path, format="paraview", view=None):
         if not text:
             raise ValueError("3D Slicer's format holds 1D transfer functions only")
     elif format == "paraview":
-        d = _tf_dict(tf, view)
+        d = dict(_tf_dict(tf, view))
+        d["Name"] = _export_name(tf, d, path, source)
         text = json.dumps([d] if "RGBPoints" in d else d, indent=1)
     else:
         raise ValueError("export: format is paraview, slicer or history")

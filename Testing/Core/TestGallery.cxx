@@ -529,3 +529,36 @@ TEST(Edit, ClustersSeparateFeaturesAndEditsTouchOnlyOne)
   EXPECT_THROW(ddg::changeVisibility(im, cl, { red, {} }, -1), ddg::Error);
   EXPECT_THROW(cl.at(40, 0), ddg::Error);
 }
+
+// Exported presets' names: volume, origin, the file's stem and the local time; unique per file
+// and per second; the origin left out when it is the stem; the Name written into the file.
+TEST(Export, PresetNames)
+{
+  std::tm t{};
+  t.tm_year = 2026 - 1900;
+  t.tm_mon = 10;
+  t.tm_mday = 24;
+  t.tm_hour = 5;
+  t.tm_min = 12;
+  t.tm_sec = 7;
+  t.tm_isdst = -1;
+  const std::time_t when = std::mktime(&t);
+  EXPECT_EQ(ddg::exportName("/data/tooth.vti", "query", "/tmp/out/design.json", when),
+    "DDG tooth query design 2026-11-24 05:12:07");
+  EXPECT_EQ(ddg::exportName("", "design", "design.json", when), "DDG design 2026-11-24 05:12:07");
+  EXPECT_NE(ddg::exportName("tooth", "query", "a.json", when),
+    ddg::exportName("tooth", "query", "b.json", when));
+  EXPECT_NE(ddg::exportName("tooth", "query", "a.json", when),
+    ddg::exportName("tooth", "query", "a.json", when + 1));
+  EXPECT_EQ(ddg::designOrigin("pick"), "outline design");
+  EXPECT_EQ(ddg::designOrigin("query"), "query");
+
+  ddg::TransferFunctionFile tf;
+  tf.tf1D.color = { { 0, 0, 0, 0 }, { 1, 1, 1, 1 } };
+  tf.tf1D.opacity = { { 0, 0 }, { 1, 1 } };
+  const std::string path =
+    (std::filesystem::path(ddg::testing::tempDir()) / "export_name.json").string();
+  ddg::exportTransferFunction(
+    ddg::renamed(tf, "DDG tooth query x 2026-11-24 05:12:07"), path, "paraview", { 0, 1 }, 1.0);
+  EXPECT_EQ(ddg::readPreset(path).name, "DDG tooth query x 2026-11-24 05:12:07");
+}

@@ -58,6 +58,47 @@ Volume blobVolume()
 }
 } // namespace
 
+// A reconstruction target's background: the view's when the border agrees (exactly the view's
+// numbers), the border's with a warning when it disagrees, the view's without a warning when the
+// border has no one colour, and a given colour with a warning when the border disagrees.
+TEST(MatchBackground, TargetBackground)
+{
+  View view;
+  view.width = 80;
+  view.height = 60;
+  view.background = { 0.329, 0.349, 0.427 };
+  const std::array<double, 3> white{ 1, 1, 1 };
+  const auto agree = targetBackground(
+    discPicture(80, 60, { 84 / 255.0, 89 / 255.0, 109 / 255.0 }, { 0.9, 0.8, 0.7 }), view);
+  EXPECT_EQ(agree.source, "view");
+  EXPECT_TRUE(agree.warning.empty()) << agree.warning;
+  EXPECT_EQ(agree.background.bottom, view.background);
+  const Image overWhite = discPicture(80, 60, white, { 0.9, 0.8, 0.7 });
+  const auto disagree = targetBackground(overWhite, view);
+  EXPECT_EQ(disagree.source, "picture");
+  EXPECT_NE(disagree.warning.find("border"), std::string::npos);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(disagree.background.bottom[c], 1.0, 0.5 * kLevel);
+  View v2 = view;
+  disagree.background.applyTo(v2);
+  EXPECT_EQ(v2.background, disagree.background.bottom);
+  EXPECT_FALSE(v2.background2.has_value());
+  Image scene(80, 60, 3); // no one colour on the border: nothing to check against
+  for (int y = 0; y < 60; ++y)
+    for (int x = 0; x < 80; ++x)
+      for (int c = 0; c < 3; ++c)
+        scene.pixels[3 * (static_cast<size_t>(y) * 80 + x) + c] = x < 40 ? 0.1f : 0.9f;
+  const auto none = targetBackground(scene, view);
+  EXPECT_EQ(none.source, "view");
+  EXPECT_TRUE(none.warning.empty());
+  const auto givenRight = targetBackground(overWhite, view, white);
+  EXPECT_EQ(givenRight.source, "given");
+  EXPECT_TRUE(givenRight.warning.empty()) << givenRight.warning;
+  const auto givenWrong = targetBackground(overWhite, view, view.background);
+  EXPECT_EQ(givenWrong.background.bottom, view.background);
+  EXPECT_NE(givenWrong.warning.find("not the given background"), std::string::npos);
+}
+
 TEST(MatchBackground, UniformColour)
 {
   const std::array<double, 3> bg{ 82 / 255.0, 87 / 255.0, 110 / 255.0 };

@@ -168,7 +168,8 @@ check(
     f"{edited}",
 )
 
-tf = ddg.reconstruct(shot, view=white, iterations=300)
+# the grey view file with the screenshot's background stated (the same as its own view file)
+tf = ddg.reconstruct(shot, view=view_file, iterations=300, background=(1.0, 1.0, 1.0))
 ours = ddg.render(tooth, tf, white)
 reader = vtkPNGReader()
 reader.SetFileName(shot)
@@ -370,7 +371,9 @@ slicer_file = ddg.export(
 check(
     "export",
     json.load(open(preset_file))[0]["RGBPoints"] == cli_tf["RGBPoints"]
+    and json.load(open(preset_file))[0]["Name"].startswith("DDG tooth query found 20")
     and "volumeProperties" in json.load(open(slicer_file)),
+    json.load(open(preset_file))[0]["Name"],
 )
 
 before = list(lut.RGBPoints)
