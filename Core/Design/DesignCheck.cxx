@@ -2,6 +2,9 @@
 #include "Design/DesignCheck.h"
 
 #include "Common/Error.h"
+#include "TransferFunction/TransferFunction2D.h"
+
+#include <cmath>
 
 namespace ddg
 {
@@ -55,6 +58,73 @@ DesignLook lookOfDesign(const Image& rgba, const Image& footprint)
   return look;
 }
 
+BoxCorners::BoxCorners(const Volume& volume, int dimensions, double opacityUnitDistance)
+  : Range(volume.range())
+  , Dimensions(dimensions)
+{
+  const auto& n = volume.dims();
+  const auto& sp = volume.spacing();
+  const auto& values = volume.values();
+  std::vector<float> gradient;
+  if (dimensions == 2)
+  {
+    gradient = volume.gradientMagnitude();
+    GradientRange = volume.gradientMagnitudeRange();
+  }
+  std::array<int, 3> side{};
+  double shortest = 1e300;
+  for (int a = 0; a < 3; ++a)
+  {
+    side[a] = std::min(n[a], std::max(2, n[a] / 16));
+    shortest = std::min(shortest, (n[a] - 1) * sp[a]);
+  }
+  for (int c = 0; c < 8; ++c)
+    for (int k = 0; k < side[2]; ++k)
+      for (int j = 0; j < side[1]; ++j)
+        for (int i = 0; i < side[0]; ++i)
+        {
+          const int x = (c & 1) ? n[0] - 1 - i : i, y = (c & 2) ? n[1] - 1 - j : j,
+                    z = (c & 4) ? n[2] - 1 - k : k;
+          const size_t at = (static_cast<size_t>(z) * n[1] + y) * n[0] + x;
+          Values[c].push_back(values[at]);
+          if (dimensions == 2)
+            Gradients[c].push_back(gradient[at]);
+        }
+  // alpha across the shortest side from a mean opacity a: 1 - (1 - a)^(shortest / unit)
+  const double steps = shortest / std::max(1e-12, opacityUnitDistance);
+  Threshold = steps > 0 ? 1 - std::pow(1.0 - kDesignVisibleAlpha, 1 / steps) : 1;
+}
+
+bool BoxCorners::hazy(const std::vector<GaussianPrimitive>& tf) const
+{
+  if (tf.empty())
+    return false;
+  int hazed = 0;
+  if (Dimensions == 2)
+  {
+    const TransferTable2D table = rasterize2D(tf, Range, GradientRange, 256, 64);
+    for (int c = 0; c < 8; ++c)
+    {
+      double sum = 0;
+      for (size_t q = 0; q < Values[c].size(); ++q)
+        sum += table.lookup(Values[c][q], Gradients[c][q])[3];
+      hazed += sum >= Threshold * Values[c].size();
+    }
+  }
+  else
+  {
+    const TransferTable1D table = rasterize1D(tf, Range[0], Range[1], 256);
+    for (int c = 0; c < 8; ++c)
+    {
+      double sum = 0;
+      for (float v : Values[c])
+        sum += table.lookup(v)[3];
+      hazed += sum >= Threshold * Values[c].size();
+    }
+  }
+  return hazed >= 6;
+}
+
 DesignLook lookOfPrimitives(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
   int dimensions, const std::array<double, 2>& gradientRange, const View& view)
 {
@@ -64,8 +134,9 @@ DesignLook lookOfPrimitives(const RayCaster& caster, const std::vector<GaussianP
     renderDesign(caster, tf, dimensions, gradientRange, view, options), boxFootprint(caster, view));
 }
 
-DesignVerdict judgeDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
-  int dimensions, const std::array<double, 2>& gradientRange, int size)
+DesignVerdict judgeDesign(const RayCaster& caster, const BoxCorners& corners,
+  const std::vector<GaussianPrimitive>& tf, int dimensions,
+  const std::array<double, 2>& gradientRange, int size)
 {
   int boxes = 0, empties = 0;
   for (double azimuth : { 0.0, 120.0, 240.0 })
@@ -77,14 +148,14 @@ DesignVerdict judgeDesign(const RayCaster& caster, const std::vector<GaussianPri
   }
   DesignVerdict verdict;
   verdict.empty = empties == 3;
-  verdict.flatBox = !verdict.empty && boxes >= 2;
+  verdict.flatBox = !verdict.empty && (boxes >= 2 || corners.hazy(tf));
   return verdict;
 }
 
-bool regionShowsStructure(const RayCaster& caster, const FeatureRegion& region, int dimensions,
-  const std::array<double, 2>& gradientRange)
+bool regionShowsStructure(const RayCaster& caster, const BoxCorners& corners,
+  const FeatureRegion& region, int dimensions, const std::array<double, 2>& gradientRange)
 {
-  return !judgeDesign(caster, { basePrimitive(region) }, dimensions, gradientRange).junk();
+  return !judgeDesign(caster, corners, { basePrimitive(region) }, dimensions, gradientRange).junk();
 }
 
 std::vector<FeatureRegion> findDesignRegions(
@@ -98,12 +169,28 @@ std::vector<FeatureRegion> findDesignRegions(
   const RayCaster caster(volume);
   const auto gradientRange =
     twoD ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
+  const BoxCorners corners(volume, spec.dimensions, caster.defaultOpacityUnitDistance());
   int refused = 0;
-  const auto keep = [&](const FeatureRegion& r)
+  const auto keep = [&](FeatureRegion& r)
   {
-    const bool shows = regionShowsStructure(caster, r, spec.dimensions, gradientRange);
-    refused += !shows;
-    return shows;
+    FeatureRegion tried = r;
+    for (int narrowed = 0; narrowed <= 3; ++narrowed)
+    {
+      if (regionShowsStructure(caster, corners, tried, spec.dimensions, gradientRange))
+      {
+        r = tried;
+        return true;
+      }
+      tried.lo = tried.peak - (tried.peak - tried.lo) / 2;
+      tried.hi = tried.peak + (tried.hi - tried.peak) / 2;
+      if (tried.twoD())
+      {
+        tried.gradientLo = tried.gradientPeak - (tried.gradientPeak - tried.gradientLo) / 2;
+        tried.gradientHi = tried.gradientPeak + (tried.gradientHi - tried.gradientPeak) / 2;
+      }
+    }
+    ++refused;
+    return false;
   };
   try
   {

@@ -39,30 +39,54 @@ Image boxFootprint(const RayCaster& caster, const View& view);
 /// throws ddg::Error otherwise). A footprint of 0 pixels gives an empty look.
 DesignLook lookOfDesign(const Image& premultipliedRGBA, const Image& footprint);
 
+/// Air where it meets the box: the voxels of the box's eight corners (cubes of 1/16 of each side,
+/// at least 2 voxels), where scans hold air, noise or a field of view and simulations their far
+/// field. A haze over the box can be too faint at the box's silhouette (short rays) for the
+/// footprint test, yet plain to see across it: a TF hazes the box when, at six or more corners,
+/// its mean opacity there would show (alpha >= kDesignVisibleAlpha) across the box's shortest
+/// side at the default opacity unit distance. (Six: a table or a plate under the object fills
+/// four corners, not six.)
+class BoxCorners
+{
+public:
+  BoxCorners(const Volume& volume, int dimensions, double opacityUnitDistance);
+  bool hazy(const std::vector<GaussianPrimitive>& tf) const;
+
+private:
+  std::array<std::vector<float>, 8> Values, Gradients;
+  std::array<double, 2> Range{}, GradientRange{};
+  int Dimensions = 1;
+  double Threshold = 1; ///< the mean opacity that shows across the shortest side
+};
+
 /// The look of a TF of primitives at `view` (rendered as the generator does).
 DesignLook lookOfPrimitives(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
   int dimensions, const std::array<double, 2>& gradientRange, const View& view);
 
 /// A TF judged at the three canonical views (azimuth 0, 120, 240, elevation 20, size x size,
 /// exemplar views of zoom 1): empty when empty at all three, a flat box when a flat box at two
-/// or more.
+/// or more or when it hazes the box (BoxCorners).
 struct DesignVerdict
 {
   bool empty = false, flatBox = false;
   bool junk() const { return empty || flatBox; }
 };
-DesignVerdict judgeDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>& tf,
-  int dimensions, const std::array<double, 2>& gradientRange, int size = 48);
+DesignVerdict judgeDesign(const RayCaster& caster, const BoxCorners& corners,
+  const std::vector<GaussianPrimitive>& tf, int dimensions,
+  const std::array<double, 2>& gradientRange, int size = 48);
 
 /// Whether a feature region can carry designs: its base primitive alone (opacity 0.5) is not
 /// junk by judgeDesign.
-bool regionShowsStructure(const RayCaster& caster, const FeatureRegion& region, int dimensions,
-  const std::array<double, 2>& gradientRange);
+bool regionShowsStructure(const RayCaster& caster, const BoxCorners& corners,
+  const FeatureRegion& region, int dimensions, const std::array<double, 2>& gradientRange);
 
 /// The feature regions of a design space: the spec's own, else the histogram's most prominent
 /// peaks (findFeatureRegions / findFeatureRegions2D) that show structure
-/// (regionShowsStructure); `left` counts the peaks left out. When no peak shows structure, the
-/// unscreened regions are returned (and left stays 0).
+/// (regionShowsStructure). A region that does not is narrowed about its peak to half its
+/// extent, up to three times (a wide region's tails reach the air: the CT head's bone spans
+/// everything above soft tissue), and left out when it still does not; `left` counts the peaks
+/// left out. When no peak shows structure, the unscreened regions are returned (and left
+/// stays 0).
 std::vector<FeatureRegion> findDesignRegions(
   const Volume& volume, const DesignSpaceSpec& spec, int* left = nullptr);
 

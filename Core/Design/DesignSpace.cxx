@@ -86,7 +86,7 @@ ValueHistogram valueHistogram(const Volume& volume)
 } // namespace
 
 std::vector<FeatureRegion> findFeatureRegions(
-  const Volume& volume, int maxRegions, const std::function<bool(const FeatureRegion&)>& keep)
+  const Volume& volume, int maxRegions, const std::function<bool(FeatureRegion&)>& keep)
 {
   const auto range = volume.range();
   const ValueHistogram vh = valueHistogram(volume);
@@ -152,7 +152,7 @@ std::vector<FeatureRegion> findFeatureRegions(
 }
 
 std::vector<FeatureRegion> findFeatureRegions2D(
-  const Volume& volume, int maxRegions, const std::function<bool(const FeatureRegion&)>& keep)
+  const Volume& volume, int maxRegions, const std::function<bool(FeatureRegion&)>& keep)
 {
   constexpr int V = 128, G = 64;
   const auto range = volume.range();
@@ -592,6 +592,22 @@ std::string volumeFingerprint(const Volume& volume)
     d[0], d[1], d[2], s[0], s[1], s[2], volume.range()[0], volume.range()[1],
     static_cast<unsigned long long>(h));
   return buf;
+}
+
+std::string describeFingerprint(const std::string& fingerprint)
+{
+  int nx = 0, ny = 0, nz = 0;
+  const auto at = fingerprint.find(" range ");
+  const auto end = fingerprint.find(" fnv1a");
+  if (std::sscanf(fingerprint.c_str(), "%dx%dx%d", &nx, &ny, &nz) != 3 || at == std::string::npos ||
+    end == std::string::npos || end < at)
+    return "an unknown volume";
+  std::string range = fingerprint.substr(at + 7, end - at - 7);
+  const auto dots = range.find("..", 1);
+  if (dots != std::string::npos)
+    range = range.substr(0, dots) + " to " + range.substr(dots + 2);
+  return std::to_string(nx) + " x " + std::to_string(ny) + " x " + std::to_string(nz) +
+    " voxels, values " + range;
 }
 
 } // namespace ddg

@@ -31,9 +31,10 @@ struct FeatureRegion
 /// (Gaussian, 2 bins), minus "air" (when the most frequent value lies in the lowest 30 % of the
 /// range, everything up to the first valley above it; bins with < 1e-4 of the voxels count as
 /// noise), then the most prominent peaks, each spanning the valleys on either side. A region
-/// `keep` refuses is left out and the next most prominent peak is taken (see DesignCheck.h).
-std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegions = 4,
-  const std::function<bool(const FeatureRegion&)>& keep = {});
+/// `keep` refuses is left out and the next most prominent peak is taken; `keep` may narrow the
+/// region it keeps (see DesignCheck.h).
+std::vector<FeatureRegion> findFeatureRegions(
+  const Volume& volume, int maxRegions = 4, const std::function<bool(FeatureRegion&)>& keep = {});
 
 /// Finds up to maxRegions 2D feature regions in the value x gradient-magnitude histogram
 /// (128 x 64 bins over the value range x [0, 99.5th percentile of the gradient magnitude]),
@@ -43,8 +44,8 @@ std::vector<FeatureRegion> findFeatureRegions(const Volume& volume, int maxRegio
 /// noise. A region spans +- 2 standard deviations of its voxels along each axis (within its
 /// bins) and peaks at its maximum. Materials appear at low gradient, the boundaries between them
 /// at high gradient. `keep` as in findFeatureRegions.
-std::vector<FeatureRegion> findFeatureRegions2D(const Volume& volume, int maxRegions = 4,
-  const std::function<bool(const FeatureRegion&)>& keep = {});
+std::vector<FeatureRegion> findFeatureRegions2D(
+  const Volume& volume, int maxRegions = 4, const std::function<bool(FeatureRegion&)>& keep = {});
 
 /// The base primitive of a region: mean at the peak, stddev = (hi - lo) / 4 (2D regions the
 /// same along gradient magnitude), neutral colour, opacity 0.5.
@@ -111,5 +112,8 @@ std::vector<GaussianPrimitive> auxiliaryPrimitives(
 
 /// A fingerprint of a volume: dims, spacing, range and a 64-bit FNV-1a hash of its values.
 std::string volumeFingerprint(const Volume& volume);
+/// A fingerprint in words, for messages: "103 x 94 x 161 voxels, values 0 to 255" ("an unknown
+/// volume" when it does not parse).
+std::string describeFingerprint(const std::string& fingerprint);
 
 } // namespace ddg

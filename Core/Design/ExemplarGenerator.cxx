@@ -82,6 +82,7 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
                           : findFeatureRegions(volume, spec.maxRegions);
   const RayCaster caster(volume);
   const auto aux = auxiliaryPrimitives(spec, report.regions);
+  const BoxCorners corners(volume, spec.dimensions, caster.defaultOpacityUnitDistance());
   const auto gradientRange =
     twoD ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
   RenderOptions ropt;
@@ -131,7 +132,7 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
           : 1.0;
         const int batch = screening ? static_cast<int>(std::ceil((n - have) / passRate)) : n - have;
         std::vector<Exemplar> drawn(static_cast<size_t>(batch));
-        std::vector<DesignLook> looks(static_cast<size_t>(batch));
+        std::vector<DesignVerdict> verdicts(static_cast<size_t>(batch));
         std::vector<std::uint8_t> records(rec * batch);
         parallelFor(batch, opt.threads,
           [&](std::int64_t q, int threadId)
@@ -141,8 +142,10 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
             const Image exp = render(e.primitives, e.viewExp);
             if (screening)
             {
-              looks[q] = lookOfDesign(exp, boxFootprint(caster, e.viewExp));
-              if (looks[q].junk())
+              const DesignLook look = lookOfDesign(exp, boxFootprint(caster, e.viewExp));
+              verdicts[q].empty = look.empty();
+              verdicts[q].flatBox = !look.empty() && (look.flatBox() || corners.hazy(e.primitives));
+              if (verdicts[q].junk())
                 return;
             }
             std::uint8_t* out = records.data() + rec * q;
@@ -159,10 +162,10 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
           if (screening)
           {
             ++report.candidates;
-            if (looks[q].junk())
+            if (verdicts[q].junk())
             {
-              report.empty += looks[q].empty();
-              report.flatBox += looks[q].flatBox();
+              report.empty += verdicts[q].empty;
+              report.flatBox += verdicts[q].flatBox;
               continue;
             }
           }

@@ -73,7 +73,7 @@ BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile
   t.learningRate = 1e-3;
   t.minutes = o.minutes;
   t.maxIterations = o.iterations;
-  t.cosineSchedule = o.iterations > 0;
+  t.cosineSchedule = true; // over the iterations when given, else over the time budget
   t.imageWeight = 100;
   t.seed = o.seed;
   t.threads = o.threads;

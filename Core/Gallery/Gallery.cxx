@@ -42,6 +42,7 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
   set.values.resize(static_cast<size_t>(count) * set.dim);
   // screened: candidates up to 4 x count, then the rest as drawn (as generateExemplars does)
   const std::int64_t maxCandidates = 4LL * count;
+  const BoxCorners corners(volume, spec.dimensions, caster.defaultOpacityUnitDistance());
   std::int64_t examined = 0;
   std::uint64_t next = firstIndex;
   const int chunk = 512;
@@ -57,7 +58,9 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
         const Exemplar e = sampleExemplar(volume, spec, regions, seed, next + q, s);
         const Image rgba =
           renderDesign(caster, e.primitives, spec.dimensions, gradientRange, e.viewExp, ropt);
-        if (screening && lookOfDesign(rgba, boxFootprint(caster, e.viewExp)).junk())
+        if (screening &&
+          (lookOfDesign(rgba, boxFootprint(caster, e.viewExp)).junk() ||
+            corners.hazy(e.primitives)))
           junk[q] = 1;
         else
           images[q] = compositeOverBackground(rgba, e.viewExp.background);

@@ -34,6 +34,7 @@ OutlineCheck checkOutline(
   check.verdicts.resize(rows.size());
   std::vector<Image> cells(rows.size());
   const View front = orbitView(volume, size, 0, 20, 1);
+  const BoxCorners corners(volume, dims, gallery.caster().defaultOpacityUnitDistance());
   // the TFs first, on this thread (the model's decoder); then the renders in parallel
   std::vector<std::vector<GaussianPrimitive>> tfs;
   for (int row : rows)
@@ -43,7 +44,7 @@ OutlineCheck checkOutline(
     [&](std::int64_t i, int)
     {
       const auto& tf = tfs[static_cast<size_t>(i)];
-      check.verdicts[i] = judgeDesign(gallery.caster(), tf, dims, gradientRange, size);
+      check.verdicts[i] = judgeDesign(gallery.caster(), corners, tf, dims, gradientRange, size);
       RenderOptions options;
       options.threads = 1;
       Image cell = compositeOverBackground(
@@ -61,6 +62,27 @@ OutlineCheck checkOutline(
       }
       cells[i] = std::move(cell);
     });
+  // the boundary faces' values, and each 1D design's mean opacity over them
+  if (dims == 1)
+  {
+    const auto& n = volume.dims();
+    const auto& values = volume.values();
+    std::vector<float> faces;
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i)
+          if (i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1)
+            faces.push_back(values[(static_cast<size_t>(k) * n[1] + j) * n[0] + i]);
+    const auto range = volume.range();
+    for (const auto& tf : tfs)
+    {
+      const TransferTable1D table = rasterize1D(tf, range[0], range[1], 256);
+      double sum = 0;
+      for (float v : faces)
+        sum += table.lookup(v)[3];
+      check.hazyFaces += !faces.empty() && sum / faces.size() > 0.01;
+    }
+  }
   for (const auto& v : check.verdicts)
   {
     check.empty += v.empty;

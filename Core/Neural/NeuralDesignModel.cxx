@@ -153,7 +153,8 @@ void NeuralDesignModel::attachVolume(const Volume& volume)
 {
   const std::string fp = volumeFingerprint(volume);
   if (!In->Fingerprint.empty() && fp != In->Fingerprint)
-    throw Error("this model was trained on another volume (" + In->Fingerprint + "), not " + fp);
+    throw Error("this model was trained on another volume (" +
+      describeFingerprint(In->Fingerprint) + "), not this one (" + describeFingerprint(fp) + ")");
   In->Diff = std::make_shared<DifferentiableRenderer>(volume);
   In->Fingerprint = fp;
   if (In->Config.dimensions == 2)

@@ -53,8 +53,9 @@ struct TrainOptions
   /// analyzer). 0 = TF-parameter regression only. Needs attachVolume() first [0].
   double imageWeight = 0;
   int imageRays = 512; ///< [512]
-  /// Cosine learning-rate schedule from learningRate down to 5 % of it at maxIterations (needs
-  /// maxIterations > 0; a function of the iteration, so resuming continues it) [false].
+  /// Cosine learning-rate schedule from learningRate down to 5 % of it at maxIterations (a
+  /// function of the iteration, so resuming continues it) or, without maxIterations, at the end
+  /// of the time budget (a function of the seconds spent in this call) [false].
   bool cosineSchedule = false;
 };
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 
 namespace ddg
@@ -19,6 +20,16 @@ namespace
 {
 using namespace neural;
 namespace fs = std::filesystem;
+
+// Why a bundle does not fit this volume, in words (no hashes).
+std::string otherVolumeMessage(
+  const std::string& dir, const std::string& theirs, const std::string& ours)
+{
+  const std::string a = describeFingerprint(theirs), b = describeFingerprint(ours);
+  return "model bundle '" + dir + "' was trained on another volume (" +
+    (a == b ? "one of the same size and range with other values" : a) + "), not this one (" + b +
+    "): build a design space for this volume, or load the model made for it";
+}
 } // namespace
 
 // --- saving ------------------------------------------------------------------------------
@@ -121,8 +132,7 @@ NeuralDesignModel NeuralDesignModel::loadBundle(
     c.latent = a.at("latent").get<int>();
     c.dropout = a.at("dropout").get<double>();
     if (!expectedFingerprint.empty() && j.at("volume").get<std::string>() != expectedFingerprint)
-      throw Error("model bundle '" + dir + "' was trained on another volume (" +
-        j.at("volume").get<std::string>() + "), not this one (" + expectedFingerprint + ")");
+      throw Error(otherVolumeMessage(dir, j.at("volume").get<std::string>(), expectedFingerprint));
   }
   catch (const nlohmann::json::exception& e)
   {

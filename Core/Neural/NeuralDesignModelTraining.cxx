@@ -294,8 +294,6 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     strategy = std::make_unique<DecoderTraining>(*In, data, opt);
   else
     strategy = std::make_unique<UNetTraining>(*In, data, opt);
-  if (opt.cosineSchedule && opt.maxIterations < 1)
-    throw Error("the cosine learning-rate schedule needs a maximum iteration count");
   if (opt.imageWeight < 0 || opt.imageRays < 1)
     throw Error("training needs an image weight >= 0 and at least one ray per exemplar");
   setThreads(opt.threads);
@@ -391,9 +389,12 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
       }
       idx.push_back(order[cursor++]);
     }
-    if (opt.cosineSchedule && opt.maxIterations > 0)
+    if (opt.cosineSchedule)
     {
-      const double t = std::min(1.0, static_cast<double>(iteration) / opt.maxIterations);
+      // over the iterations when they are capped, else over the time budget
+      const double t = opt.maxIterations > 0
+        ? std::min(1.0, static_cast<double>(iteration) / opt.maxIterations)
+        : std::min(1.0, elapsed / (opt.minutes * 60));
       const double lr = opt.learningRate * (0.05 + 0.95 * 0.5 * (1 + std::cos(M_PI * t)));
       for (auto& [name, optimizer] : optimizers)
         for (auto& group : optimizer->param_groups())

@@ -167,7 +167,8 @@ ddg::cli::Command ddg::cli::addTrainCommand(CLI::App& app)
     "--checkpoint", ta->checkpoint, "Checkpoint file, written every 500 iterations and at the end");
   train->add_flag("--resume", ta->resume, "Continue from --checkpoint");
   train->add_flag("--cosine", ta->cosine,
-    "Cosine learning-rate schedule down to 5 % at --max-iterations (which it needs)");
+    "Cosine learning-rate schedule down to 5 % at --max-iterations, or without it at the end "
+    "of --minutes");
   train->add_flag("--quiet", ta->quiet, "Do not print progress");
   return { train, [ta] { return runTrain(*ta); } };
 }

@@ -55,9 +55,10 @@ int runValidity(const ValidityArgs& a)
     ddg::DesignGallery gallery(model, volume, ddg::readLatentSet(ddg::outlineFile(a.model)));
     const auto check = ddg::checkOutline(gallery, a.outlineCount, a.seed);
     std::printf("outline: %zu of %d designs checked at azimuth 0/120/240, elevation 20: %d empty, "
-                "%d flat box (%.1f %% junk)\n",
+                "%d flat box (%.1f %% junk); %d give the volume's boundary faces a mean opacity "
+                "above 0.01\n",
       check.rows.size(), gallery.outline().count(), check.empty, check.flatBox,
-      100 * check.junkFraction());
+      100 * check.junkFraction(), check.hazyFaces);
     if (!a.outlineSheet.empty())
     {
       ddg::writeImage(check.sheet, a.outlineSheet);

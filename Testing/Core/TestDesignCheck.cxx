@@ -31,8 +31,9 @@ Volume fogAndSphere()
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
       {
-        auto r = [&](double cx)
-        { return std::sqrt((i - cx) * (i - cx) + (j - 15.5) * (j - 15.5) + (k - 15.5) * (k - 15.5)); };
+        auto r = [&](double cx) {
+          return std::sqrt((i - cx) * (i - cx) + (j - 15.5) * (j - 15.5) + (k - 15.5) * (k - 15.5));
+        };
         const float base = r(9.5) < 5.5 ? 60.0f : (r(21.5) < 5.5 ? 120.0f : 200.0f);
         v.push_back(std::clamp(base + noise(rng), 0.0f, 255.0f));
       }
@@ -107,8 +108,19 @@ TEST(DesignCheck, LooksOfKnownDesigns)
   // a faint fog (alpha under the visible level everywhere) is empty, not a box
   const DesignLook faint = lookOfPrimitives(caster, { at(200, 0.0005) }, 1, none, view);
   EXPECT_TRUE(faint.empty());
-  EXPECT_TRUE(judgeDesign(caster, { at(200, 0.5) }, 1, none).flatBox);
-  EXPECT_FALSE(judgeDesign(caster, { at(60, 0.5) }, 1, none).junk());
+  const BoxCorners corners(volume, 1, caster.defaultOpacityUnitDistance());
+  EXPECT_TRUE(judgeDesign(caster, corners, { at(200, 0.5) }, 1, none).flatBox);
+  EXPECT_FALSE(judgeDesign(caster, corners, { at(60, 0.5) }, 1, none).junk());
+  // a haze: too faint at the box's silhouette for the footprint's ring, plain across the box
+  // (mean opacity 0.01 over 31 voxels at a unit distance of ~1.7: alpha ~0.17)
+  const DesignLook haze = lookOfPrimitives(caster, { at(200, 0.01) }, 1, none, view);
+  EXPECT_FALSE(haze.flatBox());
+  EXPECT_FALSE(haze.empty());
+  EXPECT_TRUE(corners.hazy({ at(200, 0.01) }));
+  EXPECT_TRUE(judgeDesign(caster, corners, { at(200, 0.01) }, 1, none).flatBox);
+  EXPECT_FALSE(corners.hazy({ at(60, 0.9), at(120, 0.9) }));
+  EXPECT_FALSE(corners.hazy({ at(200, 0.0005) })); // alpha ~0.009 across the box: not seen
+  EXPECT_FALSE(corners.hazy({}));
   EXPECT_THROW(lookOfDesign(Image(8, 8, 4), Image(9, 8, 1)), Error);
 }
 

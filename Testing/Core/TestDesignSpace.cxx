@@ -285,3 +285,20 @@ TEST(DesignSpace, FindsMaterialsAndBoundariesIn2D)
     R"({"dimensions": 2, "regions": [{"lo": 1, "hi": 5, "gradient_lo": 0, "gradient_hi": 3}]})");
   EXPECT_DOUBLE_EQ(custom.regions[0].gradientPeak, 1.5);
 }
+
+TEST(DesignSpace, FingerprintInWords)
+{
+  EXPECT_EQ(
+    describeFingerprint(volumeFingerprint(materials())),
+    "32 x 32 x 32 voxels, values " +
+      []
+      {
+        char b[64];
+        const auto r = materials().range();
+        std::snprintf(b, sizeof(b), "%.6g to %.6g", r[0], r[1]);
+        return std::string(b);
+      }());
+  EXPECT_EQ(describeFingerprint("64x64x93 spacing 3.2,3.2,1.5 range -1024..3071 fnv1a 00ff"),
+    "64 x 64 x 93 voxels, values -1024 to 3071");
+  EXPECT_EQ(describeFingerprint("garbage"), "an unknown volume");
+}
