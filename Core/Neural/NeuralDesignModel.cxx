@@ -8,6 +8,7 @@
 #include "Gallery/Outline.h"
 #include "Image/ImageMetrics.h"
 #include "Neural/NeuralDesignModelInternals.h"
+#include "Render/RayCaster.h" // ddg::Cancelled
 
 #include <algorithm>
 #include <chrono>
@@ -181,7 +182,8 @@ Image NeuralDesignModel::renderAt(
 
 // --- evaluation --------------------------------------------------------------------------
 
-EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int maxExemplars) const
+EvaluationReport NeuralDesignModel::evaluate(
+  const ExemplarDataset& data, int maxExemplars, const std::function<bool(double)>& progress) const
 {
   const int s = In->Config.imageSize;
   if (data.size() != s)
@@ -207,6 +209,8 @@ EvaluationReport NeuralDesignModel::evaluate(const ExemplarDataset& data, int ma
     const double bg = data.exemplars()[static_cast<size_t>(i)].background;
     latExp.push_back(z);
     latView.push_back(analyze(compositeOverBackground(truth, { bg, bg, bg })));
+    if (progress && !progress(static_cast<double>(i + 1) / r.count))
+      throw Cancelled();
   }
   auto dist = [](const std::vector<float>& p, const std::vector<float>& q)
   {

@@ -139,7 +139,10 @@ public:
   TrainReport train(const ExemplarDataset& data, const TrainOptions& options,
     const std::function<bool(const TrainProgress&)>& progress = {});
 
-  EvaluationReport evaluate(const ExemplarDataset& data, int maxExemplars = 1000) const;
+  /// Figures on the first maxExemplars of `data`. Progress gets the fraction done after each
+  /// exemplar and may cancel (throws ddg::Cancelled).
+  EvaluationReport evaluate(const ExemplarDataset& data, int maxExemplars = 1000,
+    const std::function<bool(double)>& progress = {}) const;
 
   /// Writes a bundle directory: weights (model.pt), bundle.json (config, the volume's
   /// fingerprint, spec, regions, metrics json), latents.bin (float32, training latents) and
