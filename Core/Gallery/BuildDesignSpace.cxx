@@ -127,7 +127,7 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
   BuildReport r;
   if (o.budgetMinutes > 0)
   {
-    r.plan = planBuild(volume, o.budgetMinutes, o.size, o.threads);
+    r.plan = planBuild(volume, o.budgetMinutes, o.size, o.threads, o.rates);
     o.count = r.plan.count;
     o.heldout = r.plan.heldout;
     o.minutes = r.plan.trainingMinutes;
@@ -138,8 +138,9 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
     throw Error("building a design space needs >= 8 exemplars, >= 1 held out, >= 3 outline "
                 "designs and a positive time budget");
   if (o.budgetMinutes <= 0)
-    r.plan = estimateBuild(volume.dims(), factor, measureBuildRates(volume, o.size, o.threads, 4),
-      o.count, o.heldout, o.outlineCount, o.size, o.minutes);
+    r.plan = estimateBuild(volume.dims(), factor,
+      o.rates.measured() ? o.rates : measureBuildRates(volume, o.size, o.threads, 4), o.count,
+      o.heldout, o.outlineCount, o.size, o.minutes);
   r.plan.downsample = factor;
   checkBuildOutput(bundleDir, r.plan.diskBytes, o.overwrite);
   // stage weights from the estimate: the overall fraction grows about linearly with time

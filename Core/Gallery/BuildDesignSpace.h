@@ -32,6 +32,9 @@ struct BuildOptions
   bool overwrite = false; ///< replace a bundle already in bundleDir (else refused) [false]
   /// volumes above this many voxels are downsampled for the design space [16 Mi]
   std::int64_t maxDesignVoxels = kMaxDesignSpaceVoxels;
+  /// rates measured before (e.g. for the plan shown to the user: the build then follows that
+  /// plan); not measured: probed at the start [not measured]
+  BuildRates rates;
 };
 
 struct BuildReport

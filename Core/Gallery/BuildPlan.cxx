@@ -4,7 +4,9 @@
 #include "Common/Error.h"
 #include "Common/Parallel.h"
 #include "Design/DesignSpace.h"
-#include "Render/RayCaster.h"
+#include "Design/ExemplarGenerator.h"
+#include "Image/ImageMetrics.h"
+#include "Neural/NeuralDesignModel.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -26,19 +28,11 @@ namespace fs = std::filesystem;
 
 namespace
 {
-// Costs not probed, measured on the 2-core machine this project is developed on:
-// - the analyzer: 1.4-2.5 ms per image at batch 1 (bundle metrics "analyzer_ms"); batched
-//   outline analysis runs at about 1 ms per image;
-// - a held-out figure: the decoder's render at V_view (one exemplar render), the analyzer twice,
-//   PSNR/SSIM/EMD: ~1.5 renders + 5 ms, one thread;
-// - fixed: loading libtorch's model, the datasets, saving the bundle: ~4 s.
-constexpr double kAnalyzeSeconds = 0.001;
-constexpr double kFigureExtraSeconds = 0.005;
+// Costs not probed: a held-out figure's decoder render at V_view is one render; the evaluation
+// also times the analyzer and the renderer 21 times; fixed costs (libtorch's model, reading
+// the datasets, saving the bundle) ~4 s.
+constexpr int kLatencySamples = 21;
 constexpr double kOverheadSeconds = 4;
-// An exemplar is three renders (RGB at V_exp, viewport and ground truth at V_view) and the
-// shard write; an outline design one render and the analyzer.
-constexpr double kRendersPerExemplar = 3;
-
 std::int64_t exemplarBytes(int size)
 {
   // shard: RGB + 2 x RGBA; dataset.json: ~700 characters per exemplar
@@ -78,62 +72,106 @@ std::string BuildPlan::toJson() const
     "\"size\": %d, \"training_minutes\": %.3f, \"exemplar_seconds\": %.1f, "
     "\"training_seconds\": %.1f, \"evaluation_seconds\": %.1f, \"outline_seconds\": %.1f, "
     "\"total_seconds\": %.1f, \"disk_bytes\": %lld, \"bundle_bytes\": %lld, "
-    "\"design_dims\": [%d, %d, %d], \"downsample\": %d, \"render_ms\": %.3f, \"threads\": %d}",
+    "\"design_dims\": [%d, %d, %d], \"downsample\": %d, \"exemplar_ms\": %.3f, "
+    "\"analyze_ms\": %.3f, \"figure_ms\": %.3f, \"threads\": %d}",
     budgetMinutes, count, heldout, outlineCount, size, trainingMinutes, exemplarSeconds,
     trainingSeconds, evaluationSeconds, outlineSeconds, totalSeconds,
     static_cast<long long>(diskBytes), static_cast<long long>(bundleBytes), designDims[0],
-    designDims[1], designDims[2], downsample, 1000 * rates.renderSeconds, rates.threads);
+    designDims[1], designDims[2], downsample, 1000 * rates.exemplarSeconds,
+    1000 * rates.analyzeSeconds, 1000 * rates.figureSeconds, rates.threads);
   return buf;
 }
 
 std::string BuildPlan::describe() const
 {
   std::string s;
-  s += "exemplars: " + std::to_string(count) + " + " + std::to_string(heldout) +
-    " held out, " + minutesText(exemplarSeconds) + "\n";
+  s += "exemplars: " + std::to_string(count) + " + " + std::to_string(heldout) + " held out, " +
+    minutesText(exemplarSeconds) + "\n";
   s += "training: " + minutesText(trainingSeconds) + "\n";
   s += "evaluation and saving: " + minutesText(evaluationSeconds) + "\n";
-  s += "outline: " + std::to_string(outlineCount) + " designs, " + minutesText(outlineSeconds) +
-    "\n";
+  s +=
+    "outline: " + std::to_string(outlineCount) + " designs, " + minutesText(outlineSeconds) + "\n";
   s += "total: about " + minutesText(totalSeconds) + "; disk: " + bytesText(diskBytes) +
     " while building, " + bytesText(bundleBytes) + " kept\n";
   if (downsample > 1)
-    s += "the volume is downsampled " + std::to_string(downsample) + "x per axis for the design "
-      "space (" + std::to_string(designDims[0]) + "x" + std::to_string(designDims[1]) + "x" +
+    s += "the volume is downsampled " + std::to_string(downsample) +
+      "x per axis for the design "
+      "space (" +
+      std::to_string(designDims[0]) + "x" + std::to_string(designDims[1]) + "x" +
       std::to_string(designDims[2]) + "); the model stays the original volume's\n";
   return s;
 }
 
 BuildRates measureBuildRates(const Volume& volume, int size, int threads, int probes)
 {
+  using Clock = std::chrono::steady_clock;
+  auto since = [](Clock::time_point t0)
+  { return std::chrono::duration<double>(Clock::now() - t0).count(); };
   BuildRates r;
   r.threads = resolveThreadCount(threads, 1 << 20);
-  r.analyzeSeconds = kAnalyzeSeconds;
+  // exemplars: generated as the build does (the feature regions found once, outside the timing)
   DesignSpaceSpec spec;
-  const auto regions = spec.dimensions == 2 ? findFeatureRegions2D(volume, spec.maxRegions)
-                                            : findFeatureRegions(volume, spec.maxRegions);
-  const RayCaster caster(volume);
-  const auto gradientRange =
-    spec.dimensions == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
-  RenderOptions ropt;
-  ropt.threads = 1;
-  // the first render warms caches; the rest are timed (seeds the build does not use)
-  auto t0 = std::chrono::steady_clock::now();
-  for (int i = 0; i <= probes; ++i)
+  spec.regions = findFeatureRegions(volume, spec.maxRegions);
+  const fs::path dir = fs::temp_directory_path() /
+    ("ddg-build-probe-" +
+      std::to_string(std::chrono::steady_clock::now().time_since_epoch().count()));
+  GenerateOptions g;
+  g.count = std::max(4, probes);
+  g.size = size;
+  g.seed = 7919; // not the build's
+  g.threads = threads;
+  auto t0 = Clock::now();
+  try
   {
-    if (i == 1)
-      t0 = std::chrono::steady_clock::now();
-    const Exemplar e = sampleExemplar(volume, spec, regions, 7919, 5000000 + i, size);
-    renderDesign(caster, e.primitives, spec.dimensions, gradientRange, e.viewExp, ropt);
+    generateExemplars(volume, spec, dir.string(), g);
   }
-  const double seconds =
-    std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.renderSeconds = seconds / std::max(1, probes);
+  catch (...)
+  {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    throw;
+  }
+  r.exemplarSeconds = since(t0) / g.count;
+  r.renderSeconds = r.exemplarSeconds / 3;
+  // a held-out figure's metrics (PSNR, SSIM, colour-histogram EMD) on two probe images
+  std::error_code ec;
+  try
+  {
+    const ExemplarDataset probe(dir.string());
+    const Image a = compositeOverBackground(probe.images(0).truth, { 0.5, 0.5, 0.5 });
+    const Image b = compositeOverBackground(probe.images(1).truth, { 0.5, 0.5, 0.5 });
+    t0 = Clock::now();
+    for (int i = 0; i < 3; ++i)
+      (void)(psnr(a, b) + ssim(a, b) + colorHistogramEMD(a, b));
+    r.figureSeconds = since(t0) / 3;
+  }
+  catch (...)
+  {
+    fs::remove_all(dir, ec);
+    throw;
+  }
+  fs::remove_all(dir, ec);
+  // the analyzer, alone and batched
+  NetworkConfig cfg;
+  cfg.kind = "decoder";
+  cfg.imageSize = size;
+  cfg.regions = static_cast<int>(spec.regions.size());
+  const NeuralDesignModel model(cfg, 1);
+  const std::vector<Image> images(32, Image(size, size, 3));
+  model.analyze(images[0]); // warm-up
+  t0 = Clock::now();
+  for (int i = 0; i < 4; ++i)
+    model.analyze(images[0]);
+  r.analyzeSeconds = since(t0) / 4;
+  t0 = Clock::now();
+  model.analyzeBatch(images);
+  r.analyzeBatchSeconds = since(t0) / images.size();
   return r;
 }
 
-BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample, const BuildRates& rates,
-  int count, int heldout, int outlineCount, int size, double trainingMinutes)
+BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
+  const BuildRates& rates, int count, int heldout, int outlineCount, int size,
+  double trainingMinutes)
 {
   BuildPlan p;
   p.count = count;
@@ -144,13 +182,14 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample, co
   p.designDims = designDims;
   p.downsample = downsample;
   p.rates = rates;
-  const double threads = std::max(1, rates.threads);
-  p.exemplarSeconds = (count + heldout) * kRendersPerExemplar * rates.renderSeconds / threads;
+  const double render1 = rates.renderSeconds * std::max(1, rates.threads); // one thread
+  p.exemplarSeconds = (count + heldout) * rates.exemplarSeconds;
   p.trainingSeconds = 60 * trainingMinutes;
-  p.evaluationSeconds = heldout * (1.5 * rates.renderSeconds + kFigureExtraSeconds);
-  p.outlineSeconds = outlineCount * (rates.renderSeconds / threads + rates.analyzeSeconds);
-  p.totalSeconds = kOverheadSeconds + p.exemplarSeconds + p.trainingSeconds +
-    p.evaluationSeconds + p.outlineSeconds;
+  p.evaluationSeconds = heldout * (render1 + 2 * rates.analyzeSeconds + rates.figureSeconds) +
+    kLatencySamples * (render1 + rates.analyzeSeconds) + count * rates.analyzeBatchSeconds;
+  p.outlineSeconds = outlineCount * (rates.renderSeconds + rates.analyzeBatchSeconds);
+  p.totalSeconds = kOverheadSeconds + p.exemplarSeconds + p.trainingSeconds + p.evaluationSeconds +
+    p.outlineSeconds;
   // the bundle: weights (~1.4 MB at width 16), training latents (half floats) and TF
   // parameters (exemplars.json, ~300 characters each), the outline (float latents + index)
   p.bundleBytes = 1500000 + static_cast<std::int64_t>(count) * (64 * 2 + 300) +
@@ -159,30 +198,33 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample, co
   return p;
 }
 
-BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size, int threads)
+BuildPlan planBuild(
+  const Volume& volume, double budgetMinutes, int size, int threads, const BuildRates& measured)
 {
   if (!(budgetMinutes >= 1))
-    throw Error("a build needs a budget of at least 1 minute (got " +
-      std::to_string(budgetMinutes) + ")");
+    throw Error(
+      "a build needs a budget of at least 1 minute (got " + std::to_string(budgetMinutes) + ")");
   int factor = 1;
   const Volume small = volume.voxelCount() > kMaxDesignSpaceVoxels
     ? designSpaceVolume(volume, kMaxDesignSpaceVoxels, &factor)
     : Volume();
   const Volume& design = factor > 1 ? small : volume;
-  const BuildRates rates = measureBuildRates(design, size, threads);
+  const BuildRates rates =
+    measured.measured() ? measured : measureBuildRates(design, size, threads);
   const double budget = 60 * budgetMinutes;
   const double target = 0.9 * budget - kOverheadSeconds;
-  const double threadsUsed = std::max(1, rates.threads);
-  const double perOutline = rates.renderSeconds / threadsUsed + rates.analyzeSeconds;
-  const double perExemplar = kRendersPerExemplar * rates.renderSeconds / threadsUsed;
-  const double perFigure = 1.5 * rates.renderSeconds + kFigureExtraSeconds;
+  const double perOutline = rates.renderSeconds + rates.analyzeBatchSeconds;
+  const double perExemplar = rates.exemplarSeconds;
+  const double render1 = rates.renderSeconds * std::max(1, rates.threads);
+  const double perFigure = render1 + 2 * rates.analyzeSeconds + rates.figureSeconds;
+  const double latency = kLatencySamples * (render1 + rates.analyzeSeconds);
   int outline = std::clamp(static_cast<int>(0.10 * target / perOutline), 1000, 10000);
   int count = std::clamp(static_cast<int>(0.25 * target / perExemplar), 256, 30000);
   int heldout = std::clamp(count / 10, 50, 200);
   auto rest = [&]()
   {
-    return target - outline * perOutline - (count + heldout) * perExemplar -
-      heldout * perFigure;
+    return target - outline * perOutline - count * (perExemplar + rates.analyzeBatchSeconds) -
+      heldout * (perExemplar + perFigure) - latency;
   };
   // a large volume's renders are slow: shrink the exemplars and the outline (to their minima)
   // until training keeps at least 35 % of the budget
@@ -192,9 +234,12 @@ BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size, int th
     outline = std::max(1000, static_cast<int>(outline * 0.8));
     heldout = std::clamp(count / 10, 50, 200);
   }
+  // held-out figures cost the analyzer alone: fewer of them when it is slow (at least 50)
+  while (rest() < 0.35 * target && heldout > 50)
+    heldout = std::max(50, heldout * 4 / 5);
   const double training = std::max(0.1 * target, rest());
-  BuildPlan p = estimateBuild(
-    design.dims(), factor, rates, count, heldout, outline, size, training / 60);
+  BuildPlan p =
+    estimateBuild(design.dims(), factor, rates, count, heldout, outline, size, training / 60);
   p.budgetMinutes = budgetMinutes;
   return p;
 }
@@ -228,7 +273,8 @@ Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* fact
         {
           double sum = 0;
           int n = 0;
-          for (int c = static_cast<int>(k) * f; c < std::min(d[2], static_cast<int>(k + 1) * f); ++c)
+          for (int c = static_cast<int>(k) * f; c < std::min(d[2], static_cast<int>(k + 1) * f);
+               ++c)
             for (int b = j * f; b < std::min(d[1], (j + 1) * f); ++b)
               for (int a = i * f; a < std::min(d[0], (i + 1) * f); ++a)
               {
@@ -255,7 +301,8 @@ void checkBuildVolume(const Volume& volume)
   const auto& d = volume.dims();
   if (std::min({ d[0], d[1], d[2] }) < 4)
     throw Error("the volume is " + std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" +
-      std::to_string(d[2]) + " voxels: a design space needs at least 4 voxels along each axis "
+      std::to_string(d[2]) +
+      " voxels: a design space needs at least 4 voxels along each axis "
       "(this is a slice or a thin slab; volume rendering shows nothing of it)");
   const auto& r = volume.range();
   if (!(r[1] > r[0]))
@@ -278,11 +325,13 @@ void checkBuildOutput(const std::string& bundleDir, std::int64_t diskBytes, bool
   if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
     throw Error("'" + bundleDir + "' is a file, not a folder: choose a folder for the bundle");
   if (fs::exists(dir / "bundle.json", ec) && !overwrite)
-    throw Error("'" + bundleDir + "' already holds a model bundle: choose another folder, or "
+    throw Error("'" + bundleDir +
+      "' already holds a model bundle: choose another folder, or "
       "overwrite it explicitly (--overwrite, Overwrite, overwrite=True)");
   // the folder, or the nearest existing parent it would be created in
   fs::path existing = dir;
-  while (!fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
+  while (
+    !fs::exists(existing, ec) && existing.has_parent_path() && existing != existing.parent_path())
     existing = existing.parent_path();
 #ifndef _WIN32
   if (::access(existing.c_str(), W_OK | X_OK) != 0)
@@ -296,7 +345,8 @@ void checkBuildOutput(const std::string& bundleDir, std::int64_t diskBytes, bool
   if (!ec && diskBytes > 0 &&
     static_cast<double>(space.available) < 1.05 * static_cast<double>(diskBytes))
     throw Error("not enough free space in '" + existing.string() + "': the build needs about " +
-      bytesText(diskBytes) + " while it runs, " + bytesText(static_cast<std::int64_t>(space.available)) +
+      bytesText(diskBytes) + " while it runs, " +
+      bytesText(static_cast<std::int64_t>(space.available)) +
       " are free (free some space, choose another folder or a smaller budget)");
 }
 

@@ -146,9 +146,11 @@ public:
 
   /// Writes a bundle directory: weights (model.pt), bundle.json (config, the volume's
   /// fingerprint, spec, regions, metrics json), latents.bin (float32, training latents) and
-  /// exemplars.json (their TF parameters). Atomic per file; bundle.json last.
-  void saveBundle(
-    const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const;
+  /// exemplars.json (their TF parameters). Atomic per file; bundle.json last. Progress gets
+  /// the fraction of the training latents analysed (every 128) and may cancel (throws
+  /// ddg::Cancelled; bundle.json is not written then).
+  void saveBundle(const std::string& dir, const ExemplarDataset& training,
+    const std::string& metricsJson, const std::function<bool(double)>& progress = {}) const;
   /// Loads a bundle; throws ddg::Error for a missing/corrupt/truncated bundle, a wrong
   /// architecture, or (when expectedFingerprint is not empty) a bundle of another volume.
   static NeuralDesignModel loadBundle(

@@ -93,13 +93,15 @@ std::string message(const std::function<void()>& f)
 TEST(BuildBudget, LargerBudgetsPlanMoreAndFitTheBudget)
 {
   const Volume v = blobs();
-  const BuildPlan p2 = planBuild(v, 2, 64, 1);
-  const BuildPlan p10 = planBuild(v, 10, 64, 1);
+  const BuildRates rates = measureBuildRates(v, 64, 1);
+  const BuildPlan p2 = planBuild(v, 2, 64, 1, rates);
+  const BuildPlan p10 = planBuild(v, 10, 64, 1, rates);
   for (const BuildPlan* p : { &p2, &p10 })
   {
     EXPECT_LE(p->totalSeconds, 0.9 * 60 * p->budgetMinutes + 0.5) << p->toJson();
     EXPECT_GE(p->trainingSeconds, 0.3 * 60 * p->budgetMinutes) << p->toJson();
-    EXPECT_GT(p->rates.renderSeconds, 0);
+    EXPECT_GT(p->rates.exemplarSeconds, 0);
+    EXPECT_GT(p->rates.analyzeSeconds, 0);
     EXPECT_GT(p->diskBytes, p->bundleBytes);
     EXPECT_EQ(p->downsample, 1);
     EXPECT_NE(p->describe().find("outline: "), std::string::npos);
@@ -145,8 +147,8 @@ TEST(BuildBudget, RefusesVolumesWithoutADesignSpace)
   EXPECT_NE(message([&] { checkBuildVolume(thin); }).find("64x64x2 voxels"), std::string::npos);
   // and buildDesignSpace refuses them before writing anything
   const fs::path dir = fs::path(ddg::testing::tempDir()) / "refused_volume";
-  EXPECT_NE(message([&] { buildDesignSpace(thin, "", dir.string(), tiny()); })
-              .find("at least 4 voxels"),
+  EXPECT_NE(
+    message([&] { buildDesignSpace(thin, "", dir.string(), tiny()); }).find("at least 4 voxels"),
     std::string::npos);
   EXPECT_FALSE(fs::exists(dir));
 }
@@ -163,8 +165,8 @@ TEST(BuildBudget, RefusesFoldersBeforeWriting)
               .find("already holds a model bundle"),
     std::string::npos);
   EXPECT_NO_THROW(checkBuildOutput((root / "holds_bundle").string(), 1000, true));
-  EXPECT_NE(message([&] { checkBuildOutput((root / "a_file").string(), 1000, false); })
-              .find("is a file"),
+  EXPECT_NE(
+    message([&] { checkBuildOutput((root / "a_file").string(), 1000, false); }).find("is a file"),
     std::string::npos);
   // more than the disk holds (an exabyte)
   EXPECT_NE(message([&] { checkBuildOutput((root / "new").string(), 1ll << 60, false); })
@@ -233,8 +235,9 @@ TEST(BuildBudget, BuildsIntoAFolderAndRecordsTheOriginalVolume)
   std::set<std::string> names;
   for (const auto& e : fs::directory_iterator(dir))
     names.insert(e.path().filename().string());
-  EXPECT_EQ(names, (std::set<std::string>{ "bundle.json", "exemplars.json", "latents.bin",
-                     "model.pt", "notes.txt", "outline.bin" }));
+  EXPECT_EQ(names,
+    (std::set<std::string>{
+      "bundle.json", "exemplars.json", "latents.bin", "model.pt", "notes.txt", "outline.bin" }));
   std::ifstream in(dir / "bundle.json");
   EXPECT_EQ(nlohmann::json::parse(in)["volume"].get<std::string>(), volumeFingerprint(v));
   // the same folder again: refused, then replaced when asked
