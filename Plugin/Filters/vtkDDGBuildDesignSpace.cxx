@@ -42,6 +42,11 @@ struct vtkDDGBuildDesignSpace::Background
   double Figures[6] = { 0, 0, 0, 0, 0, 0 };
   // copies handed out by the getters
   std::string StateShown, StageShown, ErrorShown, Plan;
+  // the rates PlanBuild measured, for the build that follows on the same input and size (it
+  // then follows the plan shown)
+  ddg::BuildRates PlanRates;
+  vtkMTimeType PlanInputTime = 0, InputTime = 0;
+  int PlanSize = 0;
   double FiguresShown[6] = { 0, 0, 0, 0, 0, 0 };
 
   void join()
@@ -130,6 +135,7 @@ ddg::Volume vtkDDGBuildDesignSpace::InputVolume()
   vtkImageData* image = vtkImageData::SafeDownCast(producer->GetOutputDataObject(port));
   if (!image)
     throw ddg::Error("the input is not a volume (image data)");
+  this->Worker->InputTime = image->GetMTime();
   return ddg::toCoreVolume(image, this->GetInputArrayToProcess(0, image));
 }
 
@@ -170,6 +176,12 @@ void vtkDDGBuildDesignSpace::StartBuild()
       throw ddg::Error("no OutputDirectory set");
     volume = this->InputVolume();
     options = this->Options();
+    // what can be refused at once is (the free disk space is checked by the build, which
+    // estimates it first)
+    ddg::checkBuildVolume(volume);
+    ddg::checkBuildOutput(this->OutputDirectory, 0, options.overwrite);
+    if (w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size)
+      options.rates = w.PlanRates;
   }
   catch (const std::exception& e)
   {
@@ -275,7 +287,14 @@ void vtkDDGBuildDesignSpace::PlanBuild()
       throw ddg::Error("no budget set (BudgetMinutes)");
     const ddg::Volume volume = this->InputVolume();
     ddg::checkBuildVolume(volume);
-    const ddg::BuildPlan plan = ddg::planBuild(volume, this->BudgetMinutes, this->Size);
+    Background& w = *this->Worker;
+    const bool again =
+      w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size;
+    const ddg::BuildPlan plan = ddg::planBuild(
+      volume, this->BudgetMinutes, this->Size, 0, again ? w.PlanRates : ddg::BuildRates());
+    w.PlanRates = plan.rates;
+    w.PlanInputTime = w.InputTime;
+    w.PlanSize = this->Size;
     j = nlohmann::json::parse(plan.toJson());
     j["describe"] = plan.describe();
     if (!this->OutputDirectory.empty())

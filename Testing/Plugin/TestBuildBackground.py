@@ -86,7 +86,10 @@ try:
     assert info(build, "BuildState") == "idle", info(build, "BuildState")  # not started by setup
     build.SMProxy.InvokeCommand("StartBuild")
     stages, fractions = wait(build)
-    assert info(build, "BuildState") == "done", (info(build, "BuildState"), info(build, "BuildError"))
+    assert info(build, "BuildState") == "done", (
+        info(build, "BuildState"),
+        info(build, "BuildError"),
+    )
     order = ["exemplars", "training", "evaluation", "outline"]
     assert [s for s in order if s in stages] == stages and "training" in stages, stages
     assert all(b >= a for a, b in zip(fractions, fractions[1:])), fractions
@@ -94,7 +97,9 @@ try:
     assert figures[0] > 5 and 0 < figures[1] <= 1 and figures[5] == 10, figures
     assert os.path.exists(os.path.join(bundle, "bundle.json"))
     assert os.path.exists(os.path.join(bundle, "outline.bin"))
-    print(f"built in {info(build, 'BuildSecondsElapsed'):.1f} s, stages {stages}, figures {figures}")
+    print(
+        f"built in {info(build, 'BuildSecondsElapsed'):.1f} s, stages {stages}, figures {figures}"
+    )
 
     # --- the same folder again: refused, nothing changed ---------------------------------------
     before = sorted(os.listdir(bundle))
