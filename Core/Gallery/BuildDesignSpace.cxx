@@ -208,13 +208,19 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
   // 3. its figures on the held-out exemplars, the bundle
   t0 = Clock::now();
   report("evaluation", wE + wT);
-  r.evaluation = model.evaluate(
-    heldout, o.heldout, [&](double f) { return keepGoing("evaluation", wE + wT + 0.9 * wV * f); });
-  model.saveBundle(
-    staging.dir.string(), train, metricsToJson(r.evaluation, &r.training, model.parameterCount()));
+  // (the figures' share of the stage: the held-out count against the training latents saved)
+  const double figures = o.heldout / (o.heldout + 0.2 * o.count);
+  r.evaluation = model.evaluate(heldout, o.heldout,
+    [&](double f) { return keepGoing("evaluation", wE + wT + figures * wV * f); });
+  r.evaluationSeconds = secondsSince(t0);
+  t0 = Clock::now();
+  model.saveBundle(staging.dir.string(), train,
+    metricsToJson(r.evaluation, &r.training, model.parameterCount()),
+    [&](double f)
+    { return keepGoing("evaluation", wE + wT + (figures + (1 - figures) * f) * wV); });
   if (factor > 1)
     setBundleVolume(staging.dir / "bundle.json", volumeFingerprint(original));
-  r.evaluationSeconds = secondsSince(t0);
+  r.savingSeconds = secondsSince(t0);
   // 4. the outline
   t0 = Clock::now();
   report("outline", wE + wT + wV);

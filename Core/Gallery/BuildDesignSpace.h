@@ -41,7 +41,8 @@ struct BuildReport
 {
   EvaluationReport evaluation; ///< on the held-out exemplars
   TrainReport training;
-  double generateSeconds = 0, outlineSeconds = 0, evaluationSeconds = 0, totalSeconds = 0;
+  double generateSeconds = 0, outlineSeconds = 0, totalSeconds = 0;
+  double evaluationSeconds = 0, savingSeconds = 0; ///< held-out figures; the bundle's files
   BuildPlan plan; ///< what was planned (the budget's plan, or the estimate of the sizes given)
 };
 

@@ -78,10 +78,10 @@ int runBuild(BuildArgs a)
     std::printf("planned (%s):\n%s", a.o.budgetMinutes > 0 ? "budget" : "estimate",
       r.plan.describe().c_str());
   std::printf("built %s in %.1f min: %d exemplars %.0f s, training %d iterations in %.0f s, "
-              "evaluation %.0f s, outline %d designs %.0f s; "
+              "evaluation %.0f s + saving %.0f s, outline %d designs %.0f s; "
               "held-out %d: PSNR %.2f dB, SSIM %.4f, EMD %.3f, invariance %.3f\n",
     a.out.c_str(), r.totalSeconds / 60, r.plan.count, r.generateSeconds, r.training.iterations,
-    r.training.seconds, r.evaluationSeconds, r.plan.outlineCount, r.outlineSeconds,
+    r.training.seconds, r.evaluationSeconds, r.savingSeconds, r.plan.outlineCount, r.outlineSeconds,
     r.evaluation.count, r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
     r.evaluation.invariance);
   return 0;
