@@ -196,12 +196,15 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
   t.imageWeight = 100;
   t.seed = o.seed;
   t.threads = o.threads;
+  double trained = wE; // the overall fraction at the last report
+  t.interrupt = [&]() { return !keepGoing("training", trained); };
   r.training = model.train(train, t,
     [&](const TrainProgress& p)
     {
       const double f = o.iterations > 0 ? static_cast<double>(p.iteration) / o.iterations
                                         : p.seconds / (60 * o.minutes);
-      return keepGoing("training", wE + wT * std::min(1.0, f));
+      trained = wE + wT * std::min(1.0, f);
+      return keepGoing("training", trained);
     });
   if (r.training.cancelled)
     throw Cancelled();

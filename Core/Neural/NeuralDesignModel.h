@@ -56,6 +56,10 @@ struct TrainOptions
   /// Cosine learning-rate schedule from learningRate down to 5 % of it at maxIterations (needs
   /// maxIterations > 0; a function of the iteration, so resuming continues it) [false].
   bool cosineSchedule = false;
+  /// Asked on the calling thread between the image-loss renders of a batch (an iteration can
+  /// take ~1 s on a loaded machine); returning true stops at once: train() throws
+  /// ddg::Cancelled [none]
+  std::function<bool()> interrupt;
 };
 
 struct TrainProgress
