@@ -36,15 +36,13 @@ pqDDGBuildDialog::pqDDGBuildDialog(pqServer* server, Planner planner, QWidget* p
         this->Ui->minutes->setValue(kBudgets[index]);
       this->updatePlan();
     });
-  QObject::connect(this->Ui->minutes, &QDoubleSpinBox::editingFinished, this,
-    &pqDDGBuildDialog::updatePlan);
+  QObject::connect(
+    this->Ui->minutes, &QDoubleSpinBox::editingFinished, this, &pqDDGBuildDialog::updatePlan);
   QObject::connect(
     this->Ui->folder, &QLineEdit::editingFinished, this, &pqDDGBuildDialog::updatePlan);
   QObject::connect(this->Ui->folder, &QLineEdit::textChanged, this,
     [this]()
-    {
-      this->Ui->buttons->button(QDialogButtonBox::Ok)->setEnabled(!this->folder().isEmpty());
-    });
+    { this->Ui->buttons->button(QDialogButtonBox::Ok)->setEnabled(!this->folder().isEmpty()); });
   QObject::connect(this->Ui->browse, &QPushButton::clicked, this,
     [this]()
     {
@@ -80,14 +78,15 @@ void pqDDGBuildDialog::updatePlan()
     text = tr("<b>Cannot build:</b> %1").arg(this->LastPlan["error"].toString().toHtmlEscaped());
   else if (!this->LastPlan.isEmpty())
   {
-    text = tr("<b>About %1 min</b><br>").arg(this->LastPlan["total_seconds"].toDouble() / 60, 0,
-      'f', 1);
+    text =
+      tr("<b>About %1 min</b><br>").arg(this->LastPlan["total_seconds"].toDouble() / 60, 0, 'f', 1);
     text += this->LastPlan["describe"].toString().toHtmlEscaped().replace("\n", "<br>");
     if (this->LastPlan.contains("output_error"))
-      text += tr("<br><b>Folder:</b> %1")
-                .arg(this->LastPlan["output_error"].toString().toHtmlEscaped());
+      text +=
+        tr("<br><b>Folder:</b> %1").arg(this->LastPlan["output_error"].toString().toHtmlEscaped());
   }
   this->Ui->plan->setText(text);
+  this->adjustSize(); // the plan's lines (and the folder's problem) all shown
   this->Ui->buttons->button(QDialogButtonBox::Ok)->setEnabled(!this->folder().isEmpty());
 }
 

@@ -12,6 +12,7 @@
 #include "Design/DesignSpace.h"
 #include "Render/RayCaster.h"
 
+#include "FileSizeLimit.h"
 #include "TempDir.h"
 #include <gtest/gtest.h>
 
@@ -245,4 +246,22 @@ TEST(BuildBudget, BuildsIntoAFolderAndRecordsTheOriginalVolume)
   o.overwrite = true;
   EXPECT_NO_THROW(buildDesignSpace(v, "", dir.string(), o));
   EXPECT_TRUE(fs::exists(dir / "notes.txt"));
+}
+
+TEST(BuildBudget, AFullDiskDuringTheBuildLeavesTheFolderAsItWas)
+{
+  // the free-space check passes (the disk is not full yet), then files cannot grow past 20 KB:
+  // the first exemplar shard fails to be written
+  const Volume v = blobs();
+  const fs::path dir = fs::path(ddg::testing::tempDir()) / "full_disk";
+  fs::create_directories(dir);
+  std::ofstream(dir / "notes.txt") << "mine";
+  const auto before = snapshot(dir);
+  std::string what;
+  {
+    FileSizeLimit full(20 * 1024);
+    what = message([&] { buildDesignSpace(v, "", dir.string(), tiny()); });
+  }
+  EXPECT_NE(what, "(no error)");
+  EXPECT_EQ(snapshot(dir), before) << what;
 }
