@@ -23,11 +23,9 @@ using Clock = std::chrono::steady_clock;
 
 int main(int argc, char** argv)
 {
-  const std::string path =
-    argc > 1 ? argv[1] : std::string(DDG_DATA_DIR) + "/Volumes/neghip.vti";
-  const std::string out = (std::filesystem::path(argc > 2 ? argv[2] : "/tmp") /
-    "ddg-bench-build-cancel")
-                            .string();
+  const std::string path = argc > 1 ? argv[1] : std::string(DDG_DATA_DIR) + "/Volumes/neghip.vti";
+  const std::string out =
+    (std::filesystem::path(argc > 2 ? argv[2] : "/tmp") / "ddg-bench-build-cancel").string();
   const ddg::Volume volume = ddg::readVolumeFile(path);
   ddg::BuildOptions o;
   o.count = 2000;
@@ -80,8 +78,7 @@ int main(int argc, char** argv)
             stageStart = now;
           }
           else if (s == target)
-            longestGap =
-              std::max(longestGap, std::chrono::duration<double>(now - last).count());
+            longestGap = std::max(longestGap, std::chrono::duration<double>(now - last).count());
           last = now;
           return !stop;
         });
