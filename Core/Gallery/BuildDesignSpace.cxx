@@ -2,10 +2,16 @@
 #include "Gallery/BuildDesignSpace.h"
 
 #include "Common/Error.h"
+#include "Common/FileUtil.h"
+#include "Design/DesignSpace.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
 
 namespace ddg
 {
@@ -25,25 +31,136 @@ std::string metricsToJson(const EvaluationReport& e, const TrainReport* t, std::
   return buf;
 }
 
-BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile,
-  const std::string& bundleDir, const BuildOptions& o,
+namespace
+{
+using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point t0)
+{
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+// The bundle's files are written to a staging folder inside the bundle folder and moved into it
+// when everything is done (bundle.json last); a failed or cancelled build removes the staging
+// folder, and the bundle folder when the build created it.
+struct Staging
+{
+  fs::path bundle, dir;
+  bool createdBundle = false, committed = false;
+
+  Staging(const std::string& bundleDir)
+    : bundle(fs::absolute(bundleDir))
+    , dir(bundle / ".ddg-build-partial")
+  {
+    std::error_code ec;
+    createdBundle = !fs::exists(bundle, ec);
+    fs::create_directories(bundle, ec);
+    if (!ec)
+    {
+      fs::remove_all(dir, ec); // a crashed build's leftovers (only ever ours)
+      fs::create_directory(dir, ec);
+    }
+    if (ec)
+    {
+      discard();
+      throw Error("cannot create the bundle folder '" + bundle.string() + "': " + ec.message());
+    }
+  }
+
+  ~Staging()
+  {
+    if (!committed)
+      discard();
+  }
+
+  void discard()
+  {
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+    if (createdBundle && fs::is_empty(bundle, ec))
+      fs::remove(bundle, ec);
+  }
+
+  // Moves the bundle's files into place: an older bundle.json first out, the new one last.
+  void commit(const std::string& keep)
+  {
+    fs::remove(bundle / "bundle.json");
+    for (const auto& entry : fs::directory_iterator(dir))
+      if (entry.path().filename() != "bundle.json" && entry.path().filename() != keep)
+        fs::rename(entry.path(), bundle / entry.path().filename());
+    fs::rename(dir / "bundle.json", bundle / "bundle.json");
+    committed = true;
+    std::error_code ec;
+    fs::remove_all(dir, ec);
+  }
+};
+
+// The bundle records the original volume's fingerprint when the design space was built on a
+// downsampled copy (the panel and the filters match bundles to volumes by it).
+void setBundleVolume(const fs::path& bundleJson, const std::string& fingerprint)
+{
+  std::ifstream in(bundleJson);
+  nlohmann::json j = nlohmann::json::parse(in);
+  in.close();
+  j["volume"] = fingerprint;
+  writeFileAtomic(bundleJson.string(), j.dump(2), "bundle index");
+}
+} // namespace
+
+BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFile,
+  const std::string& bundleDir, const BuildOptions& options,
   const std::function<bool(const std::string&, double)>& progress)
 {
+  const auto start = Clock::now();
+  BuildOptions o = options;
   if (bundleDir.empty())
     throw Error("building a design space needs an output bundle directory");
+  if (o.budgetMinutes < 0 || (o.budgetMinutes > 0 && o.budgetMinutes < 1))
+    throw Error("a build budget is at least 1 minute");
+  checkBuildVolume(original);
+  // 0. the volume the design space is built on, and the plan
+  int factor = 1;
+  const Volume small = original.voxelCount() > o.maxDesignVoxels
+    ? designSpaceVolume(original, o.maxDesignVoxels, &factor)
+    : Volume();
+  const Volume& volume = factor > 1 ? small : original;
+  BuildReport r;
+  if (o.budgetMinutes > 0)
+  {
+    r.plan = planBuild(volume, o.budgetMinutes, o.size, o.threads, o.rates);
+    o.count = r.plan.count;
+    o.heldout = r.plan.heldout;
+    o.minutes = r.plan.trainingMinutes;
+    o.outlineCount = r.plan.outlineCount;
+    o.iterations = 0;
+  }
   if (o.count < 8 || o.heldout < 1 || o.outlineCount < 3 || !(o.minutes > 0))
     throw Error("building a design space needs >= 8 exemplars, >= 1 held out, >= 3 outline "
                 "designs and a positive time budget");
-  using Clock = std::chrono::steady_clock;
+  if (o.budgetMinutes <= 0)
+    r.plan = estimateBuild(volume.dims(), factor,
+      o.rates.measured() ? o.rates : measureBuildRates(volume, o.size, o.threads, 4), o.count,
+      o.heldout, o.outlineCount, o.size, o.minutes);
+  r.plan.downsample = factor;
+  checkBuildOutput(bundleDir, r.plan.diskBytes, o.overwrite);
+  // stage weights from the estimate: the overall fraction grows about linearly with time
+  const double total = std::max(1e-6,
+    r.plan.exemplarSeconds + r.plan.trainingSeconds + r.plan.evaluationSeconds +
+      r.plan.outlineSeconds);
+  const double wE = r.plan.exemplarSeconds / total, wT = r.plan.trainingSeconds / total,
+               wV = r.plan.evaluationSeconds / total;
+  auto keepGoing = [&](const std::string& stage, double f)
+  { return !progress || progress(stage, std::clamp(f, 0.0, 1.0)); };
   auto report = [&](const std::string& stage, double f)
   {
-    if (progress && !progress(stage, f))
+    if (!keepGoing(stage, f))
       throw Cancelled();
   };
+  report("exemplars", 0);
+  Staging staging(bundleDir);
   const std::string work =
-    o.workDirectory.empty() ? (fs::path(bundleDir) / "exemplars").string() : o.workDirectory;
-  BuildReport r;
-  // 1. exemplars (10 % of the progress)
+    o.workDirectory.empty() ? (staging.dir / "exemplars").string() : o.workDirectory;
+  // 1. exemplars: training and held-out sets
   auto t0 = Clock::now();
   GenerateOptions g;
   g.count = o.count;
@@ -52,15 +169,18 @@ BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile
   g.threads = o.threads;
   g.volumeFile = volumeFile;
   g.screen = o.screen;
+  const double trainShare = static_cast<double>(o.count) / (o.count + o.heldout);
   r.exemplars = generateExemplars(volume, o.spec, (fs::path(work) / "train").string(), g,
-    [&](double f) { return !progress || progress("exemplars", 0.1 * f); });
+    [&](double f) { return keepGoing("exemplars", wE * trainShare * f); });
   g.count = o.heldout;
   g.firstIndex = 1000000;
-  generateExemplars(volume, o.spec, (fs::path(work) / "heldout").string(), g);
-  r.generateSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  generateExemplars(volume, o.spec, (fs::path(work) / "heldout").string(), g,
+    [&](double f) { return keepGoing("exemplars", wE * (trainShare + (1 - trainShare) * f)); });
+  r.generateSeconds = secondsSince(t0);
+  report("training", wE);
   const ExemplarDataset train((fs::path(work) / "train").string());
   const ExemplarDataset heldout((fs::path(work) / "heldout").string());
-  // 2. the decoder (80 %)
+  // 2. the decoder
   NetworkConfig cfg;
   cfg.kind = "decoder";
   cfg.imageSize = o.size;
@@ -77,37 +197,47 @@ BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile
   t.imageWeight = 100;
   t.seed = o.seed;
   t.threads = o.threads;
+  double trained = wE; // the overall fraction at the last report
+  t.interrupt = [&]() { return !keepGoing("training", trained); };
   r.training = model.train(train, t,
     [&](const TrainProgress& p)
     {
       const double f = o.iterations > 0 ? static_cast<double>(p.iteration) / o.iterations
                                         : p.seconds / (60 * o.minutes);
-      return !progress || progress("training", 0.1 + 0.8 * std::min(1.0, f));
+      trained = wE + wT * std::min(1.0, f);
+      return keepGoing("training", trained);
     });
   if (r.training.cancelled)
     throw Cancelled();
-  r.evaluation = model.evaluate(heldout, o.heldout);
-  model.saveBundle(
-    bundleDir, train, metricsToJson(r.evaluation, &r.training, model.parameterCount()));
-  // 3. the outline (10 %)
+  // 3. its figures on the held-out exemplars, the bundle
   t0 = Clock::now();
-  try
-  {
-    const auto set = buildOutlineLatents(
-      model, volume, o.outlineCount, o.seed, 0, o.threads,
-      [&](double f) { return !progress || progress("outline", 0.9 + 0.1 * f); }, o.screen);
-    writeLatentSet(set, outlineFile(bundleDir));
-  }
-  catch (...)
-  {
-    // a bundle without its outline does not look finished
-    fs::remove(fs::path(bundleDir) / "bundle.json");
-    throw;
-  }
-  r.outlineSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  if (o.workDirectory.empty())
-    fs::remove_all(work);
-  report("done", 1.0);
+  report("evaluation", wE + wT);
+  // (the figures' share of the stage: the held-out count against the training latents saved)
+  const double figures = o.heldout / (o.heldout + 0.2 * o.count);
+  r.evaluation = model.evaluate(heldout, o.heldout,
+    [&](double f) { return keepGoing("evaluation", wE + wT + figures * wV * f); });
+  r.evaluationSeconds = secondsSince(t0);
+  t0 = Clock::now();
+  model.saveBundle(staging.dir.string(), train,
+    metricsToJson(r.evaluation, &r.training, model.parameterCount()),
+    [&](double f)
+    { return keepGoing("evaluation", wE + wT + (figures + (1 - figures) * f) * wV); });
+  if (factor > 1)
+    setBundleVolume(staging.dir / "bundle.json", volumeFingerprint(original));
+  r.savingSeconds = secondsSince(t0);
+  // 4. the outline
+  t0 = Clock::now();
+  report("outline", wE + wT + wV);
+  const auto set = buildOutlineLatents(model, volume, o.outlineCount, o.seed, 0, o.threads,
+    [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - wE - wT - wV) * f); },
+    o.screen);
+  writeLatentSet(set, outlineFile(staging.dir.string()));
+  r.outlineSeconds = secondsSince(t0);
+  report("outline", 1.0);
+  staging.commit(o.workDirectory.empty() ? "exemplars" : "");
+  r.totalSeconds = secondsSince(start);
+  if (progress)
+    progress("done", 1.0);
   return r;
 }
 

@@ -3,6 +3,7 @@
 // step by step, sized by the caller's time budget).
 #pragma once
 
+#include "Gallery/BuildPlan.h"
 #include "Gallery/Gallery.h"
 
 #include <functional>
@@ -24,8 +25,17 @@ struct BuildOptions
   int width = 16;            ///< analyzer width [16]
   std::uint64_t seed = 1;    ///< [1]
   int threads = 0;           ///< 0 = all cores
-  std::string workDirectory; ///< exemplars go here ["" = bundleDir + "/exemplars", removed after]
-  bool screen = true;        ///< designs that show structure only (GenerateOptions::screen) [true]
+  std::string workDirectory; ///< exemplars go here ["" = a staging folder, removed after]
+  /// > 0: planBuild sizes count, heldout, minutes and outlineCount (overriding them) so that
+  /// the whole build takes about this many minutes (>= 1) [0: the sizes above]
+  double budgetMinutes = 0;
+  bool overwrite = false; ///< replace a bundle already in bundleDir (else refused) [false]
+  /// volumes above this many voxels are downsampled for the design space [16 Mi]
+  std::int64_t maxDesignVoxels = kMaxDesignSpaceVoxels;
+  /// rates measured before (e.g. for the plan shown to the user: the build then follows that
+  /// plan); not measured: probed at the start [not measured]
+  BuildRates rates;
+  bool screen = true; ///< designs that show structure only (GenerateOptions::screen) [true]
 };
 
 struct BuildReport
@@ -33,17 +43,27 @@ struct BuildReport
   EvaluationReport evaluation; ///< on the held-out exemplars
   TrainReport training;
   GenerateReport exemplars; ///< the training exemplars' (regions, the screen's counts)
-  double generateSeconds = 0, outlineSeconds = 0;
+  double generateSeconds = 0, outlineSeconds = 0, totalSeconds = 0;
+  double evaluationSeconds = 0, savingSeconds = 0; ///< held-out figures; the bundle's files
+  BuildPlan plan; ///< what was planned (the budget's plan, or the estimate of the sizes given)
 };
 
 /// The figures of a model as bundle.json's "metrics" holds them.
 std::string metricsToJson(const EvaluationReport& e, const TrainReport* t, std::int64_t parameters);
 
-/// Generates exemplars of `volume` (recording `volumeFile`), trains the decoder (image loss
-/// weight 100, learning rate 1e-3, cosine schedule when iterations > 0), evaluates it, writes
-/// the bundle to `bundleDir` and its outline. Progress gets the stage ("exemplars", "training",
-/// "outline") and the overall fraction; returning false cancels (throws ddg::Cancelled; no
-/// bundle.json is left). Throws ddg::Error for bad options or volumes.
+/// Checks the volume (checkBuildVolume) and the output folder (checkBuildOutput) before writing
+/// anything; downsamples a volume above options.maxDesignVoxels for the design space
+/// (designSpaceVolume; the bundle keeps the original volume's fingerprint, so it is the
+/// original's model); with a budget, sizes the build (planBuild). Then generates exemplars of
+/// `volume` (recording `volumeFile`), trains the decoder (image loss weight 100, learning rate
+/// 1e-3, cosine schedule when iterations > 0), evaluates it and builds its outline, all in a
+/// staging folder inside `bundleDir`, whose files are moved into `bundleDir` at the end
+/// (bundle.json last). Progress gets the stage ("exemplars", "training", "evaluation",
+/// "outline") and the overall fraction (stages weighted by their estimated time, so that it
+/// grows about linearly with time); it is called at least every ~0.5 s; returning false
+/// cancels: ddg::Cancelled is thrown and the staging folder removed (a folder created by the
+/// build too): `bundleDir` keeps what it had. Throws ddg::Error for bad options, volumes or
+/// folders (nothing written then).
 BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile,
   const std::string& bundleDir, const BuildOptions& options,
   const std::function<bool(const std::string& stage, double fraction)>& progress = {});

@@ -57,6 +57,10 @@ struct TrainOptions
   /// function of the iteration, so resuming continues it) or, without maxIterations, at the end
   /// of the time budget (a function of the seconds spent in this call) [false].
   bool cosineSchedule = false;
+  /// Asked on the calling thread between the image-loss renders of a batch (an iteration can
+  /// take ~1 s on a loaded machine); returning true stops at once: train() throws
+  /// ddg::Cancelled [none]
+  std::function<bool()> interrupt;
 };
 
 struct TrainProgress
@@ -140,13 +144,18 @@ public:
   TrainReport train(const ExemplarDataset& data, const TrainOptions& options,
     const std::function<bool(const TrainProgress&)>& progress = {});
 
-  EvaluationReport evaluate(const ExemplarDataset& data, int maxExemplars = 1000) const;
+  /// Figures on the first maxExemplars of `data`. Progress gets the fraction done after each
+  /// exemplar and may cancel (throws ddg::Cancelled).
+  EvaluationReport evaluate(const ExemplarDataset& data, int maxExemplars = 1000,
+    const std::function<bool(double)>& progress = {}) const;
 
   /// Writes a bundle directory: weights (model.pt), bundle.json (config, the volume's
   /// fingerprint, spec, regions, metrics json), latents.bin (float32, training latents) and
-  /// exemplars.json (their TF parameters). Atomic per file; bundle.json last.
-  void saveBundle(
-    const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const;
+  /// exemplars.json (their TF parameters). Atomic per file; bundle.json last. Progress gets
+  /// the fraction of the training latents analysed (every 128) and may cancel (throws
+  /// ddg::Cancelled; bundle.json is not written then).
+  void saveBundle(const std::string& dir, const ExemplarDataset& training,
+    const std::string& metricsJson, const std::function<bool(double)>& progress = {}) const;
   /// Loads a bundle; throws ddg::Error for a missing/corrupt/truncated bundle, a wrong
   /// architecture, or (when expectedFingerprint is not empty) a bundle of another volume.
   static NeuralDesignModel loadBundle(

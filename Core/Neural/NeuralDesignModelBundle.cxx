@@ -7,6 +7,7 @@
 #include "Design/DesignJson.h"
 #include "Gallery/Outline.h"
 #include "Neural/NeuralDesignModelInternals.h"
+#include "Render/RayCaster.h" // ddg::Cancelled
 
 #include <nlohmann/json.hpp>
 
@@ -34,8 +35,8 @@ std::string otherVolumeMessage(
 
 // --- saving ------------------------------------------------------------------------------
 
-void NeuralDesignModel::saveBundle(
-  const std::string& dir, const ExemplarDataset& training, const std::string& metricsJson) const
+void NeuralDesignModel::saveBundle(const std::string& dir, const ExemplarDataset& training,
+  const std::string& metricsJson, const std::function<bool(double)>& progress) const
 {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -58,7 +59,7 @@ void NeuralDesignModel::saveBundle(
     LatentSet set;
     set.dim = In->Config.latent;
     set.seed = training.exemplars().empty() ? 0 : training.exemplars()[0].seed;
-    const int chunk = 1024;
+    const int chunk = 128; // a progress call per chunk (cancel within ~0.5 s)
     for (int first = 0; first < training.count(); first += chunk)
     {
       std::vector<Image> images;
@@ -69,6 +70,10 @@ void NeuralDesignModel::saveBundle(
       }
       const auto z = analyzeBatch(images);
       set.values.insert(set.values.end(), z.begin(), z.end());
+      if (progress &&
+        !progress(
+          static_cast<double>(std::min(training.count(), first + chunk)) / training.count()))
+        throw Cancelled();
     }
     writeLatentSet(set, (fs::path(dir) / "latents.bin").string());
   }

@@ -8,6 +8,7 @@
 #include "Common/FileUtil.h"
 #include "Common/Parallel.h"
 #include "Neural/NeuralDesignModelInternals.h"
+#include "Render/RayCaster.h" // ddg::Cancelled
 
 #include <algorithm>
 #include <chrono>
@@ -249,8 +250,10 @@ private:
     const int regions = In.Config.regions;
     const int outputs = Outputs;
     parallelFor(static_cast<std::int64_t>(idx.size()), Opt.threads,
-      [&](std::int64_t b, int)
+      [&](std::int64_t b, int thread)
       {
+        if (thread == 0 && Opt.interrupt && Opt.interrupt()) // the calling thread
+          throw Cancelled();
         const auto i = static_cast<size_t>(idx[static_cast<size_t>(b)]);
         std::mt19937_64 pick(Opt.seed * 0x9E3779B97F4A7C15ull +
           static_cast<std::uint64_t>(iteration) * 4096 + static_cast<std::uint64_t>(b));
@@ -374,6 +377,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   for (auto& m : modules)
     m.second->train();
   const int startIteration = iteration;
+  constexpr auto kReportEvery = std::chrono::milliseconds(250);
+  auto lastReport = start;
   while (true)
   {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
@@ -406,8 +411,10 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     ++iteration;
     if (!opt.checkpoint.empty() && iteration % opt.checkpointEvery == 0)
       saveCheckpoint();
-    if (progress && (iteration % 10 == 0))
+    // every 10 iterations, and at least every 0.25 s (cancel stays within ~0.3 s)
+    if (progress && (iteration % 10 == 0 || Clock::now() - lastReport > kReportEvery))
     {
+      lastReport = Clock::now();
       TrainProgress p;
       p.iteration = iteration;
       p.lossG = losses.lossG.item<double>();

@@ -1,5 +1,5 @@
 // BuildCommand.cxx: `ddg build` — build a design space for a volume in one command: exemplars, the
-// decoder model trained .
+// decoder model trained within a budget, its figures, the bundle and its outline.
 #ifdef DDG_WITH_TORCH
 #include "CommandSupport.h"
 
@@ -19,6 +19,7 @@
 #include "TransferFunction/ColorSpace.h"
 
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -33,14 +34,30 @@ struct BuildArgs
 {
   std::string volume, out, spec;
   ddg::BuildOptions o;
-  bool quiet = false;
+  bool quiet = false, planOnly = false;
 };
+
+volatile std::sig_atomic_t interrupted = 0;
 
 int runBuild(BuildArgs a)
 {
   const ddg::Volume volume = ddg::readVolumeFile(a.volume);
   if (!a.spec.empty())
     a.o.spec = ddg::readDesignSpaceSpec(a.spec);
+  if (a.planOnly)
+  {
+    if (!(a.o.budgetMinutes > 0))
+      throw ddg::Error("--plan needs --budget MINUTES");
+    ddg::checkBuildVolume(volume);
+    const ddg::BuildPlan plan = ddg::planBuild(volume, a.o.budgetMinutes, a.o.size, a.o.threads);
+    std::printf("plan for %g min:\n%s%s\n", a.o.budgetMinutes, plan.describe().c_str(),
+      plan.toJson().c_str());
+    ddg::checkBuildOutput(a.out, plan.diskBytes, a.o.overwrite);
+    return 0;
+  }
+  // Ctrl+C cancels: the build removes what it wrote
+  interrupted = 0;
+  const auto previous = std::signal(SIGINT, [](int) { interrupted = 1; });
   std::string lastStage;
   int lastPercent = -1;
   const auto r = ddg::buildDesignSpace(volume, a.volume, a.out, a.o,
@@ -54,11 +71,17 @@ int runBuild(BuildArgs a)
         lastStage = stage;
         lastPercent = p;
       }
-      return true;
+      return interrupted == 0;
     });
-  std::printf("built %s: exemplars %.0f s, training %d iterations in %.0f s, outline %.0f s; "
+  std::signal(SIGINT, previous);
+  if (!a.quiet)
+    std::printf("planned (%s):\n%s", a.o.budgetMinutes > 0 ? "budget" : "estimate",
+      r.plan.describe().c_str());
+  std::printf("built %s in %.1f min: %d exemplars %.0f s, training %d iterations in %.0f s, "
+              "evaluation %.0f s + saving %.0f s, outline %d designs %.0f s; "
               "held-out %d: PSNR %.2f dB, SSIM %.4f, EMD %.3f, invariance %.3f\n",
-    a.out.c_str(), r.generateSeconds, r.training.iterations, r.training.seconds, r.outlineSeconds,
+    a.out.c_str(), r.totalSeconds / 60, r.plan.count, r.generateSeconds, r.training.iterations,
+    r.training.seconds, r.evaluationSeconds, r.savingSeconds, r.plan.outlineCount, r.outlineSeconds,
     r.evaluation.count, r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
     r.evaluation.invariance);
   return 0;
@@ -72,7 +95,13 @@ ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
   auto* build = app.add_subcommand("build",
     "Build a design space for a volume in one command: exemplars, the decoder model trained "
     "within --minutes, its held-out figures, the bundle and its outline (the steps of "
-    "scripts/train_model.sh, sized for your own volume).");
+    "scripts/train_model.sh, sized for your own volume). With --budget MINUTES the whole build "
+    "is sized to take that long (--count, --heldout, --minutes and --outline are then ignored); "
+    "--plan shows what it would cost and writes nothing. Refused before anything is written: a "
+    "volume with one value or under 4 voxels along an axis, a folder that already holds a "
+    "bundle (unless --overwrite), a folder you cannot write to or without the free space. "
+    "Volumes over 16 Mi voxels are downsampled (box average) for the design space; the bundle "
+    "still belongs to the original volume. Ctrl+C or a failure leaves the folder as it was.");
   build->add_option("--volume", ba->volume, "Volume file")->required();
   build->add_option("--out", ba->out, "Bundle directory to write")->required();
   build->add_option(
@@ -94,6 +123,14 @@ ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
     ->check(CLI::Range(2, 256));
   build->add_option("--seed", ba->o.seed, "Seed (default 1)");
   build->add_option("--threads", ba->o.threads, "Threads (default 0: all cores)");
+  build
+    ->add_option("--budget", ba->o.budgetMinutes,
+      "Minutes for the whole build, outline included (>= 1; sizes exemplars, training and "
+      "outline from a short timed probe; default 0: the sizes given)")
+    ->check(CLI::Range(1.0, 100000.0));
+  build->add_flag("--plan", ba->planOnly,
+    "With --budget: print the plan (stages, estimated minutes, disk use) and stop");
+  build->add_flag("--overwrite", ba->o.overwrite, "Replace a bundle already in --out");
   build->add_flag("--quiet", ba->quiet, "Do not print progress");
   return { build, [ba] { return runBuild(*ba); } };
 }

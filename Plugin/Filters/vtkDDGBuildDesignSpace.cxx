@@ -6,20 +6,79 @@
 
 #include "Gallery/BuildDesignSpace.h"
 
+#include "Render/RayCaster.h" // ddg::Cancelled
+
+#include <vtkAlgorithmOutput.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
+#include <vtkMultiProcessController.h>
 #include <vtkObjectFactory.h>
 #include <vtkStringArray.h>
 #include <vtkTable.h>
 
+#include <nlohmann/json.hpp>
+
+#include <atomic>
+#include <chrono>
+#include <mutex>
+#include <thread>
+
 vtkStandardNewMacro(vtkDDGBuildDesignSpace);
 
-vtkDDGBuildDesignSpace::vtkDDGBuildDesignSpace() {}
+// The background build: its thread and what it reports (guarded by Mutex; the getters copy it
+// into the *Shown members, read on the calling thread only).
+struct vtkDDGBuildDesignSpace::Background
+{
+  std::thread Thread;
+  std::atomic<bool> Cancel{ false };
+  std::mutex Mutex;
+  std::string State = "idle", Stage, Error;
+  double Fraction = 0;
+  std::chrono::steady_clock::time_point Start, End;
+  bool Ended = false;
+  double Figures[6] = { 0, 0, 0, 0, 0, 0 };
+  // copies handed out by the getters
+  std::string StateShown, StageShown, ErrorShown, Plan;
+  // the rates PlanBuild measured, for the build that follows on the same input and size (it
+  // then follows the plan shown)
+  ddg::BuildRates PlanRates;
+  vtkMTimeType PlanInputTime = 0, InputTime = 0;
+  int PlanSize = 0;
+  double FiguresShown[6] = { 0, 0, 0, 0, 0, 0 };
 
-vtkDDGBuildDesignSpace::~vtkDDGBuildDesignSpace() = default;
+  void join()
+  {
+    this->Cancel = true;
+    if (this->Thread.joinable())
+      this->Thread.join();
+  }
+  double elapsed() const
+  {
+    const auto end = this->Ended ? this->End : std::chrono::steady_clock::now();
+    return this->State == "idle" ? 0 : std::chrono::duration<double>(end - this->Start).count();
+  }
+  void finish(const std::string& state, const std::string& error = "")
+  {
+    std::lock_guard<std::mutex> lock(this->Mutex);
+    this->State = state;
+    this->Error = error;
+    this->End = std::chrono::steady_clock::now();
+    this->Ended = true;
+  }
+};
+
+vtkDDGBuildDesignSpace::vtkDDGBuildDesignSpace()
+  : Worker(new Background)
+{
+}
+
+vtkDDGBuildDesignSpace::~vtkDDGBuildDesignSpace()
+{
+  this->Worker->join(); // cancels a running build (it stops within ~0.5 s, nothing left)
+}
 
 void vtkDDGBuildDesignSpace::PrintSelf(ostream& os, vtkIndent indent)
 {
@@ -32,6 +91,234 @@ void vtkDDGBuildDesignSpace::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Iterations: " << this->Iterations << "\n";
   os << indent << "OutlineCount: " << this->OutlineCount << "\n";
   os << indent << "Seed: " << this->Seed << "\n";
+  os << indent << "BudgetMinutes: " << this->BudgetMinutes << "\n";
+  os << indent << "Overwrite: " << this->Overwrite << "\n";
+}
+
+namespace
+{
+// Whether this process builds (under MPI: the first rank only).
+bool firstRank()
+{
+  auto* controller = vtkMultiProcessController::GetGlobalController();
+  return !controller || controller->GetLocalProcessId() == 0;
+}
+} // namespace
+
+ddg::BuildOptions vtkDDGBuildDesignSpace::Options() const
+{
+  ddg::BuildOptions o;
+  if (!this->SpecFile.empty())
+    o.spec = ddg::readDesignSpaceSpec(this->SpecFile);
+  o.count = this->Count;
+  o.size = this->Size;
+  o.minutes = this->Minutes;
+  o.iterations = this->Iterations;
+  o.outlineCount = this->OutlineCount;
+  o.seed = static_cast<std::uint64_t>(this->Seed);
+  o.budgetMinutes = this->BudgetMinutes;
+  o.overwrite = this->Overwrite;
+  return o;
+}
+
+ddg::Volume vtkDDGBuildDesignSpace::InputVolume()
+{
+  if (this->GetNumberOfInputConnections(0) < 1)
+    throw ddg::Error("no input volume");
+  vtkAlgorithmOutput* connection = this->GetInputConnection(0, 0);
+  vtkAlgorithm* producer = connection->GetProducer();
+  const int port = connection->GetIndex();
+  if (port == 0)
+    producer->UpdatePiece(0, 1, 0);
+  else
+    producer->Update(port);
+  vtkImageData* image = vtkImageData::SafeDownCast(producer->GetOutputDataObject(port));
+  if (!image)
+    throw ddg::Error("the input is not a volume (image data)");
+  this->Worker->InputTime = image->GetMTime();
+  return ddg::toCoreVolume(image, this->GetInputArrayToProcess(0, image));
+}
+
+// --- the build in the background -----------------------------------------------------------------
+
+void vtkDDGBuildDesignSpace::StartBuild()
+{
+  Background& w = *this->Worker;
+  {
+    std::lock_guard<std::mutex> lock(w.Mutex);
+    if (w.State == "running")
+      return;
+  }
+  if (w.Thread.joinable())
+    w.Thread.join();
+  w.Cancel = false;
+  {
+    std::lock_guard<std::mutex> lock(w.Mutex);
+    w.State = "running";
+    w.Stage.clear();
+    w.Error.clear();
+    w.Fraction = 0;
+    w.Start = std::chrono::steady_clock::now();
+    w.Ended = false;
+    std::fill(std::begin(w.Figures), std::end(w.Figures), 0.0);
+  }
+  if (!firstRank())
+  {
+    w.finish("done");
+    return;
+  }
+  // the volume is copied here, on the calling thread: the thread never touches the pipeline
+  ddg::Volume volume;
+  ddg::BuildOptions options;
+  try
+  {
+    if (this->OutputDirectory.empty())
+      throw ddg::Error("no OutputDirectory set");
+    volume = this->InputVolume();
+    options = this->Options();
+    // what can be refused at once is (the free disk space is checked by the build, which
+    // estimates it first)
+    ddg::checkBuildVolume(volume);
+    ddg::checkBuildOutput(this->OutputDirectory, 0, options.overwrite);
+    if (w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size)
+      options.rates = w.PlanRates;
+  }
+  catch (const std::exception& e)
+  {
+    w.finish("failed", e.what());
+    return;
+  }
+  w.Thread = std::thread(
+    [&w, volume = std::move(volume), options, dir = this->OutputDirectory]()
+    {
+      try
+      {
+        const auto r = ddg::buildDesignSpace(volume, "", dir, options,
+          [&w](const std::string& stage, double f)
+          {
+            std::lock_guard<std::mutex> lock(w.Mutex);
+            if (stage != "done")
+              w.Stage = stage;
+            w.Fraction = f;
+            return !w.Cancel;
+          });
+        std::lock_guard<std::mutex> lock(w.Mutex);
+        const double figures[6] = { r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
+          r.evaluation.invariance, r.training.seconds, static_cast<double>(r.training.iterations) };
+        std::copy(std::begin(figures), std::end(figures), w.Figures);
+      }
+      catch (const ddg::Cancelled&)
+      {
+        w.finish("cancelled");
+        return;
+      }
+      catch (const std::exception& e)
+      {
+        w.finish("failed", e.what());
+        return;
+      }
+      w.finish("done");
+    });
+}
+
+void vtkDDGBuildDesignSpace::CancelBuild()
+{
+  this->Worker->Cancel = true;
+}
+
+const char* vtkDDGBuildDesignSpace::GetBuildState()
+{
+  std::lock_guard<std::mutex> lock(this->Worker->Mutex);
+  this->Worker->StateShown = this->Worker->State;
+  return this->Worker->StateShown.c_str();
+}
+
+const char* vtkDDGBuildDesignSpace::GetBuildStage()
+{
+  std::lock_guard<std::mutex> lock(this->Worker->Mutex);
+  this->Worker->StageShown = this->Worker->Stage;
+  return this->Worker->StageShown.c_str();
+}
+
+double vtkDDGBuildDesignSpace::GetBuildProgress()
+{
+  std::lock_guard<std::mutex> lock(this->Worker->Mutex);
+  return this->Worker->Fraction;
+}
+
+double vtkDDGBuildDesignSpace::GetBuildSecondsElapsed()
+{
+  std::lock_guard<std::mutex> lock(this->Worker->Mutex);
+  return this->Worker->elapsed();
+}
+
+double vtkDDGBuildDesignSpace::GetBuildSecondsLeft()
+{
+  std::lock_guard<std::mutex> lock(this->Worker->Mutex);
+  const Background& w = *this->Worker;
+  if (w.State != "running")
+    return w.State == "idle" ? -1 : 0;
+  // the stages are weighted by their estimated time: the fraction grows about linearly with it
+  const double elapsed = w.elapsed();
+  return w.Fraction > 0.01 && elapsed > 2 ? elapsed * (1 - w.Fraction) / w.Fraction : -1;
+}
+
+const char* vtkDDGBuildDesignSpace::GetBuildError()
+{
+  std::lock_guard<std::mutex> lock(this->Worker->Mutex);
+  this->Worker->ErrorShown = this->Worker->Error;
+  return this->Worker->ErrorShown.c_str();
+}
+
+double* vtkDDGBuildDesignSpace::GetBuildFigures()
+{
+  std::lock_guard<std::mutex> lock(this->Worker->Mutex);
+  std::copy(
+    std::begin(this->Worker->Figures), std::end(this->Worker->Figures), this->Worker->FiguresShown);
+  return this->Worker->FiguresShown;
+}
+
+void vtkDDGBuildDesignSpace::PlanBuild()
+{
+  nlohmann::json j;
+  try
+  {
+    if (!(this->BudgetMinutes > 0))
+      throw ddg::Error("no budget set (BudgetMinutes)");
+    const ddg::Volume volume = this->InputVolume();
+    ddg::checkBuildVolume(volume);
+    Background& w = *this->Worker;
+    const bool again =
+      w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size;
+    const ddg::BuildPlan plan = ddg::planBuild(
+      volume, this->BudgetMinutes, this->Size, 0, again ? w.PlanRates : ddg::BuildRates());
+    w.PlanRates = plan.rates;
+    w.PlanInputTime = w.InputTime;
+    w.PlanSize = this->Size;
+    j = nlohmann::json::parse(plan.toJson());
+    j["describe"] = plan.describe();
+    if (!this->OutputDirectory.empty())
+    {
+      try
+      {
+        ddg::checkBuildOutput(this->OutputDirectory, plan.diskBytes, this->Overwrite);
+      }
+      catch (const std::exception& e)
+      {
+        j["output_error"] = e.what();
+      }
+    }
+  }
+  catch (const std::exception& e)
+  {
+    j = nlohmann::json{ { "error", e.what() } };
+  }
+  this->Worker->Plan = j.dump();
+}
+
+const char* vtkDDGBuildDesignSpace::GetBuildPlan()
+{
+  return this->Worker->Plan.c_str();
 }
 
 int vtkDDGBuildDesignSpace::FillOutputPortInformation(int, vtkInformation* info)
@@ -47,15 +334,7 @@ void vtkDDGBuildDesignSpace::Execute(
   if (this->OutputDirectory.empty())
     throw ddg::Error("no OutputDirectory set");
   const ddg::Volume volume = ddg::toCoreVolume(input, array);
-  ddg::BuildOptions o;
-  if (!this->SpecFile.empty())
-    o.spec = ddg::readDesignSpaceSpec(this->SpecFile);
-  o.count = this->Count;
-  o.size = this->Size;
-  o.minutes = this->Minutes;
-  o.iterations = this->Iterations;
-  o.outlineCount = this->OutlineCount;
-  o.seed = static_cast<std::uint64_t>(this->Seed);
+  const ddg::BuildOptions o = this->Options();
   const auto r = ddg::buildDesignSpace(volume, "", this->OutputDirectory, o,
     [this](const std::string&, double f)
     {

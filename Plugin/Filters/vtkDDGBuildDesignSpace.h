@@ -5,7 +5,10 @@
 #include "DDGFiltersModule.h" // export macro
 #include "vtkDDGAlgorithm.h"
 
-#include <string>
+#include "Gallery/BuildDesignSpace.h" // ddg::BuildOptions
+
+#include <memory> // for std::unique_ptr
+#include <string> // for std::string
 
 /**
  * @class vtkDDGBuildDesignSpace
@@ -18,8 +21,15 @@
  *
  * Output: a one-row vtkTable of the bundle's figures on its held-out exemplars ("PSNR",
  * "SSIM", "EMD", "Invariance", "TrainingSeconds", "Iterations"); field data "ModelDirectory".
- * Progress covers the three stages; Abort cancels (no bundle.json written). Bad input gives one
+ * Progress covers the stages; Abort cancels (no bundle.json written). Bad input gives one
  * error and an empty output.
+ *
+ * In the background (the panel's way; the GUI or a remote client stays responsive): StartBuild()
+ * copies the input volume (updating it first) and runs the same build on a thread of its own;
+ * the Build* getters report on it (information properties a client polls), CancelBuild() asks
+ * it to stop (it does within ~0.5 s: no bundle left). PlanBuild() fills BuildPlan with what a
+ * BudgetMinutes build of the input would cost. Deleting the filter cancels and joins the
+ * thread.
  */
 class DDGFILTERS_EXPORT vtkDDGBuildDesignSpace : public vtkDDGAlgorithm
 {
@@ -71,10 +81,51 @@ public:
   ///@}
 
   ///@{
+  /// Whole-build budget in minutes: > 0 sizes Count, Minutes and OutlineCount for it
+  /// (ddg::planBuild; they are ignored then); 0: those as set. (default: 0)
+  vtkSetClampMacro(BudgetMinutes, double, 0.0, 100000.0);
+  vtkGetMacro(BudgetMinutes, double);
+  ///@}
+
+  ///@{
+  /// Replace a bundle already in OutputDirectory (else the build refuses). (default: false)
+  vtkSetMacro(Overwrite, bool);
+  vtkGetMacro(Overwrite, bool);
+  ///@}
+
+  ///@{
   /// Seed of exemplars and training. (default: 1)
   vtkSetMacro(Seed, int);
   vtkGetMacro(Seed, int);
   ///@}
+
+  // --- the build in the background ----------------------------------------------------------
+  /// Starts building (the properties as set now) on a background thread; the input is updated
+  /// and copied first. A build already running: ignored. Bad input fails the build at once
+  /// (BuildState "failed", BuildError says why).
+  void StartBuild();
+  /// Asks the running build to stop (BuildState becomes "cancelled").
+  void CancelBuild();
+  /// "idle", "running", "done", "failed" or "cancelled".
+  const char* GetBuildState();
+  /// The running stage: "exemplars", "training", "evaluation", "outline" ("" before).
+  const char* GetBuildStage();
+  /// The fraction done, in [0, 1].
+  double GetBuildProgress();
+  /// Seconds since StartBuild (until the end).
+  double GetBuildSecondsElapsed();
+  /// Estimated seconds left (-1: not known yet).
+  double GetBuildSecondsLeft();
+  /// Why the build failed ("" otherwise).
+  const char* GetBuildError();
+  /// After a build that finished: held-out PSNR, SSIM, EMD, invariance, training seconds,
+  /// iterations (else zeros).
+  double* GetBuildFigures() VTK_SIZEHINT(6);
+  /// Computes BuildPlan for the input and BudgetMinutes (a short timed probe).
+  void PlanBuild();
+  /// The plan (ddg::BuildPlan::toJson) of the last PlanBuild(), with "describe" (text for
+  /// people) or "error"; "" before.
+  const char* GetBuildPlan();
 
 protected:
   vtkDDGBuildDesignSpace();
@@ -88,6 +139,11 @@ private:
   vtkDDGBuildDesignSpace(const vtkDDGBuildDesignSpace&) = delete;
   void operator=(const vtkDDGBuildDesignSpace&) = delete;
 
+  /// The build's options from the properties.
+  ddg::BuildOptions Options() const;
+  /// The input volume, updated and converted (a copy).
+  ddg::Volume InputVolume();
+
   std::string OutputDirectory;
   std::string SpecFile;
   int Count = 2000;
@@ -96,6 +152,11 @@ private:
   int Iterations = 0;
   int OutlineCount = 10000;
   int Seed = 1;
+  double BudgetMinutes = 0;
+  bool Overwrite = false;
+
+  struct Background;
+  std::unique_ptr<Background> Worker;
 };
 
 #endif

@@ -2,6 +2,7 @@
 #include "pqDDGDesignGalleryDock.h"
 #include "ui_pqDDGDesignGalleryDock.h"
 
+#include "pqDDGBuildDialog.h"
 #include "pqDDGDesignState.h"
 #include "pqDDGInputGuard.h"
 #include "pqDDGNavigationPad.h"
@@ -79,7 +80,7 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
   QObject::connect(progress, &pqProgressManager::progress, this,
     [this](const QString&, int value)
     {
-      if (this->State->isBusy())
+      if (this->State->isBusy() && !this->State->isBuilding())
         this->Ui->progress->setValue(value);
     });
   QObject::connect(&pqActiveObjects::instance(),
@@ -166,6 +167,10 @@ void pqDDGDesignGalleryDock::connectState()
       this->Ui->progress->setValue(busy ? 0 : 100);
     });
   QObject::connect(ui.pinBox, &pqDDGPinStrip::progress, ui.progress, &QProgressBar::setValue);
+  QObject::connect(
+    state, &pqDDGDesignState::buildProgress, this, &pqDDGDesignGalleryDock::showBuildProgress);
+  QObject::connect(
+    state, &pqDDGDesignState::buildFinished, this, &pqDDGDesignGalleryDock::buildFinished);
   QObject::connect(
     state, &pqDDGDesignState::modelCleared, this, &pqDDGDesignGalleryDock::clearModel);
   QObject::connect(state, &pqDDGDesignState::outlineChanged, this,
@@ -366,20 +371,41 @@ void pqDDGDesignGalleryDock::buildModel()
     this->setStatus(tr("Select a volume first."), true);
     return;
   }
-  pqFileDialog dialog(this->Source->getServer(), this, tr("Directory of the new model bundle"));
-  dialog.setObjectName("BuildDirectoryDialog");
-  dialog.setFileMode(pqFileDialog::Directory);
-  if (dialog.exec() != QDialog::Accepted || dialog.getSelectedFiles().isEmpty())
+  pqDDGBuildDialog dialog(
+    this->Source->getServer(),
+    [this](const QString& folder, double minutes)
+    { return this->State->planBuild(folder, minutes, false); },
+    this);
+  if (dialog.exec() != QDialog::Accepted)
     return;
-  const QString dir = dialog.getSelectedFiles().first();
-  bool built = false;
-  {
-    pqDDGInputGuard guard{ this->Ui->cancel };
-    built = this->State->buildModel(dir);
-  }
+  // runs on the server in the background: ParaView stays usable, the panel shows its progress
+  this->State->startBuild(dialog.folder(), dialog.budgetMinutes(), dialog.overwrite());
+}
+
+void pqDDGDesignGalleryDock::showBuildProgress(
+  const QString& stage, double fraction, double secondsLeft)
+{
+  const int percent = static_cast<int>(std::lround(100 * fraction));
+  QString left;
+  if (secondsLeft >= 90)
+    left = tr(" — about %1 min left").arg(std::lround(secondsLeft / 60));
+  else if (secondsLeft >= 0)
+    left = tr(" — about %1 s left").arg(10 * std::lround(std::max(1.0, secondsLeft / 10)));
+  QString name = stage.isEmpty() ? tr("Starting") : stage;
+  name[0] = name[0].toUpper();
+  this->Ui->progress->setValue(percent);
+  this->Ui->progress->setFormat(tr("%1 — %2 %%3").arg(name).arg(percent).arg(left));
+}
+
+void pqDDGDesignGalleryDock::buildFinished(bool built, const QString& directory)
+{
+  this->Ui->progress->setFormat("%p%");
   if (!built)
+  {
+    this->Ui->progress->setValue(0);
     return;
-  this->Ui->modelPath->setText(dir);
+  }
+  this->Ui->modelPath->setText(directory);
   this->loadModel();
 }
 

@@ -43,6 +43,8 @@ private Q_SLOTS:
   void loadModel();
   void browseModel();
   void buildModel();
+  void showBuildProgress(const QString& stage, double fraction, double secondsLeft);
+  void buildFinished(bool built, const QString& directory);
   void axesReleased();
   void lockChanged();
   void apply();

@@ -118,57 +118,6 @@ bool pqDDGDesignState::loadModel(const QString& directory)
   return this->Loaded;
 }
 
-bool pqDDGDesignState::buildModel(const QString& directory)
-{
-  this->BuildProxy = ddgpanel::newFilter("DDGBuildDesignSpace", this->Source, 0);
-  if (!this->BuildProxy)
-  {
-    this->report(tr("The DesignGallery plugin is not loaded on the server."), true);
-    return false;
-  }
-  vtkSMPropertyHelper(this->BuildProxy, "OutputDirectory").Set(directory.toUtf8().constData());
-  vtkSMPropertyHelper(this->BuildProxy, "SelectInputScalars")
-    .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
-  this->BuildProxy->UpdateVTKObjects();
-  this->report(tr("Building a design space in %1 (minutes; Cancel stops it)...").arg(directory));
-  this->setBusy(true);
-  // cancel: the filter checks AbortExecute between steps (the algorithm is reachable here in a
-  // builtin session; with a remote server the build runs to its end)
-  auto* algorithm = vtkAlgorithm::SafeDownCast(this->BuildProxy->GetClientSideObject());
-  vtkNew<vtkCallbackCommand> onProgress;
-  onProgress->SetClientData(this);
-  onProgress->SetCallback(
-    [](vtkObject* caller, unsigned long, void* self, void*)
-    {
-      QCoreApplication::processEvents();
-      if (static_cast<pqDDGDesignState*>(self)->Cancelled)
-        static_cast<vtkAlgorithm*>(caller)->SetAbortExecute(1);
-    });
-  const unsigned long observer =
-    algorithm ? algorithm->AddObserver(vtkCommand::ProgressEvent, onProgress) : 0;
-  this->BuildProxy->UpdatePipeline();
-  if (algorithm)
-    algorithm->RemoveObserver(observer);
-  this->setBusy(false);
-  // LastError says why it failed (empty after a build); the output table has its one row of
-  // held-out figures only when the bundle was written (also with a plugin without LastError)
-  const QString error = ddgpanel::lastError(this->BuildProxy);
-  const bool built = error.isEmpty() && ddgpanel::fetch(this->BuildProxy, 0) != nullptr;
-  this->BuildProxy = nullptr;
-  if (this->Cancelled || !built)
-  {
-    this->report(this->Cancelled
-        ? tr("Build cancelled.")
-        : tr("The build failed: %1")
-            .arg(error.isEmpty() ? tr("no design space was written (see the Output "
-                                      "Messages)")
-                                 : error),
-      true);
-    return false;
-  }
-  return true;
-}
-
 void pqDDGDesignState::setBusy(bool busy)
 {
   this->Busy = busy;

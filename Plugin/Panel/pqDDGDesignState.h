@@ -20,6 +20,7 @@
 
 #include <functional>
 
+class QTimer;
 class vtkSMSourceProxy;
 
 class pqDDGDesignState : public QObject
@@ -110,15 +111,26 @@ public:
   void clearModel();
   bool isLoaded() const { return this->Loaded; }
   const QString& modelDirectory() const { return this->ModelDirectory; }
-  /// Builds a design space for the volume into `directory` (DDG Build Design Space; Cancel
-  /// stops it); true when it was built (then load it), false with a message when it failed.
-  bool buildModel(const QString& directory);
+  // --- building a model (pqDDGDesignStateBuild.cxx) -------------------------------------------
+  /// What a build of the volume into `directory` within `budgetMinutes` would cost (DDG Build
+  /// Design Space's PlanBuild on the server: BuildPlan JSON, with "error" for a volume no design
+  /// space can be built on and "output_error" for a folder that would be refused).
+  QJsonObject planBuild(const QString& directory, double budgetMinutes, bool overwrite);
+  /// Starts building a design space for the volume into `directory` on the server, in the
+  /// background (StartBuild; `budgetMinutes` > 0 sizes it, 0: the filter's defaults), and polls
+  /// it every 250 ms (buildProgress) until buildFinished; cancel() stops it. False with a
+  /// message when it cannot start or failed at once.
+  bool startBuild(const QString& directory, double budgetMinutes = 0, bool overwrite = false);
+  bool isBuilding() const { return this->BuildProxy != nullptr; }
+  /// startBuild, then waits (processing events) for its end: true when it was built (then load
+  /// it), false with a message when it failed or was cancelled.
+  bool buildModel(const QString& directory, double budgetMinutes = 0, bool overwrite = false);
 
   bool isBusy() const { return this->Busy; }
   void setBusy(bool busy);
   bool isCancelled() const { return this->Cancelled; }
   /// Asks the running build, animation or match to stop.
-  void cancel() { this->Cancelled = true; }
+  void cancel();
 
   /// True when there is a volume, a model and (`needDesign`) a design; else says what is missing.
   bool ready(bool needDesign = false);
@@ -220,9 +232,20 @@ Q_SIGNALS:
   void matchProgress(const QString& stage, double fraction, const QImage& preview);
   /// The match was found or dropped (a new query, a new model).
   void matchChanged();
+  /// A build runs: its stage, the fraction done and the seconds left (-1: not known yet).
+  void buildProgress(const QString& stage, double fraction, double secondsLeft);
+  /// The build ended: `built` (its bundle is in `directory`) or not (the message said why).
+  void buildFinished(bool built, const QString& directory);
 
 private:
+  void pollBuild();
+
   vtkWeakPointer<vtkSMSourceProxy> Source;
+  QTimer* BuildTimer = nullptr;
+  QString BuildDirectory;
+  /// the proxy the build dialog planned with (its probe's rates are reused by the build)
+  vtkSmartPointer<vtkSMSourceProxy> PlanProxy;
+  vtkWeakPointer<vtkSMSourceProxy> PlanSource;
   QString Array;
   ViewFunction View;
   QString ModelDirectory;

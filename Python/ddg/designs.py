@@ -55,11 +55,16 @@ def build_design_space(
     size=64,
     iterations=None,
     outline=None,
+    budget_minutes=None,
+    overwrite=False,
 ):
     """Builds a design space for a volume (DDG Build Design Space; progress in ParaView):
     ``count`` exemplars of ``size``^2 pixels, a decoder trained for ``minutes`` (or exactly
     ``iterations`` steps), its evaluation and an outline of ``outline`` designs (default: the
-    filter's), written to ``directory`` (where the filters run). Returns the Model."""
+    filter's), written to ``directory`` (where the filters run). With ``budget_minutes`` (>= 1)
+    the whole build is sized to take about that long (``count``, ``minutes`` and ``outline`` are
+    then ignored; ``build_plan`` shows the plan first). A directory that already holds a bundle
+    is refused unless ``overwrite``. Returns the Model."""
     source = _source(source)
     directory = os.path.abspath(directory)
     build = _proxy(
@@ -69,6 +74,8 @@ def build_design_space(
         Minutes=float(minutes),
         Count=int(count),
         Size=int(size),
+        BudgetMinutes=float(budget_minutes or 0),
+        Overwrite=int(bool(overwrite)),
     )
     if iterations is not None:
         build.SetPropertyWithName("Iterations", int(iterations))
@@ -77,8 +84,32 @@ def build_design_space(
     build.UpdatePipeline()
     table = servermanager.Fetch(build, idx=0)
     if table.GetNumberOfRows() != 1:
-        raise DDGError("the design space was not built (see the Output Messages)")
+        build.UpdatePropertyInformation()
+        reason = build.GetPropertyValue("LastError")
+        raise DDGError("the design space was not built: " + (reason or "see the Output Messages"))
     return Model(directory, source)
+
+
+def build_plan(budget_minutes, source=None, directory=None, size=64):
+    """What a ``budget_minutes`` build of a volume would cost (DDG Build Design Space's
+    PlanBuild, a short timed probe where the filters run): a dict with ``count``, ``heldout``,
+    ``outline_count``, ``training_minutes``, the stages' estimated seconds, ``total_seconds``,
+    ``disk_bytes``, ``downsample`` and ``describe`` (text); ``output_error`` when ``directory``
+    would be refused. Raises DDGError for a volume no design space can be built on."""
+    source = _source(source)
+    build = _proxy(
+        "DDGBuildDesignSpace",
+        source,
+        OutputDirectory=os.path.abspath(directory) if directory else "",
+        BudgetMinutes=float(budget_minutes),
+        Size=int(size),
+    )
+    build.SMProxy.InvokeCommand("PlanBuild")
+    build.UpdatePropertyInformation()
+    plan = json.loads(build.GetPropertyValue("BuildPlan"))
+    if "error" in plan:
+        raise DDGError(plan["error"])
+    return plan
 
 
 def _model(model, source):

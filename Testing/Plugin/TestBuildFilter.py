@@ -3,7 +3,7 @@
 Compared: the filter builds a tiny design space for the small test volume (16 exemplars of 16 px,
 10 iterations, 20 outline designs); the bundle must hold bundle.json and outline.bin, the output
 table its held-out figures, and DDG Design Gallery must read it (20 designs, 4 thumbnails). Bad
-input (no output directory, a constant volume): one error, empty output, no bundle.json, and the
+input (no output directory, a folder that holds a bundle, a constant volume): one error, empty output, no bundle.json, and the
 reason in the filter's LastError (empty again after a build that finished), which is what the
 panel reads to report a failed build as failed.
 
@@ -75,8 +75,13 @@ for label, expected, setup in (
         lambda: setattr(build, "OutputDirectory", ""),
     ),
     (
+        "a folder holding a bundle",
+        "already holds a model bundle",
+        lambda: setattr(build, "OutputDirectory", bundle),
+    ),
+    (
         "constant volume",
-        "volume is constant",
+        "the volume has one value (42) everywhere",
         lambda: (
             setattr(build, "OutputDirectory", os.path.join(outdir, "built_constant")),
             setattr(reader, "FileName", [os.path.join(testdata, "constant.vti")]),

@@ -387,12 +387,31 @@ check(
 if not remote:  # the build writes where the filter runs; here the same machine
     small = XMLImageDataReader(FileName=[os.path.join(testdata, "small.vti")])
     built = ddg.build_design_space(
-        small, os.path.join(outdir, "built"), count=16, size=16, iterations=10, outline=20
+        small,
+        os.path.join(outdir, "built"),
+        count=16,
+        size=16,
+        iterations=10,
+        outline=20,
+        overwrite=True,  # a re-run replaces its own bundle
     )
     check(
         "build_design_space",
         os.path.exists(os.path.join(built.directory, "outline.bin"))
         and len(ddg.gallery(small, built, count=4, thumbnail_size=16).x) == 20,
+    )
+    try:
+        ddg.build_design_space(small, built.directory, count=16, size=16, iterations=10)
+        raise AssertionError("a folder holding a bundle should be refused")
+    except ddg.DDGError as e:
+        check("build refuses a bundle's folder", "already holds a model bundle" in str(e), str(e))
+    plan = ddg.build_plan(2, small, built.directory)
+    check(
+        "build_plan(2 min)",
+        plan["count"] >= 256
+        and plan["total_seconds"] <= 0.9 * 120 + 0.5
+        and "already holds" in plan["output_error"],
+        plan["describe"].replace("\n", "; "),
     )
 
 try:

@@ -1,0 +1,90 @@
+// BuildPlan.h: what a design-space build will cost before it starts — a time budget turned into
+// exemplar, training and outline sizes, the stages' estimated seconds and disk use — and the
+// checks of the volume and the output folder that refuse bad input before anything is written.
+#pragma once
+
+#include "Volume/Volume.h"
+
+#include <cstdint>
+#include <string>
+
+namespace ddg
+{
+
+/// Volumes above this many voxels are downsampled for the design space (designSpaceVolume).
+constexpr std::int64_t kMaxDesignSpaceVoxels = 16 * 1024 * 1024;
+
+/// Measured costs of one build's units on this machine for one volume (wall-clock seconds with
+/// the threads the build uses, under the machine's load at the time).
+struct BuildRates
+{
+  double exemplarSeconds = 0;     ///< one exemplar generated (3 renders, the shard write)
+  double renderSeconds = 0;       ///< one outline design's render (a third of an exemplar)
+  double analyzeSeconds = 0;      ///< the analyzer on one image, alone (held-out figures)
+  double analyzeBatchSeconds = 0; ///< ... per image in a batch (outline)
+  double figureSeconds = 0;       ///< a held-out figure's PSNR, SSIM and colour-histogram EMD
+  int threads = 1;                ///< threads the build's parallel stages use
+  bool measured() const { return exemplarSeconds > 0; }
+};
+
+/// A build sized for a time budget, or the estimate of a build with given sizes.
+struct BuildPlan
+{
+  double budgetMinutes = 0; ///< the budget it was planned for (0: sizes given, estimate only)
+  int count = 0;            ///< training exemplars
+  int heldout = 0;          ///< held-out exemplars (the recorded figures)
+  int outlineCount = 0;     ///< designs in the outline
+  int size = 64;            ///< image side
+  double trainingMinutes = 0;
+  /// Estimated seconds per stage: exemplars (training and held-out), training, evaluation
+  /// (held-out figures, and saving the bundle: the training exemplars' latents), outline; and
+  /// their sum with a fixed overhead.
+  double exemplarSeconds = 0, trainingSeconds = 0, evaluationSeconds = 0, outlineSeconds = 0;
+  double totalSeconds = 0;
+  std::int64_t diskBytes = 0;      ///< peak disk use (exemplar shards + the bundle)
+  std::int64_t bundleBytes = 0;    ///< what stays (the bundle)
+  std::array<int, 3> designDims{}; ///< the volume the design space is built on (downsampled?)
+  int downsample = 1;              ///< its factor per axis (1: the volume as it is)
+  BuildRates rates;
+
+  /// The plan as JSON: every field above (the filter's BuildPlan property, `ddg build --budget`).
+  std::string toJson() const;
+  /// One line per stage with its estimated minutes, and the disk use, for people.
+  std::string describe() const;
+};
+
+/// Times what a build does, on `volume` (its design-space volume: downsample first) at `size`
+/// pixels: `probes` exemplars really generated (into a temporary folder, removed), the
+/// analyzer alone and on a batch of 32 images (a decoder of the build's architecture, untrained
+/// weights). ~0.3-2 s.
+BuildRates measureBuildRates(const Volume& volume, int size = 64, int threads = 0, int probes = 16);
+
+/// The estimate of a build with the given sizes (trainingMinutes is the training budget).
+BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
+  const BuildRates& rates, int count, int heldout, int outlineCount, int size,
+  double trainingMinutes);
+
+/// Sizes a build so that all of it, outline included, is estimated to take ~90 % of
+/// `budgetMinutes` (>= 1): outline 10 % (1 000 - 10 000 designs), exemplars ~25 % (256 - 30 000),
+/// held-out a tenth of them (50 - 200), training the rest (at least 35 % of the budget; the
+/// exemplars and outline shrink to leave it). `volume` is the user's volume (downsampled here
+/// for the probe when above kMaxDesignSpaceVoxels). Throws ddg::Error for a budget under 1
+/// minute. `rates`: measured before (the plan shown to the user is the plan built), else probed.
+BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size = 64, int threads = 0,
+  const BuildRates& rates = {});
+
+/// The volume the design space is built on: `volume` itself when it has at most `maxVoxels`
+/// voxels, else its box-filtered average over f x f x f blocks (f the smallest integer that
+/// brings it under the cap; spacing x f, same origin). `factor` receives f.
+Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* factor = nullptr);
+
+/// Refuses, with a message for the user, volumes a design space cannot be built on: a single
+/// value everywhere, or fewer than 4 voxels along an axis (a slice, not a volume).
+void checkBuildVolume(const Volume& volume);
+
+/// Refuses an output folder before anything is written: a path that is a file, a folder that
+/// already holds a bundle (bundle.json) unless `overwrite`, a folder that cannot be written, or
+/// less free space than `diskBytes` (+ 5 %). Writes nothing itself.
+void checkBuildOutput(const std::string& bundleDir, std::int64_t diskBytes, bool overwrite);
+
+} // namespace ddg

@@ -1,0 +1,267 @@
+// TestBuildBudget.cxx: a design-space build's budget, input checks and cancel — Core's
+// planBuild, designSpaceVolume, checkBuildVolume, checkBuildOutput and buildDesignSpace on a
+// synthetic 24^3 volume of nested blobs. Compared: the plan of a larger budget with a smaller
+// one (more of everything, estimated total within 90 % + 0.5 s of the budget); the downsampled
+// volume with a naive block average (exact to 1e-5); bad volumes and folders with the messages
+// the user reads, nothing written; a build cancelled at each stage leaves the folder exactly as
+// it was (listing and file contents); a downsampled build's bundle records the original
+// volume's fingerprint. No wall-clock assertions (the latency of cancel is measured by
+// Testing/Benchmarks/BenchBuildCancel).
+#include "Gallery/BuildDesignSpace.h"
+
+#include "Design/DesignSpace.h"
+#include "Render/RayCaster.h"
+
+#include "FileSizeLimit.h"
+#include "TempDir.h"
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sys/stat.h>
+#include <unistd.h>
+
+using namespace ddg;
+namespace fs = std::filesystem;
+
+namespace
+{
+Volume blobs(int n = 24)
+{
+  std::vector<float> v;
+  const double c = (n - 1) / 2.0;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const double r = std::sqrt((i - c) * (i - c) + (j - c) * (j - c) + (k - c) * (k - c));
+        v.push_back(r < n / 5.0 ? 200.0f : (r < n / 2.7 ? 100.0f : 10.0f + (i % 3)));
+      }
+  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::Float32);
+}
+
+BuildOptions tiny()
+{
+  BuildOptions o;
+  o.count = 16;
+  o.heldout = 4;
+  o.size = 16;
+  o.iterations = 10;
+  o.minutes = 1;
+  o.outlineCount = 20;
+  o.width = 4;
+  o.threads = 1;
+  return o;
+}
+
+// Every file under `dir` with its contents (the folder "as it was").
+std::map<std::string, std::string> snapshot(const fs::path& dir)
+{
+  std::map<std::string, std::string> files;
+  if (!fs::exists(dir))
+    return files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+  {
+    std::string content;
+    if (e.is_regular_file())
+    {
+      std::ifstream in(e.path(), std::ios::binary);
+      content.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    files[fs::relative(e.path(), dir).string()] = content;
+  }
+  return files;
+}
+
+std::string message(const std::function<void()>& f)
+{
+  try
+  {
+    f();
+  }
+  catch (const Error& e)
+  {
+    return e.what();
+  }
+  return "(no error)";
+}
+} // namespace
+
+TEST(BuildBudget, LargerBudgetsPlanMoreAndFitTheBudget)
+{
+  const Volume v = blobs();
+  const BuildRates rates = measureBuildRates(v, 64, 1);
+  const BuildPlan p2 = planBuild(v, 2, 64, 1, rates);
+  const BuildPlan p10 = planBuild(v, 10, 64, 1, rates);
+  for (const BuildPlan* p : { &p2, &p10 })
+  {
+    EXPECT_LE(p->totalSeconds, 0.9 * 60 * p->budgetMinutes + 0.5) << p->toJson();
+    EXPECT_GE(p->trainingSeconds, 0.3 * 60 * p->budgetMinutes) << p->toJson();
+    EXPECT_GT(p->rates.exemplarSeconds, 0);
+    EXPECT_GT(p->rates.analyzeSeconds, 0);
+    EXPECT_GT(p->diskBytes, p->bundleBytes);
+    EXPECT_EQ(p->downsample, 1);
+    EXPECT_NE(p->describe().find("outline: "), std::string::npos);
+  }
+  EXPECT_GE(p10.count, p2.count);
+  EXPECT_GE(p10.outlineCount, p2.outlineCount);
+  EXPECT_GT(p10.trainingMinutes, p2.trainingMinutes);
+  EXPECT_NE(message([&] { planBuild(v, 0.5); }).find("at least 1 minute"), std::string::npos);
+}
+
+TEST(BuildBudget, DownsamplesLargeVolumesByBlockAverage)
+{
+  const Volume v = blobs(21);
+  int factor = 0;
+  const Volume d = designSpaceVolume(v, 1000, &factor);
+  EXPECT_EQ(factor, 3); // 21^3 -> 7^3 = 343 <= 1000 (f = 2 gives 11^3 = 1331)
+  ASSERT_EQ(d.dims(), (std::array<int, 3>{ 7, 7, 7 }));
+  EXPECT_DOUBLE_EQ(d.spacing()[0], 3.0);
+  for (int k = 0; k < 7; ++k)
+    for (int j = 0; j < 7; ++j)
+      for (int i = 0; i < 7; ++i)
+      {
+        double sum = 0;
+        for (int c = 0; c < 3; ++c)
+          for (int b = 0; b < 3; ++b)
+            for (int a = 0; a < 3; ++a)
+              sum += v.at(3 * i + a, 3 * j + b, 3 * k + c);
+        EXPECT_NEAR(d.at(i, j, k), sum / 27, 1e-5);
+      }
+  EXPECT_EQ(designSpaceVolume(v, 1 << 20, &factor).voxelCount(), v.voxelCount());
+  EXPECT_EQ(factor, 1);
+}
+
+TEST(BuildBudget, RefusesVolumesWithoutADesignSpace)
+{
+  const Volume constant({ 8, 8, 8 }, { 0, 0, 0 }, { 1, 1, 1 }, std::vector<float>(512, 42.0f));
+  EXPECT_NE(message([&] { checkBuildVolume(constant); }).find("one value (42) everywhere"),
+    std::string::npos);
+  std::vector<float> slab(64 * 64 * 2);
+  for (size_t i = 0; i < slab.size(); ++i)
+    slab[i] = static_cast<float>(i % 97);
+  const Volume thin({ 64, 64, 2 }, { 0, 0, 0 }, { 1, 1, 1 }, slab);
+  EXPECT_NE(message([&] { checkBuildVolume(thin); }).find("64x64x2 voxels"), std::string::npos);
+  // and buildDesignSpace refuses them before writing anything
+  const fs::path dir = fs::path(ddg::testing::tempDir()) / "refused_volume";
+  EXPECT_NE(
+    message([&] { buildDesignSpace(thin, "", dir.string(), tiny()); }).find("at least 4 voxels"),
+    std::string::npos);
+  EXPECT_FALSE(fs::exists(dir));
+}
+
+TEST(BuildBudget, RefusesFoldersBeforeWriting)
+{
+  const fs::path root = fs::path(ddg::testing::tempDir()) / "folders";
+  fs::create_directories(root / "holds_bundle");
+  std::ofstream(root / "holds_bundle" / "bundle.json") << "{\"another\": \"bundle\"}";
+  std::ofstream(root / "a_file") << "x";
+  const auto before = snapshot(root);
+  const Volume v = blobs();
+  EXPECT_NE(message([&] { buildDesignSpace(v, "", (root / "holds_bundle").string(), tiny()); })
+              .find("already holds a model bundle"),
+    std::string::npos);
+  EXPECT_NO_THROW(checkBuildOutput((root / "holds_bundle").string(), 1000, true));
+  EXPECT_NE(
+    message([&] { checkBuildOutput((root / "a_file").string(), 1000, false); }).find("is a file"),
+    std::string::npos);
+  // more than the disk holds (an exabyte)
+  EXPECT_NE(message([&] { checkBuildOutput((root / "new").string(), 1ll << 60, false); })
+              .find("not enough free space"),
+    std::string::npos);
+  EXPECT_EQ(snapshot(root), before);
+}
+
+TEST(BuildBudget, RefusesReadOnlyFolders)
+{
+  const fs::path root = fs::path(ddg::testing::tempDir()) / "folders";
+  const Volume v = blobs();
+  if (::geteuid() == 0)
+    GTEST_SKIP() << "root writes to read-only folders: that case is checked by hand (ro tmpfs)";
+  fs::create_directories(root / "read_only");
+  ::chmod((root / "read_only").c_str(), 0555);
+  EXPECT_NE(message([&] { buildDesignSpace(v, "", (root / "read_only" / "b").string(), tiny()); })
+              .find("cannot write in"),
+    std::string::npos);
+  ::chmod((root / "read_only").c_str(), 0755);
+}
+
+TEST(BuildBudget, CancelAtEveryStageLeavesTheFolderAsItWas)
+{
+  const Volume v = blobs();
+  const fs::path root = fs::path(ddg::testing::tempDir()) / "cancel";
+  fs::create_directories(root / "existing");
+  std::ofstream(root / "existing" / "notes.txt") << "mine";
+  for (const std::string stage : { "exemplars", "training", "evaluation", "outline" })
+    for (const fs::path& dir : { root / "existing", root / ("new_" + stage) })
+    {
+      const auto before = snapshot(dir);
+      std::set<std::string> seen;
+      EXPECT_THROW(buildDesignSpace(v, "", dir.string(), tiny(),
+                     [&](const std::string& s, double)
+                     {
+                       seen.insert(s);
+                       return s != stage;
+                     }),
+        Cancelled)
+        << stage;
+      EXPECT_TRUE(seen.count(stage)) << stage;
+      EXPECT_EQ(snapshot(dir), before) << stage << " in " << dir;
+      EXPECT_EQ(fs::exists(dir), !before.empty() || dir == root / "existing");
+    }
+}
+
+TEST(BuildBudget, BuildsIntoAFolderAndRecordsTheOriginalVolume)
+{
+  const Volume v = blobs();
+  const fs::path dir = fs::path(ddg::testing::tempDir()) / "built";
+  fs::create_directories(dir);
+  std::ofstream(dir / "notes.txt") << "mine";
+  BuildOptions o = tiny();
+  o.maxDesignVoxels = 4000; // 24^3 -> 12^3: the design space on a downsampled copy
+  std::vector<double> fractions;
+  const BuildReport r = buildDesignSpace(v, "", dir.string(), o,
+    [&](const std::string&, double f)
+    {
+      fractions.push_back(f);
+      return true;
+    });
+  EXPECT_EQ(r.plan.downsample, 2);
+  EXPECT_TRUE(std::is_sorted(fractions.begin(), fractions.end()));
+  EXPECT_DOUBLE_EQ(fractions.back(), 1.0);
+  std::set<std::string> names;
+  for (const auto& e : fs::directory_iterator(dir))
+    names.insert(e.path().filename().string());
+  EXPECT_EQ(names,
+    (std::set<std::string>{
+      "bundle.json", "exemplars.json", "latents.bin", "model.pt", "notes.txt", "outline.bin" }));
+  std::ifstream in(dir / "bundle.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["volume"].get<std::string>(), volumeFingerprint(v));
+  // the same folder again: refused, then replaced when asked
+  EXPECT_THROW(buildDesignSpace(v, "", dir.string(), o), Error);
+  o.overwrite = true;
+  EXPECT_NO_THROW(buildDesignSpace(v, "", dir.string(), o));
+  EXPECT_TRUE(fs::exists(dir / "notes.txt"));
+}
+
+TEST(BuildBudget, AFullDiskDuringTheBuildLeavesTheFolderAsItWas)
+{
+  // the free-space check passes (the disk is not full yet), then files cannot grow past 20 KB:
+  // the first exemplar shard fails to be written
+  const Volume v = blobs();
+  const fs::path dir = fs::path(ddg::testing::tempDir()) / "full_disk";
+  fs::create_directories(dir);
+  std::ofstream(dir / "notes.txt") << "mine";
+  const auto before = snapshot(dir);
+  std::string what;
+  {
+    FileSizeLimit full(20 * 1024);
+    what = message([&] { buildDesignSpace(v, "", dir.string(), tiny()); });
+  }
+  EXPECT_NE(what, "(no error)");
+  EXPECT_EQ(snapshot(dir), before) << what;
+}
