@@ -228,7 +228,8 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
   // 4. the outline
   t0 = Clock::now();
   report("outline", wE + wT + wV);
-  const auto set = buildOutlineLatents(model, volume, o.outlineCount, o.seed, 0, o.threads,
+  const auto set = buildOutlineLatents(
+    model, volume, o.outlineCount, o.seed, 0, o.threads,
     [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - wE - wT - wV) * f); },
     o.screen);
   writeLatentSet(set, outlineFile(staging.dir.string()));

@@ -72,7 +72,8 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
             images[q] = compositeOverBackground(rgba, e.viewExp.background);
         });
       // (monotonic: designs passed over make a batch add less than it rendered)
-      shown = std::max(shown, std::min(1.0, (set.count() + 0.95 * (part + std::min(64, n - part))) / count));
+      shown = std::max(
+        shown, std::min(1.0, (set.count() + 0.95 * (part + std::min(64, n - part))) / count));
       if (progress && !progress(shown))
         throw Cancelled();
     }

@@ -84,6 +84,13 @@ int runBuild(BuildArgs a)
     r.training.seconds, r.evaluationSeconds, r.savingSeconds, r.plan.outlineCount, r.outlineSeconds,
     r.evaluation.count, r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
     r.evaluation.invariance);
+  const auto& x = r.exemplars;
+  if (a.o.screen)
+    std::printf(
+      "designs that show structure: %zu feature region(s), %d left out; %d candidates for "
+      "%d exemplars, %d empty and %d flat box passed over%s\n",
+      x.regions.size(), x.regionsLeftOut, x.candidates, x.count, x.empty, x.flatBox,
+      x.screenExhausted ? "; candidates ran out, the last exemplars kept as drawn" : "");
   return 0;
 }
 

@@ -39,56 +39,93 @@ def run_one(args, volume, budget):
     t0 = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     minutes = (time.time() - t0) / 60
-    entry = {"volume": volume, "budget_minutes": budget, "options": " ".join(options),
-             "build_minutes": round(minutes, 2)}
+    entry = {
+        "volume": volume,
+        "budget_minutes": budget,
+        "options": " ".join(options),
+        "build_minutes": round(minutes, 2),
+    }
     if proc.returncode != 0:
         entry["error"] = (proc.stderr or proc.stdout).strip()[-400:]
         return entry
     metrics = json.load(open(os.path.join(bundle, "bundle.json")))["metrics"]
-    entry.update({"psnr": metrics["psnr"], "ssim": metrics["ssim"],
-                  "heldout": metrics["heldout_count"],
-                  "train_minutes": round(metrics["train_seconds"] / 60, 2),
-                  "train_iterations": metrics["train_iterations"]})
+    entry.update(
+        {
+            "psnr": metrics["psnr"],
+            "ssim": metrics["ssim"],
+            "heldout": metrics["heldout_count"],
+            "train_minutes": round(metrics["train_seconds"] / 60, 2),
+            "train_iterations": metrics["train_iterations"],
+        }
+    )
     sheet = os.path.join(args.out, f"outline_{volume}.png") if budget == args.sheet_budget else ""
-    vcmd = [args.ddg, "validity", "--model", bundle, "--volume", vol, "--count", "4",
-            "--out", os.path.join(args.work, f"{volume}_validity.png"),
-            "--outline-count", str(args.outline_check)]
+    vcmd = [
+        args.ddg,
+        "validity",
+        "--model",
+        bundle,
+        "--volume",
+        vol,
+        "--count",
+        "4",
+        "--out",
+        os.path.join(args.work, f"{volume}_validity.png"),
+        "--outline-count",
+        str(args.outline_check),
+    ]
     if sheet:
         vcmd += ["--outline-sheet", sheet]
     out = subprocess.run(vcmd, capture_output=True, text=True, check=True).stdout
-    m = re.search(r"outline: (\d+) of (\d+) designs .*?: (\d+) empty, (\d+) flat box .*?; "
-                  r"(\d+) give", out)
+    m = re.search(
+        r"outline: (\d+) of (\d+) designs .*?: (\d+) empty, (\d+) flat box .*?; " r"(\d+) give", out
+    )
     if m:
         checked, _, empty, box, hazy = (int(g) for g in m.groups())
-        entry.update({"outline_checked": checked, "outline_empty": empty,
-                      "outline_flat_box": box, "outline_hazy_faces": hazy})
+        entry.update(
+            {
+                "outline_checked": checked,
+                "outline_empty": empty,
+                "outline_flat_box": box,
+                "outline_hazy_faces": hazy,
+            }
+        )
     return entry
 
 
 def render(out_dir, results):
     rows = sorted(results, key=lambda e: (e["volume"], e["budget_minutes"]))
-    lines = ["| volume | budget (min) | build (min) | training (min) | held-out PSNR (dB) | SSIM | "
-             "outline: empty + flat box of checked | boundary faces hazy |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| volume | budget (min) | build (min) | training (min) | held-out PSNR (dB) | SSIM | "
+        "outline: empty + flat box of checked | boundary faces hazy |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for e in rows:
         if "error" in e:
-            lines.append(f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']} | "
-                         f"failed: {e['error'][:80]} | | | | |")
+            lines.append(
+                f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']} | "
+                f"failed: {e['error'][:80]} | | | | |"
+            )
             continue
         junk = e.get("outline_empty", 0) + e.get("outline_flat_box", 0)
         lines.append(
             f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']:.1f} | "
             f"{e['train_minutes']:.1f} | {e['psnr']:.2f} | {e['ssim']:.3f} | "
             f"{junk} of {e.get('outline_checked', 0)} ({e.get('outline_empty', 0)} empty, "
-            f"{e.get('outline_flat_box', 0)} flat box) | {e.get('outline_hazy_faces', 0)} |")
+            f"{e.get('outline_flat_box', 0)} flat box) | {e.get('outline_hazy_faces', 0)} |"
+        )
     options = sorted({e["options"] for e in rows})
-    text = ("# Design spaces per time budget (`Testing/Benchmarks/build_budget.py`)\n\n"
-            + "\n".join(lines) + "\n\n`ddg build` options: "
-            + "; ".join(f"`{o}`" for o in options) + "\n")
+    text = (
+        "# Design spaces per time budget (`Testing/Benchmarks/build_budget.py`)\n\n"
+        + "\n".join(lines)
+        + "\n\n`ddg build` options: "
+        + "; ".join(f"`{o}`" for o in options)
+        + "\n"
+    )
     with open(os.path.join(out_dir, "build_budget.md"), "w") as f:
         f.write(text)
     try:
         import matplotlib
+
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
@@ -112,13 +149,15 @@ def render(out_dir, results):
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--ddg", default=os.path.join(ROOT, "build", "bin", "ddg"))
-    p.add_argument("--volumes", nargs="+",
-                   default=["bonsai", "headsq", "chest", "mri", "neghip", "ironprot"])
+    p.add_argument(
+        "--volumes", nargs="+", default=["bonsai", "headsq", "chest", "mri", "neghip", "ironprot"]
+    )
     p.add_argument("--budgets", nargs="+", type=float, default=[2, 10, 30])
     p.add_argument("--build-args", default="", help="ddg build options instead of --budget")
     p.add_argument("--outline-check", type=int, default=200)
-    p.add_argument("--sheet-budget", type=float, default=10,
-                   help="the budget whose outline sheets are written")
+    p.add_argument(
+        "--sheet-budget", type=float, default=10, help="the budget whose outline sheets are written"
+    )
     p.add_argument("--work", default="/tmp/ddg_build_budget")
     p.add_argument("--out", default=os.path.join(ROOT, "Documentation", "Results", "build_budget"))
     p.add_argument("--render-only", action="store_true")
@@ -132,8 +171,9 @@ def main():
             for budget in args.budgets:
                 entry = run_one(args, volume, budget)
                 print(json.dumps(entry), flush=True)
-                results = [e for e in results
-                           if (e["volume"], e["budget_minutes"]) != (volume, budget)] + [entry]
+                results = [
+                    e for e in results if (e["volume"], e["budget_minutes"]) != (volume, budget)
+                ] + [entry]
                 with open(path, "w") as f:
                     json.dump(results, f, indent=1)
     render(args.out, results)
