@@ -261,6 +261,8 @@ def _export_name(tf, d, path, source):
         source = source or tf.model.source
         steps = tf.steps
         origin = steps[-1]["action"] if steps else "design"
+        if origin == "latent" and steps[-1].get("image"):
+            origin = "query"  # analysed from a picture: ddg.query
     else:
         origin = re.sub(r"^(ddg|DDG) ?", "", str(d.get("Name", "")))
         origin = re.sub(r" ?\d{4}-\d\d-\d\d \d\d:\d\d:\d\d$", "", origin)
@@ -269,6 +271,11 @@ def _export_name(tf, d, path, source):
     for (name, _), proxy in simple.GetSources().items() if source is not None else []:
         if proxy == source:
             volume = name
+    # a reader says its volume by its file ("tooth.vti"), not by pvpython's "XMLImageDataReader1"
+    files = source.GetProperty("FileName") if source is not None else None
+    if files is not None:
+        files = [files] if isinstance(files.GetData(), str) else list(files.GetData() or [])
+        volume = files[0] if files and files[0] else volume
     return _scene().ExportName(volume, origin, path)
 
 
