@@ -238,6 +238,7 @@ QueryResult DesignGallery::query(const Image& image, const View& view, int neigh
   r.position = Outline.project(r.latent.data());
   r.neighbours = Outline.nearest(r.latent.data(), neighbours);
   r.preview = render(r.latent, view);
+  r.picturePSNR = framedPSNR(image, r.preview);
   return r;
 }
 

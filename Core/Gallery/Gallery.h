@@ -39,6 +39,9 @@ struct QueryResult
   std::array<double, 2> position{};  ///< on the outline plane
   std::vector<Neighbour> neighbours; ///< nearest outline designs, nearest first
   Image preview;                     ///< neural render at the view (premultiplied RGBA)
+  /// The preview against the picture, both framed on their content (framedPSNR): how close the
+  /// query's design looks to the picture without knowing its camera (dB).
+  double picturePSNR = 0;
 };
 
 /// How often a query finds the design it shows (the retrieval check of the gallery).

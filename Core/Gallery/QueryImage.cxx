@@ -2,6 +2,7 @@
 #include "Gallery/QueryImage.h"
 
 #include "Common/Error.h"
+#include "Image/ImageMetrics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +10,94 @@
 
 namespace ddg
 {
+
+namespace
+{
+/// Step 1: RGB over black (straight alpha composed); throws for a fully transparent image.
+Image rgbOverBlack(const Image& image)
+{
+  const int w = image.width, h = image.height;
+  Image rgb(w, h, 3);
+  const bool alpha = image.channels == 2 || image.channels == 4;
+  bool anyAlpha = !alpha;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+    {
+      const float a = alpha ? std::clamp(image.at(x, y, image.channels - 1), 0.0f, 1.0f) : 1.0f;
+      anyAlpha = anyAlpha || a > 0;
+      for (int c = 0; c < 3; ++c)
+      {
+        const float v = image.at(x, y, image.channels >= 3 ? c : 0);
+        rgb.at(x, y, c) = std::clamp(v, 0.0f, 1.0f) * a;
+      }
+    }
+  if (!anyAlpha)
+    throw Error("the query image is fully transparent (alpha is 0 everywhere)");
+  return rgb;
+}
+
+/// Step 2: the background (median of the border) and the content's box (pixels differing from
+/// it by more than 0.04 in a channel; x1 < 0 when there is none).
+struct Content
+{
+  std::array<float, 3> bg{};
+  int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
+};
+
+Content findContent(const Image& rgb)
+{
+  const int w = rgb.width, h = rgb.height;
+  Content k;
+  for (int c = 0; c < 3; ++c)
+  {
+    std::vector<float> border;
+    for (int x = 0; x < w; ++x)
+    {
+      border.push_back(rgb.at(x, 0, c));
+      border.push_back(rgb.at(x, h - 1, c));
+    }
+    for (int y = 1; y < h - 1; ++y)
+    {
+      border.push_back(rgb.at(0, y, c));
+      border.push_back(rgb.at(w - 1, y, c));
+    }
+    std::nth_element(border.begin(), border.begin() + border.size() / 2, border.end());
+    k.bg[c] = border[border.size() / 2];
+  }
+  k.x0 = w;
+  k.y0 = h;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+    {
+      bool content = false;
+      for (int c = 0; c < 3; ++c)
+        content = content || std::abs(rgb.at(x, y, c) - k.bg[c]) > 0.04f;
+      if (content)
+      {
+        k.x0 = std::min(k.x0, x);
+        k.x1 = std::max(k.x1, x);
+        k.y0 = std::min(k.y0, y);
+        k.y1 = std::max(k.y1, y);
+      }
+    }
+  return k;
+}
+
+/// A square of `side` pixels of `rgb` with its top left at (ox, oy), the background outside.
+Image squareOf(const Image& rgb, int side, int ox, int oy, const std::array<float, 3>& bg)
+{
+  Image square(side, side, 3);
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x)
+    {
+      const int sx = ox + x, sy = oy + y;
+      const bool in = sx >= 0 && sx < rgb.width && sy >= 0 && sy < rgb.height;
+      for (int c = 0; c < 3; ++c)
+        square.at(x, y, c) = in ? rgb.at(sx, sy, c) : bg[c];
+    }
+  return square;
+}
+} // namespace
 
 Image prepareQueryImage(const Image& image, int size)
 {
@@ -28,55 +117,11 @@ Image prepareQueryImage(const Image& image, int size)
       throw Error("the query image holds non-finite values");
   // 1. RGB over black
   const int w = image.width, h = image.height;
-  Image rgb(w, h, 3);
-  const bool alpha = image.channels == 2 || image.channels == 4;
-  bool anyAlpha = !alpha;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-    {
-      const float a = alpha ? std::clamp(image.at(x, y, image.channels - 1), 0.0f, 1.0f) : 1.0f;
-      anyAlpha = anyAlpha || a > 0;
-      for (int c = 0; c < 3; ++c)
-      {
-        const float v = image.at(x, y, image.channels >= 3 ? c : 0);
-        rgb.at(x, y, c) = std::clamp(v, 0.0f, 1.0f) * a;
-      }
-    }
-  if (!anyAlpha)
-    throw Error("the query image is fully transparent (alpha is 0 everywhere)");
+  const Image rgb = rgbOverBlack(image);
   // 2. background = median of the border, content = pixels that differ from it
-  std::array<float, 3> bg{};
-  for (int c = 0; c < 3; ++c)
-  {
-    std::vector<float> border;
-    for (int x = 0; x < w; ++x)
-    {
-      border.push_back(rgb.at(x, 0, c));
-      border.push_back(rgb.at(x, h - 1, c));
-    }
-    for (int y = 1; y < h - 1; ++y)
-    {
-      border.push_back(rgb.at(0, y, c));
-      border.push_back(rgb.at(w - 1, y, c));
-    }
-    std::nth_element(border.begin(), border.begin() + border.size() / 2, border.end());
-    bg[c] = border[border.size() / 2];
-  }
-  int x0 = w, y0 = h, x1 = -1, y1 = -1;
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-    {
-      bool content = false;
-      for (int c = 0; c < 3; ++c)
-        content = content || std::abs(rgb.at(x, y, c) - bg[c]) > 0.04f;
-      if (content)
-      {
-        x0 = std::min(x0, x);
-        x1 = std::max(x1, x);
-        y0 = std::min(y0, y);
-        y1 = std::max(y1, y);
-      }
-    }
+  const Content k = findContent(rgb);
+  const auto& bg = k.bg;
+  const int x0 = k.x0, y0 = k.y0, x1 = k.x1, y1 = k.y1;
   if (x1 < 0)
     throw Error("the query image shows nothing: every pixel is the background colour");
   // 3. a square of the shorter side on the content's centre, inside the image if it fits
@@ -90,15 +135,7 @@ Image prepareQueryImage(const Image& image, int size)
     return o;
   };
   const int ox = place(0.5 * (x0 + x1 + 1), w), oy = place(0.5 * (y0 + y1 + 1), h);
-  Image square(side, side, 3);
-  for (int y = 0; y < side; ++y)
-    for (int x = 0; x < side; ++x)
-    {
-      const int sx = ox + x, sy = oy + y;
-      const bool in = sx >= 0 && sx < w && sy >= 0 && sy < h;
-      for (int c = 0; c < 3; ++c)
-        square.at(x, y, c) = in ? rgb.at(sx, sy, c) : bg[c];
-    }
+  Image square = squareOf(rgb, side, ox, oy, bg);
   // 4. the model's size, quantised to 8 bits as the training images are
   // halve by 2 x 2 box averages while the square is over 4x the size (exact area averages,
   // much cheaper than one wide filtered resize), then the filtered resize
@@ -118,6 +155,35 @@ Image prepareQueryImage(const Image& image, int size)
   for (float& v : out.pixels)
     v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
   return out;
+}
+
+double framedPSNR(const Image& picture, const Image& render, int size)
+{
+  if (render.channels != 4)
+    throw Error("framedPSNR: the render must be premultiplied RGBA");
+  // the picture's background under the render too, so that only the content counts
+  const Image rgb = rgbOverBlack(picture);
+  const Content k = findContent(rgb);
+  const std::array<double, 3> bg{ k.bg[0], k.bg[1], k.bg[2] };
+  const Image over = compositeOverBackground(render, bg);
+  auto framed = [size, &k](const Image& img, const Content& c)
+  {
+    if (c.x1 < 0) // nothing shows: a square of the background
+    {
+      Image plain(size, size, 3);
+      for (size_t i = 0; i < plain.pixels.size(); ++i)
+        plain.pixels[i] = k.bg[i % 3];
+      return plain;
+    }
+    // a square 10 % larger than the content's box, on its centre, resized
+    const int extent = std::max(c.x1 - c.x0 + 1, c.y1 - c.y0 + 1);
+    const int side = std::max(8, static_cast<int>(std::lround(1.1 * extent)));
+    const Image sq =
+      squareOf(img, side, (c.x0 + c.x1 + 1 - side) / 2, (c.y0 + c.y1 + 1 - side) / 2, k.bg);
+    return sq.width == size ? sq : resizeImage(sq, size, size);
+  };
+  const Image a = framed(rgb, k), b = framed(over, findContent(over));
+  return psnr(a, b);
 }
 
 } // namespace ddg

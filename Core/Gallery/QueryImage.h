@@ -26,4 +26,12 @@ namespace ddg
 /// other than 1-4 channels, fully transparent or uniform.
 Image prepareQueryImage(const Image& image, int size);
 
+/// How close a design's render looks to the query's picture when the picture's camera is not
+/// known: PSNR (dB) of the two, each cut to a square 10 % larger than its content's box (content:
+/// pixels differing from the picture's background, the median of its border, by more than 0.04)
+/// and resized to `size`, with `render` (premultiplied RGBA) composed over the picture's
+/// background. So the pictures' sizes, aspects, framing, zoom and background do not count; the
+/// viewpoint still does. A render that shows nothing compares as a square of the background.
+double framedPSNR(const Image& picture, const Image& render, int size = 128);
+
 } // namespace ddg

@@ -105,6 +105,10 @@ void vtkDDGQuery::Execute(
   position->InsertNextValue(r.position[0]);
   position->InsertNextValue(r.position[1]);
   designs->GetFieldData()->AddArray(position);
+  auto picture = vtkSmartPointer<vtkDoubleArray>::New();
+  picture->SetName("PicturePSNR");
+  picture->InsertNextValue(r.picturePSNR);
+  designs->GetFieldData()->AddArray(picture);
   auto text = vtkSmartPointer<vtkStringArray>::New();
   text->SetName(tf.is2D ? "TransferFunction2D" : "Preset");
   text->InsertNextValue(

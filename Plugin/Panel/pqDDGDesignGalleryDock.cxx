@@ -20,6 +20,7 @@
 #include <pqRenderView.h>
 #include <pqServer.h>
 #include <pqUndoStack.h>
+#include <pqView.h>
 
 #include <vtkSMDDGScene.h>
 #include <vtkSMSourceProxy.h>
@@ -95,6 +96,32 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
   QObject::connect(&pqActiveObjects::instance(), &pqActiveObjects::dataUpdated, this, retry);
   QObject::connect(&pqActiveObjects::instance(),
     QOverload<pqDataRepresentation*>::of(&pqActiveObjects::representationChanged), this, retry);
+  // thumbnails follow the camera: rendered again 1.5 s after the renders stop, when the camera
+  // moved far from the one they show (pqDDGDesignState::thumbnailsOutdated)
+  auto* cameraTimer = new QTimer(this);
+  cameraTimer->setSingleShot(true);
+  cameraTimer->setInterval(1500);
+  QObject::connect(cameraTimer, &QTimer::timeout, this,
+    [this, cameraTimer]()
+    {
+      if (this->State->isBusy() || QApplication::mouseButtons() != Qt::NoButton)
+      {
+        cameraTimer->start(); // not while the user drags or the panel works
+        return;
+      }
+      if (this->State->thumbnailsOutdated(
+            this->State->currentView(pqDDGDesignState::ThumbnailSize)))
+        this->State->refreshOutline();
+    });
+  auto watchView = [this, cameraTimer](pqView* view)
+  {
+    QObject::disconnect(this->ViewWatch);
+    if (view)
+      this->ViewWatch =
+        QObject::connect(view, &pqView::endRender, cameraTimer, QOverload<>::of(&QTimer::start));
+  };
+  QObject::connect(&pqActiveObjects::instance(), &pqActiveObjects::viewChanged, this, watchView);
+  watchView(pqActiveObjects::instance().activeView());
   this->setSource(pqActiveObjects::instance().activeSource());
 }
 
@@ -196,12 +223,24 @@ void pqDDGDesignGalleryDock::connectState()
         axis->blockSignals(false);
       }
     });
+  QObject::connect(state, &pqDDGDesignState::axesRestored, this,
+    [this](const QVector<double>& steps)
+    {
+      QSlider* axes[] = { this->Ui->axis0, this->Ui->axis1, this->Ui->axis2 };
+      for (int k = 0; k < 3; ++k)
+      {
+        axes[k]->blockSignals(true);
+        axes[k]->setValue(k < steps.size() ? static_cast<int>(std::lround(10 * steps[k])) : 0);
+        axes[k]->blockSignals(false);
+      }
+    });
   QObject::connect(
     state, &pqDDGDesignState::designChanged, this, &pqDDGDesignGalleryDock::showDesign);
   QObject::connect(state, &pqDDGDesignState::queryDone, this,
     [this]()
     {
-      this->showMatch(); // the picture
+      this->showDesign(); // with its PSNR against the picture
+      this->showMatch();  // the picture
       if (this->Ui->matchAfterQuery->isChecked())
         this->runMatch();
     });
@@ -244,10 +283,21 @@ void pqDDGDesignGalleryDock::showDesign()
   QStringList path;
   for (const auto& s : this->State->steps())
     path << s.toObject().value("action").toString();
+  // the query's design: how close it looks to the picture (the match, once run, says more)
+  const auto& steps = this->State->steps();
+  const bool queryDesign = steps.size() == 1 &&
+    steps[0].toObject().value("action").toString() == "latent" &&
+    steps[0].toObject().value("image").toString() == this->State->queryName() &&
+    std::isfinite(this->State->queryPicturePSNR());
+  const QString against = queryDesign
+    ? tr("\nAgainst the query's picture: PSNR %1 dB (both framed on their content; Match also "
+         "finds the picture's camera)")
+        .arg(this->State->queryPicturePSNR(), 0, 'f', 1)
+    : QString();
   this->Ui->info->setText(
-    tr("Path: %1\nFidelity (neural vs. ray cast of its TF at this camera): "
-       "PSNR %2 dB, SSIM %3")
-      .arg(path.join(QString::fromUtf8(" \u2192 ")))
+    tr("Path: %1%2\nPreview fidelity (the network's image vs. a ray cast of its TF, at this "
+       "camera): PSNR %3 dB, SSIM %4")
+      .arg(path.join(QString::fromUtf8(" \u2192 ")), against)
       .arg(d.Fidelity.size() >= 2 ? d.Fidelity[0].toDouble() : 0.0, 0, 'f', 1)
       .arg(d.Fidelity.size() >= 2 ? d.Fidelity[1].toDouble() : 0.0, 0, 'f', 3));
   // colour clusters: what edits act on
@@ -280,6 +330,12 @@ void pqDDGDesignGalleryDock::showDesign()
       QObject::connect(box, &QCheckBox::toggled, this, &pqDDGDesignGalleryDock::lockChanged);
       this->Locks.push_back(box);
     }
+  }
+  for (int k = 0; k < this->Locks.size(); ++k) // as the state has them (a volume kept)
+  {
+    this->Locks[k]->blockSignals(true);
+    this->Locks[k]->setChecked(this->State->lockedRegions().contains(k));
+    this->Locks[k]->blockSignals(false);
   }
 }
 
@@ -324,11 +380,12 @@ void pqDDGDesignGalleryDock::setSource(pqPipelineSource* source)
   }
   this->State->setVolume(
     proxy, QString::fromStdString(vtkSMDDGScene::VolumeArray(proxy, nullptr, 0)));
-  // the shipped bundle named like the volume's file, if there is one
-  const QString guess =
-    QString::fromStdString(vtkSMDDGScene::DefaultModelDirectory(proxy, DDG_DATA_DIR));
-  if (!guess.isEmpty())
-    this->Ui->modelPath->setText(guess);
+  // the model this volume had before another was selected, else the shipped bundle named like
+  // the volume's file; never another volume's model
+  QString guess = this->State->keptModel(proxy);
+  if (guess.isEmpty())
+    guess = QString::fromStdString(vtkSMDDGScene::DefaultModelDirectory(proxy, DDG_DATA_DIR));
+  this->Ui->modelPath->setText(guess);
   if (this->Ui->modelPath->text().isEmpty())
   {
     this->setStatus(tr("No model for '%1': load a model bundle of this volume (Load...) or "

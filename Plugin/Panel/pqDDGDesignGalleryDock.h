@@ -10,11 +10,13 @@
 #include <QImage>
 #include <QPointer>
 
+#include <functional>
 #include <memory>
 
 class QCheckBox;
 class QTimer;
 class pqDDGDesignState;
+class pqDataRepresentation;
 class pqPipelineSource;
 namespace Ui
 {
@@ -62,10 +64,17 @@ private Q_SLOTS:
 private:
   void connectWidgets();
   void connectState();
+  /// Apply's one undo step named `label`: when other volumes share the colour map, asks whether
+  /// to give this volume its own (ParaView's separate colour map), recolour them all, or cancel;
+  /// then `write` (the TF, the camera). On an error the step is taken back. Returns the error
+  /// ("" when written; "cancelled" when the user cancelled) and in `note` what the status adds.
+  QString writeToScene(pqDataRepresentation* repr, const QString& label,
+    const std::function<QString()>& write, QString& note);
 
   std::unique_ptr<Ui::pqDDGDesignGalleryDock> Ui;
   pqDDGDesignState* State;
   QVector<QCheckBox*> Locks;
   QTimer* BoxTimer;
   QPointer<pqPipelineSource> Source;
+  QMetaObject::Connection ViewWatch; ///< the active view's renders (thumbnails follow the camera)
 };

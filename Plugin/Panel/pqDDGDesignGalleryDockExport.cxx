@@ -18,8 +18,10 @@
 #include <QJsonArray>
 #include <QJsonDocument>
 #include <QJsonObject>
+#include <QMessageBox>
 #include <QMimeData>
 #include <QPainter>
+#include <QPushButton>
 #include <QScrollArea>
 #include <QShortcut>
 #include <QTimer>
@@ -71,6 +73,60 @@ QString renamed(const QString& preset, const QString& name)
 
 // --- apply and export ----------------------------------------------------------------------------
 
+QString pqDDGDesignGalleryDock::writeToScene(pqDataRepresentation* repr, const QString& label,
+  const std::function<QString()>& write, QString& note)
+{
+  note.clear();
+  if (!repr)
+    return tr("there is no representation of the volume in the active view");
+  const QByteArray array = this->State->array().toUtf8();
+  const QStringList users =
+    QString::fromStdString(vtkSMDDGScene::SharedColorMapUsers(repr->getProxy(), array.constData()))
+      .split('\n', Qt::SkipEmptyParts);
+  bool separate = false;
+  if (!users.isEmpty())
+  {
+    const QString name = this->Source->getSMName();
+    QMessageBox box(QMessageBox::Question, tr("Shared colour map"),
+      tr("'%1' shares the colour map of '%2' with %3: Apply would recolour %4 too.")
+        .arg(name, this->State->array(), "'" + users.join("', '") + "'",
+          users.size() == 1 ? tr("it") : tr("them")),
+      QMessageBox::NoButton, this);
+    box.setObjectName("SharedColorMapBox");
+    QPushButton* own =
+      box.addButton(tr("Separate colour map for '%1'").arg(name), QMessageBox::AcceptRole);
+    own->setObjectName("SeparateColorMap");
+    QPushButton* all = box.addButton(tr("Recolour all"), QMessageBox::DestructiveRole);
+    all->setObjectName("RecolourAll");
+    box.addButton(QMessageBox::Cancel)->setObjectName("CancelApply");
+    box.setDefaultButton(own);
+    box.exec();
+    if (box.clickedButton() != own && box.clickedButton() != all)
+      return QStringLiteral("cancelled");
+    separate = box.clickedButton() == own;
+    note = separate
+      ? tr(", now with a colour map of its own (ParaView's separate colour map)")
+      : tr(" and to %1, which share its colour map").arg("'" + users.join("', '") + "'");
+  }
+  pqUndoStack* undo = pqApplicationCore::instance()->getUndoStack();
+  bool pushed = false; // an undo set with no change (an error) is not pushed
+  QMetaObject::Connection watch;
+  if (undo)
+    watch =
+      QObject::connect(undo, &pqUndoStack::stackChanged, this, [&pushed]() { pushed = true; });
+  BEGIN_UNDO_SET(label);
+  QString error = separate ? QString::fromStdString(vtkSMDDGScene::UseSeparateColorMap(
+                               repr->getProxy(), array.constData()))
+                           : QString();
+  if (error.isEmpty())
+    error = write();
+  END_UNDO_SET();
+  QObject::disconnect(watch);
+  if (!error.isEmpty() && pushed && undo && undo->canUndo())
+    undo->undo(); // a part went in (the separate map, the TF): take it back
+  return error;
+}
+
 void pqDDGDesignGalleryDock::apply()
 {
   if (!this->State->ready(true) || !this->State->updateDesign()) // the TF at the current camera
@@ -78,10 +134,23 @@ void pqDDGDesignGalleryDock::apply()
   const pqDDGDesignState::Design& d = this->State->design();
   const bool twoD = !d.ParaView2D.isEmpty();
   pqDataRepresentation* repr = ddgpanel::representation(this->State->volume());
-  const QString error = twoD ? ddgpanel::applyTransferFunction2D(repr, this->State->array(),
-                                 d.ParaView2D, tr("Apply Design Gallery 2D Transfer Function"))
-                             : ddgpanel::applyPreset(repr, this->State->array(), d.Preset,
-                                 tr("Apply Design Gallery Transfer Function"));
+  const QString label = twoD ? tr("Apply Design Gallery 2D Transfer Function")
+                             : tr("Apply Design Gallery Transfer Function");
+  QString note;
+  const QString error = this->writeToScene(
+    repr, label,
+    [&]()
+    {
+      return twoD
+        ? ddgpanel::applyTransferFunction2D(repr, this->State->array(), d.ParaView2D, label, false)
+        : ddgpanel::applyPreset(repr, this->State->array(), d.Preset, label, false);
+    },
+    note);
+  if (error == "cancelled")
+  {
+    this->setStatus(tr("Apply cancelled: the scene is unchanged."));
+    return;
+  }
   if (!error.isEmpty())
   {
     this->setStatus(tr("Apply failed: %1").arg(error), true);
@@ -92,9 +161,9 @@ void pqDDGDesignGalleryDock::apply()
   if (twoD)
   {
     const QJsonObject pv = QJsonDocument::fromJson(d.ParaView2D.toUtf8()).object();
-    this->setStatus(tr("Applied to '%1' as ParaView 2D boxes (Edit > Undo takes it back; the Color "
-                       "Map Editor's 2D editor shows them).")
-                      .arg(this->Source->getSMName()));
+    this->setStatus(tr("Applied to '%1'%2 as ParaView 2D boxes (Edit > Undo takes it back; the "
+                       "Color Map Editor's 2D editor shows them).")
+                      .arg(this->Source->getSMName(), note));
     this->Ui->status->setToolTip(
       tr("%1 Gaussian boxes fitted to the design: RMSE %2 of emission and "
          "per-sample opacity (largest opacity %3)")
@@ -103,8 +172,9 @@ void pqDDGDesignGalleryDock::apply()
         .arg(pv.value("Fit").toObject().value("max_alpha").toDouble(), 0, 'f', 3));
     return;
   }
-  this->setStatus(tr("Applied to '%1' (Edit > Undo takes it back; the Color Map Editor shows it).")
-                    .arg(this->Source->getSMName()));
+  this->setStatus(
+    tr("Applied to '%1'%2 (Edit > Undo takes it back; the Color Map Editor shows it).")
+      .arg(this->Source->getSMName(), note));
 }
 
 void pqDDGDesignGalleryDock::exportPreset()

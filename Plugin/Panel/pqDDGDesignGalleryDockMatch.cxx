@@ -146,24 +146,32 @@ void pqDDGDesignGalleryDock::applyMatch()
   // one undo step: the TF, and the camera when asked (after the TF was written: on an error
   // nothing is recorded and the scene stays as it was)
   const QString label = tr("Apply Design Gallery Match");
-  BEGIN_UNDO_SET(label);
-  QString error = twoD
-    ? ddgpanel::applyTransferFunction2D(repr, this->State->array(), m.ParaView2D, label, false)
-    : ddgpanel::applyPreset(repr, this->State->array(), m.Preset, label, false);
-  if (error.isEmpty() && moveCamera)
-    error = ddgpanel::setCamera(view, m.View, true);
-  END_UNDO_SET();
+  QString note;
+  const QString error = this->writeToScene(
+    repr, label,
+    [&]()
+    {
+      QString e = twoD
+        ? ddgpanel::applyTransferFunction2D(repr, this->State->array(), m.ParaView2D, label, false)
+        : ddgpanel::applyPreset(repr, this->State->array(), m.Preset, label, false);
+      if (e.isEmpty() && moveCamera)
+        e = ddgpanel::setCamera(view, m.View, true);
+      return e;
+    },
+    note);
+  if (error == "cancelled")
+  {
+    this->setStatus(tr("Apply cancelled: the scene is unchanged."));
+    return;
+  }
   if (!error.isEmpty())
   {
-    if (auto* undo = pqApplicationCore::instance()->getUndoStack())
-      if (undo->canUndo() && undo->undoLabel() == label)
-        undo->undo(); // the TF went in, the camera did not: take the TF back too
     this->setStatus(tr("Apply failed: %1").arg(error), true);
     return;
   }
   if (view)
     view->render();
-  this->setStatus(
-    tr("Applied the match to '%1'%2 (Edit > Undo takes it back).")
-      .arg(this->Source->getSMName(), moveCamera ? tr(" with the picture's camera") : QString()));
+  this->setStatus(tr("Applied the match to '%1'%2%3 (Edit > Undo takes it back).")
+                    .arg(this->Source->getSMName(), note,
+                      moveCamera ? tr(" with the picture's camera") : QString()));
 }

@@ -45,6 +45,7 @@ void pqDDGDesignState::report(const QString& text, bool error)
 
 void pqDDGDesignState::setVolume(vtkSMSourceProxy* source, const QString& array)
 {
+  this->keepVolumeState();
   this->clearModel();
   this->Source = source;
   this->Array = array;
@@ -80,6 +81,9 @@ void pqDDGDesignState::clearModel()
   this->MatchProxy = nullptr;
   this->QueryPicture.clear();
   this->QueryName.clear();
+  this->Queried = false;
+  this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
+  this->QueryNeighbours.clear();
   this->LastMatch = Match();
   Q_EMIT this->modelCleared();
   Q_EMIT this->matchChanged();
@@ -112,9 +116,15 @@ bool pqDDGDesignState::loadModel(const QString& directory)
       .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
     p->UpdateVTKObjects();
   }
-  this->Boxes = { QRectF() }; // the whole outline
+  Kept kept;
+  const bool restore = this->takeKept(directory, kept);
+  this->Boxes = restore ? kept.Boxes : QVector<QRectF>{ QRectF() }; // else the whole outline
+  if (restore)
+    this->Seed = kept.Seed;
   this->Loaded = true;
   this->refreshOutline();
+  if (restore && this->Loaded)
+    this->restoreVolumeState(kept);
   return this->Loaded;
 }
 
@@ -163,6 +173,7 @@ void pqDDGDesignState::refreshOutline()
     this->ThumbnailsAtCamera ? this->currentView(ThumbnailSize) : QJsonObject();
   vtkSMPropertyHelper(this->GalleryProxy, "ViewJSON")
     .Set(view.isEmpty() ? "" : ddgpanel::jsonText(view).toUtf8().constData());
+  this->ThumbnailView = view;
   this->GalleryProxy->UpdateVTKObjects();
   this->setBusy(true);
   this->GalleryProxy->UpdatePipeline();
@@ -289,12 +300,20 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     neighbours.push_back(static_cast<int>(rows->GetTuple1(i)));
   const QJsonArray position = ddgpanel::fieldNumbers(table, "Position");
   const QJsonArray latent = ddgpanel::fieldNumbers(table, "Latent");
-  if (position.size() == 2)
-    Q_EMIT this->queried(QPointF(position[0].toDouble(), position[1].toDouble()), neighbours);
+  this->Queried = position.size() == 2;
+  if (this->Queried)
+  {
+    this->QueryPosition = QPointF(position[0].toDouble(), position[1].toDouble());
+    this->QueryNeighbours = neighbours;
+    Q_EMIT this->queried(this->QueryPosition, neighbours);
+  }
   if (this->setSteps(QJsonArray{ latentStep(latent, name) }))
   {
     this->QueryPicture = imageFile; // what Match fits
     this->QueryName = name;
+    const QJsonArray against = ddgpanel::fieldNumbers(table, "PicturePSNR");
+    this->QueryPSNR =
+      against.isEmpty() ? std::numeric_limits<double>::quiet_NaN() : against[0].toDouble();
     Q_EMIT this->queryDone();
   }
 }

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <QColor>
+#include <QHash>
 #include <QImage>
 #include <QJsonArray>
 #include <QJsonObject>
@@ -19,6 +20,7 @@
 #include <vtkWeakPointer.h>
 
 #include <functional>
+#include <limits>
 
 class QTimer;
 class vtkSMSourceProxy;
@@ -111,6 +113,10 @@ public:
   void clearModel();
   bool isLoaded() const { return this->Loaded; }
   const QString& modelDirectory() const { return this->ModelDirectory; }
+  /// The model last loaded on `source` in this session before another volume was selected (""
+  /// when none): loading it again brings back that volume's query, design, match, pins, locks
+  /// and outline zoom (pqDDGDesignStateKeep.cxx).
+  QString keptModel(vtkSMSourceProxy* source) const;
   // --- building a model (pqDDGDesignStateBuild.cxx) -------------------------------------------
   /// What a build of the volume into `directory` within `budgetMinutes` would cost (DDG Build
   /// Design Space's PlanBuild on the server: BuildPlan JSON, with "error" for a volume no design
@@ -143,13 +149,20 @@ public:
   void resample();
   /// The part shown changed by zoom or pan.
   void setShownBox(const QRectF& box);
-  /// Thumbnails at the view's camera (else the volume's default view, the first time).
+  /// Thumbnails at the view's camera (the default), else at the volume's default view.
   void setThumbnailsAtCamera(bool atCamera) { this->ThumbnailsAtCamera = atCamera; }
+  /// True when the thumbnails shown were rendered at a camera far from `view`'s: its direction
+  /// turned by more than 30 degrees, or the volume's size on screen changed by more than 1.5x
+  /// (distance or parallel scale): time to render them again at `view`.
+  bool thumbnailsOutdated(const QJsonObject& view) const;
 
   // --- designs -------------------------------------------------------------------------------
   /// Queries with an image file's bytes (PNG, JPEG or TIFF); `name` is recorded in the step.
   void query(const QByteArray& imageFile, const QString& name);
   void pick(int row);
+  /// The outline part shown now (its drill-in depth: depth()).
+  QRectF shownBox() const { return this->Boxes.isEmpty() ? QRectF() : this->Boxes.last(); }
+  int depth() const { return static_cast<int>(this->Boxes.size()); }
   /// The blend of pins `pins` (2-4) at (u, v).
   void navigate(const QList<int>& pins, double u, double v);
   /// Recolours colour cluster `cluster` of the design by `hue` degrees and scales its visibility.
@@ -164,6 +177,7 @@ public:
   bool updateDesign();
   const QJsonArray& steps() const { return this->Steps; }
   const QJsonArray& lockSteps() const { return this->LockSteps; }
+  const QVector<int>& lockedRegions() const { return this->Locked; }
   const Design& design() const { return this->Current; }
 
   // --- matching the query's picture
@@ -180,6 +194,9 @@ public:
   /// The picture of the last query (an image file's bytes) and its name.
   const QByteArray& queryPicture() const { return this->QueryPicture; }
   const QString& queryName() const { return this->QueryName; }
+  /// The query's design against its picture, both framed on their content (Core's framedPSNR;
+  /// NaN without a query): how close it looks without knowing the picture's camera.
+  double queryPicturePSNR() const { return this->QueryPSNR; }
 
   // --- pins ----------------------------------------------------------------------------------
   /// Pins the current design (pinAdded).
@@ -223,6 +240,8 @@ Q_SIGNALS:
   void queried(const QPointF& position, const QVector<int>& neighbours);
   /// A new path starts (the axes sliders go back to 0).
   void pathStarted();
+  /// A kept design came back whose last step moved along the axes by `steps` (the sliders).
+  void axesRestored(const QVector<double>& steps);
   void designChanged();
   void pinAdded();
   /// A query succeeded and its design shows.
@@ -239,6 +258,30 @@ Q_SIGNALS:
 
 private:
   void pollBuild();
+  /// What the panel keeps of a volume while another is selected (pqDDGDesignStateKeep.cxx).
+  struct Kept
+  {
+    QString ModelDirectory;
+    QVector<QRectF> Boxes;
+    int Seed = 1;
+    QJsonArray Steps, LockSteps;
+    QVector<int> Locked;
+    QVector<Pin> Pins;
+    QByteArray QueryPicture;
+    QString QueryName;
+    double QueryPSNR = 0;
+    bool Queried = false;
+    QPointF QueryPosition;
+    QVector<int> QueryNeighbours;
+    Match LastMatch;
+  };
+  /// Keeps the loaded volume's state (setVolume to another volume).
+  void keepVolumeState();
+  /// The kept state of the volume for `directory` (taken out of the keep), if there is one.
+  bool takeKept(const QString& directory, Kept& kept);
+  /// Brings a kept state back once the model is loaded and the outline shows.
+  void restoreVolumeState(Kept& kept);
+  QHash<unsigned int, Kept> KeptStates; ///< by the volume proxy's global id
 
   vtkWeakPointer<vtkSMSourceProxy> Source;
   QTimer* BuildTimer = nullptr;
@@ -257,7 +300,8 @@ private:
 
   QVector<QRectF> Boxes; ///< drill-in stack; the last is shown
   int Seed = 1;
-  bool ThumbnailsAtCamera = false;
+  bool ThumbnailsAtCamera = true;
+  QJsonObject ThumbnailView; ///< the view JSON the thumbnails shown were rendered at
 
   QJsonArray Steps;
   QJsonArray LockSteps;
@@ -266,5 +310,9 @@ private:
   QVector<Pin> Pins;
   QByteArray QueryPicture;
   QString QueryName;
+  bool Queried = false; ///< the query's position on the outline is known
+  double QueryPSNR = std::numeric_limits<double>::quiet_NaN();
+  QPointF QueryPosition;
+  QVector<int> QueryNeighbours;
   Match LastMatch;
 };

@@ -3,12 +3,14 @@
 
 #include <vtkDataObject.h>
 #include <vtkDataSetAttributes.h>
+#include <vtkNew.h>
 #include <vtkObjectFactory.h>
 #include <vtkPVArrayInformation.h>
 #include <vtkPVDataInformation.h>
 #include <vtkPVDataSetAttributesInformation.h>
 #include <vtkSMPVRepresentationProxy.h>
 #include <vtkSMPropertyHelper.h>
+#include <vtkSMProxyIterator.h>
 #include <vtkSMRenderViewProxy.h>
 #include <vtkSMRepresentationProxy.h>
 #include <vtkSMSessionProxyManager.h>
@@ -333,6 +335,75 @@ std::string vtkSMDDGScene::Apply1D(
         .Set(opacity.data(), static_cast<unsigned int>(opacity.size()));
       return std::string();
     });
+}
+
+namespace
+{
+bool separateMap(vtkSMProxy* repr)
+{
+  return repr->GetProperty("UseSeparateColorMap") &&
+    vtkSMPropertyHelper(repr, "UseSeparateColorMap").GetAsInt() != 0;
+}
+
+vtkSMProxy* inputOf(vtkSMProxy* repr)
+{
+  return repr->GetProperty("Input") ? vtkSMPropertyHelper(repr, "Input").GetAsProxy() : nullptr;
+}
+} // namespace
+
+std::string vtkSMDDGScene::SharedColorMapUsers(vtkSMProxy* representation, const char* array)
+{
+  if (!representation || !array || !*array || separateMap(representation))
+    return {};
+  vtkSMProxy* self = inputOf(representation);
+  vtkSMSessionProxyManager* pxm = representation->GetSessionProxyManager();
+  std::vector<std::string> names;
+  vtkNew<vtkSMProxyIterator> it;
+  it->SetSession(representation->GetSession());
+  it->SetModeToOneGroup();
+  for (it->Begin("representations"); !it->IsAtEnd(); it->Next())
+  {
+    vtkSMProxy* other = it->GetProxy();
+    if (!other || other == representation || !other->GetProperty("LookupTable") ||
+      !other->GetProperty("ColorArrayName") || !other->GetProperty("Visibility") ||
+      separateMap(other) || vtkSMPropertyHelper(other, "Visibility").GetAsInt() == 0 ||
+      !vtkSMPropertyHelper(other, "LookupTable").GetAsProxy())
+      continue;
+    const char* colour =
+      vtkSMPropertyHelper(other, "ColorArrayName", true).GetInputArrayNameToProcess();
+    vtkSMProxy* input = inputOf(other);
+    if (!colour || std::string(colour) != array || !input || input == self)
+      continue;
+    const char* name = pxm->GetProxyName("sources", input);
+    names.push_back(name ? name : "(unnamed)");
+  }
+  std::sort(names.begin(), names.end());
+  names.erase(std::unique(names.begin(), names.end()), names.end());
+  std::string text;
+  for (const auto& n : names)
+    text += (text.empty() ? "" : "\n") + n;
+  return text;
+}
+
+std::string vtkSMDDGScene::UseSeparateColorMap(vtkSMProxy* representation, const char* array)
+{
+  if (!representation || !representation->GetProperty("UseSeparateColorMap"))
+    return "the representation cannot have a separate colour map";
+  if (!array || !*array)
+    return "no array to colour by";
+  vtkSMProxy* shared = representation->GetProperty("LookupTable")
+    ? vtkSMPropertyHelper(representation, "LookupTable").GetAsProxy()
+    : nullptr;
+  const std::string before = shared ? CurrentPreset(representation) : std::string();
+  vtkSMPropertyHelper(representation, "UseSeparateColorMap").Set(1);
+  representation->UpdateVTKObjects();
+  vtkSMPVRepresentationProxy::SetScalarColoring(representation, array, vtkDataObject::POINT);
+  vtkSMProxy* own = vtkSMPropertyHelper(representation, "LookupTable").GetAsProxy();
+  if (!own || own == shared)
+    return "ParaView did not give the representation its own colour map";
+  if (!before.empty()) // the same look as before, in maps of its own
+    return Apply1D(representation, array, before.c_str());
+  return {};
 }
 
 std::string vtkSMDDGScene::Apply2D(

@@ -133,6 +133,22 @@ public:
   static std::string WriteTransferFunction2D(vtkSMProxy* representation, const char* boxesJSON);
 
   /**
+   * The other volumes an Apply to `representation` colouring by point array `array` would
+   * recolour too: ParaView keeps one colour map per array name, shared by every representation
+   * coloured by that array unless it has UseSeparateColorMap. Names (in the "sources" group) of the
+   * other sources with a visible representation in any view that shares it, one per line, sorted;
+   * empty when there are none or `representation` has its own map.
+   */
+  static std::string SharedColorMapUsers(vtkSMProxy* representation, const char* array);
+
+  /**
+   * Gives `representation` its own colour and opacity maps for point array `array` (ParaView's
+   * "Use Separate Color Map"), started as copies of the shared ones, so that an Apply changes
+   * this volume only. Returns an empty string or the reason.
+   */
+  static std::string UseSeparateColorMap(vtkSMProxy* representation, const char* array);
+
+  /**
    * The RGBPoints, Points and ColorSpace of `representation`'s LookupTable and
    * ScalarOpacityFunction as a ParaView preset (JSON text, "Name": "before the design gallery"),
    * to restore them with Apply1D. Empty when it has no such maps.

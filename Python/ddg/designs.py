@@ -135,6 +135,7 @@ class Design:
         self.model = model
         self._history = history  # a vtkDDGDesignHistory: its steps are written by Core
         self.neighbours = list(neighbours or [])
+        self.picture_psnr = None  # queries: against the picture (query())
         self._cache = {}
 
     @property
@@ -228,7 +229,8 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     """Queries the model's design space with an image (a file path or a numpy image): the
     analyzer's design, placed on the outline, with its ``neighbours`` nearest outline rows.
     ``view`` is where its preview is rendered and its explicit TF made (default: the active
-    view's camera). Returns a Design."""
+    view's camera). Returns a Design; its ``picture_psnr`` is its preview against the picture,
+    both framed on their content (dB: how close it looks without the picture's camera)."""
     model, source = _model(model, source)
     v = view_json(view, source, 256)
     proxy = _proxy(
@@ -247,7 +249,9 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     name = os.path.basename(image) if isinstance(image, str) else ""
     if not history.AddLatent(json.dumps(latent), name):
         raise DDGError(history.GetError())
-    return Design(model, history, rows)
+    design = Design(model, history, rows)
+    design.picture_psnr = float(_field_numbers(table, "PicturePSNR")[0])
+    return design
 
 
 def interpolate(a, b, t, c=None, d=None, v=0.0):

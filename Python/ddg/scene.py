@@ -3,6 +3,7 @@ transfer function to the volume's representation and the project's render of it.
 """
 import base64
 import json
+import warnings
 
 import numpy as np
 from paraview import servermanager
@@ -193,14 +194,17 @@ def _read_png(path):
 # --- transfer functions in the scene --------------------------------------------------------------
 
 
-def apply(tf, display=None, source=None, view=None, camera=None):
+def apply(tf, display=None, source=None, view=None, camera=None, separate_color_map=None):
     """Writes a TF (Design, preset dict or file, DDG 2D JSON, or a ``Match``: its TF) into
     ``display``'s maps (default: the active source's display in the active view; shown first if
     needed), switches it to the Volume representation and renders. A Design's TF is made at the
     view's camera. 1D TFs go into the colour and opacity maps (2D rendering off); 2D TFs into
     ParaView's TransferFunction2D (``paraview_2d``) with UseTransfer2D on. ``camera``: also
     moves the view's camera there (a view JSON dict or file, e.g. a ``Match``'s ``view``; True
-    with a ``Match``: its camera; default: the camera stays). Returns the display."""
+    with a ``Match``: its camera; default: the camera stays). ParaView shares one colour map per
+    array name: when other shown volumes share this one, ``separate_color_map=True`` first gives
+    this display its own maps (ParaView's Use Separate Color Map), False recolours them all, and
+    None (default) recolours them all with a warning naming them. Returns the display."""
     from .designs import Design  # these modules build on this one
     from .tf import Match, _tf_dict, paraview_2d
 
@@ -224,6 +228,18 @@ def apply(tf, display=None, source=None, view=None, camera=None):
     boxes = paraview_2d(tf, source, view) if two_d else None
     array = volume_array(source, view)  # before the switch to Volume, which may colour by another
     scene = _scene()
+    shared = scene.SharedColorMapUsers(display.SMProxy, array)
+    if shared and separate_color_map:
+        error = scene.UseSeparateColorMap(display.SMProxy, array)
+        if error:
+            raise DDGError("apply: " + error)
+    elif shared and separate_color_map is None:
+        warnings.warn(
+            "apply: %s share the colour map of '%s' and are recoloured too "
+            "(separate_color_map=True keeps them as they are)"
+            % (", ".join(shared.split("\n")), array),
+            stacklevel=2,
+        )
     error = (
         scene.Apply2D(display.SMProxy, array, json.dumps(boxes))
         if two_d

@@ -316,6 +316,44 @@ TEST(QueryImage, FramesContentAnywhere)
   });
 }
 
+TEST(QueryImage, FramedPSNRIgnoresFramingAndBackground)
+{
+  // an orange disc with a red core (radius r at (cx, cy)) as premultiplied RGBA (a render) or
+  // over `bg` (a picture)
+  auto disc = [](int w, int h, double cx, double cy, double r, bool rgba, float bg)
+  {
+    ddg::Image im(w, h, rgba ? 4 : 3, rgba ? 0.0f : bg);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+      {
+        const double d = std::hypot(x + 0.5 - cx, y + 0.5 - cy) / r;
+        if (d > 1)
+          continue;
+        const float colour[3] = { 1.0f, d < 0.5 ? 0.1f : 0.6f, 0.1f };
+        for (int c = 0; c < 3; ++c)
+          im.at(x, y, c) = colour[c];
+        if (rgba)
+          im.at(x, y, 3) = 1.0f;
+      }
+    return im;
+  };
+  // the same disc, smaller and off-centre in a wide white picture, centred in a square render
+  const ddg::Image picture = disc(400, 200, 300, 80, 40, false, 1.0f);
+  const ddg::Image same = disc(192, 192, 96, 96, 70, true, 0);
+  const double p = ddg::framedPSNR(picture, same);
+  EXPECT_GT(p, 25);
+  // another look: a disc of one colour scores lower; a render showing nothing scores lower still
+  ddg::Image other = same;
+  for (int i = 0; i < other.width * other.height; ++i)
+    if (other.pixels[static_cast<size_t>(i) * 4 + 3] > 0)
+      other.pixels[static_cast<size_t>(i) * 4 + 1] = 0.6f;
+  const double q = ddg::framedPSNR(picture, other);
+  const double none = ddg::framedPSNR(picture, ddg::Image(192, 192, 4, 0.0f));
+  EXPECT_LT(q, p - 5);
+  EXPECT_LT(none, q);
+  EXPECT_THROW(ddg::framedPSNR(picture, picture), ddg::Error); // the render must be RGBA
+}
+
 TEST(QueryImage, RefusesUnusableImages)
 {
   auto message = [](const ddg::Image& im)

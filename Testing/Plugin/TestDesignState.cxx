@@ -303,6 +303,14 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
     state.pins().size() == 1 && state.pins()[0].Steps.at(0).toObject().value("action") == "latent",
     "unpin the first pin");
 
+  // --- what is kept of Tooth while another volume is selected (checked below) ---
+  state.setLockedRegions({ 0 });
+  state.moveAlongAxes({ 2.0, 0, 0 });
+  state.drillIn(QRectF(-0.5, -0.5, 1.0, 1.0));
+  const QJsonArray keptSteps = state.steps(), keptLockSteps = state.lockSteps();
+  const QRectF keptBox = state.shownBox();
+  check(state.depth() == 2 && keptBox.isValid(), "drilled in");
+
   // --- a build that fails (constant volume) is reported as failed, no model loaded ---
   auto constant = reader(pxm, testdata + "/constant.vti");
   state.setVolume(constant, pointScalars(constant));
@@ -311,6 +319,33 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
   check(!built && !state.isLoaded() && state.lastMessage().startsWith("The build failed: ") &&
       !QFile::exists(outdir + "/constant_bundle/bundle.json"),
     "failed build: " + state.lastMessage());
+
+  // --- Tooth again: its model, design, pins, lock and outline zoom are as it was left ---
+  check(state.keptModel(constant).isEmpty() && state.keptModel(tooth) == data + "/Models/tooth",
+    "kept model of Tooth: " + state.keptModel(tooth));
+  state.setVolume(tooth, pointScalars(tooth));
+  QVector<double> axes;
+  auto restored = QObject::connect(
+    &state, &pqDDGDesignState::axesRestored, [&](const QVector<double>& a) { axes = a; });
+  int pinsAdded = 0;
+  auto pinned = QObject::connect(&state, &pqDDGDesignState::pinAdded, [&]() { ++pinsAdded; });
+  state.loadModel(state.keptModel(tooth));
+  QObject::disconnect(restored);
+  QObject::disconnect(pinned);
+  check(state.isLoaded() && state.steps() == keptSteps && state.depth() == 2 &&
+      state.shownBox() == keptBox && state.pins().size() == 1 && pinsAdded == 1 &&
+      state.lockedRegions() == QVector<int>{ 0 } && state.lockSteps() == keptLockSteps &&
+      state.queryName() == shot && state.hasMatch() && axes == QVector<double>({ 2.0, 0, 0 }) &&
+      !state.design().Latent.isEmpty(),
+    QString("Tooth kept: %1 steps, depth %2, %3 pins, message: %4")
+      .arg(state.steps().size())
+      .arg(state.depth())
+      .arg(state.pins().size())
+      .arg(state.lastMessage()));
+  // another model on the volume starts afresh
+  state.loadModel(data + "/Models/engine");
+  check(state.steps().isEmpty() && state.pins().isEmpty() && !state.hasMatch(),
+    "another model on Tooth starts afresh");
 }
 
 } // namespace

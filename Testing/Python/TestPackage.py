@@ -12,6 +12,7 @@ import socket
 import subprocess
 import sys
 import time
+import warnings
 
 import numpy as np
 from vtkmodules.util import numpy_support
@@ -40,11 +41,14 @@ if remote:
 
 import ddg  # noqa: E402  (loads the plugin, remotely too when connected)
 from paraview.simple import (
+    ColorBy,
+    Delete,
     GetActiveView,
     GetColorTransferFunction,
     GetDisplayProperties,  # noqa: E402
     GetOpacityTransferFunction,
     Hide,
+    RenameSource,
     Show,
     XMLImageDataReader,
 )
@@ -419,6 +423,44 @@ try:
     raise AssertionError("a garbage query image should raise")
 except ddg.DDGError as e:
     check("bad input raises DDGError", True, str(e).splitlines()[0][:80])
+
+# the query's design against its picture, framed alike: a finite PSNR
+check(
+    "query against its picture",
+    found.picture_psnr is not None and 10 < found.picture_psnr < 99,
+    f"{found.picture_psnr:.1f} dB",
+)
+
+# a second volume coloured by the same array shares ParaView's colour map: apply says so, and
+# separate_color_map=True leaves it as it is
+twin = XMLImageDataReader(FileName=[volume])
+RenameSource("tooth twin", twin)
+twin_display = Show(twin)
+ColorBy(twin_display, ("POINTS", tooth.PointData.keys()[0]))
+twin_display.SetRepresentationType("Volume")
+ddg.apply(found, display)
+twin_before = list(twin_display.LookupTable.RGBPoints)
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    ddg.apply(picked, display)
+check(
+    "apply warns of a shared colour map",
+    any("tooth twin" in str(w.message) for w in caught)
+    and list(twin_display.LookupTable.RGBPoints) != twin_before,
+    str(caught[0].message) if caught else "no warning",
+)
+ddg.apply(found, display)
+twin_before = list(twin_display.LookupTable.RGBPoints)
+ddg.apply(picked, display, separate_color_map=True)
+check(
+    "separate colour map",
+    display.UseSeparateColorMap == 1
+    and display.LookupTable.SMProxy != twin_display.LookupTable.SMProxy
+    and list(twin_display.LookupTable.RGBPoints) == twin_before
+    and list(display.LookupTable.RGBPoints)
+    == picked.transfer_function(ddg.view_json(GetActiveView(), tooth, 256))["RGBPoints"],
+)
+Delete(twin)
 
 print(
     f"{len(checks)} checks passed in {time.time() - start:.1f} s ({'client/server' if remote else 'builtin'})"
