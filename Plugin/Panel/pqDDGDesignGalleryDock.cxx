@@ -290,16 +290,19 @@ void pqDDGDesignGalleryDock::showDesign()
     steps[0].toObject().value("image").toString() == this->State->queryName() &&
     std::isfinite(this->State->queryPicturePSNR());
   const QString against = queryDesign
-    ? tr("\nAgainst the query's picture: PSNR %1 dB (both framed on their content; Match also "
-         "finds the picture's camera)")
+    ? tr("\nAgainst the picture: %1 dB (framed alike; Match finds its camera)")
         .arg(this->State->queryPicturePSNR(), 0, 'f', 1)
     : QString();
   this->Ui->info->setText(
-    tr("Path: %1%2\nPreview fidelity (the network's image vs. a ray cast of its TF, at this "
-       "camera): PSNR %3 dB, SSIM %4")
+    tr("Path: %1%2\nPreview vs. ray cast of its TF: %3 dB, SSIM %4")
       .arg(path.join(QString::fromUtf8(" \u2192 ")), against)
       .arg(d.Fidelity.size() >= 2 ? d.Fidelity[0].toDouble() : 0.0, 0, 'f', 1)
       .arg(d.Fidelity.size() >= 2 ? d.Fidelity[1].toDouble() : 0.0, 0, 'f', 3));
+  this->Ui->info->setToolTip(
+    tr("Against the picture: the query's design against its picture, each cut to its content and "
+       "compared at one size (PSNR; the picture's camera is not known, so a different viewpoint "
+       "lowers it; Match estimates the camera and fits the picture).\nPreview vs. ray cast: the "
+       "network's image of the design against ParaView's way of rendering its TF at this camera."));
   // colour clusters: what edits act on
   const int current = this->Ui->cluster->currentIndex();
   this->Ui->cluster->clear();

@@ -133,8 +133,8 @@ void pqDDGDesignState::restoreVolumeState(Kept& kept)
   this->report(tr("'%1' as you left it: %2%3%4.")
                  .arg(this->volumeName())
                  .arg(kept.Steps.isEmpty() ? tr("no design yet") : tr("its design"))
-                 .arg(kept.Pins.isEmpty() ? QString()
-                        : kept.Pins.size() == 1 ? tr(", 1 pin")
-                                                : tr(", %1 pins").arg(kept.Pins.size()))
+                 .arg(kept.Pins.isEmpty()    ? QString()
+                     : kept.Pins.size() == 1 ? tr(", 1 pin")
+                                             : tr(", %1 pins").arg(kept.Pins.size()))
                  .arg(this->QueryPicture.isEmpty() ? QString() : tr(", the query's picture")));
 }
