@@ -95,6 +95,14 @@ BoxCorners::BoxCorners(const Volume& volume, int dimensions, double opacityUnitD
   Threshold = steps > 0 ? 1 - std::pow(1.0 - kDesignVisibleAlpha, 1 / steps) : 1;
 }
 
+double meanOpacity(const TransferTable1D& table, const std::vector<float>& values)
+{
+  double sum = 0;
+  for (float v : values)
+    sum += table.lookup(v)[3];
+  return values.empty() ? 0.0 : sum / static_cast<double>(values.size());
+}
+
 bool BoxCorners::hazy(const std::vector<GaussianPrimitive>& tf) const
 {
   if (tf.empty())
@@ -115,12 +123,7 @@ bool BoxCorners::hazy(const std::vector<GaussianPrimitive>& tf) const
   {
     const TransferTable1D table = rasterize1D(tf, Range[0], Range[1], 256);
     for (int c = 0; c < 8; ++c)
-    {
-      double sum = 0;
-      for (float v : Values[c])
-        sum += table.lookup(v)[3];
-      hazed += sum >= Threshold * Values[c].size();
-    }
+      hazed += meanOpacity(table, Values[c]) >= Threshold;
   }
   return hazed >= 6;
 }
@@ -158,18 +161,26 @@ bool regionShowsStructure(const RayCaster& caster, const BoxCorners& corners,
   return !judgeDesign(caster, corners, { basePrimitive(region) }, dimensions, gradientRange).junk();
 }
 
-std::vector<FeatureRegion> findDesignRegions(
-  const Volume& volume, const DesignSpaceSpec& spec, int* left)
+DesignVerdict screenDesign(const RayCaster& caster, const BoxCorners& corners,
+  const std::vector<GaussianPrimitive>& tf, const Image& rgbaExp, const View& viewExp)
+{
+  const DesignLook look = lookOfDesign(rgbaExp, boxFootprint(caster, viewExp));
+  DesignVerdict v;
+  v.empty = look.empty();
+  v.flatBox = !v.empty && (look.flatBox() || corners.hazy(tf));
+  return v;
+}
+
+std::vector<FeatureRegion> findDesignRegions(const Volume& volume, const RayCaster& caster,
+  const BoxCorners& corners, const DesignSpaceSpec& spec, int* left)
 {
   if (left)
     *left = 0;
   if (!spec.regions.empty())
     return spec.regions;
   const bool twoD = spec.dimensions == 2;
-  const RayCaster caster(volume);
   const auto gradientRange =
     twoD ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
-  const BoxCorners corners(volume, spec.dimensions, caster.defaultOpacityUnitDistance());
   int refused = 0;
   const auto keep = [&](FeatureRegion& r)
   {

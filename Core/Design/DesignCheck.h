@@ -39,6 +39,10 @@ Image boxFootprint(const RayCaster& caster, const View& view);
 /// throws ddg::Error otherwise). A footprint of 0 pixels gives an empty look.
 DesignLook lookOfDesign(const Image& premultipliedRGBA, const Image& footprint);
 
+/// The mean opacity (the table's alpha per value) a 1D TF table gives `values` (0 for none): how
+/// the box's corners and the outline check's boundary faces are judged.
+double meanOpacity(const TransferTable1D& table, const std::vector<float>& values);
+
 /// Air where it meets the box: the voxels of the box's eight corners (cubes of 1/16 of each side,
 /// at least 2 voxels), where scans hold air, noise or a field of view and simulations their far
 /// field. A haze over the box can be too faint at the box's silhouette (short rays) for the
@@ -87,7 +91,14 @@ bool regionShowsStructure(const RayCaster& caster, const BoxCorners& corners,
 /// everything above soft tissue), and left out when it still does not; `left` counts the peaks
 /// left out. When no peak shows structure, the unscreened regions are returned (and left
 /// stays 0).
-std::vector<FeatureRegion> findDesignRegions(
-  const Volume& volume, const DesignSpaceSpec& spec, int* left = nullptr);
+/// `caster` and `corners` are the volume's (the generator's own, built once per build).
+std::vector<FeatureRegion> findDesignRegions(const Volume& volume, const RayCaster& caster,
+  const BoxCorners& corners, const DesignSpaceSpec& spec, int* left = nullptr);
+
+/// The screen of one drawn design from its render at its V_exp view (premultiplied RGBA, as the
+/// generator renders it): empty or a flat box at that view (lookOfDesign), or a haze over the box
+/// (BoxCorners). The one rule of generateExemplars and buildOutlineLatents.
+DesignVerdict screenDesign(const RayCaster& caster, const BoxCorners& corners,
+  const std::vector<GaussianPrimitive>& tf, const Image& rgbaExp, const View& viewExp);
 
 } // namespace ddg

@@ -73,16 +73,16 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
   fs::remove(fs::path(dir) / "dataset.json", ec);
   GenerateReport report;
   const bool twoD = spec.dimensions == 2;
+  const RayCaster caster(volume);
+  const BoxCorners corners(volume, spec.dimensions, caster.defaultOpacityUnitDistance());
   if (!spec.regions.empty())
     report.regions = spec.regions;
   else if (opt.screen)
-    report.regions = findDesignRegions(volume, spec, &report.regionsLeftOut);
+    report.regions = findDesignRegions(volume, caster, corners, spec, &report.regionsLeftOut);
   else
     report.regions = twoD ? findFeatureRegions2D(volume, spec.maxRegions)
                           : findFeatureRegions(volume, spec.maxRegions);
-  const RayCaster caster(volume);
   const auto aux = auxiliaryPrimitives(spec, report.regions);
-  const BoxCorners corners(volume, spec.dimensions, caster.defaultOpacityUnitDistance());
   const auto gradientRange =
     twoD ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
   RenderOptions ropt;
@@ -142,9 +142,7 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
             const Image exp = render(e.primitives, e.viewExp);
             if (screening)
             {
-              const DesignLook look = lookOfDesign(exp, boxFootprint(caster, e.viewExp));
-              verdicts[q].empty = look.empty();
-              verdicts[q].flatBox = !look.empty() && (look.flatBox() || corners.hazy(e.primitives));
+              verdicts[q] = screenDesign(caster, corners, e.primitives, exp, e.viewExp);
               if (verdicts[q].junk())
                 return;
             }

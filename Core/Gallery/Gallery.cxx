@@ -64,9 +64,7 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
           const Exemplar e = sampleExemplar(volume, spec, regions, seed, next + q, s);
           const Image rgba =
             renderDesign(caster, e.primitives, spec.dimensions, gradientRange, e.viewExp, ropt);
-          if (screening &&
-            (lookOfDesign(rgba, boxFootprint(caster, e.viewExp)).junk() ||
-              corners.hazy(e.primitives)))
+          if (screening && screenDesign(caster, corners, e.primitives, rgba, e.viewExp).junk())
             junk[q] = 1;
           else
             images[q] = compositeOverBackground(rgba, e.viewExp.background);

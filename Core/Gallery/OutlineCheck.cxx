@@ -76,11 +76,7 @@ OutlineCheck checkOutline(
     const auto range = volume.range();
     for (const auto& tf : tfs)
     {
-      const TransferTable1D table = rasterize1D(tf, range[0], range[1], 256);
-      double sum = 0;
-      for (float v : faces)
-        sum += table.lookup(v)[3];
-      check.hazyFaces += !faces.empty() && sum / faces.size() > 0.01;
+      check.hazyFaces += meanOpacity(rasterize1D(tf, range[0], range[1], 256), faces) > 0.01;
     }
   }
   for (const auto& v : check.verdicts)

@@ -104,9 +104,10 @@ QString pqDDGDesignGalleryDock::writeToScene(pqDataRepresentation* repr, const Q
     if (box.clickedButton() != own && box.clickedButton() != all)
       return QStringLiteral("cancelled");
     separate = box.clickedButton() == own;
-    note = separate
-      ? tr(", now with a colour map of its own (ParaView's separate colour map)")
-      : tr(" and to %1, which share its colour map").arg("'" + users.join("', '") + "'");
+    note = separate ? tr(", now with a colour map of its own (ParaView's separate colour map)")
+                    : (users.size() == 1 ? tr(" and to %1, which shares its colour map")
+                                         : tr(" and to %1, which share its colour map"))
+                        .arg("'" + users.join("', '") + "'");
   }
   pqUndoStack* undo = pqApplicationCore::instance()->getUndoStack();
   bool pushed = false; // an undo set with no change (an error) is not pushed

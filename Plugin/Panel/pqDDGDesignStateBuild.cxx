@@ -18,6 +18,18 @@ QString text(vtkSMSourceProxy* proxy, const char* name)
 {
   return QString::fromUtf8(vtkSMPropertyHelper(proxy, name).GetAsString());
 }
+
+/// The build's settings on a DDG Build Design Space proxy (the plan and the build use the same).
+void setBuild(vtkSMSourceProxy* proxy, const QString& directory, const QString& array,
+  double budgetMinutes, bool overwrite)
+{
+  vtkSMPropertyHelper(proxy, "OutputDirectory").Set(directory.toUtf8().constData());
+  vtkSMPropertyHelper(proxy, "SelectInputScalars")
+    .SetInputArrayToProcess(vtkDataObject::POINT, array.toUtf8().constData());
+  vtkSMPropertyHelper(proxy, "BudgetMinutes").Set(budgetMinutes);
+  vtkSMPropertyHelper(proxy, "Overwrite").Set(overwrite ? 1 : 0);
+  proxy->UpdateVTKObjects();
+}
 } // namespace
 
 QJsonObject pqDDGDesignState::planBuild(
@@ -33,12 +45,7 @@ QJsonObject pqDDGDesignState::planBuild(
   vtkSMSourceProxy* proxy = this->PlanProxy;
   if (!proxy)
     return { { "error", tr("The DesignGallery plugin is not loaded on the server.") } };
-  vtkSMPropertyHelper(proxy, "OutputDirectory").Set(directory.toUtf8().constData());
-  vtkSMPropertyHelper(proxy, "SelectInputScalars")
-    .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
-  vtkSMPropertyHelper(proxy, "BudgetMinutes").Set(budgetMinutes);
-  vtkSMPropertyHelper(proxy, "Overwrite").Set(overwrite ? 1 : 0);
-  proxy->UpdateVTKObjects();
+  setBuild(proxy, directory, this->Array, budgetMinutes, overwrite);
   proxy->InvokeCommand("PlanBuild");
   proxy->UpdatePropertyInformation();
   return QJsonDocument::fromJson(text(proxy, "BuildPlan").toUtf8()).object();
@@ -67,12 +74,7 @@ bool pqDDGDesignState::startBuild(const QString& directory, double budgetMinutes
     return false;
   }
   vtkSMSourceProxy* proxy = this->BuildProxy;
-  vtkSMPropertyHelper(proxy, "OutputDirectory").Set(directory.toUtf8().constData());
-  vtkSMPropertyHelper(proxy, "SelectInputScalars")
-    .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
-  vtkSMPropertyHelper(proxy, "BudgetMinutes").Set(budgetMinutes);
-  vtkSMPropertyHelper(proxy, "Overwrite").Set(overwrite ? 1 : 0);
-  proxy->UpdateVTKObjects();
+  setBuild(proxy, directory, this->Array, budgetMinutes, overwrite);
   this->BuildDirectory = directory;
   this->setBusy(true);
   this->report(tr("Building a design space in %1 (Cancel stops it)...").arg(directory));

@@ -234,10 +234,18 @@ def apply(tf, display=None, source=None, view=None, camera=None, separate_color_
         if error:
             raise DDGError("apply: " + error)
     elif shared and separate_color_map is None:
+        one = "\n" not in shared
         warnings.warn(
-            "apply: %s share the colour map of '%s' and are recoloured too "
-            "(separate_color_map=True keeps them as they are)"
-            % (", ".join(shared.split("\n")), array),
+            "apply: %s %s the colour map of '%s' and %s recoloured too (separate_color_map=True "
+            "leaves %s as %s)"
+            % (
+                ", ".join(shared.split("\n")),
+                "shares" if one else "share",
+                array,
+                "is" if one else "are",
+                "it" if one else "them",
+                "it is" if one else "they are",
+            ),
             stacklevel=2,
         )
     error = (

@@ -131,7 +131,9 @@ TEST(DesignCheck, RegionsLeaveOutTheFog)
   ASSERT_EQ(plain.size(), 3u); // the histogram alone takes the fog
   EXPECT_NEAR(plain[2].peak, 200, 6);
   int left = -1;
-  const auto screened = findDesignRegions(volume, DesignSpaceSpec{}, &left);
+  const RayCaster caster(volume);
+  const BoxCorners corners(volume, 1, caster.defaultOpacityUnitDistance());
+  const auto screened = findDesignRegions(volume, caster, corners, DesignSpaceSpec{}, &left);
   ASSERT_EQ(screened.size(), 2u);
   EXPECT_NEAR(screened[0].peak, 60, 6);
   EXPECT_NEAR(screened[1].peak, 120, 6);
@@ -139,7 +141,7 @@ TEST(DesignCheck, RegionsLeaveOutTheFog)
   // the spec's own regions are kept as given
   DesignSpaceSpec given;
   given.regions = plain;
-  EXPECT_EQ(findDesignRegions(volume, given, &left).size(), 3u);
+  EXPECT_EQ(findDesignRegions(volume, caster, corners, given, &left).size(), 3u);
   EXPECT_EQ(left, 0);
 }
 

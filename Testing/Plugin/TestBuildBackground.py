@@ -14,33 +14,20 @@ Usage: pvpython TestBuildBackground.py PLUGIN TESTDATA OUTDIR [--server]
 import json
 import os
 import shutil
-import socket
-import subprocess
 import sys
 import time
 
 import paraview.simple as simple
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ddgtest import start_pvserver, stop_pvserver  # noqa: E402
 
 plugin, testdata, outdir = sys.argv[1:4]
 remote = "--server" in sys.argv[4:]
 outdir = os.path.abspath(os.path.join(outdir, "background_" + ("server" if remote else "builtin")))
 shutil.rmtree(outdir, ignore_errors=True)
 os.makedirs(outdir)
-server = None
-if remote:
-    with socket.socket() as s:
-        s.bind(("localhost", 0))
-        port = s.getsockname()[1]
-    server = subprocess.Popen(
-        ["pvserver", f"--server-port={port}"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-    for line in server.stdout:
-        if "Accepting connection" in line or "Waiting for client" in line:
-            break
-    simple.Connect("localhost", port)
+server = start_pvserver() if remote else None
 simple.LoadPlugin(plugin, remote=remote)
 
 
@@ -159,11 +146,4 @@ try:
     print("ok")
 finally:
     if server:
-        simple.Disconnect()
-        # pvserver 5.11 keeps running after Disconnect (with or without the plugin): stop it
-        server.terminate()
-        rest, _ = server.communicate(timeout=30)
-        if "SIGSEGV" in rest or "SIGABRT" in rest or "Segmentation" in rest:
-            print(rest)
-            raise SystemExit("pvserver crashed")
-        print("pvserver exit status", server.returncode)
+        stop_pvserver(server)

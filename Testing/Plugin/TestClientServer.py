@@ -8,35 +8,17 @@ Usage: pvpython TestClientServer.py PLUGIN DATA
 import base64
 import json
 import os
-import socket
-import subprocess
 import sys
-import time
 
 from paraview import servermanager
 import paraview.simple as simple
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ddgtest import apply_and_render  # noqa: E402
+from ddgtest import apply_and_render, start_pvserver, stop_pvserver  # noqa: E402
 
 plugin, data = sys.argv[1:3]
-with socket.socket() as s:
-    s.bind(("localhost", 0))
-    port = s.getsockname()[1]
-server = subprocess.Popen(
-    ["pvserver", f"--server-port={port}"],
-    stdout=subprocess.PIPE,
-    stderr=subprocess.STDOUT,
-    text=True,
-)
+server = start_pvserver()
 try:
-    deadline = time.time() + 60
-    for line in server.stdout:
-        if "Accepting connection" in line or "Waiting for client" in line:
-            break
-        if time.time() > deadline:
-            raise RuntimeError("pvserver did not start")
-    simple.Connect("localhost", port)
     simple.LoadPlugin(plugin, remote=True)
     reader = simple.XMLImageDataReader(FileName=[os.path.join(data, "Volumes", "neghip.vti")])
     render = simple.DDGVolumeRender(Input=reader)
@@ -90,13 +72,5 @@ try:
     table = servermanager.Fetch(rec)
     assert table.GetNumberOfRows() == 128, table.GetNumberOfRows()
     print("client/server reconstruct ok")
-    simple.Disconnect()
 finally:
-    if server.poll() is None:
-        server.terminate()
-        server.wait(timeout=30)
-    rest = server.stdout.read()
-    if "SIGSEGV" in rest or "SIGABRT" in rest or "Segmentation" in rest:
-        print(rest)
-        raise SystemExit("pvserver crashed")
-    print("pvserver exit status", server.returncode)
+    stop_pvserver(server)

@@ -57,3 +57,45 @@ def apply_and_render(source, preset, view_file, out_png, size=(320, 320)):
     os.remove(out_png)
     simple.Hide(source)
     return bytes_
+
+
+def start_pvserver(timeout=60):
+    """Starts a pvserver on a free loopback port and connects this session to it; returns the
+    server process (stop_pvserver ends it)."""
+    import socket
+    import subprocess
+    import time
+
+    with socket.socket() as s:
+        s.bind(("localhost", 0))
+        port = s.getsockname()[1]
+    server = subprocess.Popen(
+        ["pvserver", f"--server-port={port}"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+    )
+    deadline = time.time() + timeout
+    for line in server.stdout:
+        if "Accepting connection" in line or "Waiting for client" in line:
+            break
+        if time.time() > deadline:
+            server.terminate()
+            raise RuntimeError("pvserver did not start")
+    simple.Connect("localhost", port)
+    return server
+
+
+def stop_pvserver(server):
+    """Disconnects and stops a server of start_pvserver (pvserver 5.11 keeps running after
+    Disconnect); fails when it crashed."""
+    try:
+        simple.Disconnect()
+    finally:
+        if server.poll() is None:
+            server.terminate()
+        rest, _ = server.communicate(timeout=30)
+        if "SIGSEGV" in rest or "SIGABRT" in rest or "Segmentation" in rest:
+            print(rest)
+            raise SystemExit("pvserver crashed")
+        print("pvserver exit status", server.returncode)

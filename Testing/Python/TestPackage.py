@@ -8,7 +8,6 @@ same checks run there (the package loads the plugin on both sides).
 import json
 import os
 import re
-import socket
 import subprocess
 import sys
 import time
@@ -23,21 +22,10 @@ remote = "--server" in sys.argv
 os.makedirs(outdir, exist_ok=True)
 server = None
 if remote:
-    import paraview.simple as simple
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Plugin"))
+    from ddgtest import start_pvserver, stop_pvserver
 
-    with socket.socket() as s:
-        s.bind(("localhost", 0))
-        port = s.getsockname()[1]
-    server = subprocess.Popen(
-        ["pvserver", f"--server-port={port}"],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
-    for line in server.stdout:
-        if "Accepting connection" in line or "Waiting for client" in line:
-            break
-    simple.Connect("localhost", port)
+    server = start_pvserver()
 
 import ddg  # noqa: E402  (loads the plugin, remotely too when connected)
 from paraview.simple import (
@@ -466,12 +454,4 @@ print(
     f"{len(checks)} checks passed in {time.time() - start:.1f} s ({'client/server' if remote else 'builtin'})"
 )
 if server:
-    simple.Disconnect()
-    try:
-        server.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        server.terminate()
-        server.wait(timeout=30)
-    rest = server.stdout.read()
-    assert "SIGSEGV" not in rest and "SIGABRT" not in rest, rest
-    print("pvserver exit status", server.returncode)
+    stop_pvserver(server)

@@ -3,7 +3,9 @@
 Environment: DDG_GUI_CASE ("tooth": the Tooth volume as a Volume representation at
 Data/Views/tooth_oblique.json's camera; "small2d": Testing/Data/small.vti (DDG_TEST_DATA) at
 small_view.json's camera, for a 2D model; "constant": Testing/Data/constant.vti at the same
-camera, a volume no design space can be built for; "sphere": a Sphere source, not a volume),
+camera, a volume no design space can be built for; "sphere": a Sphere source, not a volume;
+"tooth-twin": "tooth" and a second reader of tooth.vti ("twin.vti") shown after it as a volume
+coloured by the same array, Tooth selected),
 DDG_DATA_DIR, DDG_GUI_RECORD (a file that gets one JSON line per change of the volume's colour
 map RGBPoints, starting with the initial one: what the panel wrote, read back from the LUT proxy;
 "tooth" also writes DDG_GUI_RECORD + ".camera", one line per change of the view's
@@ -84,5 +86,10 @@ else:
         open(record + ".camera", "w").close()
         write_camera()
         view.SMProxy.GetProperty("CameraPosition").AddObserver("ModifiedEvent", write_camera)
+    if case == "tooth-twin":  # a second volume after Tooth, sharing its colour map
+        twin = XMLImageDataReader(registrationName="twin.vti", FileName=[path])
+        twin_display = Show(twin, view)
+        twin_display.SetRepresentationType("Volume")
+        ColorBy(twin_display, ("POINTS", array))
     SetActiveSource(volume)
     Render()
