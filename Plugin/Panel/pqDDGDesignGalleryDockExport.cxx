@@ -1,5 +1,5 @@
-// pqDDGDesignGalleryDockExport.cxx: the Design Gallery panel's Apply and its exports (preset,
-// Slicer, history) (pqDDGDesignGalleryDock).
+// pqDDGDesignGalleryDockExport.cxx: the Design Gallery panel's design shown, its Apply and its
+// exports (preset, Slicer, history) (pqDDGDesignGalleryDock).
 #include "pqDDGDesignGalleryDock.h"
 #include "pqDDGDesignState.h"
 #include "pqDDGNavigationPad.h"
@@ -70,6 +70,77 @@ QString renamed(const QString& preset, const QString& name)
   return QString::fromUtf8(doc.toJson(QJsonDocument::Indented));
 }
 } // namespace
+
+// --- the design shown ----------------------------------------------------------------------------
+
+void pqDDGDesignGalleryDock::showDesign()
+{
+  const pqDDGDesignState::Design& d = this->State->design();
+  this->Ui->preview->setPixmap(QPixmap::fromImage(d.Preview));
+  if (d.Position.size() == 2)
+    this->Ui->outline->setSelection(
+      d.Row, QPointF(d.Position[0].toDouble(), d.Position[1].toDouble()));
+  QStringList path;
+  for (const auto& s : this->State->steps())
+    path << s.toObject().value("action").toString();
+  // the query's design: how close it looks to the picture (the match, once run, says more)
+  const auto& steps = this->State->steps();
+  const bool queryDesign = steps.size() == 1 &&
+    steps[0].toObject().value("action").toString() == "latent" &&
+    steps[0].toObject().value("image").toString() == this->State->queryName() &&
+    std::isfinite(this->State->queryPicturePSNR());
+  const QString against = queryDesign
+    ? tr("\nAgainst the picture: %1 dB (framed alike; Match finds its camera)")
+        .arg(this->State->queryPicturePSNR(), 0, 'f', 1)
+    : QString();
+  this->Ui->info->setText(
+    tr("Path: %1%2\nPreview vs. ray cast of its TF: %3 dB, SSIM %4")
+      .arg(path.join(QString::fromUtf8(" \u2192 ")), against)
+      .arg(d.Fidelity.size() >= 2 ? d.Fidelity[0].toDouble() : 0.0, 0, 'f', 1)
+      .arg(d.Fidelity.size() >= 2 ? d.Fidelity[1].toDouble() : 0.0, 0, 'f', 3));
+  this->Ui->info->setToolTip(
+    tr("Against the picture: the query's design against its picture, each cut to its content and "
+       "compared at one size (PSNR; the picture's camera is not known, so a different viewpoint "
+       "lowers it; Match estimates the camera and fits the picture).\nPreview vs. ray cast: the "
+       "network's image of the design against ParaView's way of rendering its TF at this camera."));
+  // colour clusters: what edits act on
+  const int current = this->Ui->cluster->currentIndex();
+  this->Ui->cluster->clear();
+  for (int k = 0; k < d.ClusterColours.size(); ++k)
+  {
+    QPixmap swatch(16, 16);
+    swatch.fill(d.ClusterColours[k]);
+    this->Ui->cluster->addItem(
+      QIcon(swatch), tr("colour %1 (%2 %)").arg(k + 1).arg(std::lround(100 * d.ClusterShares[k])));
+  }
+  if (current >= 0 && current < this->Ui->cluster->count())
+    this->Ui->cluster->setCurrentIndex(current);
+  // feature locks: one per region of the model
+  if (this->Locks.size() != d.Regions.size() / 2)
+  {
+    for (auto* c : this->Locks)
+      delete c;
+    this->Locks.clear();
+    for (int k = 0; k + 1 < d.Regions.size(); k += 2)
+    {
+      auto* box = new QCheckBox(QString::number(k / 2 + 1), this->Ui->locks);
+      box->setObjectName(QString("lock%1").arg(k / 2));
+      box->setToolTip(tr("Keep feature region %1 (values %2 to %3) as it is now")
+                        .arg(k / 2 + 1)
+                        .arg(d.Regions[k].toDouble(), 0, 'g', 4)
+                        .arg(d.Regions[k + 1].toDouble(), 0, 'g', 4));
+      this->Ui->locks->layout()->addWidget(box);
+      QObject::connect(box, &QCheckBox::toggled, this, &pqDDGDesignGalleryDock::lockChanged);
+      this->Locks.push_back(box);
+    }
+  }
+  for (int k = 0; k < this->Locks.size(); ++k) // as the state has them (a volume kept)
+  {
+    this->Locks[k]->blockSignals(true);
+    this->Locks[k]->setChecked(this->State->lockedRegions().contains(k));
+    this->Locks[k]->blockSignals(false);
+  }
+}
 
 // --- apply and export ----------------------------------------------------------------------------
 
