@@ -66,9 +66,10 @@ private:
   void connectState();
   /// Apply's one undo step named `label`: when other volumes share the colour map, asks whether
   /// to give this volume its own (ParaView's separate colour map), recolour them all, or cancel;
-  /// then `write` (the TF, the camera). On an error the step is taken back. Returns the error
-  /// ("" when written; "cancelled" when the user cancelled) and in `note` what the status adds.
-  QString writeToScene(pqDataRepresentation* repr, const QString& label,
+  /// then `write` (the TF, the camera; returns an error or ""). On an error the step is taken
+  /// back. True when written (`note`: what the status adds); otherwise the status already says
+  /// why (cancelled, or the error).
+  bool writeToScene(pqDataRepresentation* repr, const QString& label,
     const std::function<QString()>& write, QString& note);
 
   std::unique_ptr<Ui::pqDDGDesignGalleryDock> Ui;

@@ -144,12 +144,16 @@ void pqDDGDesignGalleryDock::showDesign()
 
 // --- apply and export ----------------------------------------------------------------------------
 
-QString pqDDGDesignGalleryDock::writeToScene(pqDataRepresentation* repr, const QString& label,
+bool pqDDGDesignGalleryDock::writeToScene(pqDataRepresentation* repr, const QString& label,
   const std::function<QString()>& write, QString& note)
 {
   note.clear();
   if (!repr)
-    return tr("there is no representation of the volume in the active view");
+  {
+    this->setStatus(
+      tr("Apply failed: there is no representation of the volume in the active view"), true);
+    return false;
+  }
   const QByteArray array = this->State->array().toUtf8();
   const QStringList users =
     QString::fromStdString(vtkSMDDGScene::SharedColorMapUsers(repr->getProxy(), array.constData()))
@@ -173,7 +177,10 @@ QString pqDDGDesignGalleryDock::writeToScene(pqDataRepresentation* repr, const Q
     box.setDefaultButton(own);
     box.exec();
     if (box.clickedButton() != own && box.clickedButton() != all)
-      return QStringLiteral("cancelled");
+    {
+      this->setStatus(tr("Apply cancelled: the scene is unchanged."));
+      return false;
+    }
     separate = box.clickedButton() == own;
     note = separate ? tr(", now with a colour map of its own (ParaView's separate colour map)")
                     : (users.size() == 1 ? tr(" and to %1, which shares its colour map")
@@ -194,9 +201,12 @@ QString pqDDGDesignGalleryDock::writeToScene(pqDataRepresentation* repr, const Q
     error = write();
   END_UNDO_SET();
   QObject::disconnect(watch);
-  if (!error.isEmpty() && pushed && undo && undo->canUndo())
+  if (error.isEmpty())
+    return true;
+  if (pushed && undo && undo->canUndo())
     undo->undo(); // a part went in (the separate map, the TF): take it back
-  return error;
+  this->setStatus(tr("Apply failed: %1").arg(error), true);
+  return false;
 }
 
 void pqDDGDesignGalleryDock::apply()
@@ -209,7 +219,7 @@ void pqDDGDesignGalleryDock::apply()
   const QString label = twoD ? tr("Apply Design Gallery 2D Transfer Function")
                              : tr("Apply Design Gallery Transfer Function");
   QString note;
-  const QString error = this->writeToScene(
+  const bool written = this->writeToScene(
     repr, label,
     [&]()
     {
@@ -218,16 +228,8 @@ void pqDDGDesignGalleryDock::apply()
         : ddgpanel::applyPreset(repr, this->State->array(), d.Preset, label, false);
     },
     note);
-  if (error == "cancelled")
-  {
-    this->setStatus(tr("Apply cancelled: the scene is unchanged."));
+  if (!written)
     return;
-  }
-  if (!error.isEmpty())
-  {
-    this->setStatus(tr("Apply failed: %1").arg(error), true);
-    return;
-  }
   if (auto* view = pqActiveObjects::instance().activeView())
     view->render();
   if (twoD)

@@ -147,7 +147,7 @@ void pqDDGDesignGalleryDock::applyMatch()
   // nothing is recorded and the scene stays as it was)
   const QString label = tr("Apply Design Gallery Match");
   QString note;
-  const QString error = this->writeToScene(
+  const bool written = this->writeToScene(
     repr, label,
     [&]()
     {
@@ -159,16 +159,8 @@ void pqDDGDesignGalleryDock::applyMatch()
       return e;
     },
     note);
-  if (error == "cancelled")
-  {
-    this->setStatus(tr("Apply cancelled: the scene is unchanged."));
+  if (!written)
     return;
-  }
-  if (!error.isEmpty())
-  {
-    this->setStatus(tr("Apply failed: %1").arg(error), true);
-    return;
-  }
   if (view)
     view->render();
   this->setStatus(tr("Applied the match to '%1'%2%3 (Edit > Undo takes it back).")
