@@ -10,6 +10,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <tuple>
 
 namespace ddg
 {
@@ -29,6 +30,43 @@ Eigen::Vector3d vec3(const json& j, const char* key, const std::string& origin)
     throw Error(origin + ": camera \"" + key + "\" must be three numbers");
   }
   return { a[0].get<double>(), a[1].get<double>(), a[2].get<double>() };
+}
+
+// "lighting": every key optional (ParaView's default), no other key (a typo would silently
+// render unlit or with the default coefficients).
+Lighting parseLighting(const json& l, const std::string& origin)
+{
+  if (!l.is_object())
+  {
+    throw Error(origin + ": \"lighting\" must be an object");
+  }
+  Lighting out;
+  for (const auto& [key, value] : l.items())
+  {
+    if (key == "shade")
+    {
+      if (!value.is_boolean() && !value.is_number_integer())
+        throw Error(origin + ": lighting \"shade\" must be true or false");
+      out.shade = value.is_boolean() ? value.get<bool>() : value.get<int>() != 0;
+      continue;
+    }
+    double* target = key == "ambient" ? &out.ambient
+      : key == "diffuse"              ? &out.diffuse
+      : key == "specular"             ? &out.specular
+      : key == "specular_power"       ? &out.specularPower
+                                      : nullptr;
+    if (!target)
+    {
+      throw Error(origin + ": unknown lighting key \"" + key +
+        "\" (known: shade, ambient, diffuse, specular, specular_power)");
+    }
+    if (!value.is_number())
+    {
+      throw Error(origin + ": lighting \"" + key + "\" must be a number");
+    }
+    *target = value.get<double>();
+  }
+  return out;
 }
 
 bool finite(const Eigen::Vector3d& v)
@@ -83,6 +121,19 @@ void View::validate() const
   if (opacityUnitDistance && !(*opacityUnitDistance > 0 && std::isfinite(*opacityUnitDistance)))
   {
     throw Error("opacity_unit_distance must be positive");
+  }
+  const Lighting& l = lighting;
+  for (auto [name, value, top] : { std::tuple{ "ambient", l.ambient, 1.0 },
+         std::tuple{ "diffuse", l.diffuse, 1.0 }, std::tuple{ "specular", l.specular, 1.0 },
+         std::tuple{ "specular_power", l.specularPower, 100.0 } })
+  {
+    if (!(value >= 0.0 && value <= top))
+    {
+      std::ostringstream msg;
+      msg << "lighting \"" << name << "\" must lie in [0, " << top << "] as in ParaView, got "
+          << value;
+      throw Error(msg.str());
+    }
   }
 }
 
@@ -140,6 +191,10 @@ View parseView(const std::string& jsonText, const std::string& origin)
     {
       v.opacityUnitDistance = j["opacity_unit_distance"].get<double>();
     }
+    if (j.contains("lighting") && !j["lighting"].is_null())
+    {
+      v.lighting = parseLighting(j["lighting"], origin);
+    }
   }
   catch (const json::exception& e)
   {
@@ -182,6 +237,12 @@ std::string viewToJson(const View& v)
   if (v.opacityUnitDistance)
   {
     j["opacity_unit_distance"] = *v.opacityUnitDistance;
+  }
+  if (v.lighting != Lighting{})
+  {
+    const Lighting& l = v.lighting;
+    j["lighting"] = { { "shade", l.shade }, { "ambient", l.ambient }, { "diffuse", l.diffuse },
+      { "specular", l.specular }, { "specular_power", l.specularPower } };
   }
   return j.dump(2) + "\n";
 }

@@ -24,12 +24,33 @@ struct Camera
   double parallelScale = 1.0; ///< half the viewport height in world units (parallel)
 };
 
+/// ParaView's volume lighting: the Volume representation's Shade, Ambient, Diffuse, Specular and
+/// SpecularPower, lit by the render view's default light kit (which follows the camera).
+/// Defaults are ParaView 5.11's: Shade off, Ambient 0, Diffuse 1, Specular 0, SpecularPower 100.
+struct Lighting
+{
+  bool shade = false;
+  double ambient = 0.0;
+  double diffuse = 1.0;
+  double specular = 0.0;
+  double specularPower = 100.0;
+
+  bool operator==(const Lighting& o) const
+  {
+    return shade == o.shade && ambient == o.ambient && diffuse == o.diffuse &&
+      specular == o.specular && specularPower == o.specularPower;
+  }
+  bool operator!=(const Lighting& o) const { return !(*this == o); }
+};
+
 /// What to render and how: the view JSON
 ///   { "camera": { "position": [x,y,z], "focal_point": [x,y,z], "view_up": [x,y,z],
 ///                 "view_angle": 30, "parallel_projection": false, "parallel_scale": 1 },
 ///     "size": [width, height], "background": [r, g, b],
 ///     "background2": [r, g, b],             (optional: ParaView's gradient background)
-///     "opacity_unit_distance": d }          (optional: ParaView's default for the volume)
+///     "opacity_unit_distance": d,           (optional: ParaView's default for the volume)
+///     "lighting": { "shade": true, "ambient": 0, "diffuse": 1, "specular": 0,
+///                   "specular_power": 100 } }   (optional, each key optional: ParaView's)
 /// Defaults: view_angle 30, parallel_projection false, parallel_scale 1, size [512, 512],
 /// background [0.329, 0.349, 0.427] (pvpython's). position, focal_point, view_up are required.
 struct View
@@ -42,6 +63,7 @@ struct View
   /// `background` that of the bottom row, linear in between. Unset: one colour.
   std::optional<std::array<double, 3>> background2;
   std::optional<double> opacityUnitDistance;
+  Lighting lighting;
 
   /// The background colour of image row `row` (0 = top row, as images are stored).
   std::array<double, 3> backgroundAt(int row) const;
@@ -49,7 +71,8 @@ struct View
   /// Throws ddg::Error for a degenerate camera (position == focal point, view_up parallel to
   /// the view direction or zero, view angle outside (0, 180), parallel scale <= 0, anything
   /// non-finite), an image size outside [1, 16384] per side or above 64 Mpixel, a background
-  /// (or background2) outside [0, 1], or an opacity unit distance <= 0.
+  /// (or background2) outside [0, 1], an opacity unit distance <= 0, or lighting coefficients
+/// outside ParaView's ranges (ambient, diffuse, specular in [0, 1], specular power in [0, 100]).
   void validate() const;
 };
 

@@ -49,6 +49,44 @@ TEST(View, RejectsDegenerateCamerasAndSizes)
   EXPECT_THROW(parseView("{" + cam + R"(, "opacity_unit_distance": -1})"), Error);
 }
 
+TEST(View, LightingDefaultsRoundTripAndErrors)
+{
+  const std::string cam =
+    R"("camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0], "view_up": [0, 1, 0]})";
+  // ParaView's defaults, and no "lighting" written for them (existing view files stay as they are)
+  const View plain = parseView("{" + cam + "}");
+  EXPECT_FALSE(plain.lighting.shade);
+  EXPECT_EQ(plain.lighting.ambient, 0.0);
+  EXPECT_EQ(plain.lighting.diffuse, 1.0);
+  EXPECT_EQ(plain.lighting.specular, 0.0);
+  EXPECT_EQ(plain.lighting.specularPower, 100.0);
+  EXPECT_EQ(viewToJson(plain).find("lighting"), std::string::npos);
+  // each key optional; a round trip keeps them
+  const View lit = parseView("{" + cam + R"(, "lighting": {"shade": true, "specular": 0.5, "specular_power": 30}})");
+  EXPECT_TRUE(lit.lighting.shade);
+  EXPECT_EQ(lit.lighting.diffuse, 1.0);
+  EXPECT_EQ(lit.lighting.specular, 0.5);
+  EXPECT_EQ(lit.lighting.specularPower, 30.0);
+  EXPECT_TRUE(parseView(viewToJson(lit)).lighting == lit.lighting);
+  EXPECT_TRUE(parseView("{" + cam + R"(, "lighting": {"shade": 1}})").lighting.shade);
+  // unknown keys, wrong types and ParaView's ranges
+  for (const char* bad : { R"({"shade": true, "specularpower": 30})", R"({"shade": "yes"})",
+         R"({"diffuse": 1.5})", R"({"ambient": -0.1})", R"({"specular_power": 128})",
+         R"({"specular": "0.5"})", "[1, 2]" })
+  {
+    EXPECT_THROW(parseView("{" + cam + R"(, "lighting": )" + bad + "}"), Error) << bad;
+  }
+  try
+  {
+    parseView("{" + cam + R"(, "lighting": {"shade": true, "speculr": 0.5}})");
+    FAIL();
+  }
+  catch (const Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("unknown lighting key \"speculr\""), std::string::npos);
+  }
+}
+
 TEST(RayGenerator, PerspectiveAndParallelConventions)
 {
   View v;
