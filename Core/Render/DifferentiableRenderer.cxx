@@ -395,6 +395,11 @@ struct DifferentiableRendererT<S>::Internals
   Setup setup(const View& view, const RenderOptions& opt) const
   {
     view.validate();
+    if (view.lighting.shade)
+    {
+      throw Error("the differentiable renderer does not light yet: a view with Shade on can be "
+                  "rendered (ddg render) but not reconstructed or matched");
+    }
     Setup s;
     const Volume& vol = Caster.volume();
     const auto b = vol.bounds();

@@ -2,6 +2,7 @@
 #include "Render/RayCaster.h"
 
 #include "Common/Parallel.h"
+#include "Render/Lighting.h"
 #include "Render/RaySegment.h"
 
 #include <algorithm>
@@ -214,6 +215,9 @@ struct RayCaster::Internals
   Field<float> F32;
   std::once_flag GradientOnce;
   Field<float> Gradient; // gradient magnitude, for 2D tables
+  std::once_flag NormalOnce;
+  std::vector<float> Normals; // lighting: per point, the scaled central differences (x, y, z)
+  const std::vector<float>& lightingGradients(); // Normals, computed on first use
 
   // Calls f(field) with the field of the volume's storage type.
   template <typename F>
@@ -421,6 +425,127 @@ struct Classify2D
 
 constexpr int kBatch = 8; // samples interpolated together along a ray
 
+// The gradient ParaView's shader computes for lighting, per point: the central difference
+// (clamped at the faces, as the texture is) times N/(N-1) — the shader's offset of one cell in
+// texture coordinates is N/(N-1) voxels — divided by the spacing. Interpolated trilinearly at a
+// sample, it gives the shader's difference of two interpolated values up to the offset's
+// N/(N-1) - 1 (exact for fields linear over the two cells). 12 bytes per point.
+std::vector<float> lightingGradients(const Volume& vol)
+{
+  const auto& d = vol.dims();
+  const auto& sp = vol.spacing();
+  const auto& v = vol.values();
+  const int nx = d[0], ny = d[1], nz = d[2];
+  double scale[3];
+  for (int a = 0; a < 3; ++a)
+    scale[a] = static_cast<double>(d[a]) / ((d[a] - 1) * sp[a]);
+  std::vector<float> g(v.size() * 3);
+  parallelFor(nz, 0,
+    [&](std::int64_t k64, int)
+    {
+      const int k = static_cast<int>(k64);
+      const int k0 = std::max(k - 1, 0), k1 = std::min(k + 1, nz - 1);
+      for (int j = 0; j < ny; ++j)
+      {
+        const int j0 = std::max(j - 1, 0), j1 = std::min(j + 1, ny - 1);
+        for (int i = 0; i < nx; ++i)
+        {
+          const int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, nx - 1);
+          auto at = [&](int x, int y, int z)
+          {
+            return static_cast<double>(v[static_cast<size_t>(x) +
+              static_cast<size_t>(nx) * (y + static_cast<size_t>(ny) * z)]);
+          };
+          float* o = &g[3 *
+            (static_cast<size_t>(i) + static_cast<size_t>(nx) * (j + static_cast<size_t>(ny) * k))];
+          o[0] = static_cast<float>((at(i1, j, k) - at(i0, j, k)) * scale[0]);
+          o[1] = static_cast<float>((at(i, j1, k) - at(i, j0, k)) * scale[1]);
+          o[2] = static_cast<float>((at(i, j, k1) - at(i, j, k0)) * scale[2]);
+        }
+      }
+    });
+  return g;
+}
+
+// Trilinear interpolation of the three interleaved components at index coordinates (clamped).
+inline void sampleGradient(
+  const float* g, int nx, int ny, int nz, float x, float y, float z, float out[3])
+{
+  x = std::clamp(x, 0.0f, static_cast<float>(nx - 1));
+  y = std::clamp(y, 0.0f, static_cast<float>(ny - 1));
+  z = std::clamp(z, 0.0f, static_cast<float>(nz - 1));
+  const int i = std::min(static_cast<int>(x), nx - 2);
+  const int j = std::min(static_cast<int>(y), ny - 2);
+  const int k = std::min(static_cast<int>(z), nz - 2);
+  const float fx = x - i, fy = y - j, fz = z - k;
+  const size_t sy = 3 * static_cast<size_t>(nx), sz = sy * ny;
+  const float* p =
+    g + 3 * (static_cast<size_t>(i) + static_cast<size_t>(nx) * (j + static_cast<size_t>(ny) * k));
+  for (int a = 0; a < 3; ++a)
+  {
+    const float c00 = p[a] + fx * (p[3 + a] - p[a]);
+    const float c10 = p[sy + a] + fx * (p[sy + 3 + a] - p[sy + a]);
+    const float c01 = p[sz + a] + fx * (p[sz + 3 + a] - p[sz + a]);
+    const float c11 = p[sz + sy + a] + fx * (p[sz + sy + 3 + a] - p[sz + sy + a]);
+    const float c0 = c00 + fy * (c10 - c00);
+    const float c1 = c01 + fy * (c11 - c01);
+    out[a] = c0 + fz * (c1 - c0);
+  }
+}
+
+// Lighting of one render: the light kit, and the maps from a sample's index coordinates to its
+// eye-space normal direction (m = E (.) R g, VTK's untransposed texture-to-eye matrix) and
+// position (VTK's P_eye, from texture coordinates).
+struct SampleLighting
+{
+  LightKit kit;
+  const float* gradients = nullptr;
+  int nx = 0, ny = 0, nz = 0;
+  float normalMap[3][3];                      // m = normalMap g
+  float positionMap[3][3], positionOffset[3]; // P_eye = positionMap c + positionOffset
+
+  void setup(const Volume& vol, const std::vector<float>& g, const View& view)
+  {
+    kit = LightKit::paraview(view.lighting);
+    gradients = g.data();
+    const auto& d = vol.dims();
+    nx = d[0];
+    ny = d[1];
+    nz = d[2];
+    const RayGenerator rays(view);
+    const Eigen::Vector3d rows[3] = { rays.right(), rays.up(), -rays.forward() };
+    Eigen::Vector3d extent, camera = view.camera.position;
+    for (int a = 0; a < 3; ++a)
+      extent[a] = (d[a] - 1) * vol.spacing()[a];
+    for (int r = 0; r < 3; ++r)
+    {
+      double offset = 0;
+      for (int a = 0; a < 3; ++a)
+      {
+        normalMap[r][a] = static_cast<float>(extent[r] * rows[r][a]);
+        // world' = origin + extent (c + 0.5) / N: the texture coordinate, not the point's
+        positionMap[r][a] = static_cast<float>(rows[r][a] * extent[a] / d[a]);
+        offset += rows[r][a] * (vol.origin()[a] + extent[a] * 0.5 / d[a] - camera[a]);
+      }
+      positionOffset[r] = static_cast<float>(offset);
+    }
+  }
+
+  // Lights the table colour of the sample at index coordinates (x, y, z).
+  void shade(float x, float y, float z, float rgb[3]) const
+  {
+    float g[3], m[3], p[3];
+    sampleGradient(gradients, nx, ny, nz, x, y, z, g);
+    for (int r = 0; r < 3; ++r)
+    {
+      m[r] = normalMap[r][0] * g[0] + normalMap[r][1] * g[1] + normalMap[r][2] * g[2];
+      p[r] =
+        positionMap[r][0] * x + positionMap[r][1] * y + positionMap[r][2] * z + positionOffset[r];
+    }
+    shadeSample(kit, m, p, rgb);
+  }
+};
+
 // Front-to-back "over" of one classified sample; returns true when the ray is opaque enough.
 inline bool composite(const RGBA& c, float& cr, float& cg, float& cb, float& ca, float termination)
 {
@@ -498,6 +623,7 @@ struct March
   const Field<float>* gradient = nullptr; // 2D only
   const Classify1D* c1 = nullptr;
   const Classify2D* c2 = nullptr;
+  const SampleLighting* light = nullptr; // Shade on
   std::vector<char> blockEmpty;
   std::vector<char> superEmpty; // kSuper^3 blocks, empty when all of them are
   int superX = 1, superY = 1, superZ = 1;
@@ -637,7 +763,16 @@ struct March
           const int n = static_cast<int>(std::min<std::int64_t>(kBatch, kEnd - k));
           for (int l = 0; l < n; ++l)
           {
-            const RGBA c = c1->lookup(value[l]);
+            RGBA c = c1->lookup(value[l]);
+            if (light && c.a > 0.0f)
+            {
+              const float kk = j + static_cast<float>(k + l);
+              float rgb[3] = { c.r, c.g, c.b };
+              light->shade(ex + kk * sx, ey + kk * sy, ez + kk * sz, rgb);
+              c.r = rgb[0];
+              c.g = rgb[1];
+              c.b = rgb[2];
+            }
             if (c.a > 0.0f && composite(c, cr, cg, cb, ca, termination))
             {
               stats.samples -= kEnd - (k + l) - 1;
@@ -765,6 +900,12 @@ struct March
 
 } // namespace
 
+const std::vector<float>& RayCaster::Internals::lightingGradients()
+{
+  std::call_once(NormalOnce, [this] { Normals = ddg::lightingGradients(Vol); });
+  return Normals;
+}
+
 Image RayCaster::render(const TransferTable1D& table, const View& view,
   const RenderOptions& options, const ProgressCallback& progress, RenderStats* stats) const
 {
@@ -784,6 +925,12 @@ Image RayCaster::render(const TransferTable1D& table, const View& view,
         m.blockEmpty[i] = !c.anyOpaque(field.blockMin[i], field.blockMax[i]);
       }
       m.buildSuperLevel();
+      SampleLighting lighting;
+      if (view.lighting.shade)
+      {
+        lighting.setup(In->Vol, In->lightingGradients(), view);
+        m.light = &lighting;
+      }
       return m.template run<false>(view, options.threads, progress, stats);
     });
 }
@@ -793,6 +940,11 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
 {
   view.validate();
   table.validate();
+  if (view.lighting.shade)
+  {
+    throw Error("Shade with a 2D transfer function is not rendered yet: turn Shade off in the "
+                "view's \"lighting\" or use a 1D transfer function");
+  }
   std::call_once(In->GradientOnce,
     [this]
     {

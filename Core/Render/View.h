@@ -72,7 +72,7 @@ struct View
   /// the view direction or zero, view angle outside (0, 180), parallel scale <= 0, anything
   /// non-finite), an image size outside [1, 16384] per side or above 64 Mpixel, a background
   /// (or background2) outside [0, 1], an opacity unit distance <= 0, or lighting coefficients
-/// outside ParaView's ranges (ambient, diffuse, specular in [0, 1], specular power in [0, 100]).
+  /// outside ParaView's ranges (ambient, diffuse, specular in [0, 1], specular power in [0, 100]).
   void validate() const;
 };
 

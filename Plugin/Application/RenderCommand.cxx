@@ -76,7 +76,8 @@ ddg::cli::Command ddg::cli::addRenderCommand(CLI::App& app)
   render->add_option("--tf", ra->tf, "Transfer function file (ParaView preset JSON or DDG 2D JSON)")
     ->required();
   render
-    ->add_option("--view", ra->view, "View JSON (camera, size, background, opacity_unit_distance)")
+    ->add_option(
+      "--view", ra->view, "View JSON (camera, size, background, opacity_unit_distance, lighting)")
     ->required();
   render->add_option("--out", ra->out, "Output image (.png, .jpg, .tif, .exr, ...)")->required();
   render->add_option("--array", ra->array, "Point array to render (default: the active scalars)");

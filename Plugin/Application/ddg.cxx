@@ -16,7 +16,9 @@ int main(int argc, char** argv)
     "            {\"Format\": \"ddg-transfer-function-2d\", ...}\n"
     "  view file {\"camera\": {\"position\", \"focal_point\", \"view_up\", \"view_angle\",\n"
     "            \"parallel_projection\", \"parallel_scale\"}, \"size\": [w,h],\n"
-    "            \"background\": [r,g,b], \"opacity_unit_distance\": d (optional)}\n"
+    "            \"background\": [r,g,b], \"opacity_unit_distance\": d (optional),\n"
+    "            \"lighting\": {\"shade\", \"ambient\", \"diffuse\", \"specular\",\n"
+    "            \"specular_power\"} (optional; ParaView's Shade and coefficients)}\n"
     "  volumes   .vti .vtk .nrrd .nhdr .mha .mhd .nii .nii.gz, or raw(.gz) + JSON sidecar",
     "ddg"
   };

@@ -103,6 +103,90 @@ Image referenceRender(const Volume& volume, const TransferTable1D& table, const 
     });
 }
 
+Image referenceRenderLit(const Volume& volume, const TransferTable1D& table, const View& view,
+  double d, double unit, double offset, double termination)
+{
+  TransferTable1D t = table;
+  for (int i = 0; i < t.width; ++i)
+  {
+    t.rgba[4 * i + 3] = static_cast<float>(corrected(t.rgba[4 * i + 3], d / unit));
+  }
+  const double q = RayCaster::textureScale(volume.originalType());
+  const RayGenerator rays(view);
+  const Eigen::Vector3d eye[3] = { rays.right(), rays.up(), -rays.forward() };
+  const auto& n = volume.dims();
+  const auto& s = volume.spacing();
+  const auto& o = volume.origin();
+  // ParaView's light kit: (elevation, azimuth, intensity, warmth colour); the head light first
+  struct L
+  {
+    double e, a, i, c[3];
+    bool head;
+  };
+  const L lights[5] = { { 0, 0, 0.25, { 0.9998, 0.9998, 0.9998 }, true },
+    { 50, 10, 0.75, { 1, 0.97232, 0.90222 }, false },
+    { -75, -10, 0.25, { 0.90824, 0.93314, 1 }, false },
+    { 0, 110, 0.75 / 3.5, { 0.9998, 0.9998, 0.9998 }, false },
+    { 0, -110, 0.75 / 3.5, { 0.9998, 0.9998, 0.9998 }, false } };
+  const Lighting& lit = view.lighting;
+  return march(volume, view, d, offset, termination,
+    [&](const Eigen::Vector3d& p)
+    {
+      const auto c = t.lookup(q * volume.sampleWorld(p[0], p[1], p[2]));
+      std::array<double, 4> out{ c[0], c[1], c[2], c[3] };
+      if (!(out[3] > 0))
+        return out;
+      Eigen::Vector3d g, m, pe;
+      for (int k = 0; k < 3; ++k)
+      {
+        Eigen::Vector3d step = Eigen::Vector3d::Zero();
+        step[k] = s[k] * n[k] / (n[k] - 1.0);
+        const Eigen::Vector3d a = p + step, b = p - step;
+        g[k] =
+          q * (volume.sampleWorld(a[0], a[1], a[2]) - volume.sampleWorld(b[0], b[1], b[2])) / s[k];
+      }
+      Eigen::Vector3d tex; // the sample's world position through its texture coordinate
+      for (int k = 0; k < 3; ++k)
+      {
+        const double c01 = ((p[k] - o[k]) / s[k] + 0.5) / n[k];
+        tex[k] = o[k] + (n[k] - 1) * s[k] * c01;
+      }
+      for (int r = 0; r < 3; ++r)
+      {
+        m[r] = (n[r] - 1) * s[r] * eye[r].dot(g); // VTK's untransposed texture-to-eye matrix
+        pe[r] = eye[r].dot(tex - view.camera.position);
+      }
+      double rgb[3] = { 0, 0, 0 };
+      if (m.norm() > 0)
+      {
+        const Eigen::Vector3d nn = m.normalized(), w = pe.normalized();
+        double diff[3] = { 0, 0, 0 }, spec[3] = { 0, 0, 0 };
+        for (const L& l : lights)
+        {
+          const double e = l.e * M_PI / 180, az = l.a * M_PI / 180;
+          const Eigen::Vector3d dir = l.head ? Eigen::Vector3d(0, 0, -1)
+                                             : Eigen::Vector3d(-std::cos(e) * std::sin(az),
+                                                 -std::sin(e), -std::cos(e) * std::cos(az));
+          const double lambda = std::abs(nn.dot(dir));
+          if (!(lambda > 0))
+            continue;
+          const double rho = (2 * lambda * nn - dir).normalized().dot(w);
+          for (int ch = 0; ch < 3; ++ch)
+          {
+            diff[ch] += lambda * l.i * l.c[ch];
+            if (rho > 0)
+              spec[ch] += std::pow(rho, lit.specularPower) * l.i * l.c[ch];
+          }
+        }
+        for (int ch = 0; ch < 3; ++ch)
+          rgb[ch] = std::clamp(
+            lit.diffuse * diff[ch] * std::clamp(out[ch], 0.0, 1.0) + lit.specular * spec[ch], 0.0,
+            1.0);
+      }
+      return std::array<double, 4>{ rgb[0], rgb[1], rgb[2], out[3] };
+    });
+}
+
 Image referenceRender2D(const Volume& volume, const TransferTable2D& table, const View& view,
   double d, double unit, double offset, double termination)
 {

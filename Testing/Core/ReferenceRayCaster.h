@@ -13,6 +13,13 @@ namespace ddg::reference
 Image referenceRender(const Volume& volume, const TransferTable1D& table, const View& view,
   double sampleDistance, double unitDistance, double offset, double terminationOpacity);
 
+/// The same with Shade on (view.lighting), written from the shader's definitions in double: the
+/// gradient as two trilinear samples N/(N-1) voxels either side per axis over the spacing, VTK's
+/// eye-space normal, the light kit from its elevations, azimuths, intensities and warmth colours,
+/// two-sided Phong, clamp (Documentation/Rendering.md, "Shade on").
+Image referenceRenderLit(const Volume& volume, const TransferTable1D& table, const View& view,
+  double sampleDistance, double unitDistance, double offset, double terminationOpacity);
+
 /// The same with a 2D table (value x gradient magnitude).
 Image referenceRender2D(const Volume& volume, const TransferTable2D& table, const View& view,
   double sampleDistance, double unitDistance, double offset, double terminationOpacity);

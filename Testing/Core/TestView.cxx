@@ -62,7 +62,8 @@ TEST(View, LightingDefaultsRoundTripAndErrors)
   EXPECT_EQ(plain.lighting.specularPower, 100.0);
   EXPECT_EQ(viewToJson(plain).find("lighting"), std::string::npos);
   // each key optional; a round trip keeps them
-  const View lit = parseView("{" + cam + R"(, "lighting": {"shade": true, "specular": 0.5, "specular_power": 30}})");
+  const View lit = parseView(
+    "{" + cam + R"(, "lighting": {"shade": true, "specular": 0.5, "specular_power": 30}})");
   EXPECT_TRUE(lit.lighting.shade);
   EXPECT_EQ(lit.lighting.diffuse, 1.0);
   EXPECT_EQ(lit.lighting.specular, 0.5);
@@ -70,9 +71,9 @@ TEST(View, LightingDefaultsRoundTripAndErrors)
   EXPECT_TRUE(parseView(viewToJson(lit)).lighting == lit.lighting);
   EXPECT_TRUE(parseView("{" + cam + R"(, "lighting": {"shade": 1}})").lighting.shade);
   // unknown keys, wrong types and ParaView's ranges
-  for (const char* bad : { R"({"shade": true, "specularpower": 30})", R"({"shade": "yes"})",
-         R"({"diffuse": 1.5})", R"({"ambient": -0.1})", R"({"specular_power": 128})",
-         R"({"specular": "0.5"})", "[1, 2]" })
+  for (const char* bad :
+    { R"({"shade": true, "specularpower": 30})", R"({"shade": "yes"})", R"({"diffuse": 1.5})",
+      R"({"ambient": -0.1})", R"({"specular_power": 128})", R"({"specular": "0.5"})", "[1, 2]" })
   {
     EXPECT_THROW(parseView("{" + cam + R"(, "lighting": )" + bad + "}"), Error) << bad;
   }

@@ -1,7 +1,9 @@
 """Parity of `ddg render` with ParaView's own volume rendering.
 
 What is compared with what: for every (volume, preset, view) case, ParaView 5.11 renders the
-volume (Volume representation, default "Smart" mapper = GPU ray caster under Mesa, no shading,
+volume (Volume representation, default "Smart" mapper = GPU ray caster under Mesa, Shade as
+--lighting says (off by default; on with ParaView's default light kit and coefficients, or with
+Specular 0.5 / SpecularPower 30),
 the preset written into the LookupTable / ScalarOpacityFunction, the camera from the view
 JSON) and saves a screenshot; `ddg render` renders the same volume, preset and view JSON. The
 two 8-bit RGB images are compared with `ddg compare` (PSNR over RGB, SSIM).
@@ -28,6 +30,12 @@ DEFAULT_CASES = [
     ("headsq", "headsq_bone"),
 ]
 DEFAULT_VIEWS = ["oblique", "side"]
+# --lighting: the view JSON's "lighting" (Shade and the coefficients ParaView is given too)
+LIGHTINGS = {
+    "off": None,
+    "shade": {"shade": True},
+    "shade-specular": {"shade": True, "specular": 0.5, "specular_power": 30},
+}
 
 
 def main():
@@ -43,10 +51,17 @@ def main():
     parser.add_argument(
         "--ddg-arg", action="append", default=[], help="extra argument for ddg render"
     )
+    parser.add_argument(
+        "--lighting",
+        action="append",
+        choices=sorted(LIGHTINGS),
+        help="lighting of every case (repeatable; default: off)",
+    )
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     cases = [tuple(c.split(":")) for c in args.case] if args.case else DEFAULT_CASES
     views = args.view or DEFAULT_VIEWS
+    lightings = args.lighting or ["off"]
 
     rows, failed = [], 0
     for volume, preset_name in cases:
@@ -54,11 +69,17 @@ def main():
         preset_path = os.path.join(args.data, "TransferFunctions", preset_name + ".json")
         with open(preset_path) as f:
             preset = json.load(f)[0]
-        for view_name in views:
+        for view_name, lighting in [(v, li) for v in views for li in lightings]:
             view_path = os.path.join(args.data, "Views", f"{volume}_{view_name}.json")
             with open(view_path) as f:
                 view_json = json.load(f)
-            stem = os.path.join(args.out, f"{preset_name}_{view_name}")
+            suffix = "" if lighting == "off" else "_" + lighting
+            stem = os.path.join(args.out, f"{preset_name}_{view_name}{suffix}")
+            if LIGHTINGS[lighting]:
+                view_json["lighting"] = LIGHTINGS[lighting]
+                view_path = stem + "_view.json"
+                with open(view_path, "w") as f:
+                    json.dump(view_json, f)
             paraview_render(volume_path, preset, view_json, stem + "_paraview.png")
             subprocess.run(
                 [
@@ -86,16 +107,20 @@ def main():
             metrics = json.loads(result.stdout)
             ok = metrics["psnr"] >= args.min_psnr
             failed += 0 if ok else 1
-            rows.append((volume, preset_name, view_name, metrics["psnr"], metrics["ssim"], ok))
+            rows.append(
+                (volume, preset_name, view_name, lighting, metrics["psnr"], metrics["ssim"], ok)
+            )
             print(
-                f"{volume:8s} {preset_name:22s} {view_name:8s} PSNR {metrics['psnr']:6.2f} dB  "
-                f"SSIM {metrics['ssim']:.5f}  {'ok' if ok else 'FAIL'}",
+                f"{volume:8s} {preset_name:22s} {view_name:8s} {lighting:14s} "
+                f"PSNR {metrics['psnr']:6.2f} dB  SSIM {metrics['ssim']:.5f}  "
+                f"{'ok' if ok else 'FAIL'}",
                 flush=True,
             )
     with open(os.path.join(args.out, "parity.md"), "w") as f:
-        f.write("| volume | preset | view | PSNR (dB) | SSIM |\n|---|---|---|---|---|\n")
+        f.write("| volume | preset | view | lighting | PSNR (dB) | SSIM |\n")
+        f.write("|---|---|---|---|---|---|\n")
         for r in rows:
-            f.write(f"| {r[0]} | {r[1]} | {r[2]} | {r[3]:.2f} | {r[4]:.5f} |\n")
+            f.write(f"| {r[0]} | {r[1]} | {r[2]} | {r[3]} | {r[4]:.2f} | {r[5]:.5f} |\n")
     print(f"{len(rows) - failed}/{len(rows)} cases at or above {args.min_psnr} dB")
     sys.exit(1 if failed else 0)
 

@@ -27,7 +27,13 @@ def paraview_render(volume_path, preset, view_json, out_png, boxes_2d=None):
     array = reader.PointData.keys()[0]
     ColorBy(display, ("POINTS", array))
     display.SetRepresentationType("Volume")
-    display.Shade = 0
+    # the view JSON's "lighting" (ParaView's defaults for the keys it leaves out)
+    lighting = view_json.get("lighting") or {}
+    display.Shade = int(bool(lighting.get("shade", False)))
+    display.Ambient = lighting.get("ambient", 0.0)
+    display.Diffuse = lighting.get("diffuse", 1.0)
+    display.Specular = lighting.get("specular", 0.0)
+    display.SpecularPower = lighting.get("specular_power", 100.0)
     lut = GetColorTransferFunction(array)
     pwf = GetOpacityTransferFunction(array)
     lut.AutomaticRescaleRangeMode = "Never"

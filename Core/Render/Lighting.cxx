@@ -1,0 +1,54 @@
+// Lighting.cxx: ParaView's default light kit in eye coordinates.
+#include "Render/Lighting.h"
+
+#include <cmath>
+
+namespace ddg
+{
+
+LightKit LightKit::paraview(const Lighting& lighting)
+{
+  // vtkLightKit's defaults, as ParaView's render view sets them (UseLight on, no other light):
+  // key intensity 0.75, warmth 0.6, elevation 50, azimuth 10; fill key/3, warmth 0.4, -75, -10;
+  // two back lights key/3.5, warmth 0.5, 0, +-110; head light key/3, warmth 0.5. The colours
+  // are vtkLightKit's warmth table at those warmths (read back from ParaView 5.11's lights).
+  struct Source
+  {
+    double elevation, azimuth, intensity;
+    std::array<float, 3> warmth;
+    bool head;
+  };
+  const double key = 0.75;
+  const std::array<float, 3> neutral{ 0.9998f, 0.9998f, 0.9998f };
+  const Source lights[kLights] = { { 0, 0, key / 3, neutral, true },
+    { 50, 10, key, { 1.0f, 0.97232f, 0.90222f }, false },
+    { -75, -10, key / 3, { 0.90824f, 0.93314f, 1.0f }, false },
+    { 0, 110, key / 3.5, neutral, false }, { 0, -110, key / 3.5, neutral, false } };
+  LightKit kit;
+  for (int i = 0; i < kLights; ++i)
+  {
+    const Source& s = lights[i];
+    auto& d = kit.direction[static_cast<size_t>(i)];
+    if (s.head)
+    {
+      d = { 0.0f, 0.0f, -1.0f }; // along the view direction
+    }
+    else
+    {
+      // vtkLight::SetDirectionAngle: position (cos e sin a, sin e, cos e cos a) in camera
+      // coordinates, focal point at the origin; the direction points from the light
+      const double e = s.elevation * M_PI / 180, a = s.azimuth * M_PI / 180;
+      d = { static_cast<float>(-std::cos(e) * std::sin(a)), static_cast<float>(-std::sin(e)),
+        static_cast<float>(-std::cos(e) * std::cos(a)) };
+    }
+    for (int c = 0; c < 3; ++c)
+      kit.colour[static_cast<size_t>(i)][static_cast<size_t>(c)] =
+        static_cast<float>(s.intensity * s.warmth[static_cast<size_t>(c)]);
+  }
+  kit.diffuse = static_cast<float>(lighting.diffuse);
+  kit.specular = static_cast<float>(lighting.specular);
+  kit.specularPower = static_cast<float>(lighting.specularPower);
+  return kit;
+}
+
+} // namespace ddg
