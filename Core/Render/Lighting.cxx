@@ -48,6 +48,9 @@ LightKit LightKit::paraview(const Lighting& lighting)
   kit.diffuse = static_cast<float>(lighting.diffuse);
   kit.specular = static_cast<float>(lighting.specular);
   kit.specularPower = static_cast<float>(lighting.specularPower);
+  for (int i = 0; i <= kPowerSteps; ++i)
+    kit.power[static_cast<size_t>(i)] =
+      static_cast<float>(std::pow(static_cast<double>(i) / kPowerSteps, lighting.specularPower));
   return kit;
 }
 

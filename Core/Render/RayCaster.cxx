@@ -425,6 +425,13 @@ struct Classify2D
 
 constexpr int kBatch = 8; // samples interpolated together along a ray
 
+// Where kBatch samples sit: the first corner's index and the weights of their cells.
+struct Lanes
+{
+  std::int64_t idx[kBatch];
+  float fx[kBatch], fy[kBatch], fz[kBatch];
+};
+
 // The gradient ParaView's shader computes for lighting, per point: the central difference
 // (clamped at the faces, as the texture is) times N/(N-1) — the shader's offset of one cell in
 // texture coordinates is N/(N-1) voxels — divided by the spacing. Interpolated trilinearly at a
@@ -467,20 +474,13 @@ std::vector<float> lightingGradients(const Volume& vol)
   return g;
 }
 
-// Trilinear interpolation of the three interleaved components at index coordinates (clamped).
+// Trilinear interpolation of the three interleaved components in the cell whose first corner is
+// point `idx`, with weights fx, fy, fz (the scalar's own, from sampleBatch).
 inline void sampleGradient(
-  const float* g, int nx, int ny, int nz, float x, float y, float z, float out[3])
+  const float* g, int nx, int ny, std::int64_t idx, float fx, float fy, float fz, float out[3])
 {
-  x = std::clamp(x, 0.0f, static_cast<float>(nx - 1));
-  y = std::clamp(y, 0.0f, static_cast<float>(ny - 1));
-  z = std::clamp(z, 0.0f, static_cast<float>(nz - 1));
-  const int i = std::min(static_cast<int>(x), nx - 2);
-  const int j = std::min(static_cast<int>(y), ny - 2);
-  const int k = std::min(static_cast<int>(z), nz - 2);
-  const float fx = x - i, fy = y - j, fz = z - k;
   const size_t sy = 3 * static_cast<size_t>(nx), sz = sy * ny;
-  const float* p =
-    g + 3 * (static_cast<size_t>(i) + static_cast<size_t>(nx) * (j + static_cast<size_t>(ny) * k));
+  const float* p = g + 3 * static_cast<size_t>(idx);
   for (int a = 0; a < 3; ++a)
   {
     const float c00 = p[a] + fx * (p[3 + a] - p[a]);
@@ -531,17 +531,17 @@ struct SampleLighting
     }
   }
 
-  // Lights the table colour of the sample at index coordinates (x, y, z).
-  void shade(float x, float y, float z, float rgb[3]) const
+  // Lights the table colour of lane l of a batch, at index coordinates (x, y, z).
+  void shade(const Lanes& lanes, int l, float x, float y, float z, float rgb[3]) const
   {
-    float g[3], m[3], p[3];
-    sampleGradient(gradients, nx, ny, nz, x, y, z, g);
+    float g[3], m[3], p[3] = { 0, 0, 0 };
+    sampleGradient(gradients, nx, ny, lanes.idx[l], lanes.fx[l], lanes.fy[l], lanes.fz[l], g);
     for (int r = 0; r < 3; ++r)
-    {
       m[r] = normalMap[r][0] * g[0] + normalMap[r][1] * g[1] + normalMap[r][2] * g[2];
-      p[r] =
-        positionMap[r][0] * x + positionMap[r][1] * y + positionMap[r][2] * z + positionOffset[r];
-    }
+    if (kit.specular > 0.0f) // only the specular term looks at where the sample is
+      for (int r = 0; r < 3; ++r)
+        p[r] =
+          positionMap[r][0] * x + positionMap[r][1] * y + positionMap[r][2] * z + positionOffset[r];
     shadeSample(kit, m, p, rgb);
   }
 };
@@ -557,15 +557,16 @@ inline bool composite(const RGBA& c, float& cr, float& cg, float& cb, float& ca,
   return ca > termination;
 }
 
-// Trilinear values of kBatch consecutive samples p = e + (k0 + l) s, l = 0 .. kBatch-1.
+// Trilinear values of kBatch consecutive samples p = e + (k0 + l) s, l = 0 .. kBatch-1; their
+// cells and weights in `lanes`.
 template <typename T>
 inline void sampleBatch(const Field<T>& f, float k0, float ex, float ey, float ez, float sx,
-  float sy, float sz, float* out)
+  float sy, float sz, float* out, Lanes& lanes)
 {
   const float mx = static_cast<float>(f.nx - 1), my = static_cast<float>(f.ny - 1),
               mz = static_cast<float>(f.nz - 1);
-  std::int64_t idx[kBatch];
-  float fx[kBatch], fy[kBatch], fz[kBatch];
+  std::int64_t* idx = lanes.idx;
+  float *fx = lanes.fx, *fy = lanes.fy, *fz = lanes.fz;
   for (int l = 0; l < kBatch; ++l)
   {
     const float kk = k0 + static_cast<float>(l);
@@ -759,7 +760,8 @@ struct March
         for (; k < kEnd && !done; k += kBatch)
         {
           float value[kBatch];
-          sampleBatch(f, j + static_cast<float>(k), ex, ey, ez, sx, sy, sz, value);
+          Lanes lanes;
+          sampleBatch(f, j + static_cast<float>(k), ex, ey, ez, sx, sy, sz, value, lanes);
           const int n = static_cast<int>(std::min<std::int64_t>(kBatch, kEnd - k));
           for (int l = 0; l < n; ++l)
           {
@@ -768,7 +770,7 @@ struct March
             {
               const float kk = j + static_cast<float>(k + l);
               float rgb[3] = { c.r, c.g, c.b };
-              light->shade(ex + kk * sx, ey + kk * sy, ez + kk * sz, rgb);
+              light->shade(lanes, l, ex + kk * sx, ey + kk * sy, ez + kk * sz, rgb);
               c.r = rgb[0];
               c.g = rgb[1];
               c.b = rgb[2];

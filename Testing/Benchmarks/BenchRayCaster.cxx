@@ -17,6 +17,7 @@
 #include <vtkColorTransferFunction.h>
 #include <vtkFixedPointVolumeRayCastMapper.h>
 #include <vtkImageData.h>
+#include <vtkLightKit.h>
 #include <vtkNew.h>
 #include <vtkPiecewiseFunction.h>
 #include <vtkRenderWindow.h>
@@ -66,6 +67,7 @@ int main(int argc, char** argv)
   std::string viewPath = dataDir + "/Views/engine_oblique.json";
   int size = 512, runs = 7, threads = 0;
   double samplesPerVoxel = 2; // ParaView's rule: sample distance = mean spacing / 2
+  bool shade = false;
   for (int i = 1; i < argc; i += 2)
   {
     const std::string a = argv[i];
@@ -73,11 +75,14 @@ int main(int argc, char** argv)
     {
       std::printf(
         "BenchRayCaster [--volume V.vti] [--tf PRESET.json] [--view VIEW.json] [--size N]\n"
-        "               [--runs N>=5] [--threads N] [--samples-per-voxel S]\n"
+        "               [--runs N>=5] [--threads N] [--samples-per-voxel S] [--shade on|off]\n"
         "Times ddg's ray caster and VTK's vtkFixedPointVolumeRayCastMapper on the same\n"
         "volume, TF, camera (VIEW.json at N x N) and sample distance; prints medians,\n"
         "the ratio and samples/s per core. Needs a display: run under xvfb-run -a.\n"
         "Sample distance = mean spacing / S (S = 2 is ParaView's rule).\n"
+        "--shade on: also times ddg lit (the view's lighting coefficients, ParaView's light\n"
+        "kit) against itself unlit at the same samples, and renders VTK's mapper with Shade\n"
+        "on and ParaView's light kit (default: off).\n"
         "Defaults: Data/Volumes/engine.vti, engine_block.json, engine_oblique.json, 512, 7, all "
         "cores, 2.\n");
       return 0;
@@ -101,6 +106,9 @@ int main(int argc, char** argv)
       threads = std::stoi(argv[i + 1]);
     else if (a == "--samples-per-voxel")
       samplesPerVoxel = std::stod(argv[i + 1]);
+    else if (a == "--shade" &&
+      (std::strcmp(argv[i + 1], "on") == 0 || std::strcmp(argv[i + 1], "off") == 0))
+      shade = std::strcmp(argv[i + 1], "on") == 0;
     else
     {
       std::fprintf(stderr, "unknown option %s\n", a.c_str());
@@ -118,6 +126,8 @@ int main(int argc, char** argv)
   const ddg::TransferFunction1D tf = ddg::readPreset(tfPath);
   ddg::View view = ddg::readView(viewPath);
   view.width = view.height = size;
+  const ddg::Lighting lighting = view.lighting; // the coefficients of --shade on
+  view.lighting.shade = false;
   const ddg::RayCaster caster(volume);
   if (!(samplesPerVoxel > 0))
   {
@@ -141,6 +151,22 @@ int main(int argc, char** argv)
   ddg::RenderStats statsNoSkip;
   const auto oursNoSkipMs =
     timeRuns(runs, [&] { caster.render(table, view, noSkip, {}, &statsNoSkip); });
+  // Shade on: the first render also computes the per-point gradients (kept for the next ones)
+  ddg::View litView = view;
+  litView.lighting = lighting;
+  litView.lighting.shade = true;
+  double firstLitMs = 0;
+  std::vector<double> litMs;
+  ddg::RenderStats litStats;
+  ddg::Image oursLit;
+  if (shade)
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    caster.render(table, litView, opt);
+    firstLitMs =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    litMs = timeRuns(runs, [&] { oursLit = caster.render(table, litView, opt, {}, &litStats); });
+  }
 
   // --- VTK fixed-point ray caster ----------------------------------------------------------------
   vtkNew<vtkColorTransferFunction> ctf;
@@ -171,7 +197,18 @@ int main(int argc, char** argv)
   property->SetScalarOpacity(pwf);
   property->SetScalarOpacityUnitDistance(unit);
   property->SetInterpolationTypeToLinear();
-  property->ShadeOff();
+  if (shade)
+  {
+    property->ShadeOn();
+    property->SetAmbient(view.lighting.ambient);
+    property->SetDiffuse(view.lighting.diffuse);
+    property->SetSpecular(view.lighting.specular);
+    property->SetSpecularPower(view.lighting.specularPower);
+  }
+  else
+  {
+    property->ShadeOff();
+  }
   vtkNew<vtkFixedPointVolumeRayCastMapper> mapper;
   mapper->SetInputData(image);
   mapper->SetAutoAdjustSampleDistances(0);
@@ -185,6 +222,12 @@ int main(int argc, char** argv)
   vtkNew<vtkRenderer> renderer;
   renderer->AddVolume(actor);
   renderer->SetBackground(view.background[0], view.background[1], view.background[2]);
+  vtkNew<vtkLightKit> lightKit; // ParaView's render view lights the scene with its light kit
+  if (shade)
+  {
+    renderer->SetAutomaticLightCreation(0);
+    lightKit->AddLightsToRenderer(renderer);
+  }
   vtkNew<vtkRenderWindow> window;
   window->SetOffScreenRendering(1);
   window->SetSize(size, size);
@@ -215,7 +258,7 @@ int main(int argc, char** argv)
       for (int c = 0; c < 3; ++c)
         vtkImage.at(x, size - 1 - y, c) =
           pixels->GetValue((static_cast<vtkIdType>(y) * size + x) * 3 + c) / 255.0f;
-  const ddg::Image oursRGB = ddg::compositeOverBackground(ours, view.background);
+  const ddg::Image oursRGB = ddg::compositeOverBackground(shade ? oursLit : ours, view.background);
 
   const double tOurs = median(oursMs), tOursNoSkip = median(oursNoSkipMs), tVtk = median(vtkMs),
                tVtkDraw = median(vtkDrawMs);
@@ -230,11 +273,21 @@ int main(int argc, char** argv)
   std::printf("ddg RayCaster, no block skipping  %8.1f ms  (%.3g samples, %.1f Msamples/s/core)\n",
     tOursNoSkip, static_cast<double>(statsNoSkip.samples),
     statsNoSkip.samples / (tOursNoSkip * 1e3) / nThreads);
+  if (shade)
+  {
+    const double tLit = median(litMs);
+    std::printf("ddg RayCaster, Shade on           %8.1f ms  (%.3g samples, %.1f Msamples/s/core; "
+                "first render %.1f ms with the gradients, 12 bytes per point, %.0f MB)\n",
+      tLit, static_cast<double>(litStats.samples), litStats.samples / (tLit * 1e3) / nThreads,
+      firstLitMs, 12.0 * static_cast<double>(volume.voxelCount()) / 1e6);
+    std::printf("Shade on / off, ddg, same samples  %.2fx\n", tLit / tOurs);
+  }
   std::printf(
-    "VTK FixedPointVolumeRayCastMapper %8.1f ms  (window Render); mapper draw time %.1f ms\n", tVtk,
-    tVtkDraw);
-  std::printf("speed-up vs VTK (window Render)    %.2fx\n", tVtk / tOurs);
-  std::printf("speed-up vs VTK (mapper draw time) %.2fx\n", tVtkDraw / tOurs);
+    "VTK FixedPointVolumeRayCastMapper %8.1f ms  (window Render%s); mapper draw time %.1f ms\n",
+    tVtk, shade ? ", Shade on" : "", tVtkDraw);
+  const double tCompared = shade ? median(litMs) : tOurs; // like against like
+  std::printf("speed-up vs VTK (window Render)    %.2fx\n", tVtk / tCompared);
+  std::printf("speed-up vs VTK (mapper draw time) %.2fx\n", tVtkDraw / tCompared);
   std::printf("image agreement ddg vs VTK fixed-point: PSNR %.2f dB, SSIM %.4f\n",
     ddg::psnr(oursRGB, vtkImage), ddg::ssim(oursRGB, vtkImage));
   return 0;
