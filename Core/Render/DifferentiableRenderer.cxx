@@ -3,6 +3,7 @@
 
 #include "Common/Parallel.h"
 #include "Render/Adjoint.h"
+#include "Render/Lighting.h"
 #include "Render/RaySegment.h"
 
 #include <algorithm>
@@ -294,6 +295,45 @@ struct Classifier
 
 } // namespace
 
+// Shade on: the light sums of the sample at index coordinates x (diffuse multiplies the table
+// colour, specular adds; Render/Lighting.h), from the per-point gradients interpolated as the
+// scalar is. False: no light reaches (zero gradient), the sample is black.
+template <typename S>
+bool sampleLightSums(const LightKit& kit, const LightingFrame& frame, const float* g,
+  const std::array<int, 3>& n, const S x[3], S diff[3], S spec[3])
+{
+  int i[3];
+  S f[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const S c = std::clamp(x[a], S(0), static_cast<S>(n[a] - 1));
+    i[a] = std::min(static_cast<int>(c), n[a] - 2);
+    f[a] = c - static_cast<S>(i[a]);
+  }
+  const size_t sy = 3 * static_cast<size_t>(n[0]), sz = sy * n[1];
+  const float* p = g +
+    3 *
+      (static_cast<size_t>(i[0]) +
+        static_cast<size_t>(n[0]) * (i[1] + static_cast<size_t>(n[1]) * i[2]));
+  S grad[3], m[3], pe[3];
+  for (int a = 0; a < 3; ++a)
+  {
+    const S c[8] = { p[a], p[3 + a], p[sy + a], p[sy + 3 + a], p[sz + a], p[sz + 3 + a],
+      p[sz + sy + a], p[sz + sy + 3 + a] };
+    grad[a] = adjoint::trilinear(c, f[0], f[1], f[2]);
+  }
+  for (int r = 0; r < 3; ++r)
+  {
+    m[r] = static_cast<S>(frame.normalMap[r][0]) * grad[0] +
+      static_cast<S>(frame.normalMap[r][1]) * grad[1] +
+      static_cast<S>(frame.normalMap[r][2]) * grad[2];
+    pe[r] = static_cast<S>(frame.positionMap[r][0]) * x[0] +
+      static_cast<S>(frame.positionMap[r][1]) * x[1] +
+      static_cast<S>(frame.positionMap[r][2]) * x[2] + static_cast<S>(frame.positionOffset[r]);
+  }
+  return lightSums(kit, m, pe, diff, spec);
+}
+
 template <typename S>
 struct DifferentiableRendererT<S>::Internals
 {
@@ -386,6 +426,10 @@ struct DifferentiableRendererT<S>::Internals
   // Geometry shared by every ray of a view.
   struct Setup
   {
+    bool lit = false; // Shade on
+    LightKit kit;
+    LightingFrame frame;
+    const float* gradients = nullptr; // RayCaster::lightingGradients
     Eigen::Vector3d boxMin, boxMax, origin, spacing;
     double d = 1, unit = 1, offset = 0.5;
     S termination = S(1) - S(1) / S(255);
@@ -395,11 +439,7 @@ struct DifferentiableRendererT<S>::Internals
   Setup setup(const View& view, const RenderOptions& opt) const
   {
     view.validate();
-    if (view.lighting.shade)
-    {
-      throw Error("the differentiable renderer does not light yet: a view with Shade on can be "
-                  "rendered (ddg render) but not reconstructed or matched");
-    }
+
     Setup s;
     const Volume& vol = Caster.volume();
     const auto b = vol.bounds();
@@ -415,6 +455,13 @@ struct DifferentiableRendererT<S>::Internals
     s.offset = opt.sampleOffset;
     s.jitter = opt.jitter;
     s.termination = static_cast<S>(opt.terminationOpacity);
+    if (view.lighting.shade)
+    {
+      s.lit = true;
+      s.kit = LightKit::paraview(view.lighting);
+      s.frame = LightingFrame::of(vol, view);
+      s.gradients = Caster.lightingGradients().data();
+    }
     if (!(s.offset >= 0 && s.offset <= 1) || !(s.d > 0) || !std::isfinite(s.d))
     {
       throw Error("sample distance must be positive and the sample offset in [0, 1]");
@@ -448,6 +495,33 @@ struct DifferentiableRendererT<S>::Internals
           body(q, o, dir, j, threadId);
         }
       });
+  }
+
+  // Shade on: the lit, clamped colour of sample kk (in steps) of the ray e + kk st, from its
+  // table colour c; with dLit, also d(lit)/d(c) per channel (0 where the clamp cuts, or black).
+  void lightColour(const Setup& s, const S e[3], const S st[3], S kk, const S c[4], double col[3],
+    double* dLit) const
+  {
+    const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
+    S diff[3], spec[3], lit[3];
+    if (!sampleLightSums(s.kit, s.frame, s.gradients, Caster.volume().dims(), x, diff, spec))
+    {
+      for (int ch = 0; ch < 3; ++ch)
+      {
+        col[ch] = 0;
+        if (dLit)
+          dLit[ch] = 0;
+      }
+      return;
+    }
+    litColour(s.kit, diff, spec, c, lit);
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      col[ch] = std::clamp(static_cast<double>(lit[ch]), 0.0, 1.0);
+      if (dLit)
+        dLit[ch] =
+          lit[ch] > S(0) && lit[ch] < S(1) ? static_cast<double>(s.kit.diffuse * diff[ch]) : 0.0;
+    }
   }
 
   template <bool TwoD>
@@ -529,7 +603,9 @@ struct DifferentiableRendererT<S>::Internals
                 cls.classify(value[l], TwoD ? gradient[l] : S(0), c, coord);
                 if (c[3] > S(0))
                 {
-                  const double col[3] = { c[0], c[1], c[2] };
+                  double col[3] = { c[0], c[1], c[2] };
+                  if (s.lit)
+                    lightColour(s, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, nullptr);
                   adjoint::blend(C, A, col, static_cast<double>(c[3]));
                   if (A > static_cast<double>(s.termination))
                   {
@@ -602,7 +678,7 @@ struct DifferentiableRendererT<S>::Internals
             double A = rec.alpha;
             S* dTable = local[static_cast<size_t>(threadId)].data();
             // One sample of the replay, from the last to the first.
-            auto replay = [&](S value, S gradient)
+            auto replay = [&](S value, S gradient, std::int64_t k)
             {
               S c[4];
               typename Classifier<S, TwoD>::Coord coord;
@@ -611,9 +687,14 @@ struct DifferentiableRendererT<S>::Internals
               // Inverse of the blend: the state before this sample.
               const double before =
                 a > 0 ? adjoint::blendInvertAlphaReciprocal(A, a, 1.0 / (1.0 - a)) : A;
-              const double col[3] = { c[0], c[1], c[2] };
+              double col[3] = { c[0], c[1], c[2] };
+              double dLit[3] = { 1, 1, 1 }; // d(lit colour) / d(table colour), per channel
+              if (s.lit && a > 0)
+                lightColour(s, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, dLit);
               double g_c[3] = { 0, 0, 0 }, g_a = 0;
               adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
+              for (int ch = 0; ch < 3; ++ch)
+                g_c[ch] *= dLit[ch];
               A = before;
               const S dL_drgba[4] = { static_cast<S>(g_c[0]), static_cast<S>(g_c[1]),
                 static_cast<S>(g_c[2]), static_cast<S>(g_a) };
@@ -628,7 +709,7 @@ struct DifferentiableRendererT<S>::Internals
               for (std::int64_t k = kStop; k >= 0; --k)
               {
                 replay(static_cast<S>(v[channels * k]),
-                  TwoD ? static_cast<S>(v[channels * k + channels - 1]) : S(0));
+                  TwoD ? static_cast<S>(v[channels * k + channels - 1]) : S(0), k);
               }
               return;
             }
@@ -646,7 +727,7 @@ struct DifferentiableRendererT<S>::Internals
               for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= 0;
                    --l)
               {
-                replay(value[l], TwoD ? gradient[l] : S(0));
+                replay(value[l], TwoD ? gradient[l] : S(0), k0 + l);
               }
             }
           });
@@ -697,6 +778,13 @@ Classifier<S, false> make1D(
   return c;
 }
 
+void refuseShade2D(const View& view)
+{
+  if (view.lighting.shade)
+    throw Error("Shade with a 2D transfer function is not rendered yet: turn Shade off in the "
+                "view's \"lighting\" or use a 1D transfer function");
+}
+
 template <typename S>
 Classifier<S, true> make2D(const S* table, int width, int height, std::array<double, 2> vr,
   std::array<double, 2> gr, double exponent)
@@ -745,6 +833,7 @@ void DifferentiableRendererT<S>::forward2D(const S* table, int width, int height
   const RenderOptions& options, const std::vector<int>& pixels, std::vector<S>& rgba,
   std::vector<RayRecord>& records) const
 {
+  refuseShade2D(view);
   const auto s = In->setup(view, options);
   In->forward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit), s, view,
     options, pixels, rgba, records);
@@ -757,6 +846,7 @@ void DifferentiableRendererT<S>::backward2D(const S* table, int width, int heigh
   const std::vector<RayRecord>& records, const std::vector<S>& dL_dRGBA,
   std::vector<S>& dL_dTable) const
 {
+  refuseShade2D(view);
   const auto s = In->setup(view, options);
   In->backward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit), s,
     static_cast<size_t>(width) * height, view, options, pixels, records, dL_dRGBA, dL_dTable);

@@ -1,6 +1,8 @@
 // Lighting.cxx: ParaView's default light kit in eye coordinates.
 #include "Render/Lighting.h"
 
+#include "Volume/Volume.h"
+
 #include <cmath>
 
 namespace ddg
@@ -52,6 +54,31 @@ LightKit LightKit::paraview(const Lighting& lighting)
     kit.power[static_cast<size_t>(i)] =
       static_cast<float>(std::pow(static_cast<double>(i) / kPowerSteps, lighting.specularPower));
   return kit;
+}
+
+LightingFrame LightingFrame::of(const Volume& vol, const View& view)
+{
+  LightingFrame f;
+  const auto& d = vol.dims();
+  const RayGenerator rays(view);
+  const Eigen::Vector3d rows[3] = { rays.right(), rays.up(), -rays.forward() }; // world -> eye
+  Eigen::Vector3d extent;
+  for (int a = 0; a < 3; ++a)
+    extent[a] = (d[a] - 1) * vol.spacing()[a];
+  for (int r = 0; r < 3; ++r)
+  {
+    double offset = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      // VTK's untransposed texture-to-eye matrix: the extents scale the eye axes
+      f.normalMap[r][a] = extent[r] * rows[r][a];
+      // world' = origin + extent (c + 0.5) / N: the texture coordinate, not the point's
+      f.positionMap[r][a] = rows[r][a] * extent[a] / d[a];
+      offset += rows[r][a] * (vol.origin()[a] + extent[a] * 0.5 / d[a] - view.camera.position[a]);
+    }
+    f.positionOffset[r] = offset;
+  }
+  return f;
 }
 
 } // namespace ddg

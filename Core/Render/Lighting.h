@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <type_traits>
 
 namespace ddg
 {
@@ -44,26 +45,37 @@ struct LightKit
   static LightKit paraview(const Lighting& lighting);
 };
 
-/// Shades the table colour rgb (in [0, 1]) of a sample whose eye-space normal direction is m
-/// (not normalised) and eye-space position p (only its direction is used). Returns the lit,
-/// clamped colour in rgb.
-inline void shadeSample(const LightKit& kit, const float m[3], const float p[3], float rgb[3])
+/// The maps of one render from a sample's index coordinates c to VTK's eye-space normal
+/// direction m = normalMap g (g the per-point gradient interpolated there) and eye-space position
+/// P = positionMap c + positionOffset (through the sample's texture coordinate).
+struct LightingFrame
 {
-  const float len2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
-  if (!(len2 > 0.0f))
-  {
-    rgb[0] = rgb[1] = rgb[2] = 0.0f; // VTK's normal is NaN there: every light test fails
-    return;
-  }
-  const float inv = 1.0f / std::sqrt(len2);
-  const float n[3] = { m[0] * inv, m[1] * inv, m[2] * inv };
-  float diff[3] = { 0, 0, 0 }, spec[3] = { 0, 0, 0 };
+  double normalMap[3][3];
+  double positionMap[3][3];
+  double positionOffset[3];
+
+  static LightingFrame of(const Volume& volume, const View& view);
+};
+
+/// The light sums of a sample with eye-space normal direction m (not normalised) and eye-space
+/// position p (used by the specular term only): diffuse multiplies the table colour, specular
+/// adds. Returns false when m = 0 (VTK's normal is NaN: no light reaches, the sample is black).
+/// The specular power: kit.power's table in float, std::pow in double (gradient checks).
+template <typename S>
+bool lightSums(const LightKit& kit, const S m[3], const S p[3], S diff[3], S spec[3])
+{
+  diff[0] = diff[1] = diff[2] = spec[0] = spec[1] = spec[2] = S(0);
+  const S len2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
+  if (!(len2 > S(0)))
+    return false;
+  const S inv = S(1) / std::sqrt(len2);
+  const S n[3] = { m[0] * inv, m[1] * inv, m[2] * inv };
   const bool specular = kit.specular > 0.0f;
-  float w[3] = { 0, 0, 0 }, nw = 0; // the direction from the eye to the sample, n . w
+  S w[3] = { 0, 0, 0 }, nw = 0; // the direction from the eye to the sample, n . w
   if (specular)
   {
-    const float pl = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    if (pl > 0.0f)
+    const S pl = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    if (pl > S(0))
       for (int a = 0; a < 3; ++a)
         w[a] = p[a] / pl;
     nw = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
@@ -72,33 +84,61 @@ inline void shadeSample(const LightKit& kit, const float m[3], const float p[3],
   {
     const auto& d = kit.direction[static_cast<size_t>(i)];
     const auto& c = kit.colour[static_cast<size_t>(i)];
-    const float nd = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-    const float l = std::abs(nd);
-    if (!(l > 0.0f))
+    const S nd = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
+    const S l = std::abs(nd); // two-sided
+    if (!(l > S(0)))
       continue;
     for (int a = 0; a < 3; ++a)
       diff[a] += l * c[a];
     if (specular)
     {
-      // |2 l n - d| = 1 when n . d = l, sqrt(1 + 8 l^2) when two-sided lighting flipped it
-      const float rl = nd >= 0.0f ? 1.0f : std::sqrt(1.0f + 8.0f * l * l);
-      const float rho = (2 * l * nw - (d[0] * w[0] + d[1] * w[1] + d[2] * w[2])) / rl;
-      if (rho > 0.0f)
+      // r = normalize(2 l n - d): |2 l n - d| = 1 when n . d = l, sqrt(1 + 8 l^2) when flipped
+      const S rl = nd >= S(0) ? S(1) : std::sqrt(S(1) + S(8) * l * l);
+      const S rho = (2 * l * nw - (d[0] * w[0] + d[1] * w[1] + d[2] * w[2])) / rl;
+      if (rho > S(0))
       {
-        const float t = std::min(rho, 1.0f) * LightKit::kPowerSteps;
-        const int i = std::min(static_cast<int>(t), LightKit::kPowerSteps - 1);
-        const float s = kit.power[static_cast<size_t>(i)] +
-          (t - i) * (kit.power[static_cast<size_t>(i) + 1] - kit.power[static_cast<size_t>(i)]);
+        S sp;
+        if constexpr (std::is_same_v<S, float>)
+        {
+          const float t = std::min(rho, 1.0f) * LightKit::kPowerSteps;
+          const int k = std::min(static_cast<int>(t), LightKit::kPowerSteps - 1);
+          sp = kit.power[static_cast<size_t>(k)] +
+            (t - k) * (kit.power[static_cast<size_t>(k) + 1] - kit.power[static_cast<size_t>(k)]);
+        }
+        else
+        {
+          sp = std::pow(rho, static_cast<S>(kit.specularPower));
+        }
         for (int a = 0; a < 3; ++a)
-          spec[a] += s * c[a];
+          spec[a] += sp * c[a];
       }
     }
   }
+  return true;
+}
+
+/// The lit colour before the clamp: kd diffuse (.) rgb + ks specular (ParaView clamps it to
+/// [0, 1]; the adjoint needs it unclamped to know where the clamp cuts the gradient).
+template <typename S>
+void litColour(const LightKit& kit, const S diff[3], const S spec[3], const S rgb[3], S out[3])
+{
   for (int a = 0; a < 3; ++a)
+    out[a] =
+      static_cast<S>(kit.diffuse) * diff[a] * rgb[a] + static_cast<S>(kit.specular) * spec[a];
+}
+
+/// Shades the table colour rgb (in [0, 1]) of a sample: the lit, clamped colour in rgb.
+inline void shadeSample(const LightKit& kit, const float m[3], const float p[3], float rgb[3])
+{
+  float diff[3], spec[3], lit[3];
+  if (!lightSums(kit, m, p, diff, spec))
   {
-    const float v = kit.diffuse * diff[a] * rgb[a] + kit.specular * spec[a];
-    rgb[a] = v < 0.0f ? 0.0f : (v > 1.0f ? 1.0f : v);
+    rgb[0] = rgb[1] = rgb[2] = 0.0f;
+    return;
   }
+  litColour(kit, diff, spec, rgb, lit);
+  for (int a = 0; a < 3; ++a)
+    rgb[a] = std::clamp(lit[a], 0.0f, 1.0f);
 }
 
 } // namespace ddg

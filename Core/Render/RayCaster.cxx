@@ -512,22 +512,15 @@ struct SampleLighting
     nx = d[0];
     ny = d[1];
     nz = d[2];
-    const RayGenerator rays(view);
-    const Eigen::Vector3d rows[3] = { rays.right(), rays.up(), -rays.forward() };
-    Eigen::Vector3d extent, camera = view.camera.position;
-    for (int a = 0; a < 3; ++a)
-      extent[a] = (d[a] - 1) * vol.spacing()[a];
+    const LightingFrame frame = LightingFrame::of(vol, view);
     for (int r = 0; r < 3; ++r)
     {
-      double offset = 0;
       for (int a = 0; a < 3; ++a)
       {
-        normalMap[r][a] = static_cast<float>(extent[r] * rows[r][a]);
-        // world' = origin + extent (c + 0.5) / N: the texture coordinate, not the point's
-        positionMap[r][a] = static_cast<float>(rows[r][a] * extent[a] / d[a]);
-        offset += rows[r][a] * (vol.origin()[a] + extent[a] * 0.5 / d[a] - camera[a]);
+        normalMap[r][a] = static_cast<float>(frame.normalMap[r][a]);
+        positionMap[r][a] = static_cast<float>(frame.positionMap[r][a]);
       }
-      positionOffset[r] = static_cast<float>(offset);
+      positionOffset[r] = static_cast<float>(frame.positionOffset[r]);
     }
   }
 
@@ -906,6 +899,11 @@ const std::vector<float>& RayCaster::Internals::lightingGradients()
 {
   std::call_once(NormalOnce, [this] { Normals = ddg::lightingGradients(Vol); });
   return Normals;
+}
+
+const std::vector<float>& RayCaster::lightingGradients() const
+{
+  return In->lightingGradients();
 }
 
 Image RayCaster::render(const TransferTable1D& table, const View& view,

@@ -67,6 +67,8 @@ struct RenderOptions
 ///   (int16), else 1 (ParaView's texture normalisation); rgba = table lookup of s (linear);
 ///   a' = 1 - (1 - a)^(d / ud) when a > 1e-4 (else a);  C += (1 - A) a' clamp(rgb);
 ///   A += (1 - A) a'; stop when A > terminationOpacity.
+/// With view.lighting.shade, the table colour of each visible sample is lit first as ParaView's
+/// Shade does (Render/Lighting.h; 1D tables only).
 /// Output: RGBA float image, premultiplied (C, A), row 0 at the top; compose it over a
 /// background with compositeOverBackground() (Image.h) to get ParaView's 8-bit screenshot.
 ///
@@ -106,6 +108,11 @@ public:
   /// computed on first use (Volume::gradientMagnitude) and kept.
   Image render(const TransferTable2D& table, const View& view, const RenderOptions& options = {},
     const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
+
+  /// Shade on: the per-point gradients lit samples interpolate (x, y, z interleaved: the central
+  /// difference, clamped at the faces, times N/(N-1), over the spacing; Documentation/Rendering.md
+  /// "Shade on"). Computed on first use and kept: 12 bytes per point.
+  const std::vector<float>& lightingGradients() const;
 
   /// The per-pixel jitter tile value used when RenderOptions::jitter is on, for pixel (x, y)
   /// counted from the bottom-left as ParaView's window coordinates.
