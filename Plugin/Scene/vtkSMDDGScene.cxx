@@ -25,6 +25,7 @@
 #include <cctype>
 #include <cmath>
 #include <iterator>
+#include <utility>
 #include <vector>
 
 vtkStandardNewMacro(vtkSMDDGScene);
@@ -248,6 +249,17 @@ std::string vtkSMDDGScene::ViewJSON(
   if (repr && repr->GetProperty("ScalarOpacityUnitDistance"))
     out["opacity_unit_distance"] =
       vtkSMPropertyHelper(repr, "ScalarOpacityUnitDistance").GetAsDouble();
+  // Shade on: the representation's coefficients (the view's light kit is ParaView's default)
+  if (repr && repr->GetProperty("Shade") && vtkSMPropertyHelper(repr, "Shade").GetAsInt() != 0)
+  {
+    json lighting;
+    lighting["shade"] = true;
+    for (auto [key, name] : { std::pair{ "ambient", "Ambient" }, std::pair{ "diffuse", "Diffuse" },
+           std::pair{ "specular", "Specular" }, std::pair{ "specular_power", "SpecularPower" } })
+      if (repr->GetProperty(name))
+        lighting[key] = vtkSMPropertyHelper(repr, name).GetAsDouble();
+    out["lighting"] = lighting;
+  }
   return out.dump();
 }
 

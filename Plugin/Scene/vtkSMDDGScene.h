@@ -43,7 +43,8 @@ public:
    * (the colour ParaView draws: the colour palette's Background when the view's
    * UseColorPaletteForBackground is on, as it is for a new view, else the view's Background) and,
    * when `representationOrSource` is a representation with a ScalarOpacityUnitDistance (or a source
-   * shown in `view`), "opacity_unit_distance". Empty when `view` is not a render view.
+   * shown in `view`), "opacity_unit_distance" and, with Shade on, "lighting" (Shade, Ambient,
+   * Diffuse, Specular, SpecularPower). Empty when `view` is not a render view.
    */
   static std::string ViewJSON(vtkSMProxy* view, vtkSMProxy* representationOrSource, int maxSide);
 

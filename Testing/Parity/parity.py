@@ -19,7 +19,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pvrender import paraview_render  # noqa: E402
+from pvrender import LIGHTINGS, paraview_render  # noqa: E402
 
 DEFAULT_CASES = [
     ("tooth", "tooth_dentin_enamel"),
@@ -30,12 +30,6 @@ DEFAULT_CASES = [
     ("headsq", "headsq_bone"),
 ]
 DEFAULT_VIEWS = ["oblique", "side"]
-# --lighting: the view JSON's "lighting" (Shade and the coefficients ParaView is given too)
-LIGHTINGS = {
-    "off": None,
-    "shade": {"shade": True},
-    "shade-specular": {"shade": True, "specular": 0.5, "specular_power": 30},
-}
 
 
 def main():

@@ -13,6 +13,14 @@ from paraview.simple import (
 )
 
 
+# The view JSON's "lighting" the parity and round-trip tests use (--lighting NAME)
+LIGHTINGS = {
+    "off": None,
+    "shade": {"shade": True},
+    "shade-specular": {"shade": True, "specular": 0.5, "specular_power": 30},
+}
+
+
 def paraview_render(volume_path, preset, view_json, out_png, boxes_2d=None):
     """Renders with a 1D ``preset`` or, when ``boxes_2d`` is given (the TransferFunction2D
     properties of `ddg export --format paraview-2d`), with ParaView's 2D TF (UseTransfer2D)."""

@@ -8,6 +8,9 @@ views. PSNR between ParaView's images of the original and of the reconstructed p
 >= --min-psnr-reference (default 36 dB) at the reference view and >= --min-psnr-other
 (default 30 dB) at the view the reconstruction never saw.
 
+--lighting shade (or shade-specular) does the same with Shade on: ParaView's screenshots are lit
+and ddg reconstructs through the lit renderer.
+
 Run with pvpython under a display:
     xvfb-run -a pvpython Testing/Parity/roundtrip.py --ddg build/bin/ddg --data Data --out DIR
 """
@@ -19,7 +22,7 @@ import sys
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from pvrender import paraview_render  # noqa: E402
+from pvrender import LIGHTINGS, paraview_render  # noqa: E402
 
 DEFAULT_CASES = [
     ("tooth", "tooth_dentin_enamel"),
@@ -50,6 +53,12 @@ def main():
     parser.add_argument(
         "--ddg-arg", action="append", default=[], help="extra argument for ddg reconstruct"
     )
+    parser.add_argument(
+        "--lighting",
+        choices=sorted(LIGHTINGS),
+        default="off",
+        help="the views' lighting (ParaView renders and ddg reconstructs with it)",
+    )
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     cases = [tuple(c.split(":")) for c in args.case] if args.case else DEFAULT_CASES
@@ -62,7 +71,13 @@ def main():
         for which in (args.reference_view, args.other_view):
             path = os.path.join(args.data, "Views", f"{volume}_{which}.json")
             with open(path) as f:
-                views[which] = (path, json.load(f))
+                view_json = json.load(f)
+            if LIGHTINGS[args.lighting]:
+                view_json["lighting"] = LIGHTINGS[args.lighting]
+                path = os.path.join(args.out, f"{volume}_{which}_{args.lighting}.json")
+                with open(path, "w") as f:
+                    json.dump(view_json, f)
+            views[which] = (path, view_json)
         stem = os.path.join(args.out, preset_name)
         for which, (path, view_json) in views.items():
             paraview_render(volume_path, preset, view_json, f"{stem}_{which}_original.png")

@@ -74,6 +74,15 @@ check(
     v.get("opacity_unit_distance") == display.ScalarOpacityUnitDistance,
     "ViewJSON opacity_unit_distance %s" % v.get("opacity_unit_distance"),
 )
+check("lighting" not in v, "ViewJSON: no lighting while Shade is off")
+display.Shade, display.Specular, display.SpecularPower = 1, 0.5, 30
+lit = json.loads(S.ViewJSON(view.SMProxy, display.SMProxy, 64))
+check(
+    lit.get("lighting")
+    == {"shade": True, "ambient": 0.0, "diffuse": 1.0, "specular": 0.5, "specular_power": 30.0},
+    "ViewJSON lighting with Shade on: %s" % lit.get("lighting"),
+)
+display.Shade, display.Specular, display.SpecularPower = 0, 0.0, 100.0
 check(json.loads(S.ViewJSON(view.SMProxy, tooth.SMProxy, 64)) == v, "ViewJSON with the source")
 check(json.loads(S.ViewJSON(view.SMProxy, None, 0))["size"] == [w, h], "ViewJSON at full size")
 check(S.ViewJSON(None, display.SMProxy, 64) == "", "ViewJSON without a view is empty")
