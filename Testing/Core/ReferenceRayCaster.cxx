@@ -84,16 +84,23 @@ Image march(const Volume& volume, const View& view, double d, double offset, dou
   return img;
 }
 
+// The table with its opacities corrected for the step.
+TransferTable1D correctedTable(const TransferTable1D& table, double exponent)
+{
+  TransferTable1D t = table;
+  for (int i = 0; i < t.width; ++i)
+  {
+    t.rgba[4 * i + 3] = static_cast<float>(corrected(t.rgba[4 * i + 3], exponent));
+  }
+  return t;
+}
+
 } // namespace
 
 Image referenceRender(const Volume& volume, const TransferTable1D& table, const View& view,
   double d, double unit, double offset, double termination)
 {
-  TransferTable1D t = table;
-  for (int i = 0; i < t.width; ++i)
-  {
-    t.rgba[4 * i + 3] = static_cast<float>(corrected(t.rgba[4 * i + 3], d / unit));
-  }
+  const TransferTable1D t = correctedTable(table, d / unit);
   const double q = RayCaster::textureScale(volume.originalType());
   return march(volume, view, d, offset, termination,
     [&](const Eigen::Vector3d& p)
@@ -106,11 +113,7 @@ Image referenceRender(const Volume& volume, const TransferTable1D& table, const 
 Image referenceRenderLit(const Volume& volume, const TransferTable1D& table, const View& view,
   double d, double unit, double offset, double termination)
 {
-  TransferTable1D t = table;
-  for (int i = 0; i < t.width; ++i)
-  {
-    t.rgba[4 * i + 3] = static_cast<float>(corrected(t.rgba[4 * i + 3], d / unit));
-  }
+  const TransferTable1D t = correctedTable(table, d / unit);
   const double q = RayCaster::textureScale(volume.originalType());
   const RayGenerator rays(view);
   const Eigen::Vector3d eye[3] = { rays.right(), rays.up(), -rays.forward() };
