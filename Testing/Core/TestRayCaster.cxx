@@ -174,6 +174,28 @@ TEST(RayCaster, ShadeOfAConstantRegionIsBlack)
     ASSERT_TRUE(std::isfinite(x));
 }
 
+// Two points thin along z (the shader's offset is then two voxels, clamped): finite, lit.
+TEST(RayCaster, ShadeOfATwoPointThinVolumeIsFinite)
+{
+  const Volume thick = blobVolume(ScalarType::Float32);
+  const auto& d = thick.dims();
+  std::vector<float> v(static_cast<size_t>(d[0]) * d[1] * 2);
+  std::copy(thick.values().begin() + static_cast<std::ptrdiff_t>(d[0]) * d[1] * 12,
+    thick.values().begin() + static_cast<std::ptrdiff_t>(d[0]) * d[1] * 14, v.begin());
+  const Volume thin({ d[0], d[1], 2 }, thick.origin(), thick.spacing(), v, ScalarType::Float32);
+  const RayCaster caster(thin);
+  View view = orbitView(thin, 30.0, false);
+  view.lighting.shade = true;
+  const Image img = caster.render(caster.paraviewTable(testTF()), view);
+  double sum = 0;
+  for (float x : img.pixels)
+  {
+    ASSERT_TRUE(std::isfinite(x));
+    sum += x;
+  }
+  EXPECT_GT(sum, 0.0);
+}
+
 TEST(RayCaster, MatchesReferenceWith2DTable)
 {
   const Volume vol = blobVolume(ScalarType::Float32);
