@@ -439,7 +439,6 @@ struct DifferentiableRendererT<S>::Internals
   Setup setup(const View& view, const RenderOptions& opt) const
   {
     view.validate();
-
     Setup s;
     const Volume& vol = Caster.volume();
     const auto b = vol.bounds();

@@ -42,6 +42,12 @@ namespace ddg
 /// renderer, keep constant memory and re-interpolate. Both give the same values bit for bit,
 /// hence the same gradients.
 ///
+/// Shade on (view.lighting.shade, 1D tables): each sample's table colour is lit as RayCaster
+/// lights it (Render/Lighting.h); the lighting depends on the volume's gradient and the camera,
+/// not on the table, so the backward pass scales the colour gradient by Diffuse x the sample's
+/// diffuse light sum (0 where the clamp to [0, 1] cuts or no light reaches), recomputed in the
+/// replay from the per-point gradients (RayCaster::lightingGradients).
+///
 /// Tables: `table` is a dense RGBA table of `width` entries over [min, max] in data values, with
 /// UNCORRECTED opacity and ParaView's lookup convention (TransferTable1D). Gradients are with
 /// respect to these entries. 2D tables: value x gradient magnitude, as TransferTable2D.
