@@ -295,45 +295,6 @@ struct Classifier
 
 } // namespace
 
-// Shade on: the light sums of the sample at index coordinates x (diffuse multiplies the table
-// colour, specular adds; Render/Lighting.h), from the per-point gradients interpolated as the
-// scalar is. False: no light reaches (zero gradient), the sample is black.
-template <typename S>
-bool sampleLightSums(const LightKit& kit, const LightingFrame& frame, const float* g,
-  const std::array<int, 3>& n, const S x[3], S diff[3], S spec[3])
-{
-  int i[3];
-  S f[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    const S c = std::clamp(x[a], S(0), static_cast<S>(n[a] - 1));
-    i[a] = std::min(static_cast<int>(c), n[a] - 2);
-    f[a] = c - static_cast<S>(i[a]);
-  }
-  const size_t sy = 3 * static_cast<size_t>(n[0]), sz = sy * n[1];
-  const float* p = g +
-    3 *
-      (static_cast<size_t>(i[0]) +
-        static_cast<size_t>(n[0]) * (i[1] + static_cast<size_t>(n[1]) * i[2]));
-  S grad[3], m[3], pe[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    const S c[8] = { p[a], p[3 + a], p[sy + a], p[sy + 3 + a], p[sz + a], p[sz + 3 + a],
-      p[sz + sy + a], p[sz + sy + 3 + a] };
-    grad[a] = adjoint::trilinear(c, f[0], f[1], f[2]);
-  }
-  for (int r = 0; r < 3; ++r)
-  {
-    m[r] = static_cast<S>(frame.normalMap[r][0]) * grad[0] +
-      static_cast<S>(frame.normalMap[r][1]) * grad[1] +
-      static_cast<S>(frame.normalMap[r][2]) * grad[2];
-    pe[r] = static_cast<S>(frame.positionMap[r][0]) * x[0] +
-      static_cast<S>(frame.positionMap[r][1]) * x[1] +
-      static_cast<S>(frame.positionMap[r][2]) * x[2] + static_cast<S>(frame.positionOffset[r]);
-  }
-  return lightSums(kit, m, pe, diff, spec);
-}
-
 template <typename S>
 struct DifferentiableRendererT<S>::Internals
 {
