@@ -306,9 +306,6 @@ struct DifferentiableRendererT<S>::Internals
   std::vector<std::int8_t> I8;
   std::vector<std::uint16_t> U16;
   std::vector<std::int16_t> I16;
-  std::vector<float> GradientValues;
-  FieldSampler<S> Gradient;
-  std::once_flag GradientOnce;
   double TextureScale = 1;
 
   explicit Internals(const Volume& v)
@@ -372,32 +369,36 @@ struct DifferentiableRendererT<S>::Internals
     }
   }
 
-  const FieldSampler<S>& gradient()
+  // The 2D transfer function's gradient axis of kBatch samples e + (k0 + l) st (index
+  // coordinates): transferGradient of the per-point gradients interpolated there.
+  void sampleTransferGradients(const float* g, const S e[3], const S st[3], S k0, S* out) const
   {
-    std::call_once(GradientOnce,
-      [this]
-      {
-        const auto& vol = Caster.volume();
-        GradientValues = vol.gradientMagnitude();
-        Gradient = { GradientValues.data(), vol.dims()[0], vol.dims()[1], vol.dims()[2] };
-      });
-    return Gradient;
+    const auto& n = Caster.volume().dims();
+    for (int l = 0; l < FieldSampler<S>::kBatch; ++l)
+    {
+      const S kk = k0 + static_cast<S>(l);
+      const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
+      S grad[3];
+      interpolateGradient(g, n, x, grad);
+      out[l] = transferGradient(grad);
+    }
   }
 
   // Geometry shared by every ray of a view.
   struct Setup
   {
-    bool lit = false; // Shade on
+    bool lit = false;     // Shade on
+    bool clampLit = true; // 1D: ParaView clamps the lit colour; 2D: it does not
     LightKit kit;
     LightingFrame frame;
-    const float* gradients = nullptr; // RayCaster::lightingGradients
+    const float* gradients = nullptr; // RayCaster::lightingGradients (Shade on, or 2D)
     Eigen::Vector3d boxMin, boxMax, origin, spacing;
     double d = 1, unit = 1, offset = 0.5;
     S termination = S(1) - S(1) / S(255);
     bool jitter = false;
   };
 
-  Setup setup(const View& view, const RenderOptions& opt) const
+  Setup setup(const View& view, const RenderOptions& opt, bool twoD) const
   {
     view.validate();
     Setup s;
@@ -420,8 +421,10 @@ struct DifferentiableRendererT<S>::Internals
       s.lit = true;
       s.kit = LightKit::paraview(view.lighting);
       s.frame = LightingFrame::of(vol, view);
-      s.gradients = Caster.lightingGradients().data();
     }
+    if (view.lighting.shade || twoD)
+      s.gradients = Caster.lightingGradients().data();
+    s.clampLit = !twoD;
     if (!(s.offset >= 0 && s.offset <= 1) || !(s.d > 0) || !std::isfinite(s.d))
     {
       throw Error("sample distance must be positive and the sample offset in [0, 1]");
@@ -457,14 +460,16 @@ struct DifferentiableRendererT<S>::Internals
       });
   }
 
-  // Shade on: the lit, clamped colour of sample kk (in steps) of the ray e + kk st, from its
-  // table colour c; with dLit, also d(lit)/d(c) per channel (0 where the clamp cuts, or black).
+  // Shade on: the lit colour of sample kk (in steps) of the ray e + kk st, from its table colour
+  // c, clamped to [0, 1] in 1D (ParaView clamps it there, not in 2D); with dLit, also
+  // d(lit)/d(c) per channel (0 where the clamp cuts, or black).
   void lightColour(const Setup& s, const S e[3], const S st[3], S kk, const S c[4], double col[3],
     double* dLit) const
   {
     const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
-    S diff[3], spec[3], lit[3];
-    if (!sampleLightSums(s.kit, s.frame, s.gradients, Caster.volume().dims(), x, diff, spec))
+    S grad[3], diff[3], spec[3], lit[3];
+    interpolateGradient(s.gradients, Caster.volume().dims(), x, grad);
+    if (!sampleLightSums(s.kit, s.frame, grad, x, diff, spec))
     {
       for (int ch = 0; ch < 3; ++ch)
       {
@@ -477,10 +482,11 @@ struct DifferentiableRendererT<S>::Internals
     litColour(s.kit, diff, spec, c, lit);
     for (int ch = 0; ch < 3; ++ch)
     {
-      col[ch] = std::clamp(static_cast<double>(lit[ch]), 0.0, 1.0);
+      const bool cut = s.clampLit && !(lit[ch] > S(0) && lit[ch] < S(1));
+      col[ch] = s.clampLit ? std::clamp(static_cast<double>(lit[ch]), 0.0, 1.0)
+                           : static_cast<double>(lit[ch]);
       if (dLit)
-        dLit[ch] =
-          lit[ch] > S(0) && lit[ch] < S(1) ? static_cast<double>(s.kit.diffuse * diff[ch]) : 0.0;
+        dLit[ch] = cut ? 0.0 : static_cast<double>(s.kit.diffuse * diff[ch]);
     }
   }
 
@@ -489,7 +495,6 @@ struct DifferentiableRendererT<S>::Internals
     const RenderOptions& opt, const std::vector<int>& pixels, std::vector<S>& rgba,
     std::vector<RayRecord>& records)
   {
-    const FieldSampler<S>* grad = TwoD ? &gradient() : nullptr;
     const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
     rgba.assign(4 * n, S(0));
     // Reset the records, keeping their sample buffers' capacity (a reconstruction renders the
@@ -540,7 +545,7 @@ struct DifferentiableRendererT<S>::Internals
               Values.sampleBatch(e, st, kk0, value);
               if constexpr (TwoD)
               {
-                grad->sampleBatch(e, st, kk0, gradient);
+                sampleTransferGradients(s.gradients, e, st, kk0, gradient);
               }
               const int n = static_cast<int>(
                 std::min<std::int64_t>(FieldSampler<S>::kBatch, seg.kLast + 1 - k0));
@@ -603,7 +608,6 @@ struct DifferentiableRendererT<S>::Internals
     const RenderOptions& opt, const std::vector<int>& pixels, const std::vector<RayRecord>& records,
     const std::vector<S>& dL_dRGBA, std::vector<S>& dL_dTable)
   {
-    const FieldSampler<S>* grad = TwoD ? &gradient() : nullptr;
     const size_t n = pixels.empty() ? static_cast<size_t>(view.width) * view.height : pixels.size();
     if (records.size() != n || dL_dRGBA.size() != 4 * n || dL_dTable.size() != 4 * tableSize)
     {
@@ -682,7 +686,7 @@ struct DifferentiableRendererT<S>::Internals
               Values.sampleBatch(e, st, kk0, value);
               if constexpr (TwoD)
               {
-                grad->sampleBatch(e, st, kk0, gradient);
+                sampleTransferGradients(s.gradients, e, st, kk0, gradient);
               }
               for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= 0;
                    --l)
@@ -738,16 +742,9 @@ Classifier<S, false> make1D(
   return c;
 }
 
-void refuseShade2D(const View& view)
-{
-  if (view.lighting.shade)
-    throw Error("Shade with a 2D transfer function is not rendered yet: turn Shade off in the "
-                "view's \"lighting\" or use a 1D transfer function");
-}
-
 template <typename S>
 Classifier<S, true> make2D(const S* table, int width, int height, std::array<double, 2> vr,
-  std::array<double, 2> gr, double exponent)
+  std::array<double, 2> gr, double q, double exponent)
 {
   if (width < 2 || height < 2 || !(vr[1] > vr[0]) || !(gr[1] > gr[0]) || !table)
   {
@@ -757,9 +754,9 @@ Classifier<S, true> make2D(const S* table, int width, int height, std::array<dou
   c.width = width;
   c.height = height;
   c.table.prepare(table, static_cast<size_t>(width) * height, static_cast<S>(exponent));
-  c.vScale = static_cast<S>(width / (vr[1] - vr[0]));
+  c.vScale = static_cast<S>(q * width / (vr[1] - vr[0])); // q: as RayCaster's Classify2D
   c.vBias = static_cast<S>(-vr[0] * width / (vr[1] - vr[0]) - 0.5);
-  c.gScale = static_cast<S>(height / (gr[1] - gr[0]));
+  c.gScale = static_cast<S>(q * height / (gr[1] - gr[0]));
   c.gBias = static_cast<S>(-gr[0] * height / (gr[1] - gr[0]) - 0.5);
   return c;
 }
@@ -771,7 +768,7 @@ void DifferentiableRendererT<S>::forward(const S* table, int width, double min, 
   const View& view, const RenderOptions& options, const std::vector<int>& pixels,
   std::vector<S>& rgba, std::vector<RayRecord>& records) const
 {
-  const auto s = In->setup(view, options);
+  const auto s = In->setup(view, options, false);
   In->forward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), s, view, options,
     pixels, rgba, records);
 }
@@ -782,7 +779,7 @@ void DifferentiableRendererT<S>::backward(const S* table, int width, double min,
   const std::vector<RayRecord>& records, const std::vector<S>& dL_dRGBA,
   std::vector<S>& dL_dTable) const
 {
-  const auto s = In->setup(view, options);
+  const auto s = In->setup(view, options, false);
   In->backward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), s,
     static_cast<size_t>(width), view, options, pixels, records, dL_dRGBA, dL_dTable);
 }
@@ -793,10 +790,10 @@ void DifferentiableRendererT<S>::forward2D(const S* table, int width, int height
   const RenderOptions& options, const std::vector<int>& pixels, std::vector<S>& rgba,
   std::vector<RayRecord>& records) const
 {
-  refuseShade2D(view);
-  const auto s = In->setup(view, options);
-  In->forward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit), s, view,
-    options, pixels, rgba, records);
+  const auto s = In->setup(view, options, true);
+  In->forward(
+    make2D(table, width, height, valueRange, gradientRange, In->TextureScale, s.d / s.unit), s,
+    view, options, pixels, rgba, records);
 }
 
 template <typename S>
@@ -806,9 +803,9 @@ void DifferentiableRendererT<S>::backward2D(const S* table, int width, int heigh
   const std::vector<RayRecord>& records, const std::vector<S>& dL_dRGBA,
   std::vector<S>& dL_dTable) const
 {
-  refuseShade2D(view);
-  const auto s = In->setup(view, options);
-  In->backward(make2D(table, width, height, valueRange, gradientRange, s.d / s.unit), s,
+  const auto s = In->setup(view, options, true);
+  In->backward(
+    make2D(table, width, height, valueRange, gradientRange, In->TextureScale, s.d / s.unit), s,
     static_cast<size_t>(width) * height, view, options, pixels, records, dL_dRGBA, dL_dTable);
 }
 

@@ -42,15 +42,17 @@ namespace ddg
 /// renderer, keep constant memory and re-interpolate. Both give the same values bit for bit,
 /// hence the same gradients.
 ///
-/// Shade on (view.lighting.shade, 1D tables): each sample's table colour is lit as RayCaster
-/// lights it (Render/Lighting.h); the lighting depends on the volume's gradient and the camera,
-/// not on the table, so the backward pass scales the colour gradient by Diffuse x the sample's
-/// diffuse light sum (0 where the clamp to [0, 1] cuts or no light reaches), recomputed in the
-/// replay from the per-point gradients (RayCaster::lightingGradients).
+/// Shade on (view.lighting.shade): each sample's table colour is lit as RayCaster lights it
+/// (Render/Lighting.h; clamped to [0, 1] with 1D tables, not with 2D ones, as ParaView does);
+/// the lighting depends on the volume's gradient and the camera, not on the table, so the
+/// backward pass scales the colour gradient by Diffuse x the sample's diffuse light sum (0 where
+/// the 1D clamp cuts or no light reaches), recomputed in the replay from the per-point gradients
+/// (RayCaster::lightingGradients).
 ///
 /// Tables: `table` is a dense RGBA table of `width` entries over [min, max] in data values, with
 /// UNCORRECTED opacity and ParaView's lookup convention (TransferTable1D). Gradients are with
-/// respect to these entries. 2D tables: value x gradient magnitude, as TransferTable2D.
+/// respect to these entries. 2D tables: value x gradient magnitude, as TransferTable2D, the
+/// gradient axis per sample as RayCaster computes it (transferGradient, Render/Lighting.h).
 ///
 /// What the forward pass keeps per ray for the backward pass (constant size).
 struct RayRecord

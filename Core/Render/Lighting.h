@@ -128,8 +128,10 @@ void litColour(const LightKit& kit, const S diff[3], const S spec[3], const S rg
       static_cast<S>(kit.diffuse) * diff[a] * rgb[a] + static_cast<S>(kit.specular) * spec[a];
 }
 
-/// Shades the table colour rgb (in [0, 1]) of a sample: the lit, clamped colour in rgb.
-inline void shadeSample(const LightKit& kit, const float m[3], const float p[3], float rgb[3])
+/// Shades the table colour rgb (in [0, 1]) of a sample: the lit colour in rgb, clamped to [0, 1]
+/// when `clamp` (ParaView clamps it with 1D transfer functions, not with 2D ones).
+inline void shadeSample(
+  const LightKit& kit, const float m[3], const float p[3], bool clamp, float rgb[3])
 {
   float diff[3], spec[3], lit[3];
   if (!lightSums(kit, m, p, diff, spec))
@@ -139,15 +141,15 @@ inline void shadeSample(const LightKit& kit, const float m[3], const float p[3],
   }
   litColour(kit, diff, spec, rgb, lit);
   for (int a = 0; a < 3; ++a)
-    rgb[a] = std::clamp(lit[a], 0.0f, 1.0f);
+    rgb[a] = clamp ? std::clamp(lit[a], 0.0f, 1.0f) : lit[a];
 }
 
-// Shade on: the light sums of the sample at index coordinates x (diffuse multiplies the table
-// colour, specular adds; Render/Lighting.h), from the per-point gradients interpolated as the
-// scalar is. False: no light reaches (zero gradient), the sample is black.
+/// The per-point gradient (RayCaster::lightingGradients: ParaView's central difference over
+/// N/(N-1) voxels per axis, over the spacing) interpolated trilinearly at index coordinates x,
+/// clamped to the grid as the scalar is. For fields linear over the two cells either side this
+/// is the shader's difference of two interpolated values; otherwise it differs by O(1/N).
 template <typename S>
-bool sampleLightSums(const LightKit& kit, const LightingFrame& frame, const float* g,
-  const std::array<int, 3>& n, const S x[3], S diff[3], S spec[3])
+void interpolateGradient(const float* g, const std::array<int, 3>& n, const S x[3], S grad[3])
 {
   int i[3];
   S f[3];
@@ -162,13 +164,32 @@ bool sampleLightSums(const LightKit& kit, const LightingFrame& frame, const floa
     3 *
       (static_cast<size_t>(i[0]) +
         static_cast<size_t>(n[0]) * (i[1] + static_cast<size_t>(n[1]) * i[2]));
-  S grad[3], m[3], pe[3];
   for (int a = 0; a < 3; ++a)
   {
     const S c[8] = { p[a], p[3 + a], p[sy + a], p[sy + 3 + a], p[sz + a], p[sz + 3 + a],
       p[sz + sy + a], p[sz + sy + 3 + a] };
     grad[a] = adjoint::trilinear(c, f[0], f[1], f[2]);
   }
+}
+
+/// The gradient axis of 2D transfer functions at a sample, from its interpolated gradient g:
+/// G = |g| / 2, the magnitude ParaView's 2D shader computes divided by the mean spacing
+/// (it looks up |d|, d_k = (F(x + N/(N-1) e_k) - F(x - N/(N-1) e_k)) avgS / (2 s_k)), so that
+/// ParaView's Y = avgS G exactly. Data units per world unit, N/(N-1) above the true gradient.
+template <typename S>
+S transferGradient(const S g[3])
+{
+  return S(0.5) * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+}
+
+// Shade on: the light sums of the sample at index coordinates x (diffuse multiplies the table
+// colour, specular adds; Render/Lighting.h), from the per-point gradient interpolated there
+// (interpolateGradient). False: no light reaches (zero gradient), the sample is black.
+template <typename S>
+bool sampleLightSums(const LightKit& kit, const LightingFrame& frame, const S grad[3], const S x[3],
+  S diff[3], S spec[3])
+{
+  S m[3], pe[3];
   for (int r = 0; r < 3; ++r)
   {
     m[r] = static_cast<S>(frame.normalMap[r][0]) * grad[0] +

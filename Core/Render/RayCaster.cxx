@@ -144,7 +144,7 @@ struct RayCaster::Internals
   Field<std::int16_t> I16;
   Field<float> F32;
   std::once_flag GradientOnce;
-  Field<float> Gradient; // gradient magnitude, for 2D tables
+  Field<float> Gradient; // 2D tables: block maxima of transferGradient (its values freed)
   std::once_flag NormalOnce;
   std::vector<float> Normals; // lighting: per point, the scaled central differences (x, y, z)
   const std::vector<float>& lightingGradients(); // Normals, computed on first use
@@ -272,17 +272,31 @@ TransferTable1D RayCaster::paraviewTable(const TransferFunction1D& tf) const
   return bakeTable(tf, r[0], r[1], paraviewTableWidth(tf, r[0], r[1]));
 }
 
-float RayCaster::jitterValue(int x, int yFromBottom)
+TransferTable2D RayCaster::paraviewTable2D(
+  const ParaViewTransferFunction2D& tf, const View& view) const
 {
-  // 64 x 64 tile of white noise from an integer hash (deterministic, no data file).
-  std::uint32_t h = static_cast<std::uint32_t>(x & 63) * 73856093u ^
-    static_cast<std::uint32_t>(yFromBottom & 63) * 19349663u;
-  h ^= h >> 16;
-  h *= 0x7feb352du;
-  h ^= h >> 15;
-  h *= 0x846ca68bu;
-  h ^= h >> 16;
-  return static_cast<float>(h >> 8) / 16777216.0f;
+  return tf.table(paraviewMapping2D(view));
+}
+
+TransferFunctionFile RayCaster::resolve(const TransferFunctionFile& tf, const View& view) const
+{
+  if (!tf.isParaView2D)
+    return tf;
+  TransferFunctionFile out;
+  out.is2D = true;
+  out.tf2D.name = "ParaView 2D transfer function";
+  out.tf2D.table = paraviewTable2D(tf.paraview2D, view);
+  return out;
+}
+
+Image RayCaster::render(const TransferFunctionFile& tf, const View& view,
+  const RenderOptions& options, const ProgressCallback& progress, RenderStats* stats) const
+{
+  if (tf.isParaView2D)
+    return render(paraviewTable2D(tf.paraview2D, view), view, options, progress, stats);
+  if (tf.is2D)
+    return render(tf.tf2D.bake(), view, options, progress, stats);
+  return render(paraviewTable(tf.tf1D), view, options, progress, stats);
 }
 
 namespace
@@ -364,19 +378,12 @@ inline void sampleGradient(
 struct SampleLighting
 {
   LightKit kit;
-  const float* gradients = nullptr;
-  int nx = 0, ny = 0, nz = 0;
   float normalMap[3][3];                      // m = normalMap g
   float positionMap[3][3], positionOffset[3]; // P_eye = positionMap c + positionOffset
 
-  void setup(const Volume& vol, const std::vector<float>& g, const View& view)
+  void setup(const Volume& vol, const View& view)
   {
     kit = LightKit::paraview(view.lighting);
-    gradients = g.data();
-    const auto& d = vol.dims();
-    nx = d[0];
-    ny = d[1];
-    nz = d[2];
     const LightingFrame frame = LightingFrame::of(vol, view);
     for (int r = 0; r < 3; ++r)
     {
@@ -389,18 +396,18 @@ struct SampleLighting
     }
   }
 
-  // Lights the table colour of lane l of a batch, at index coordinates (x, y, z).
-  void shade(const Lanes& lanes, int l, float x, float y, float z, float rgb[3]) const
+  // Lights the table colour of lane l of a batch, at index coordinates (x, y, z), whose
+  // interpolated gradient is g; clamps the lit colour to [0, 1] when `clamp` (1D tables).
+  void shade(const float g[3], float x, float y, float z, bool clamp, float rgb[3]) const
   {
-    float g[3], m[3], p[3] = { 0, 0, 0 };
-    sampleGradient(gradients, nx, ny, lanes.idx[l], lanes.fx[l], lanes.fy[l], lanes.fz[l], g);
+    float m[3], p[3] = { 0, 0, 0 };
     for (int r = 0; r < 3; ++r)
       m[r] = normalMap[r][0] * g[0] + normalMap[r][1] * g[1] + normalMap[r][2] * g[2];
     if (kit.specular > 0.0f) // only the specular term looks at where the sample is
       for (int r = 0; r < 3; ++r)
         p[r] =
           positionMap[r][0] * x + positionMap[r][1] * y + positionMap[r][2] * z + positionOffset[r];
-    shadeSample(kit, m, p, rgb);
+    shadeSample(kit, m, p, clamp, rgb);
   }
 };
 
@@ -479,7 +486,7 @@ template <typename FieldT>
 struct March
 {
   const FieldT* field = nullptr;
-  const Field<float>* gradient = nullptr; // 2D only
+  const float* gradients = nullptr; // per-point gradients (RayCaster::lightingGradients): 2D, Shade
   const Classify1D* c1 = nullptr;
   const Classify2D* c2 = nullptr;
   const SampleLighting* light = nullptr; // Shade on
@@ -595,58 +602,61 @@ struct March
         continue;
       }
       stats.samples += kEnd - k;
-      if constexpr (TwoD)
+      // Interpolate a batch of kBatch samples (independent: vectorisable), then classify,
+      // light and composite them in order. Lanes past kEnd are computed (clamped, in bounds)
+      // but not used.
+      bool done = false;
+      for (; k < kEnd && !done; k += kBatch)
       {
-        for (; k < kEnd; ++k)
+        float value[kBatch];
+        Lanes lanes;
+        sampleBatch(f, j + static_cast<float>(k), ex, ey, ez, sx, sy, sz, value, lanes);
+        const int n = static_cast<int>(std::min<std::int64_t>(kBatch, kEnd - k));
+        for (int l = 0; l < n; ++l)
         {
-          const float kk = j + static_cast<float>(k);
-          const float px = ex + kk * sx, py = ey + kk * sy, pz = ez + kk * sz;
-          const RGBA c = c2->lookup(f.sample(px, py, pz), gradient->sample(px, py, pz));
-          if (c.a > 0.0f && composite(c, cr, cg, cb, ca, termination))
+          // The interpolated gradient: 2D tables classify with it; Shade lights with it, and
+          // in 1D only samples with opacity need it.
+          float g[3];
+          auto gradient = [&] {
+            sampleGradient(
+              gradients, f.nx, f.ny, lanes.idx[l], lanes.fx[l], lanes.fy[l], lanes.fz[l], g);
+          };
+          RGBA c;
+          if constexpr (TwoD)
           {
-            stats.samples -= kEnd - k - 1;
-            k = kLast + 1;
+            gradient();
+            c = c2->lookup(value[l], transferGradient(g));
+          }
+          else
+          {
+            c = c1->lookup(value[l]);
+          }
+          if (c.a <= 0.0f)
+            continue;
+          if (light)
+          {
+            if constexpr (!TwoD)
+              gradient();
+            const float kk = j + static_cast<float>(k + l);
+            float rgb[3] = { c.r, c.g, c.b };
+            light->shade(g, ex + kk * sx, ey + kk * sy, ez + kk * sz, !TwoD, rgb);
+            c.r = rgb[0];
+            c.g = rgb[1];
+            c.b = rgb[2];
+          }
+          if (composite(c, cr, cg, cb, ca, termination))
+          {
+            stats.samples -= kEnd - (k + l) - 1;
+            done = true;
             break;
           }
         }
       }
-      else
+      if (done)
       {
-        // Interpolate a batch of kBatch samples (independent: vectorisable), then composite
-        // them in order. Lanes past kEnd are computed (clamped, in bounds) but not used.
-        bool done = false;
-        for (; k < kEnd && !done; k += kBatch)
-        {
-          float value[kBatch];
-          Lanes lanes;
-          sampleBatch(f, j + static_cast<float>(k), ex, ey, ez, sx, sy, sz, value, lanes);
-          const int n = static_cast<int>(std::min<std::int64_t>(kBatch, kEnd - k));
-          for (int l = 0; l < n; ++l)
-          {
-            RGBA c = c1->lookup(value[l]);
-            if (light && c.a > 0.0f)
-            {
-              const float kk = j + static_cast<float>(k + l);
-              float rgb[3] = { c.r, c.g, c.b };
-              light->shade(lanes, l, ex + kk * sx, ey + kk * sy, ez + kk * sz, rgb);
-              c.r = rgb[0];
-              c.g = rgb[1];
-              c.b = rgb[2];
-            }
-            if (c.a > 0.0f && composite(c, cr, cg, cb, ca, termination))
-            {
-              stats.samples -= kEnd - (k + l) - 1;
-              done = true;
-              break;
-            }
-          }
-        }
-        if (done)
-        {
-          break;
-        }
-        k = kEnd;
+        break;
       }
+      k = kEnd;
     }
     out[0] = cr;
     out[1] = cg;
@@ -793,8 +803,9 @@ Image RayCaster::render(const TransferTable1D& table, const View& view,
       SampleLighting lighting;
       if (view.lighting.shade)
       {
-        lighting.setup(In->Vol, In->lightingGradients(), view);
+        lighting.setup(In->Vol, view);
         m.light = &lighting;
+        m.gradients = In->lightingGradients().data();
       }
       return m.template run<false>(view, options.threads, progress, stats);
     });
@@ -805,16 +816,18 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
 {
   view.validate();
   table.validate();
-  if (view.lighting.shade)
-  {
-    throw Error("Shade with a 2D transfer function is not rendered yet: turn Shade off in the "
-                "view's \"lighting\" or use a 1D transfer function");
-  }
+  const std::vector<float>& gradients = In->lightingGradients();
   std::call_once(In->GradientOnce,
-    [this]
+    [&]
     {
+      // Block maxima of the per-point transferGradient bound it at every sample (the norm of
+      // a trilinear blend is at most the largest norm blended); the bound below is 0.
       const auto& d = In->Vol.dims();
-      In->Gradient.build(d[0], d[1], d[2], In->Vol.gradientMagnitude());
+      std::vector<float> magnitude(gradients.size() / 3);
+      for (size_t i = 0; i < magnitude.size(); ++i)
+        magnitude[i] = transferGradient(&gradients[3 * i]);
+      In->Gradient.build(d[0], d[1], d[2], magnitude);
+      In->Gradient.w = {};
     });
   return In->withField(
     [&](const auto& field)
@@ -823,17 +836,22 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
       m.setup(In->Vol, field, defaultSampleDistance(), view, options);
       const double unit = opacityUnitDistance(view);
       Classify2D c;
-      c.prepare(table, m.d / unit);
+      c.prepare(table, In->TextureScale, m.d / unit);
       m.c2 = &c;
-      m.gradient = &In->Gradient;
+      m.gradients = gradients.data();
       const Field<float>& g = In->Gradient;
       m.blockEmpty.resize(field.blockMin.size());
       for (size_t b = 0; b < field.blockMin.size(); ++b)
       {
-        m.blockEmpty[b] =
-          !c.anyOpaque(field.blockMin[b], field.blockMax[b], g.blockMin[b], g.blockMax[b]);
+        m.blockEmpty[b] = !c.anyOpaque(field.blockMin[b], field.blockMax[b], 0.0f, g.blockMax[b]);
       }
       m.buildSuperLevel();
+      SampleLighting lighting;
+      if (view.lighting.shade)
+      {
+        lighting.setup(In->Vol, view);
+        m.light = &lighting;
+      }
       return m.template run<true>(view, options.threads, progress, stats);
     });
 }

@@ -7,6 +7,7 @@
 #include "TransferFunction/ParaViewTransferFunction2D.h"
 #include "TransferFunction/TransferFunction1D.h"
 #include "TransferFunction/TransferFunction2D.h"
+#include "TransferFunction/TransferFunctionIO.h"
 #include "Volume/Volume.h"
 
 #include <cstdint>
@@ -100,18 +101,30 @@ public:
 
   /// The table ParaView builds for `tf` over this volume's data range.
   TransferTable1D paraviewTable(const TransferFunction1D& tf) const;
+  /// The 2D table ParaView's mapper samples for its 2D TF `tf` on this volume at `view`
+  /// (ParaViewTransferFunction2D::table with paraviewMapping2D(view)).
+  TransferTable2D paraviewTable2D(const ParaViewTransferFunction2D& tf, const View& view) const;
+  /// A TF file made ready for this volume at `view`: ParaView's 2D boxes become a 2D table
+  /// (is2D); other files are returned as they are.
+  TransferFunctionFile resolve(const TransferFunctionFile& tf, const View& view) const;
+  /// Renders any TF file (1D preset, DDG 2D JSON, ParaView's 2D boxes) as ParaView would.
+  Image render(const TransferFunctionFile& tf, const View& view, const RenderOptions& options = {},
+    const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
 
   /// Renders with a 1D table (any range; lookups use the table's own range).
   Image render(const TransferTable1D& table, const View& view, const RenderOptions& options = {},
     const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
-  /// Renders with a 2D (value x gradient magnitude) table. The gradient magnitude volume is
-  /// computed on first use (Volume::gradientMagnitude) and kept.
+  /// Renders with a 2D (value x gradient magnitude) table, as ParaView's 2D transfer function
+  /// with the gradient as Y: the gradient axis is taken per sample (transferGradient of the
+  /// interpolated lightingGradients, Render/Lighting.h), opacity corrected for the step as 1D
+  /// tables are; Shade on lights the sample as in 1D without clamping the lit colour (ParaView
+  /// does not clamp it for 2D tables).
   Image render(const TransferTable2D& table, const View& view, const RenderOptions& options = {},
     const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
 
-  /// Shade on: the per-point gradients lit samples interpolate (x, y, z interleaved: the central
-  /// difference, clamped at the faces, times N/(N-1), over the spacing; Documentation/Rendering.md
-  /// "Shade on"). Computed on first use and kept: 12 bytes per point.
+  /// Shade on or a 2D table: the per-point gradients samples interpolate (x, y, z interleaved: the
+  /// central difference, clamped at the faces, times N/(N-1), over the spacing;
+  /// Documentation/Rendering.md "Shade on"). Computed on first use and kept: 12 bytes per point.
   const std::vector<float>& lightingGradients() const;
 
   /// The per-pixel jitter tile value used when RenderOptions::jitter is on, for pixel (x, y)

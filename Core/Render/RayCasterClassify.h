@@ -85,14 +85,16 @@ struct Classify1D
   }
 };
 
-// 2D classification: bilinear lookup over (raw value, gradient magnitude).
+// 2D classification: bilinear lookup over (value, gradient magnitude), both scaled by ParaView's
+// texture scale q (RayCaster::textureScale: its 2D lookup and gradient read the same normalised
+// texture as the 1D lookup).
 struct Classify2D
 {
   std::vector<RGBA> table;
   int width = 0, height = 0;
   float vScale = 1, vBias = 0, gScale = 1, gBias = 0;
 
-  void prepare(const TransferTable2D& t, double exponent)
+  void prepare(const TransferTable2D& t, double q, double exponent)
   {
     t.validate();
     width = t.width;
@@ -105,9 +107,9 @@ struct Classify2D
     }
     const double dv = t.valueRange[1] - t.valueRange[0];
     const double dg = t.gradientRange[1] - t.gradientRange[0];
-    vScale = static_cast<float>(width / dv);
+    vScale = static_cast<float>(q * width / dv);
     vBias = static_cast<float>(-t.valueRange[0] * width / dv - 0.5);
-    gScale = static_cast<float>(height / dg);
+    gScale = static_cast<float>(q * height / dg);
     gBias = static_cast<float>(-t.gradientRange[0] * height / dg - 0.5);
   }
 

@@ -213,6 +213,162 @@ std::string ParaViewTransferFunction2D::toJson(const ParaViewBoxFitReport* repor
   return j.dump();
 }
 
+ParaViewTransferFunction2D ParaViewTransferFunction2D::fromJson(
+  const std::string& jsonText, const std::string& origin)
+{
+  nlohmann::json j;
+  try
+  {
+    j = nlohmann::json::parse(jsonText);
+  }
+  catch (const nlohmann::json::exception& e)
+  {
+    throw Error(origin + ": is not valid JSON (" + e.what() + ")");
+  }
+  if (!j.is_object() || !j.contains("Boxes") || !j["Boxes"].is_array())
+  {
+    throw Error(origin + ": not a ParaView 2D transfer function (\"Boxes\" missing)");
+  }
+  ParaViewTransferFunction2D tf;
+  try
+  {
+    const auto flat = j["Boxes"].get<std::vector<double>>();
+    if (flat.empty() || flat.size() % 8 != 0)
+    {
+      throw Error(origin +
+        ": \"Boxes\" must hold 8 numbers per box (x, y, width, height, r, g, "
+        "b, a), at least one box");
+    }
+    for (size_t i = 0; i < flat.size(); i += 8)
+    {
+      const int n = static_cast<int>(i / 8);
+      for (size_t k = 0; k < 8; ++k)
+      {
+        if (!std::isfinite(flat[i + k]))
+          throw Error(origin + ": box " + std::to_string(n) + " has a non-finite number");
+      }
+      if (!(flat[i + 2] > 0) || !(flat[i + 3] > 0))
+        throw Error(origin + ": box " + std::to_string(n) + " has no area");
+      for (size_t k = 4; k < 8; ++k)
+      {
+        if (flat[i + k] < 0 || flat[i + k] > 1)
+          throw Error(
+            origin + ": box " + std::to_string(n) + " has a colour or opacity outside [0, 1]");
+      }
+      tf.boxes.push_back({ flat[i], flat[i + 1], flat[i + 2], flat[i + 3],
+        { flat[i + 4], flat[i + 5], flat[i + 6], flat[i + 7] } });
+    }
+    if (j.contains("Range"))
+      tf.range = j["Range"].get<std::array<double, 4>>();
+    if (j.contains("OutputDimensions"))
+      tf.outputDimensions = j["OutputDimensions"].get<std::array<int, 2>>();
+  }
+  catch (const nlohmann::json::exception& e)
+  {
+    throw Error(origin + ": " + e.what());
+  }
+  try
+  {
+    checkRange(tf.range);
+  }
+  catch (const Error& e)
+  {
+    throw Error(origin + ": " + e.what());
+  }
+  if (tf.outputDimensions[0] < 1 || tf.outputDimensions[1] < 1 || tf.outputDimensions[0] > 8192 ||
+    tf.outputDimensions[1] > 8192)
+  {
+    throw Error(origin + ": OutputDimensions must be 1..8192 on both axes");
+  }
+  return tf;
+}
+
+std::vector<float> ParaViewTransferFunction2D::functionImage() const
+{
+  checkRange(range);
+  const int W = outputDimensions[0], H = outputDimensions[1];
+  std::vector<float> image(4 * static_cast<size_t>(W) * H, 0.0f);
+  const double spacing[2] = { (range[1] - range[0]) / W, (range[3] - range[2]) / H };
+  // vtkPVTransferFunction2DBox: a 128 x 128 unsigned char texture, colour * 255 and the
+  // Gaussian amp * exp(-r^2 / (2 sigma^2)) around texel 64, sigma = 0.3 * 128, truncated.
+  constexpr int kTexture = 128;
+  const double sigma = 0.3 * kTexture;
+  for (const auto& b : boxes)
+  {
+    const auto pixels = [&](double v, double lo, double hi, double step, int n)
+    {
+      const auto p = static_cast<std::int64_t>((v - lo) / step);
+      return v <= lo ? std::int64_t(0) : v >= hi ? std::int64_t(n) : p;
+    };
+    if (static_cast<std::int64_t>(b.width / spacing[0]) <= 0 ||
+      static_cast<std::int64_t>(b.height / spacing[1]) <= 0)
+    {
+      continue;
+    }
+    const std::int64_t x0 = pixels(b.x, range[0], range[1], spacing[0], W),
+                       x1 = pixels(b.x + b.width, range[0], range[1], spacing[0], W),
+                       y0 = pixels(b.y, range[2], range[3], spacing[1], H),
+                       y1 = pixels(b.y + b.height, range[2], range[3], spacing[1], H);
+    float rgb[3];
+    for (int c = 0; c < 3; ++c)
+      rgb[c] = static_cast<float>(static_cast<unsigned char>(b.rgba[c] * 255) / 255.0);
+    const double amp = b.rgba[3] * 255;
+    const double texel[2] = { b.width / kTexture, b.height / kTexture };
+    for (std::int64_t jj = y0; jj < y1; ++jj)
+    {
+      const int ty = std::clamp(
+        static_cast<int>((jj * spacing[1] + range[2] - b.y) / texel[1]), 0, kTexture - 1);
+      for (std::int64_t ii = x0; ii < x1; ++ii)
+      {
+        const int tx = std::clamp(
+          static_cast<int>((ii * spacing[0] + range[0] - b.x) / texel[0]), 0, kTexture - 1);
+        const double r2 = (tx - kTexture / 2.0) * (tx - kTexture / 2.0) +
+          (ty - kTexture / 2.0) * (ty - kTexture / 2.0);
+        const auto a8 = static_cast<unsigned char>(amp * std::exp(-r2 / (2 * sigma * sigma)));
+        const float a = static_cast<float>(a8 / 255.0);
+        float* c = &image[4 * (static_cast<size_t>(jj) * W + static_cast<size_t>(ii))];
+        for (int q = 0; q < 3; ++q)
+          c[q] = rgb[q] + c[q] * (1 - a);
+        c[3] = a + c[3] * (1 - a);
+      }
+    }
+  }
+  return image;
+}
+
+TransferTable2D ParaViewTransferFunction2D::table(const ParaViewTransfer2DMapping& mapping) const
+{
+  const auto power2 = [](int n) { return n >= 1024 && (n & (n - 1)) == 0; };
+  if (!power2(outputDimensions[0]) || !power2(outputDimensions[1]))
+  {
+    throw Error("ParaView 2D transfer function: OutputDimensions " +
+      std::to_string(outputDimensions[0]) + " x " + std::to_string(outputDimensions[1]) +
+      " are resampled by ParaView's mapper (a Lanczos filter ddg does not reproduce): use a "
+      "power of two of at least 1024 on both axes, e.g. [1024, 1024]");
+  }
+  if (!(mapping.gradientScale > 0) || !(mapping.gradientMax > 0) ||
+    !(mapping.opacityExponent > 0) || !(mapping.valueRange[1] > mapping.valueRange[0]))
+  {
+    throw Error("ParaView 2D transfer function: the volume's mapping is empty");
+  }
+  TransferTable2D t;
+  t.valueRange = mapping.valueRange;
+  t.gradientRange = { 0.0, mapping.gradientMax / mapping.gradientScale };
+  t.width = outputDimensions[0];
+  t.height = outputDimensions[1];
+  t.rgba = functionImage();
+  const double inverse = 1.0 / mapping.opacityExponent;
+  for (size_t i = 0; i < t.rgba.size(); i += 4)
+  {
+    for (size_t c = 0; c < 3; ++c)
+      t.rgba[i + c] = std::clamp(t.rgba[i + c], 0.0f, 1.0f);
+    // our renderer corrects a to 1 - (1 - a)^exponent per sample: undo it
+    const double a = std::clamp(static_cast<double>(t.rgba[i + 3]), 0.0, 1.0);
+    t.rgba[i + 3] = static_cast<float>(a > 1e-4 ? 1 - std::pow(1 - a, inverse) : a);
+  }
+  return t;
+}
+
 ParaViewTransfer2DMapping ParaViewTransfer2DMapping::forVolume(const std::array<int, 3>& dims,
   const std::array<double, 3>& spacing, const std::array<double, 2>& valueRange,
   double sampleDistance, double unitDistance)
@@ -227,16 +383,12 @@ ParaViewTransfer2DMapping ParaViewTransfer2DMapping::forVolume(const std::array<
   {
     throw Error("ParaView 2D mapping: sample and opacity unit distances must be positive");
   }
-  double meanSpacing = 0, factor = 0;
+  double meanSpacing = 0;
   int axes = 0;
   for (int a = 0; a < 3; ++a)
   {
     meanSpacing += spacing[a] / 3.0;
-    if (dims[a] > 1)
-    {
-      factor += static_cast<double>(dims[a]) / (dims[a] - 1);
-      ++axes;
-    }
+    axes += dims[a] > 1 ? 1 : 0;
   }
   if (axes == 0 || !(meanSpacing > 0))
   {
@@ -244,7 +396,7 @@ ParaViewTransfer2DMapping ParaViewTransfer2DMapping::forVolume(const std::array<
   }
   ParaViewTransfer2DMapping m;
   m.valueRange = valueRange;
-  m.gradientScale = meanSpacing * factor / axes;
+  m.gradientScale = meanSpacing; // Y = avgS G exactly (transferGradient, Render/Lighting.h)
   m.gradientMax = 0.25 * (valueRange[1] - valueRange[0]);
   m.opacityExponent = sampleDistance / unitDistance;
   return m;

@@ -12,6 +12,7 @@ namespace ddg
 {
 
 struct ParaViewBoxFitReport;
+struct ParaViewTransfer2DMapping;
 
 /// One entry of the proxy's `Boxes` property: lower-left corner (x, y) and size in the Range's
 /// units, straight colour rgb and peak opacity a, all as vtkPVTransferFunction2DBox holds them.
@@ -39,12 +40,30 @@ struct ParaViewTransferFunction2D
   std::array<double, 4> range{ 0, 1, 0, 1 };
   std::array<int, 2> outputDimensions{ 1024, 1024 };
 
-  /// RGBA at (x, y) in Range units: straight rgb (may exceed 1), per-sample alpha.
+  /// RGBA at (x, y) in Range units: straight rgb (may exceed 1), per-sample alpha. The smooth
+  /// Gaussian the box fit works with; functionImage is what ParaView renders.
   std::array<double, 4> evaluate(double x, double y) const;
+  /// The function image vtkPVTransferFunction2D::Build makes (ParaView 5.11): OutputDimensions
+  /// pixels, x fastest, RGBA floats; pixel (i, j) is the composite at x = Range[0] + i (Range
+  /// width) / OutputDimensions[0] (likewise y) of every box covering it, each box sampled from
+  /// its 128 x 128 8-bit texture (colour and Gaussian alpha truncated to 1/255 steps) at the
+  /// texel below the pixel.
+  std::vector<float> functionImage() const;
+  /// The 2D table ParaView's mapper samples from this function on a volume with `mapping`, as
+  /// our TransferTable2D: the function image (which must need no resampling: OutputDimensions a
+  /// power of two >= 1024 on both axes) spread over the data range and the gradient axis up to
+  /// mapping.gradientMax / gradientScale (the mapper ignores Range), alpha turned back into
+  /// opacity per unit distance (ParaView does not correct 2D opacity for the step), colour
+  /// clamped to [0, 1] (overlapping boxes can exceed it in ParaView). Throws ddg::Error.
+  TransferTable2D table(const ParaViewTransfer2DMapping& mapping) const;
   /// {"Boxes": [x, y, w, h, r, g, b, a, ...], "Range": [...], "OutputDimensions": [...]}: the
   /// proxy's property values, ready for paraview.simple or vtkSMPropertyHelper; with a fit
   /// report also "Fit": {"rmse", "initial_rmse", "alpha_rmse", "max_alpha"}.
   std::string toJson(const ParaViewBoxFitReport* report = nullptr) const;
+  /// Reads what toJson writes ("Fit" ignored); validates boxes (finite, positive size, colour
+  /// and alpha in [0, 1]), Range and OutputDimensions. `origin` names the source in errors.
+  static ParaViewTransferFunction2D fromJson(
+    const std::string& jsonText, const std::string& origin);
 };
 
 /// How one volume's data map our 2D TF axes and opacity onto ParaView's.
@@ -57,8 +76,9 @@ struct ParaViewTransfer2DMapping
 
   /// For a volume of `dims` points with `spacing` and data range `valueRange`, rendered with
   /// sample distance `sampleDistance` and opacity unit distance `unitDistance` (RayCaster's
-  /// defaults are ParaView's). ParaView's gradient is the central difference over N/(N-1)
-  /// voxels per axis times the mean spacing: Y = |grad| * meanSpacing * N/(N-1) (mean over axes).
+  /// defaults are ParaView's). ParaView's Y is our per-sample gradient axis (the central
+  /// difference over N/(N-1) voxels per axis over twice the spacing: transferGradient,
+  /// Render/Lighting.h) times the mean spacing.
   static ParaViewTransfer2DMapping forVolume(const std::array<int, 3>& dims,
     const std::array<double, 3>& spacing, const std::array<double, 2>& valueRange,
     double sampleDistance, double unitDistance);

@@ -326,6 +326,11 @@ TransferFunctionFile parseTransferFunctionFile(
     f.is2D = true;
     f.tf2D = parseTransferFunction2D(jsonText, origin);
   }
+  else if (jsonText.find("\"Boxes\"") != std::string::npos)
+  {
+    f.isParaView2D = true;
+    f.paraview2D = ParaViewTransferFunction2D::fromJson(jsonText, origin);
+  }
   else
   {
     f.tf1D = parsePreset(jsonText, origin);

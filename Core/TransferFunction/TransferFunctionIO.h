@@ -1,6 +1,8 @@
-// TransferFunctionIO.h: the TF file contract — ParaView preset JSON (1D) and the ddg 2D JSON.
+// TransferFunctionIO.h: the TF file contract — ParaView preset JSON (1D), the ddg 2D JSON and
+// ParaView's 2D transfer function boxes.
 #pragma once
 
+#include "TransferFunction/ParaViewTransferFunction2D.h"
 #include "TransferFunction/TransferFunction1D.h"
 #include "TransferFunction/TransferFunction2D.h"
 
@@ -36,12 +38,17 @@ TransferFunction2D readTransferFunction2D(const std::string& path);
 std::string transferFunction2DToJson(const TransferFunction2D& tf);
 void writeTransferFunction2D(const TransferFunction2D& tf, const std::string& path);
 
-/// Either kind of TF file, told apart by the 2D "Format" key.
+/// Any TF file: a 1D preset, the DDG 2D JSON (told apart by its "Format" key) or ParaView's
+/// 2D transfer function as `ddg export --format paraview-2d` writes it (an object with
+/// "Boxes": ParaViewTransferFunction2D::fromJson). The last is defined over a volume's data and
+/// gradient ranges, so it becomes a 2D table only with a volume (RayCaster::resolve).
 struct TransferFunctionFile
 {
-  bool is2D = false;
+  bool is2D = false;         ///< tf2D holds the TF (the DDG 2D JSON, or resolved boxes)
+  bool isParaView2D = false; ///< paraview2D holds the TF, not resolved yet
   TransferFunction1D tf1D;
   TransferFunction2D tf2D;
+  ParaViewTransferFunction2D paraview2D;
 };
 TransferFunctionFile readTransferFunctionFile(const std::string& path);
 TransferFunctionFile parseTransferFunctionFile(

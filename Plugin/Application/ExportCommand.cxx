@@ -28,10 +28,10 @@ struct ExportArgs
 
 int runExport(const ExportArgs& a)
 {
-  const auto tf = ddg::readTransferFunctionFile(a.tf);
   const ddg::Volume volume = ddg::readVolumeFile(a.volume);
   const ddg::RayCaster caster(volume);
   const ddg::View view = a.view.empty() ? ddg::View() : ddg::readView(a.view);
+  const auto tf = caster.resolve(ddg::readTransferFunctionFile(a.tf), view);
   // named for the volume, the TF it came from and the file: each export imports into ParaView
   const std::string origin = std::filesystem::path(a.tf).stem().string();
   const std::string what =

@@ -48,8 +48,7 @@ int runRender(const RenderArgs& a)
   opt.emptySpaceSkipping = !a.noSkip;
   opt.threads = a.threads;
   const auto t1 = Clock::now();
-  const ddg::Image rgba = tf.is2D ? caster.render(tf.tf2D.bake(), view, opt)
-                                  : caster.render(caster.paraviewTable(tf.tf1D), view, opt);
+  const ddg::Image rgba = caster.render(tf, view, opt);
   const double tRender = msSince(t1);
   if (a.alpha)
   {
@@ -73,7 +72,10 @@ ddg::cli::Command ddg::cli::addRenderCommand(CLI::App& app)
     "Render a volume with a TF file and a view file to an image (as ParaView's Volume "
     "representation would).");
   render->add_option("--volume", ra->volume, "Volume file")->required();
-  render->add_option("--tf", ra->tf, "Transfer function file (ParaView preset JSON or DDG 2D JSON)")
+  render
+    ->add_option("--tf", ra->tf,
+      "Transfer function file (ParaView preset JSON, DDG 2D JSON, or ParaView's 2D boxes as\n"
+      "`ddg export --format paraview-2d` writes them)")
     ->required();
   render
     ->add_option(

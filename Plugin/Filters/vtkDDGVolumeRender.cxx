@@ -71,7 +71,7 @@ void vtkDDGVolumeRender::Execute(
     throw ddg::Error("no TransferFunctionFile or TransferFunctionJSON set");
   }
   const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
-  const ddg::TransferFunctionFile tf = this->TransferFunctionJSON.empty()
+  const ddg::TransferFunctionFile file = this->TransferFunctionJSON.empty()
     ? ddg::readTransferFunctionFile(this->TransferFunctionFile)
     : ddg::parseTransferFunctionFile(this->TransferFunctionJSON, "TransferFunctionJSON");
 
@@ -103,15 +103,16 @@ void vtkDDGVolumeRender::Execute(
     this->UpdateProgress(f);
     return !this->GetAbortExecute();
   };
-  const ddg::Image image = tf.is2D
-    ? caster.render(tf.tf2D.bake(), view, options, progress)
-    : caster.render(caster.paraviewTable(tf.tf1D), view, options, progress);
+  const ddg::TransferFunctionFile tf = caster.resolve(file, view);
+  const ddg::Image image = caster.render(tf, view, options, progress);
   ddg::toVTKImage(image, view.background, output);
   if (tf.is2D) // what ParaView's TransferFunction2D needs to render the same (ddg.apply)
   {
     auto boxes = vtkSmartPointer<vtkStringArray>::New();
     boxes->SetName("ParaViewTransferFunction2D");
-    boxes->InsertNextValue(ddg::paraViewTransferFunction2DJson(caster, tf.tf2D, view));
+    boxes->InsertNextValue(file.isParaView2D
+        ? file.paraview2D.toJson() // ParaView's own boxes, as given
+        : ddg::paraViewTransferFunction2DJson(caster, tf.tf2D, view));
     output->GetFieldData()->AddArray(boxes);
   }
 }

@@ -66,7 +66,7 @@ Image march(const Volume& volume, const View& view, double d, double offset, dou
         {
           for (int ch = 0; ch < 3; ++ch)
           {
-            C[ch] += (1 - A) * c[3] * std::clamp(c[ch], 0.0, 1.0);
+            C[ch] += (1 - A) * c[3] * c[ch]; // classify clamps where ParaView does
           }
           A += (1 - A) * c[3];
           if (A > termination)
@@ -110,11 +110,31 @@ Image referenceRender(const Volume& volume, const TransferTable1D& table, const 
     });
 }
 
-Image referenceRenderLit(const Volume& volume, const TransferTable1D& table, const View& view,
-  double d, double unit, double offset, double termination)
+namespace
 {
-  const TransferTable1D t = correctedTable(table, d / unit);
-  const double q = RayCaster::textureScale(volume.originalType());
+
+// The shader's gradient at world position p: two trilinear samples N/(N-1) voxels either side
+// per axis, their difference over the spacing (data units; ParaView's computeGradient).
+Eigen::Vector3d shaderGradient(const Volume& volume, const Eigen::Vector3d& p)
+{
+  const auto& n = volume.dims();
+  const auto& s = volume.spacing();
+  Eigen::Vector3d g;
+  for (int k = 0; k < 3; ++k)
+  {
+    Eigen::Vector3d step = Eigen::Vector3d::Zero();
+    step[k] = s[k] * n[k] / (n[k] - 1.0);
+    const Eigen::Vector3d a = p + step, b = p - step;
+    g[k] = (volume.sampleWorld(a[0], a[1], a[2]) - volume.sampleWorld(b[0], b[1], b[2])) / s[k];
+  }
+  return g;
+}
+
+// The lit colour of table colour rgb at world position p with shader gradient g, clamped to
+// [0, 1] when `clamp` (1D tables); black where g = 0.
+std::array<double, 3> litColour(const Volume& volume, const View& view, const Eigen::Vector3d& p,
+  const Eigen::Vector3d& g, const double rgb[3], bool clamp)
+{
   const RayGenerator rays(view);
   const Eigen::Vector3d eye[3] = { rays.right(), rays.up(), -rays.forward() };
   const auto& n = volume.dims();
@@ -132,6 +152,55 @@ Image referenceRenderLit(const Volume& volume, const TransferTable1D& table, con
     { 0, 110, 0.75 / 3.5, { 0.9998, 0.9998, 0.9998 }, false },
     { 0, -110, 0.75 / 3.5, { 0.9998, 0.9998, 0.9998 }, false } };
   const Lighting& lit = view.lighting;
+  Eigen::Vector3d m, pe, tex; // tex: the sample's world position through its texture coordinate
+  for (int k = 0; k < 3; ++k)
+  {
+    const double c01 = ((p[k] - o[k]) / s[k] + 0.5) / n[k];
+    tex[k] = o[k] + (n[k] - 1) * s[k] * c01;
+  }
+  for (int r = 0; r < 3; ++r)
+  {
+    m[r] = (n[r] - 1) * s[r] * eye[r].dot(g); // VTK's untransposed texture-to-eye matrix
+    pe[r] = eye[r].dot(tex - view.camera.position);
+  }
+  std::array<double, 3> out{ 0, 0, 0 };
+  if (!(m.norm() > 0))
+    return out;
+  const Eigen::Vector3d nn = m.normalized(), w = pe.normalized();
+  double diff[3] = { 0, 0, 0 }, spec[3] = { 0, 0, 0 };
+  for (const L& l : lights)
+  {
+    const double e = l.e * M_PI / 180, az = l.a * M_PI / 180;
+    const Eigen::Vector3d dir = l.head
+      ? Eigen::Vector3d(0, 0, -1)
+      : Eigen::Vector3d(-std::cos(e) * std::sin(az), -std::sin(e), -std::cos(e) * std::cos(az));
+    const double lambda = std::abs(nn.dot(dir));
+    if (!(lambda > 0))
+      continue;
+    const double rho = (2 * lambda * nn - dir).normalized().dot(w);
+    for (int ch = 0; ch < 3; ++ch)
+    {
+      diff[ch] += lambda * l.i * l.c[ch];
+      if (rho > 0)
+        spec[ch] += std::pow(rho, lit.specularPower) * l.i * l.c[ch];
+    }
+  }
+  for (int ch = 0; ch < 3; ++ch)
+  {
+    out[ch] = lit.diffuse * diff[ch] * std::clamp(rgb[ch], 0.0, 1.0) + lit.specular * spec[ch];
+    if (clamp)
+      out[ch] = std::clamp(out[ch], 0.0, 1.0);
+  }
+  return out;
+}
+
+} // namespace
+
+Image referenceRenderLit(const Volume& volume, const TransferTable1D& table, const View& view,
+  double d, double unit, double offset, double termination)
+{
+  const TransferTable1D t = correctedTable(table, d / unit);
+  const double q = RayCaster::textureScale(volume.originalType());
   return march(volume, view, d, offset, termination,
     [&](const Eigen::Vector3d& p)
     {
@@ -139,54 +208,9 @@ Image referenceRenderLit(const Volume& volume, const TransferTable1D& table, con
       std::array<double, 4> out{ c[0], c[1], c[2], c[3] };
       if (!(out[3] > 0))
         return out;
-      Eigen::Vector3d g, m, pe;
-      for (int k = 0; k < 3; ++k)
-      {
-        Eigen::Vector3d step = Eigen::Vector3d::Zero();
-        step[k] = s[k] * n[k] / (n[k] - 1.0);
-        const Eigen::Vector3d a = p + step, b = p - step;
-        g[k] =
-          q * (volume.sampleWorld(a[0], a[1], a[2]) - volume.sampleWorld(b[0], b[1], b[2])) / s[k];
-      }
-      Eigen::Vector3d tex; // the sample's world position through its texture coordinate
-      for (int k = 0; k < 3; ++k)
-      {
-        const double c01 = ((p[k] - o[k]) / s[k] + 0.5) / n[k];
-        tex[k] = o[k] + (n[k] - 1) * s[k] * c01;
-      }
-      for (int r = 0; r < 3; ++r)
-      {
-        m[r] = (n[r] - 1) * s[r] * eye[r].dot(g); // VTK's untransposed texture-to-eye matrix
-        pe[r] = eye[r].dot(tex - view.camera.position);
-      }
-      double rgb[3] = { 0, 0, 0 };
-      if (m.norm() > 0)
-      {
-        const Eigen::Vector3d nn = m.normalized(), w = pe.normalized();
-        double diff[3] = { 0, 0, 0 }, spec[3] = { 0, 0, 0 };
-        for (const L& l : lights)
-        {
-          const double e = l.e * M_PI / 180, az = l.a * M_PI / 180;
-          const Eigen::Vector3d dir = l.head ? Eigen::Vector3d(0, 0, -1)
-                                             : Eigen::Vector3d(-std::cos(e) * std::sin(az),
-                                                 -std::sin(e), -std::cos(e) * std::cos(az));
-          const double lambda = std::abs(nn.dot(dir));
-          if (!(lambda > 0))
-            continue;
-          const double rho = (2 * lambda * nn - dir).normalized().dot(w);
-          for (int ch = 0; ch < 3; ++ch)
-          {
-            diff[ch] += lambda * l.i * l.c[ch];
-            if (rho > 0)
-              spec[ch] += std::pow(rho, lit.specularPower) * l.i * l.c[ch];
-          }
-        }
-        for (int ch = 0; ch < 3; ++ch)
-          rgb[ch] = std::clamp(
-            lit.diffuse * diff[ch] * std::clamp(out[ch], 0.0, 1.0) + lit.specular * spec[ch], 0.0,
-            1.0);
-      }
-      return std::array<double, 4>{ rgb[0], rgb[1], rgb[2], out[3] };
+      const double rgb[3] = { out[0], out[1], out[2] };
+      const auto lit = litColour(volume, view, p, shaderGradient(volume, p), rgb, true);
+      return std::array<double, 4>{ lit[0], lit[1], lit[2], out[3] };
     });
 }
 
@@ -198,14 +222,21 @@ Image referenceRender2D(const Volume& volume, const TransferTable2D& table, cons
   {
     t.rgba[4 * i + 3] = static_cast<float>(corrected(t.rgba[4 * i + 3], d / unit));
   }
-  const auto g = volume.gradientMagnitude();
-  const Volume gradient(volume.dims(), volume.origin(), volume.spacing(), g);
   return march(volume, view, d, offset, termination,
     [&](const Eigen::Vector3d& p)
     {
-      const auto c =
-        t.lookup(volume.sampleWorld(p[0], p[1], p[2]), gradient.sampleWorld(p[0], p[1], p[2]));
-      return std::array<double, 4>{ c[0], c[1], c[2], c[3] };
+      // ParaView's 2D shader: |d|, d_k = (F(p + step_k) - F(p - step_k)) avgS / (2 s_k), looked
+      // up in units of avgS: half the shader gradient's norm; both axes through ParaView's
+      // texture scale q, as the 1D lookup.
+      const double q = RayCaster::textureScale(volume.originalType());
+      const Eigen::Vector3d g = shaderGradient(volume, p);
+      const auto c = t.lookup(q * volume.sampleWorld(p[0], p[1], p[2]), q * 0.5 * g.norm());
+      std::array<double, 4> out{ c[0], c[1], c[2], c[3] };
+      if (!view.lighting.shade || !(out[3] > 0))
+        return out;
+      const double rgb[3] = { out[0], out[1], out[2] };
+      const auto lit = litColour(volume, view, p, g, rgb, false); // not clamped in 2D
+      return std::array<double, 4>{ lit[0], lit[1], lit[2], out[3] };
     });
 }
 

@@ -20,7 +20,9 @@ Image referenceRender(const Volume& volume, const TransferTable1D& table, const 
 Image referenceRenderLit(const Volume& volume, const TransferTable1D& table, const View& view,
   double sampleDistance, double unitDistance, double offset, double terminationOpacity);
 
-/// The same with a 2D table (value x gradient magnitude).
+/// The same with a 2D table (value x gradient magnitude): the gradient axis is half the norm of
+/// the shader's gradient above (ParaView's |d| over the mean spacing); with Shade on, lit as
+/// above without the clamp (ParaView does not clamp the lit colour of 2D tables).
 Image referenceRender2D(const Volume& volume, const TransferTable2D& table, const View& view,
   double sampleDistance, double unitDistance, double offset, double terminationOpacity);
 

@@ -347,33 +347,72 @@ TEST(DifferentiableRenderer, BackwardMatchesFiniteDifferencesShade)
   }
 }
 
+// 2D tables, unlit and Shade on (ParaView does not clamp the lit colour of 2D tables: the
+// colour gradient is scaled by Diffuse x the light sum everywhere light reaches).
 TEST(DifferentiableRenderer, BackwardMatchesFiniteDifferences2D)
 {
   const Volume vol = testVolume();
   const DifferentiableRendererT<double> renderer(vol);
-  const View view = testView(vol, 6, 5);
   RenderOptions opt;
   opt.terminationOpacity = 2.0;
   const int w = 8, h = 6;
   const std::array<double, 2> vr{ vol.range()[0], vol.range()[1] }, gr{ 0.0, 40.0 };
   const std::vector<double> table = randomTable(w * h, 0.01, 0.3, 6);
-  const std::vector<double> weights =
-    randomWeights(static_cast<size_t>(view.width) * view.height * 4, 10);
-  auto loss = [&](const std::vector<double>& t)
+  for (const Lighting& lighting :
+    { Lighting{}, Lighting{ true, 0, 1, 0, 100 }, Lighting{ true, 0, 0.5, 0.1, 20 } })
   {
-    std::vector<double> rgba;
+    View view = testView(vol, 6, 5);
+    view.lighting = lighting;
+    const std::vector<double> weights =
+      randomWeights(static_cast<size_t>(view.width) * view.height * 4, 10);
+    auto loss = [&](const std::vector<double>& t)
+    {
+      std::vector<double> rgba;
+      std::vector<RayRecord> rec;
+      renderer.forward2D(t.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
+      double L = 0;
+      for (size_t i = 0; i < rgba.size(); ++i)
+        L += weights[i] * rgba[i];
+      return L;
+    };
+    std::vector<double> rgba, grad(table.size(), 0.0);
     std::vector<RayRecord> rec;
-    renderer.forward2D(t.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
-    double L = 0;
+    renderer.forward2D(table.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
+    renderer.backward2D(table.data(), w, h, vr, gr, view, opt, {}, rec, weights, grad);
+    checkGradient(loss, table, grad, 6, lighting.shade ? "renderer 2D, Shade on" : "renderer 2D");
+  }
+}
+
+// The float renderer's 2D forward pass against RayCaster's 2D render (the same per-sample
+// gradient axis), unlit and lit.
+TEST(DifferentiableRenderer, FloatForward2DMatchesRayCaster)
+{
+  const Volume vol = testVolume();
+  const DifferentiableRenderer renderer(vol);
+  TransferTable2D table;
+  table.valueRange = { vol.range()[0], vol.range()[1] };
+  table.gradientRange = { 0.0, 40.0 };
+  table.width = 8;
+  table.height = 6;
+  const std::vector<double> entries = randomTable(table.width * table.height, 0.05, 0.6, 14);
+  table.rgba.assign(entries.begin(), entries.end());
+  for (const Lighting& lighting : { Lighting{}, Lighting{ true, 0, 0.7, 0.5, 30 } })
+  {
+    View view = testView(vol, 32, 24);
+    view.lighting = lighting;
+    const Image fast = renderer.caster().render(table, view);
+    std::vector<float> rgba;
+    std::vector<RayRecord> rec;
+    renderer.forward2D(table.rgba.data(), table.width, table.height, table.valueRange,
+      table.gradientRange, view, {}, {}, rgba, rec);
+    double alpha = 0;
     for (size_t i = 0; i < rgba.size(); ++i)
-      L += weights[i] * rgba[i];
-    return L;
-  };
-  std::vector<double> rgba, grad(table.size(), 0.0);
-  std::vector<RayRecord> rec;
-  renderer.forward2D(table.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
-  renderer.backward2D(table.data(), w, h, vr, gr, view, opt, {}, rec, weights, grad);
-  checkGradient(loss, table, grad, 6, "renderer 2D");
+    {
+      ASSERT_NEAR(rgba[i], fast.pixels[i], kForwardTol) << i << " shade " << lighting.shade;
+      alpha += i % 4 == 3 ? rgba[i] : 0.0;
+    }
+    EXPECT_GT(alpha, 1.0);
+  }
 }
 
 TEST(DifferentiableRenderer, InvertedCompositingMatchesStoredReverseMode)

@@ -179,10 +179,10 @@ TEST(ParaViewBoxes, FitRecoversATargetMadeOfBoxes)
 TEST(ParaViewBoxes, FitOfGaussianPrimitivesStartsOneBoxEach)
 {
   // Two of our primitives on a 64^3 volume of spacing 0.5, value range 0..255: ParaView's Y is
-  // |grad| * 0.5 * 64/63; alpha per sample with exponent d / unit.
+  // G * 0.5 (G our per-sample gradient axis); alpha per sample with exponent d / unit.
   const auto m =
     ParaViewTransfer2DMapping::forVolume({ 64, 64, 64 }, { 0.5, 0.5, 0.5 }, { 0, 255 }, 0.2, 0.866);
-  EXPECT_NEAR(m.gradientScale, 0.5 * 64.0 / 63.0, 1e-12);
+  EXPECT_NEAR(m.gradientScale, 0.5, 1e-12); // the mean spacing
   EXPECT_NEAR(m.gradientMax, 63.75, 1e-12);
   EXPECT_NEAR(m.opacityExponent, 0.2 / 0.866, 1e-12);
   TransferFunction2D tf;
@@ -228,4 +228,99 @@ TEST(ParaViewBoxes, BadInputIsRefused)
     ParaViewTransfer2DMapping::forVolume({ 8, 8, 8 }, { 1, 1, 1 }, { 0, 3 }, 0, 1), Error);
   EXPECT_THROW(paraViewBoxLoss({}, { 0, 1, 1, 0 }, 2, 2, std::vector<double>(16)), Error);
   EXPECT_THROW(paraViewBoxLoss({}, { 0, 1, 0, 1 }, 2, 2, std::vector<double>(15)), Error);
+}
+
+// The function image as vtkPVTransferFunction2D::Build makes it, from its formulas by hand:
+// pixel (i, j) at x = R0 + i (R1 - R0) / W, each box's 128 x 128 8-bit texture (colour and the
+// Gaussian alpha truncated to 1/255), the texel below the pixel, composited in box order.
+// (Checked once against ParaView 5.11's own image of these boxes: equal in every value.)
+TEST(ParaViewBoxes, FunctionImageFollowsBuild)
+{
+  ParaViewTransferFunction2D tf;
+  tf.boxes = { { 10, 5, 40, 20, { 0.8, 0.3, 0.2, 0.7 } },
+    { 30, 10, 20, 30, { 0.1, 0.5, 0.9, 0.5 } } };
+  tf.range = { 0, 100, 0, 50 };
+  tf.outputDimensions = { 1024, 1024 };
+  const auto image = tf.functionImage();
+  ASSERT_EQ(image.size(), 4u * 1024 * 1024);
+  auto texel = [](const ParaViewBox& b, double x, double y, float out[4])
+  {
+    const int tx = static_cast<int>((x - b.x) / (b.width / 128));
+    const int ty = static_cast<int>((y - b.y) / (b.height / 128));
+    const double r2 = (tx - 64.0) * (tx - 64.0) + (ty - 64.0) * (ty - 64.0);
+    const double sigma = 0.3 * 128;
+    for (int c = 0; c < 3; ++c)
+      out[c] = static_cast<float>(static_cast<int>(b.rgba[c] * 255) / 255.0);
+    out[3] = static_cast<float>(
+      static_cast<int>(b.rgba[3] * 255 * std::exp(-r2 / (2 * sigma * sigma))) / 255.0);
+  };
+  const double sx = 100.0 / 1024, sy = 50.0 / 1024;
+  for (const auto& [i, j] : std::vector<std::pair<int, int>>{
+         { 200, 200 }, { 300, 300 }, { 350, 400 }, { 10, 10 }, { 500, 900 }, { 103, 103 } })
+  {
+    const double x = i * sx, y = j * sy;
+    float expected[4] = { 0, 0, 0, 0 };
+    for (const auto& b : tf.boxes)
+    {
+      if (i < static_cast<int>(b.x / sx) || i >= static_cast<int>((b.x + b.width) / sx) ||
+        j < static_cast<int>(b.y / sy) || j >= static_cast<int>((b.y + b.height) / sy))
+        continue;
+      float t[4];
+      texel(b, x, y, t);
+      for (int c = 0; c < 3; ++c)
+        expected[c] = t[c] + expected[c] * (1 - t[3]);
+      expected[3] = t[3] + expected[3] * (1 - t[3]);
+    }
+    const float* got = &image[4 * (static_cast<size_t>(j) * 1024 + i)];
+    for (int c = 0; c < 4; ++c)
+      EXPECT_NEAR(got[c], expected[c], 1e-6) << "pixel " << i << ", " << j << " channel " << c;
+  }
+  // (350, 400) lies in both boxes: the second composited over the first
+  EXPECT_GT(image[4 * (400 * 1024 + 350) + 3], 0.5f);
+}
+
+// As our 2D table: the image over the data range and the gradient axis up to gradientMax /
+// gradientScale, alpha made per unit distance again (1 - (1 - A)^(1 / e)), ParaView's sizes only.
+TEST(ParaViewBoxes, TableUndoesTheOpacityCorrection)
+{
+  ParaViewTransferFunction2D tf;
+  tf.boxes = { { 10, 5, 40, 20, { 0.8, 0.3, 0.2, 0.7 } } };
+  tf.range = { 0, 100, 0, 50 };
+  ParaViewTransfer2DMapping m;
+  m.valueRange = { -20, 180 };
+  m.gradientScale = 0.5;
+  m.gradientMax = 50;
+  m.opacityExponent = 0.25;
+  const TransferTable2D t = tf.table(m);
+  EXPECT_EQ(t.width, 1024);
+  EXPECT_EQ(t.height, 1024);
+  EXPECT_EQ(t.valueRange[0], -20);
+  EXPECT_EQ(t.valueRange[1], 180);
+  EXPECT_DOUBLE_EQ(t.gradientRange[1], 100); // 50 / 0.5
+  const auto image = tf.functionImage();
+  const size_t p = 4 * (200 * 1024 + 300);
+  ASSERT_GT(image[p + 3], 0.1f);
+  EXPECT_NEAR(1 - std::pow(1 - t.rgba[p + 3], 0.25), image[p + 3], 1e-5);
+  EXPECT_EQ(t.rgba[p], image[p]);
+  tf.outputDimensions = { 10, 10 }; // ParaView's default: its mapper resamples it
+  EXPECT_THROW(tf.table(m), Error);
+}
+
+TEST(ParaViewBoxes, FromJsonReadsWhatToJsonWrites)
+{
+  ParaViewTransferFunction2D tf;
+  tf.boxes = { { 1, 2, 3, 4, { 0.1, 0.2, 0.3, 0.4 } }, { 5, 6, 7, 8, { 0.5, 0.6, 0.7, 0.8 } } };
+  tf.range = { 0, 10, 0, 20 };
+  const auto back = ParaViewTransferFunction2D::fromJson(tf.toJson(), "boxes");
+  ASSERT_EQ(back.boxes.size(), 2u);
+  EXPECT_EQ(back.boxes[1].x, 5);
+  EXPECT_EQ(back.boxes[1].rgba[3], 0.8);
+  EXPECT_EQ(back.range[3], 20);
+  EXPECT_EQ(back.outputDimensions[0], 1024);
+  for (const char* bad : { "[]", "{\"Boxes\": []}", "{\"Boxes\": [1, 2, 3]}",
+         "{\"Boxes\": [0, 0, 0, 1, 1, 1, 1, 1]}", "{\"Boxes\": [0, 0, 1, 1, 1, 1, 1, 2]}",
+         "{\"Boxes\": [0, 0, 1, 1, 1, 1, 1, 1], \"Range\": [1, 0, 0, 1]}", "{\"Boxes\": " })
+  {
+    EXPECT_THROW(ParaViewTransferFunction2D::fromJson(bad, "boxes"), Error) << bad;
+  }
 }

@@ -214,11 +214,89 @@ TEST(RayCaster, MatchesReferenceWith2DTable)
   const Image fast = caster.render(table, view);
   const Image ref = reference::referenceRender2D(vol, table, view, caster.defaultSampleDistance(),
     caster.defaultOpacityUnitDistance(), 0.5, 1.0 - 1.0 / 255.0);
-  expectClose(fast, ref);
+  // The reference takes the gradient axis as the shader does (two interpolated values N/(N-1)
+  // voxels apart); the ray caster interpolates per-point differences: they differ by O(1/N)
+  // where the field is not linear over the two cells (N = 20..28 here), as in the lit tests.
+  double worst = 0;
+  size_t over = 0;
+  for (size_t i = 0; i < fast.pixels.size(); ++i)
+  {
+    const double dd = std::abs(fast.pixels[i] - ref.pixels[i]);
+    worst = std::max(worst, dd);
+    over += dd > 2e-3 ? 1 : 0;
+  }
+  EXPECT_LE(worst, 5e-3);
+  EXPECT_LE(over, fast.pixels.size() / 100) << "worst " << worst;
   double alpha = 0;
   for (size_t i = 3; i < fast.pixels.size(); i += 4)
     alpha += fast.pixels[i];
   EXPECT_GT(alpha, 1.0) << "the 2D table should make something visible";
+}
+
+// Shade on with a 2D table: lit as in 1D from the same gradient, the lit colour not clamped
+// (ParaView's 2D path); the gradient axis and the lighting from the shader's definitions in the
+// reference. Default coefficients, and specular with a white table so that lit colours pass 1.
+TEST(RayCaster, Shade2DMatchesLitReference)
+{
+  const Volume vol = blobVolume(ScalarType::UInt8);
+  const RayCaster caster(vol);
+  std::vector<GaussianPrimitive> prims(2);
+  prims[0].mean = { 120, 10 };
+  prims[0].stddev = { 25, 8 };
+  prims[0].rgb = { 1, 1, 1 };
+  prims[0].opacity = 0.5;
+  prims[1].mean = { 200, 30 };
+  prims[1].stddev = { 20, 15 };
+  prims[1].rgb = { 0.2, 0.5, 1.0 };
+  prims[1].opacity = 0.8;
+  const auto table = rasterize2D(prims, { 0, 255 }, { 0, 60 }, 64, 32);
+  for (const Lighting& lighting :
+    { Lighting{ true, 0, 1, 0, 100 }, Lighting{ true, 0, 1, 0.8, 10 } })
+  {
+    View view = orbitView(vol, 63, false);
+    view.lighting = lighting;
+    const Image fast = caster.render(table, view);
+    const Image ref = reference::referenceRender2D(vol, table, view, caster.defaultSampleDistance(),
+      caster.defaultOpacityUnitDistance(), 0.5, 1.0 - 1.0 / 255.0);
+    double worst = 0, brightest = 0;
+    size_t over = 0;
+    for (size_t i = 0; i < fast.pixels.size(); ++i)
+    {
+      const double dd = std::abs(fast.pixels[i] - ref.pixels[i]);
+      worst = std::max(worst, dd);
+      over += dd > 2e-3 ? 1 : 0;
+      if (i % 4 != 3)
+        brightest = std::max<double>(brightest, fast.pixels[i]);
+    }
+    SCOPED_TRACE(::testing::Message() << "specular " << lighting.specular << " worst " << worst
+                                      << " over 2e-3: " << over << " brightest " << brightest);
+    EXPECT_LE(worst, 1e-2);
+    EXPECT_LE(over, fast.pixels.size() / 50);
+    if (lighting.specular > 0)
+      EXPECT_GT(brightest, 1.0); // not clamped: premultiplied colour past 1 where it is bright
+  }
+}
+
+// The 2D table's empty-space skipping bounds the per-sample gradient by block maxima: skipping
+// on or off gives the same image.
+TEST(RayCaster, SkippingDoesNotChangeThe2DImage)
+{
+  const Volume vol = blobVolume(ScalarType::UInt8);
+  const RayCaster caster(vol);
+  std::vector<GaussianPrimitive> prims(1);
+  prims[0].mean = { 160, 40 };
+  prims[0].stddev = { 8, 6 };
+  prims[0].rgb = { 0.9, 0.6, 0.2 };
+  prims[0].opacity = 0.9;
+  const auto table = rasterize2D(prims, { 0, 255 }, { 0, 60 }, 64, 32);
+  const View view = orbitView(vol, 40, false, 64, 64);
+  RenderOptions a, b;
+  b.emptySpaceSkipping = false;
+  RenderStats sa;
+  const Image ia = caster.render(table, view, a, {}, &sa);
+  const Image ib = caster.render(table, view, b);
+  EXPECT_EQ(ia.pixels, ib.pixels);
+  EXPECT_GT(sa.skippedSamples, 0);
 }
 
 TEST(RayCaster, SkippingAndThreadsDoNotChangeTheImage)

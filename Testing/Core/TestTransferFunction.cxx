@@ -199,3 +199,18 @@ TEST(TwoDJson, PrimitivesAndTableRoundTrip)
       "Primitives": [{"mean": [0, 0], "stddev": [0, 1], "rgb": [1, 1, 1], "opacity": 1}]})"),
     Error);
 }
+
+// ParaView's 2D boxes (what `ddg export --format paraview-2d` writes) are a TF file too; they
+// become a table only with a volume (RayCaster::resolve).
+TEST(TwoDJson, ParaViewBoxesAreATransferFunctionFile)
+{
+  const auto f = parseTransferFunctionFile(
+    R"({"Boxes": [10, 0, 50, 20, 1, 0.5, 0.2, 0.6], "Range": [0, 255, 0, 63.75],
+        "OutputDimensions": [1024, 1024]})",
+    "boxes");
+  EXPECT_TRUE(f.isParaView2D);
+  EXPECT_FALSE(f.is2D);
+  ASSERT_EQ(f.paraview2D.boxes.size(), 1u);
+  EXPECT_EQ(f.paraview2D.boxes[0].width, 50);
+  EXPECT_THROW(parseTransferFunctionFile(R"({"Boxes": [10, 0, 50]})", "boxes"), Error);
+}
