@@ -11,6 +11,7 @@
 #include <array>
 #include <cmath>
 #include <type_traits>
+#include <vector>
 
 namespace ddg
 {
@@ -45,6 +46,12 @@ struct LightKit
   /// ParaView's default light kit (vtkLightKit defaults, as the render view sets them).
   static LightKit paraview(const Lighting& lighting);
 };
+
+/// ParaView's gradient per point, x, y, z interleaved (12 bytes per point): the central
+/// difference (clamped at the faces, as the texture is) times N/(N-1) — the shader's offset of
+/// one cell in texture coordinates is N/(N-1) voxels — over the spacing; interpolated at a
+/// sample by interpolateGradient. RayCaster::lightingGradients computes it once per volume.
+std::vector<float> lightingGradients(const Volume& vol);
 
 /// The maps of one render from a sample's index coordinates c to VTK's eye-space normal
 /// direction m = normalMap g (g the per-point gradient interpolated there) and eye-space position

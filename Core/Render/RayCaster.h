@@ -43,9 +43,9 @@ struct RenderOptions
 {
   /// Step between samples in world units; 0 = ParaView's rule (RayCaster::defaultSampleDistance).
   double sampleDistance = 0.0;
-  /// Per-pixel jitter of the first sample by j in [0, 1) steps, from a fixed 64 x 64 tile
-  /// (white noise, deterministic). ParaView jitters with its own blue-noise tile, so exact
-  /// parity is not possible either way; off gives the smoother, deterministic image.
+  /// Per-pixel jitter of the first sample by j in [0, 1) steps, from ParaView's 64 x 64
+  /// blue-noise tile as measured from its renders (jitterValue; Documentation/Rendering.md):
+  /// on, the image is ParaView's sample for sample; off, every ray starts at sampleOffset.
   bool jitter = false;
   /// Offset of the first sample in steps when jitter is off: sample k sits at
   /// entry + (sampleOffset + k) * d. 0.5 is the mean of ParaView's jitter.

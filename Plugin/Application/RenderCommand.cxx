@@ -85,7 +85,8 @@ ddg::cli::Command ddg::cli::addRenderCommand(CLI::App& app)
   render->add_option("--array", ra->array, "Point array to render (default: the active scalars)");
   render->add_flag(
     "--alpha", ra->alpha, "Write RGBA with straight alpha instead of RGB over the background");
-  render->add_flag("--jitter", ra->jitter, "Jitter the first sample per pixel (default: off)");
+  render->add_flag("--jitter", ra->jitter,
+    "Jitter the first sample per pixel as ParaView does (its 64x64 blue-noise tile; default: off)");
   render
     ->add_option("--sample-distance", ra->sampleDistance,
       "Sample distance in world units (default 0: ParaView's rule, mean spacing / 2)")

@@ -126,11 +126,23 @@ def main():
 
     ddg_png = os.path.join(args.out, "ramp_ddg.png")
     subprocess.run(
-        [args.ddg, "render", "--volume", volume_path, "--tf", tf_path, "--view", view_path,
-         "--out", ddg_png, "--jitter"],
+        [
+            args.ddg,
+            "render",
+            "--volume",
+            volume_path,
+            "--tf",
+            tf_path,
+            "--view",
+            view_path,
+            "--out",
+            ddg_png,
+            "--jitter",
+        ],
         check=True,
         capture_output=True,
     )
+
     def read_rgb(path):
         png = vtkPNGReader()
         png.SetFileName(path)
@@ -145,13 +157,19 @@ def main():
         for row in red[:64, :64]:
             print(", ".join(str(int(v)) for v in row) + ",")
     metrics = json.loads(
-        subprocess.run([args.ddg, "compare", "--json", pv_png, ddg_png], check=True,
-                       capture_output=True, text=True).stdout
+        subprocess.run(
+            [args.ddg, "compare", "--json", pv_png, ddg_png],
+            check=True,
+            capture_output=True,
+            text=True,
+        ).stdout
     )
     levels = len(np.unique(red))
     worst = int(np.abs(pv - ours).max())
-    print(f"jitter tile: ParaView vs ddg --jitter {metrics['psnr']:.2f} dB, largest difference "
-          f"{worst} level(s); {levels} distinct first-sample depths in ParaView's image")
+    print(
+        f"jitter tile: ParaView vs ddg --jitter {metrics['psnr']:.2f} dB, largest difference "
+        f"{worst} level(s); {levels} distinct first-sample depths in ParaView's image"
+    )
     ok = worst <= 1 and levels > 200
     print("ok" if ok else "FAIL")
     sys.exit(0 if ok else 1)
