@@ -133,8 +133,10 @@ Eigen::Vector3d shaderGradient(const Volume& volume, const Eigen::Vector3d& p)
 // The lit colour of table colour rgb at world position p with shader gradient g, clamped to
 // [0, 1] when `clamp` (1D tables); black where g = 0.
 std::array<double, 3> litColour(const Volume& volume, const View& view, const Eigen::Vector3d& p,
-  const Eigen::Vector3d& g, const double rgb[3], bool clamp)
+  const Eigen::Vector3d& g, const double rgb[3], bool clamp, double* dLit = nullptr)
 {
+  if (dLit)
+    dLit[0] = dLit[1] = dLit[2] = 0;
   const RayGenerator rays(view);
   const Eigen::Vector3d eye[3] = { rays.right(), rays.up(), -rays.forward() };
   const auto& n = volume.dims();
@@ -188,6 +190,9 @@ std::array<double, 3> litColour(const Volume& volume, const View& view, const Ei
   for (int ch = 0; ch < 3; ++ch)
   {
     out[ch] = lit.diffuse * diff[ch] * std::clamp(rgb[ch], 0.0, 1.0) + lit.specular * spec[ch];
+    // d(lit)/d(table colour): Diffuse x the light sum, 0 where the clamp cuts
+    if (dLit)
+      dLit[ch] = !clamp || (out[ch] > 0 && out[ch] < 1) ? lit.diffuse * diff[ch] : 0.0;
     if (clamp)
       out[ch] = std::clamp(out[ch], 0.0, 1.0);
   }
@@ -243,6 +248,7 @@ Image referenceRender2D(const Volume& volume, const TransferTable2D& table, cons
 } // namespace ddg::reference
 
 #include "Render/Adjoint.h"
+#include "Render/Lighting.h"
 
 namespace ddg::reference
 {
@@ -268,8 +274,22 @@ std::vector<double> referenceGradient(const Volume& volume, const std::vector<do
   struct Sample
   {
     int i;
-    double f, c[3], a, Abefore;
+    double f, c[3], a, Abefore, dLit[3];
   };
+  // Shade on: the model's gradient (RayCaster::lightingGradients, per point) interpolated
+  // trilinearly per component, the obvious way
+  std::vector<Volume> gradient;
+  if (view.lighting.shade)
+  {
+    const auto g = lightingGradients(volume);
+    for (int a = 0; a < 3; ++a)
+    {
+      std::vector<float> component(g.size() / 3);
+      for (size_t i = 0; i < component.size(); ++i)
+        component[i] = g[3 * i + static_cast<size_t>(a)];
+      gradient.emplace_back(volume.dims(), volume.origin(), volume.spacing(), component);
+    }
+  }
   for (int y = 0; y < view.height; ++y)
   {
     for (int x = 0; x < view.width; ++x)
@@ -300,6 +320,14 @@ std::vector<double> referenceGradient(const Volume& volume, const std::vector<do
         s.c[1] = rgba[1];
         s.c[2] = rgba[2];
         s.a = rgba[3];
+        s.dLit[0] = s.dLit[1] = s.dLit[2] = 1;
+        if (!gradient.empty() && s.a > 0)
+        {
+          const Eigen::Vector3d gp(gradient[0].sampleWorld(p[0], p[1], p[2]),
+            gradient[1].sampleWorld(p[0], p[1], p[2]), gradient[2].sampleWorld(p[0], p[1], p[2]));
+          const auto lit = litColour(volume, view, p, gp, s.c, true, s.dLit);
+          std::copy(lit.begin(), lit.end(), s.c);
+        }
         s.Abefore = A;
         samples.push_back(s);
         A += (1 - A) * s.a;
@@ -314,7 +342,8 @@ std::vector<double> referenceGradient(const Volume& volume, const std::vector<do
       {
         double g_c[3] = { 0, 0, 0 }, g_a = 0;
         adjoint::blendAdjoint(g, gA, it->Abefore, it->c, it->a, g_c, g_a);
-        const double dl[4] = { g_c[0], g_c[1], g_c[2], g_a };
+        const double dl[4] = { g_c[0] * it->dLit[0], g_c[1] * it->dLit[1], g_c[2] * it->dLit[2],
+          g_a };
         adjoint::tableLookupAdjoint<double, 4>(it->i, it->f, dl, dPrepared.data());
       }
     }

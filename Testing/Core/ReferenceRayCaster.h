@@ -33,7 +33,10 @@ namespace ddg::reference
 
 /// Reverse mode of the DifferentiableRenderer model the obvious way: every sample's state is
 /// stored, then walked backwards (no inversion). dL_dRGBA per pixel (all pixels, row-major);
-/// returns dL/d(raw table entries), width * 4. Double precision throughout.
+/// returns dL/d(raw table entries), width * 4. Double precision throughout. Shade on
+/// (view.lighting): each sample's colour lit as referenceRenderLit does, but from the model's
+/// per-point gradient (lightingGradients) interpolated per component, and its colour gradient
+/// scaled by Diffuse x the light sum where the clamp does not cut.
 std::vector<double> referenceGradient(const Volume& volume, const std::vector<double>& table,
   int width, double min, double max, const View& view, double sampleDistance, double unitDistance,
   double offset, double terminationOpacity, const std::vector<double>& dL_dRGBA);
