@@ -74,7 +74,7 @@ struct Picture
 
 } // namespace
 
-MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& input,
+MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image& input,
   const MatchOptions& opt, const MatchProgress& progress)
 {
   const auto t0 = Clock::now();
@@ -147,6 +147,8 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
   View view = opt.view ? *opt.view : defaultView(renderer.caster().volume(), W, H);
   view.width = W;
   view.height = H;
+  if (opt.lighting)
+    view.lighting = *opt.lighting;
   if (opt.opacityUnitDistance)
     view.opacityUnitDistance = opt.opacityUnitDistance;
   pic.foreground = Mask(W, H);
@@ -241,6 +243,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     r.background2 = base.background2;
     r.opacityUnitDistance = base.opacityUnitDistance;
     r.camera.viewAngle = base.camera.viewAngle;
+    r.lighting = base.lighting;
     return r;
   }();
   // the search starts from ParaView's reset camera, or from the given view
@@ -824,7 +827,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& in
     msg << "no camera explains the picture: the best match differs from it by " << result.fitPSNR
         << " dB PSNR over the object (at least " << opt.minimumFitPSNR
         << " dB needed; silhouette overlap " << std::lround(100 * result.overlap)
-        << " %) — is it a picture of this volume, unlit and uncropped?";
+        << " %) — is it a picture of this volume, uncropped?";
     throw Error(msg.str());
   }
   result.view = found;

@@ -93,6 +93,12 @@ struct MatchOptions
   std::optional<std::array<double, 3>> background;
   /// Opacity unit distance of the views (ParaView's default for the volume when unset).
   std::optional<double> opacityUnitDistance;
+  /// The picture's lighting (ParaView's Shade and coefficients) when known; a given `view`
+  /// brings its own. Unset with no view: estimated — the picture matched unlit and with Shade on
+  /// (ParaView's default coefficients), the TF refitted with Shade on and Specular 0.5 /
+  /// SpecularPower 30 at the lit match's camera, the best fit over the object kept (about two
+  /// matches' time) [unset].
+  std::optional<Lighting> lighting;
   /// Reconstruction settings (1D/2D, bins, smoothness, iterations, rays, initial TF, threads)
   /// of the final fit. The match's defaults differ from ReconstructionOptions' in three: 512 rays
   /// per step and convergence judged as a change under 0.2 % over 100 steps (many cheap steps:
@@ -137,10 +143,12 @@ struct MatchResult
   /// The part of the picture matched {x, y, width, height}: the whole picture, or what is inside
   /// a letterbox (bands of one colour along its edges, each followed by another colour).
   std::array<int, 4> crop{ 0, 0, 0, 0 };
-  PictureBackground background; ///< estimated or given
-  PictureMasks masks;           ///< what was compared and what was ignored
-  bool cameraEstimated = false; ///< the camera came from the search (not given as is)
-  double overlap = 0;           ///< silhouette IoU of the found camera (1 = exact)
+  PictureBackground background;   ///< estimated or given
+  PictureMasks masks;             ///< what was compared and what was ignored
+  bool cameraEstimated = false;   ///< the camera came from the search (not given as is)
+  bool lightingEstimated = false; ///< lit or unlit was chosen by the fit (view.lighting says which)
+  double otherLightingFitPSNR = 0; ///< when estimated: the next best lighting's fit PSNR
+  double overlap = 0;              ///< silhouette IoU of the found camera (1 = exact)
   double fitPSNR = 0; ///< PSNR of the fit over the object (see minimumFitPSNR), picture vs render
   /// The same for the TF the match started from (reconstruction.initial1D: e.g. the query's
   /// design) at the found camera: the "before" [0 when no initial TF was given].

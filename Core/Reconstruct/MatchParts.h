@@ -3,6 +3,7 @@
 #pragma once
 
 #include "Image/Image.h"
+#include "Reconstruct/Match.h"
 #include "Render/View.h"
 
 #include <Eigen/Core>
@@ -14,6 +15,11 @@
 namespace ddg
 {
 class Volume;
+
+/// matchPicture with the lighting as given (options.lighting, or the view's, or unlit): the
+/// match itself (Match.cxx); matchPicture (MatchLighting.cxx) estimates the lighting with it.
+MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image& picture,
+  const MatchOptions& options, const MatchProgress& progress);
 
 namespace matchparts
 {

@@ -33,7 +33,7 @@ struct ReconstructArgs
   std::vector<std::string> targets, views, masks;
   std::vector<double> background;
   bool twoD = false, resample = false, quiet = false, estimateView = false;
-  std::string outView, outOverlay;
+  std::string outView, outOverlay, shade = "auto";
   int bins = 128, gradientBins = 32, iterations = 500, rays = -1, threads = 0, primitives = 0;
   int cameraCandidates = ddg::MatchOptions().cameraCandidates;
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
@@ -144,6 +144,11 @@ int runMatch(const ReconstructArgs& a)
     opt.background = std::array<double, 3>{ a.background[0], a.background[1], a.background[2] };
   }
   opt.cameraCandidates = a.cameraCandidates;
+  if (a.shade != "auto" && !view)
+  {
+    opt.lighting = ddg::Lighting{};
+    opt.lighting->shade = a.shade == "on";
+  }
   if (opt.background && picture.channels == 3)
   {
     warn(ddg::targetBackground(picture, ddg::View(), opt.background).warning);
@@ -178,6 +183,14 @@ int runMatch(const ReconstructArgs& a)
     std::printf(", top (%.3f %.3f %.3f)", bg.top[0], bg.top[1], bg.top[2]);
   }
   std::printf("\n");
+  std::printf("lighting: Shade %s%s", m.view.lighting.shade ? "on" : "off",
+    m.lightingEstimated ? " (estimated" : " (given");
+  if (m.lightingEstimated)
+  {
+    std::printf(", specular %.2f: fit %.2f dB, the next best %.2f dB", m.view.lighting.specular,
+      m.fitPSNR, m.otherLightingFitPSNR);
+  }
+  std::printf(")\n");
   if (m.cameraEstimated)
   {
     std::printf("camera: azimuth %.1f, elevation %.1f, roll %.1f, zoom %.3f, pan %+.3f %+.3f "
@@ -389,6 +402,13 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
       "One target, camera searched: distinct cameras whose silhouettes fit best that get a short "
       "reconstruction each (a multi-start; more is slower and finds more; default 6)")
     ->check(CLI::Range(1, 64));
+  reconstruct
+    ->add_option("--shade", rc->shade,
+      "One target without --view: whether the picture is lit (ParaView's Shade, default\n"
+      "coefficients): on, off, or auto (default: matched unlit and lit, refitted lit with\n"
+      "Specular 0.5 / power 30, the best fit kept; about twice the time). With --view, its\n"
+      "\"lighting\"")
+    ->check(CLI::IsMember({ "auto", "on", "off" }));
   reconstruct->add_option("--out-overlay", rc->outOverlay,
     "One target: write the mask of what was ignored as an overlay (orientation axes, text, a "
     "scalar bar): white = ignored");

@@ -378,6 +378,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   vtkFieldData* fd = output->GetFieldData();
   addString(fd, "View", ddg::viewToJson(result.view));
   addNumbers(fd, "CameraEstimated", { result.cameraEstimated ? 1.0 : 0.0 });
+  addNumbers(fd, "LightingEstimated", { result.lightingEstimated ? 1.0 : 0.0 }); // View's lighting
   addNumbers(fd, "Overlap", { result.overlap });
   addNumbers(fd, "FitPSNR", { result.fitPSNR });
   const auto& bg = result.background;

@@ -85,10 +85,15 @@ void pqDDGDesignGalleryDock::showMatch()
   }
   ui.matchPreview->setPixmap(fitted(m.Render, ui.matchPreview));
   const auto t = [&m](int k) { return m.Timings.size() > k ? m.Timings[k] : 0.0; };
+  const QJsonObject lighting = m.View.value("lighting").toObject();
+  const QString lit = !lighting.value("shade").toBool() ? tr("unlit")
+    : lighting.value("specular").toDouble() > 0
+    ? tr("Shade on, Specular %1").arg(lighting.value("specular").toDouble(), 0, 'f', 1)
+    : tr("Shade on");
   ui.matchInfo->setText(
     tr("PSNR against the picture: the query's design %1 dB \u2192 the match %2 dB (fit %3 dB, "
-       "%4 steps)\nCamera %5, silhouette overlap %6\nTime: background %7 s, camera %8 s, fit "
-       "%9 s")
+       "%4 steps)\nCamera %5, silhouette overlap %6; picture %10 (%11)\nTime: background %7 s, "
+       "camera %8 s, fit %9 s")
       .arg(m.PSNRBefore, 0, 'f', 1)
       .arg(m.PSNRAfter, 0, 'f', 1)
       .arg(m.FitPSNR, 0, 'f', 1)
@@ -97,7 +102,9 @@ void pqDDGDesignGalleryDock::showMatch()
       .arg(m.Overlap, 0, 'f', 2)
       .arg(t(0), 0, 'f', 1)
       .arg(t(1), 0, 'f', 1)
-      .arg(t(2), 0, 'f', 1));
+      .arg(t(2), 0, 'f', 1)
+      .arg(lit)
+      .arg(m.LightingEstimated ? tr("estimated") : tr("as the view says")));
 }
 
 void pqDDGDesignGalleryDock::showMatchProgress(

@@ -70,8 +70,9 @@ public:
     QString ParaView2D; ///< 2D: the TransferFunction2D proxy's properties (JSON)
     QJsonObject View;   ///< the picture's camera as view JSON (the background estimated)
     bool CameraEstimated = false;
-    double Overlap = 0;      ///< silhouette IoU of the camera
-    double FitPSNR = 0;      ///< Core's PSNR of the fit over the compared pixels
+    bool LightingEstimated = false; // View's "lighting" (absent: unlit) came from the fit
+    double Overlap = 0;             ///< silhouette IoU of the camera
+    double FitPSNR = 0;             ///< Core's PSNR of the fit over the compared pixels
     double PSNRBefore = 0;   ///< the query's design at that camera vs the picture (NaN: none)
     double PSNRAfter = 0;    ///< the matched TF at that camera vs the picture
     QVector<double> Timings; ///< seconds: background, camera, fit, total

@@ -158,6 +158,7 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
   m.ParaView2D = ddgpanel::fieldText(table, "ParaViewTransferFunction2D");
   m.View = QJsonDocument::fromJson(ddgpanel::fieldText(table, "View").toUtf8()).object();
   m.CameraEstimated = first(ddgpanel::fieldNumbers(table, "CameraEstimated")) != 0;
+  m.LightingEstimated = first(ddgpanel::fieldNumbers(table, "LightingEstimated")) != 0;
   m.Overlap = first(ddgpanel::fieldNumbers(table, "Overlap"));
   m.FitPSNR = first(ddgpanel::fieldNumbers(table, "FitPSNR"));
   const QJsonArray psnr = ddgpanel::fieldNumbers(table, "PicturePSNR");

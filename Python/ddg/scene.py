@@ -195,7 +195,7 @@ def _read_png(path):
 
 
 def apply(tf, display=None, source=None, view=None, camera=None, separate_color_map=None):
-    """Writes a TF (Design, preset dict or file, DDG 2D JSON, or a ``Match``: its TF) into
+    """Writes a TF (Design, preset dict or file, DDG 2D JSON, ParaView's 2D boxes, or a ``Match``: its TF) into
     ``display``'s maps (default: the active source's display in the active view; shown first if
     needed), switches it to the Volume representation and renders. A Design's TF is made at the
     view's camera. 1D TFs go into the colour and opacity maps (2D rendering off); 2D TFs into
@@ -218,14 +218,16 @@ def apply(tf, display=None, source=None, view=None, camera=None, separate_color_
     source = _source(source)
     display = display or simple.Show(source, view)
     preset = _tf_dict(tf, view_json(view, source, 256) if isinstance(tf, Design) else None)
-    two_d = preset.get("Format") == "ddg-transfer-function-2d"
+    paraview_boxes = "Boxes" in preset  # ParaView's own 2D TF: set as it is
+    two_d = preset.get("Format") == "ddg-transfer-function-2d" or paraview_boxes
     if not two_d and "RGBPoints" not in preset:
         raise ValueError(
-            "apply: a ParaView preset (RGBPoints, Points) or a DDG 2D transfer function"
+            "apply: a ParaView preset (RGBPoints, Points), a DDG 2D transfer function or "
+            "ParaView's 2D boxes (Boxes, Range, OutputDimensions)"
         )
     if two_d and display.GetProperty("UseTransfer2D") is None:
         raise ValueError("apply: this representation has no 2D transfer function (image data has)")
-    boxes = paraview_2d(tf, source, view) if two_d else None
+    boxes = preset if paraview_boxes else paraview_2d(tf, source, view) if two_d else None
     array = volume_array(source, view)  # before the switch to Volume, which may colour by another
     scene = _scene()
     shared = scene.SharedColorMapUsers(display.SMProxy, array)

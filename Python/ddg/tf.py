@@ -87,6 +87,9 @@ class Match:
             ParaView's gradient background) and the opacity unit distance. ``set_camera(view)``
             or ``apply(tf, camera=view)`` moves a render view there.
         camera_estimated: True when the camera came from the search (not given as is).
+        lighting, lighting_estimated: the picture's lighting (the view's "lighting": {} is
+            unlit) and whether the match chose it (unlit, Shade on, Shade on with specular:
+            the best fit) rather than the given view.
         overlap: silhouette IoU of the camera (1 = exact).
         fit_psnr: PSNR (dB) of the fit over the compared pixels (Core's figure).
         psnr_before, psnr_after: PSNR (dB) against the picture of the project's render at
@@ -108,6 +111,10 @@ class Match:
         self.tf = _first_tf(json.loads(_tf_text(table)))
         self.view = json.loads(_field_string(table, "View"))
         self.camera_estimated = bool(_field_numbers(table, "CameraEstimated")[0])
+        # the picture's lighting (the view JSON's "lighting"; {} unlit), and whether it was
+        # estimated (matched unlit and lit, the best fit kept) or given with the view
+        self.lighting = self.view.get("lighting") or {}
+        self.lighting_estimated = bool(_field_numbers(table, "LightingEstimated")[0])
         self.overlap = float(_field_numbers(table, "Overlap")[0])
         self.fit_psnr = float(_field_numbers(table, "FitPSNR")[0])
         self.psnr_before, self.psnr_after = (float(x) for x in _field_numbers(table, "PicturePSNR"))

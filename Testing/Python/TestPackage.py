@@ -254,6 +254,15 @@ def applied_2d(disp, expected):
 
 ddg.apply(tf2d, display)
 check("apply 2D file", applied_2d(display, ddg.paraview_2d(tf2d, tooth, GetActiveView())))
+# ParaView's own 2D boxes are applied as they are
+own_boxes = {
+    "Boxes": [100, 0, 60, 20, 0.9, 0.6, 0.3, 0.7],
+    "Range": [0, 255, 0, 63.75],
+    "OutputDimensions": [1024, 1024],
+}
+ddg.apply(own_boxes, display)
+check("apply ParaView boxes", applied_2d(display, own_boxes))
+ddg.apply(tf2d, display)
 try:
     ddg.apply(
         {

@@ -145,7 +145,8 @@ def run_case(case, args, models_dir):
     jobs = {m: c for m, c in jobs.items() if m in args.methods}
 
     keep = work if args.keep_renders else None
-    true = canonical_renders(volume, case["true_tf"], args.score_size, keep, "true")
+    lighting = case.get("lighting")  # the picture's: both TFs scored with the same Shade
+    true = canonical_renders(volume, case["true_tf"], args.score_size, keep, "true", lighting)
     results = {}
     for method, commands in jobs.items():
         log = os.path.join(work, method + ".log")
@@ -158,14 +159,16 @@ def run_case(case, args, models_dir):
         tf = os.path.join(work, method + ".json")
         entry = {"seconds": seconds, "status": status, "tf": tf, "log": last_lines(log)}
         if status == 0 and os.path.isfile(tf):
-            found = canonical_renders(volume, tf, args.score_size, keep, method)
+            found = canonical_renders(volume, tf, args.score_size, keep, method, lighting)
             entry.update(score_renders(found, true))
         else:
             entry["psnr"] = None
         view_file = os.path.join(work, method + "_view.json")
         if method in ("match", "match_from_query") and status == 0 and os.path.isfile(view_file):
             with open(view_file) as f:
-                entry["estimated_camera"] = json.load(f)["camera"]
+                found_view = json.load(f)
+            entry["estimated_camera"] = found_view["camera"]
+            entry["estimated_shade"] = bool((found_view.get("lighting") or {}).get("shade"))
         results[method] = entry
         psnr = "failed" if entry["psnr"] is None else "%.2f dB" % entry["psnr"]
         print(f"  {LABELS[method]:52s} {psnr:>9s}  {seconds:6.1f} s", flush=True)

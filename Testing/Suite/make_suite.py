@@ -70,7 +70,7 @@ def make_case(case, data_dir, out_dir):
         preset = json.load(f)[0]
     background = use_default_palette()
     moves = draw_camera(case["seed"])
-    scene = VolumeScene(volume, case["size"], gui_look=True)
+    scene = VolumeScene(volume, case["size"], gui_look=True, lighting=case.get("lighting"))
     try:
         scene.apply(preset)
         cam = scene.orbit(moves["azimuth"], moves["elevation"])
@@ -87,6 +87,8 @@ def make_case(case, data_dir, out_dir):
     if list(pixels.shape[:2]) != [case["size"][1], case["size"][0]]:
         raise RuntimeError("%s: screenshot is %s, not %s" % (image, pixels.shape, case["size"]))
     view = {"camera": camera, "size": list(case["size"]), "background": background}
+    if case.get("lighting"):
+        view["lighting"] = case["lighting"]
     true_view = os.path.join(case_dir, "true_view.json")
     with open(true_view, "w") as f:
         json.dump(view, f, indent=2)
@@ -102,6 +104,7 @@ def make_case(case, data_dir, out_dir):
         "seed": case["seed"],
         "camera_moves": moves,
         "background": background,
+        "lighting": case.get("lighting"),
         # top-right pixel: the background as written (the orientation axes sit bottom left)
         "corner_pixel": [int(x) for x in pixels[0, -1]],
     }

@@ -48,14 +48,15 @@ def psnr(a, b):
     return PSNR_CAP if mse == 0 else min(PSNR_CAP, 10.0 * math.log10(255.0**2 / mse))
 
 
-def canonical_renders(volume, tf, size=SIZE, out_dir=None, stem="tf"):
+def canonical_renders(volume, tf, size=SIZE, out_dir=None, stem="tf", lighting=None):
     """ParaView's renders of ``tf`` at the canonical views: a list of dicts (azimuth,
-    background, image as a (h, w, 3) uint8 array), in the order of AZIMUTHS x BACKGROUNDS.
+    background, image as a (h, w, 3) uint8 array), in the order of AZIMUTHS x BACKGROUNDS,
+    lit as ``lighting`` (the view JSON's "lighting"; unlit when None) says.
     With ``out_dir`` the PNGs are kept there as <stem>_az<A>_<background>.png."""
     preset = load_preset(tf)
     renders = []
     with tempfile.TemporaryDirectory() as tmp:
-        scene = VolumeScene(volume, size)
+        scene = VolumeScene(volume, size, lighting=lighting)
         try:
             scene.apply(preset)
             for azimuth in AZIMUTHS:
@@ -93,11 +94,12 @@ def score_renders(found, true):
     return {"psnr": mean, "psnr_by_background": by_background, "renders": per_render}
 
 
-def score(volume, found_tf, true_tf, size=SIZE, out_dir=None):
+def score(volume, found_tf, true_tf, size=SIZE, out_dir=None, lighting=None):
     """Mean PSNR (dB) of ParaView's renders of ``found_tf`` against ``true_tf`` at the canonical
-    views on black and white; returns {"psnr", "psnr_by_background", "renders": [...]}."""
-    true = canonical_renders(volume, true_tf, size, out_dir, "true")
-    found = canonical_renders(volume, found_tf, size, out_dir, "found")
+    views on black and white, both lit as ``lighting`` (the picture's: the same Shade);
+    returns {"psnr", "psnr_by_background", "renders": [...]}."""
+    true = canonical_renders(volume, true_tf, size, out_dir, "true", lighting)
+    found = canonical_renders(volume, found_tf, size, out_dir, "found", lighting)
     return score_renders(found, true)
 
 
@@ -112,6 +114,9 @@ def main():
     parser.add_argument("--out", help="keep the renders in this folder")
     parser.add_argument("--json", action="store_true", help="print the result as JSON")
     parser.add_argument(
+        "--lighting", help='the view JSON\'s "lighting" (JSON text) to render both TFs with'
+    )
+    parser.add_argument(
         "--min-psnr", type=float, help="exit 1 when the score is below this (dB)", default=None
     )
     parser.add_argument(
@@ -120,7 +125,8 @@ def main():
     args = parser.parse_args()
     if args.out:
         os.makedirs(args.out, exist_ok=True)
-    result = score(args.volume, args.found, args.true, args.size, args.out)
+    lighting = json.loads(args.lighting) if args.lighting else None
+    result = score(args.volume, args.found, args.true, args.size, args.out, lighting)
     if args.json:
         print(json.dumps(result, indent=2))
     else:

@@ -47,13 +47,14 @@ def use_default_palette():
 
 class VolumeScene:
     """A new render view of ``size`` (width, height) showing the volume file with ParaView's
-    Volume representation (unlit: Shade 0, other properties at their defaults).
+    Volume representation (unlit: Shade 0, or ``lighting`` as the view JSON's "lighting" says;
+    other properties at their defaults).
 
     ``gui_look``: the view as a new view in the GUI is (palette background, orientation axes);
     otherwise no orientation axes and a single background colour set with ``set_background``.
     """
 
-    def __init__(self, volume_path, size, gui_look=False):
+    def __init__(self, volume_path, size, gui_look=False, lighting=None):
         self.size = [int(size[0]), int(size[1])]
         self.reader = simple.XMLImageDataReader(FileName=[os.path.abspath(volume_path)])
         self.view = simple.CreateView("RenderView")
@@ -69,7 +70,12 @@ class VolumeScene:
         self.array = self.reader.PointData.keys()[0]
         simple.ColorBy(self.display, ("POINTS", self.array))
         self.display.SetRepresentationType("Volume")
-        self.display.Shade = 0
+        lighting = lighting or {}
+        self.display.Shade = int(bool(lighting.get("shade", False)))
+        self.display.Ambient = lighting.get("ambient", 0.0)
+        self.display.Diffuse = lighting.get("diffuse", 1.0)
+        self.display.Specular = lighting.get("specular", 0.0)
+        self.display.SpecularPower = lighting.get("specular_power", 100.0)
         self.lut = simple.GetColorTransferFunction(self.array)
         self.pwf = simple.GetOpacityTransferFunction(self.array)
         self.lut.AutomaticRescaleRangeMode = "Never"
