@@ -64,7 +64,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& pi
     { return !progress || progress(stage, start + share * f, preview); };
   };
   std::optional<MatchResult> litMatch; // its camera and search figures
-  for (size_t i = 0; i < 2; ++i) // unlit, Shade on: whole matches (a refusal there is final)
+  for (size_t i = 0; i < 2; ++i)       // unlit, Shade on: whole matches (a refusal there is final)
   {
     MatchOptions o = options;
     o.lighting = candidates[i].second;

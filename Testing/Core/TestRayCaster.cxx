@@ -79,6 +79,36 @@ void expectClose(const Image& fast, const Image& ref)
   EXPECT_LE(outliers, fast.pixels.size() / 1000) << "worst difference " << worst;
 }
 
+// A 2D table of two Gaussian primitives over value [0, 255] x gradient [0, 60]; the first's
+// colour and opacity as given.
+TransferTable2D twoPrimitiveTable(std::array<double, 3> rgb0, double opacity0)
+{
+  std::vector<GaussianPrimitive> prims(2);
+  prims[0].mean = { 120, 10 };
+  prims[0].stddev = { 25, 8 };
+  prims[0].rgb = rgb0;
+  prims[0].opacity = opacity0;
+  prims[1].mean = { 200, 30 };
+  prims[1].stddev = { 20, 15 };
+  prims[1].rgb = { 0.2, 0.5, 1.0 };
+  prims[1].opacity = 0.8;
+  return rasterize2D(prims, { 0, 255 }, { 0, 60 }, 64, 32);
+}
+
+// The largest difference of two images and how many values differ by more than 2e-3.
+std::pair<double, size_t> looseDifference(const Image& a, const Image& b)
+{
+  double worst = 0;
+  size_t over = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i)
+  {
+    const double dd = std::abs(a.pixels[i] - b.pixels[i]);
+    worst = std::max(worst, dd);
+    over += dd > 2e-3 ? 1 : 0;
+  }
+  return { worst, over };
+}
+
 } // namespace
 
 TEST(RayCaster, MatchesReferencePerspectiveAndParallel)
@@ -200,16 +230,7 @@ TEST(RayCaster, MatchesReferenceWith2DTable)
 {
   const Volume vol = blobVolume(ScalarType::Float32);
   const RayCaster caster(vol);
-  std::vector<GaussianPrimitive> prims(2);
-  prims[0].mean = { 120, 10 };
-  prims[0].stddev = { 25, 8 };
-  prims[0].rgb = { 0.9, 0.3, 0.2 };
-  prims[0].opacity = 0.4;
-  prims[1].mean = { 200, 30 };
-  prims[1].stddev = { 20, 15 };
-  prims[1].rgb = { 0.2, 0.5, 1.0 };
-  prims[1].opacity = 0.8;
-  const auto table = rasterize2D(prims, { 0, 255 }, { 0, 60 }, 64, 32);
+  const auto table = twoPrimitiveTable({ 0.9, 0.3, 0.2 }, 0.4);
   const View view = orbitView(vol, 30, false);
   const Image fast = caster.render(table, view);
   const Image ref = reference::referenceRender2D(vol, table, view, caster.defaultSampleDistance(),
@@ -217,14 +238,7 @@ TEST(RayCaster, MatchesReferenceWith2DTable)
   // The reference takes the gradient axis as the shader does (two interpolated values N/(N-1)
   // voxels apart); the ray caster interpolates per-point differences: they differ by O(1/N)
   // where the field is not linear over the two cells (N = 20..28 here), as in the lit tests.
-  double worst = 0;
-  size_t over = 0;
-  for (size_t i = 0; i < fast.pixels.size(); ++i)
-  {
-    const double dd = std::abs(fast.pixels[i] - ref.pixels[i]);
-    worst = std::max(worst, dd);
-    over += dd > 2e-3 ? 1 : 0;
-  }
+  const auto [worst, over] = looseDifference(fast, ref);
   EXPECT_LE(worst, 5e-3);
   EXPECT_LE(over, fast.pixels.size() / 100) << "worst " << worst;
   double alpha = 0;
@@ -240,16 +254,7 @@ TEST(RayCaster, Shade2DMatchesLitReference)
 {
   const Volume vol = blobVolume(ScalarType::UInt8);
   const RayCaster caster(vol);
-  std::vector<GaussianPrimitive> prims(2);
-  prims[0].mean = { 120, 10 };
-  prims[0].stddev = { 25, 8 };
-  prims[0].rgb = { 1, 1, 1 };
-  prims[0].opacity = 0.5;
-  prims[1].mean = { 200, 30 };
-  prims[1].stddev = { 20, 15 };
-  prims[1].rgb = { 0.2, 0.5, 1.0 };
-  prims[1].opacity = 0.8;
-  const auto table = rasterize2D(prims, { 0, 255 }, { 0, 60 }, 64, 32);
+  const auto table = twoPrimitiveTable({ 1, 1, 1 }, 0.5);
   for (const Lighting& lighting :
     { Lighting{ true, 0, 1, 0, 100 }, Lighting{ true, 0, 1, 0.8, 10 } })
   {
@@ -258,16 +263,11 @@ TEST(RayCaster, Shade2DMatchesLitReference)
     const Image fast = caster.render(table, view);
     const Image ref = reference::referenceRender2D(vol, table, view, caster.defaultSampleDistance(),
       caster.defaultOpacityUnitDistance(), 0.5, 1.0 - 1.0 / 255.0);
-    double worst = 0, brightest = 0;
-    size_t over = 0;
+    const auto [worst, over] = looseDifference(fast, ref);
+    double brightest = 0;
     for (size_t i = 0; i < fast.pixels.size(); ++i)
-    {
-      const double dd = std::abs(fast.pixels[i] - ref.pixels[i]);
-      worst = std::max(worst, dd);
-      over += dd > 2e-3 ? 1 : 0;
       if (i % 4 != 3)
         brightest = std::max<double>(brightest, fast.pixels[i]);
-    }
     SCOPED_TRACE(::testing::Message() << "specular " << lighting.specular << " worst " << worst
                                       << " over 2e-3: " << over << " brightest " << brightest);
     EXPECT_LE(worst, 1e-2);
