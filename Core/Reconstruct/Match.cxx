@@ -822,13 +822,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   result.fitSeconds = secondsSince(tFit);
   if (search && result.fitPSNR < opt.minimumFitPSNR)
   {
-    std::ostringstream msg;
-    msg.precision(3);
-    msg << "no camera explains the picture: the best match differs from it by " << result.fitPSNR
-        << " dB PSNR over the object (at least " << opt.minimumFitPSNR
-        << " dB needed; silhouette overlap " << std::lround(100 * result.overlap)
-        << " %) — is it a picture of this volume, uncropped?";
-    throw Error(msg.str());
+    throw Error(noCameraExplains(result.fitPSNR, opt.minimumFitPSNR, result.overlap, ""));
   }
   result.view = found;
   result.view.width = result.crop[2];

@@ -31,6 +31,18 @@ std::vector<std::pair<std::string, Lighting>> lightingCandidates()
 
 } // namespace
 
+std::string noCameraExplains(
+  double fitPSNR, double minimum, double overlap, const std::string& matched)
+{
+  std::ostringstream msg;
+  msg.precision(3);
+  msg << "no camera explains the picture: the best match differs from it by " << fitPSNR
+      << " dB PSNR over the object (at least " << minimum << " dB needed; silhouette overlap "
+      << std::lround(100 * overlap) << " %" << (matched.empty() ? "" : "; matched " + matched)
+      << ") — is it a picture of this volume, uncropped?";
+  return msg.str();
+}
+
 MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& picture,
   const MatchOptions& options, const MatchProgress& progress)
 {
@@ -92,13 +104,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& pi
   }
   if (best->cameraEstimated && best->fitPSNR < options.minimumFitPSNR)
   {
-    std::ostringstream msg;
-    msg.precision(3);
-    msg << "no camera explains the picture: the best match differs from it by " << best->fitPSNR
-        << " dB PSNR over the object (at least " << options.minimumFitPSNR
-        << " dB needed; silhouette overlap " << std::lround(100 * best->overlap) << " %; matched "
-        << fits.str() << ") — is it a picture of this volume, uncropped?";
-    throw Error(msg.str());
+    throw Error(noCameraExplains(best->fitPSNR, options.minimumFitPSNR, best->overlap, fits.str()));
   }
   best->lightingEstimated = true;
   best->otherLightingFitPSNR = second;

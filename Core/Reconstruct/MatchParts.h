@@ -10,11 +10,17 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace ddg
 {
 class Volume;
+
+/// The refusal's message when no camera's fit reaches minimumFitPSNR (`matched`: each
+/// lighting's fit when the lighting was estimated, else empty).
+std::string noCameraExplains(
+  double fitPSNR, double minimum, double overlap, const std::string& matched);
 
 /// matchPicture with the lighting as given (options.lighting, or the view's, or unlit): the
 /// match itself (Match.cxx); matchPicture (MatchLighting.cxx) estimates the lighting with it.

@@ -292,11 +292,9 @@ TransferFunctionFile RayCaster::resolve(const TransferFunctionFile& tf, const Vi
 Image RayCaster::render(const TransferFunctionFile& tf, const View& view,
   const RenderOptions& options, const ProgressCallback& progress, RenderStats* stats) const
 {
-  if (tf.isParaView2D)
-    return render(paraviewTable2D(tf.paraview2D, view), view, options, progress, stats);
-  if (tf.is2D)
-    return render(tf.tf2D.bake(), view, options, progress, stats);
-  return render(paraviewTable(tf.tf1D), view, options, progress, stats);
+  const TransferFunctionFile ready = resolve(tf, view);
+  return ready.is2D ? render(ready.tf2D.bake(), view, options, progress, stats)
+                    : render(paraviewTable(ready.tf1D), view, options, progress, stats);
 }
 
 namespace
