@@ -161,6 +161,9 @@ void pqDDGDesignGalleryDock::applyMatch()
       QString e = twoD
         ? ddgpanel::applyTransferFunction2D(repr, this->State->array(), m.ParaView2D, label, false)
         : ddgpanel::applyPreset(repr, this->State->array(), m.Preset, label, false);
+      if (e.isEmpty()) // the picture's lighting (Shade and its coefficients): the look matched
+        e = QString::fromStdString(vtkSMDDGScene::SetLighting(
+          repr->getProxy(), ddgpanel::jsonText(m.View).toUtf8().constData()));
       if (e.isEmpty() && moveCamera)
         e = ddgpanel::setCamera(view, m.View, true);
       return e;
@@ -170,7 +173,10 @@ void pqDDGDesignGalleryDock::applyMatch()
     return;
   if (view)
     view->render();
-  this->setStatus(tr("Applied the match to '%1'%2%3 (Edit > Undo takes it back).")
-                    .arg(this->Source->getSMName(), note,
-                      moveCamera ? tr(" with the picture's camera") : QString()));
+  const bool shade = m.View.value("lighting").toObject().value("shade").toBool();
+  this->setStatus(
+    tr("Applied the match to '%1'%2%3; Shade %4 as in the picture (Edit > Undo "
+       "takes it back).")
+      .arg(this->Source->getSMName(), note,
+        moveCamera ? tr(" with the picture's camera") : QString(), shade ? tr("on") : tr("off")));
 }

@@ -18,6 +18,7 @@
 #include <vtksys/SystemTools.hxx>
 
 #include "Gallery/Export.h"
+#include "Render/View.h"
 
 #include <nlohmann/json.hpp>
 
@@ -207,6 +208,33 @@ std::string vtkSMDDGScene::SetCamera(vtkSMProxy* view, const char* viewJSON)
   if (c.contains("parallel_scale"))
     vtkSMPropertyHelper(proxy, "CameraParallelScale").Set(c.value("parallel_scale", 1.0));
   proxy->UpdateVTKObjects();
+  return {};
+}
+
+std::string vtkSMDDGScene::SetLighting(
+  vtkSMProxy* representation, const char* viewJSON, bool checkOnly)
+{
+  if (!representation || !representation->GetProperty("Shade"))
+    return "not a representation with Shade";
+  ddg::Lighting l;
+  try
+  {
+    l = ddg::parseView(viewJSON ? viewJSON : "").lighting; // checked as every reader checks it
+  }
+  catch (const std::exception& e)
+  {
+    return e.what();
+  }
+  if (checkOnly)
+    return {};
+  vtkSMPropertyHelper(representation, "Shade").Set(l.shade ? 1 : 0);
+  if (l.shade)
+    for (auto [name, value] :
+      { std::pair{ "Ambient", l.ambient }, std::pair{ "Diffuse", l.diffuse },
+        std::pair{ "Specular", l.specular }, std::pair{ "SpecularPower", l.specularPower } })
+      if (representation->GetProperty(name))
+        vtkSMPropertyHelper(representation, name).Set(value);
+  representation->UpdateVTKObjects();
   return {};
 }
 

@@ -21,6 +21,8 @@ class vtkSMProxy;
  * - DefaultModelDirectory: the shipped model bundle named like the volume's file.
  * - Apply1D, Apply2D, WriteTransferFunction2D, CurrentPreset: a design's transfer function
  *   written into (or read from) a representation's colour, opacity and 2D maps.
+ * - SetCamera, SetLighting: a view JSON's camera and lighting written into a view and a
+ *   representation.
  *
  * No Qt and no undo stack: the panel wraps Apply1D/Apply2D in an undo set (and lets ParaView's
  * Color Map Editor react before writing the 2D boxes again); Python calls them as they are
@@ -56,6 +58,19 @@ public:
    * render view, JSON without a valid camera) and then changes nothing.
    */
   static std::string SetCamera(vtkSMProxy* view, const char* viewJSON);
+
+  /**
+   * Sets representation `representation`'s lighting from a DDG view JSON's "lighting": Shade on
+   * with its Ambient, Diffuse, Specular and SpecularPower (absent keys: ParaView's defaults 0, 1,
+   * 0, 100) when "lighting" has "shade": true; Shade off (the coefficients left as they are)
+   * when it is absent, empty or "shade": false. Through the representation's properties (so that
+   * it is recorded on an open undo set). Returns an empty string, or the reason (no
+   * representation with Shade, a view JSON Core's parseView refuses: unknown lighting keys,
+   * coefficients out of ParaView's range) and then changes nothing. `checkOnly`: only that
+   * check, nothing is set (to refuse before writing anything else).
+   */
+  static std::string SetLighting(
+    vtkSMProxy* representation, const char* viewJSON, bool checkOnly = false);
 
   /// Result of CheckVolume.
   enum VolumeCheck

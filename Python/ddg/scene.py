@@ -194,7 +194,9 @@ def _read_png(path):
 # --- transfer functions in the scene --------------------------------------------------------------
 
 
-def apply(tf, display=None, source=None, view=None, camera=None, separate_color_map=None):
+def apply(
+    tf, display=None, source=None, view=None, camera=None, separate_color_map=None, lighting=None
+):
     """Writes a TF (Design, preset dict or file, DDG 2D JSON, ParaView's 2D boxes, or a ``Match``: its TF) into
     ``display``'s maps (default: the active source's display in the active view; shown first if
     needed), switches it to the Volume representation and renders. A Design's TF is made at the
@@ -204,13 +206,18 @@ def apply(tf, display=None, source=None, view=None, camera=None, separate_color_
     with a ``Match``: its camera; default: the camera stays). ParaView shares one colour map per
     array name: when other shown volumes share this one, ``separate_color_map=True`` first gives
     this display its own maps (ParaView's Use Separate Color Map), False recolours them all, and
-    None (default) recolours them all with a warning naming them. Returns the display."""
+    None (default) recolours them all with a warning naming them. ``lighting``: sets the
+    display's Shade and its Ambient, Diffuse, Specular, SpecularPower from a view JSON's
+    "lighting" (a view JSON dict or file; none: Shade off); default: a ``Match``'s own (the look
+    it matched), else unchanged; False: unchanged. Returns the display."""
     from .designs import Design  # these modules build on this one
     from .tf import Match, _tf_dict, paraview_2d
 
     if isinstance(tf, Match):
         if camera is True:
             camera = tf.view
+        if lighting is None:
+            lighting = tf.view
         tf = tf.tf
     elif camera is True:
         raise ValueError("apply: camera=True needs a Match (give a view JSON dict or file)")
@@ -230,6 +237,12 @@ def apply(tf, display=None, source=None, view=None, camera=None, separate_color_
     boxes = preset if paraview_boxes else paraview_2d(tf, source, view) if two_d else None
     array = volume_array(source, view)  # before the switch to Volume, which may colour by another
     scene = _scene()
+    lighting = None if lighting is False else lighting
+    if lighting is not None:  # refused before anything is written
+        lighting = json.dumps(view_json(lighting))
+        error = scene.SetLighting(display.SMProxy, lighting, True)
+        if error:
+            raise DDGError("apply: " + error)
     shared = scene.SharedColorMapUsers(display.SMProxy, array)
     if shared and separate_color_map:
         error = scene.UseSeparateColorMap(display.SMProxy, array)
@@ -257,6 +270,10 @@ def apply(tf, display=None, source=None, view=None, camera=None, separate_color_
     )
     if error:
         raise DDGError("apply: " + error)
+    if lighting is not None:
+        error = scene.SetLighting(display.SMProxy, lighting)
+        if error:
+            raise DDGError("apply: " + error)
     if camera is not None:
         set_camera(camera, view)
     simple.Render(view)

@@ -204,8 +204,10 @@ TEST(Match, FindsTheCameraAndKeepsEmptySpaceClear)
 
   MatchOptions opt;
   opt.reconstruction.iterations = 300;
+  opt.lighting = Lighting{}; // said unlit: the camera search alone (lighting estimated: below)
   const auto m = matchPicture(renderer, picture, opt);
   EXPECT_TRUE(m.cameraEstimated);
+  EXPECT_FALSE(m.lightingEstimated);
   const Eigen::Vector3d fFound = m.view.camera.focalPoint - m.view.camera.position;
   const Eigen::Vector3d fTrue = truth.camera.focalPoint - truth.camera.position;
   const double dirError =
@@ -219,6 +221,38 @@ TEST(Match, FindsTheCameraAndKeepsEmptySpaceClear)
   EXPECT_NEAR(m.background.bottom[0], 82 / 255.0, kLevel);
   // no haze: the air (value 0) is transparent in the found TF
   EXPECT_LT(m.tf.table1D.rgba[3], 1e-3);
+}
+
+TEST(Match, EstimatesWhetherThePictureIsLit)
+{
+  // the same object and camera, once with Shade on (Specular 0.5 / 30) and once unlit: with no
+  // lighting said, the match tells them apart
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 0.9, 0.8, 0.7 }, { 120, 0.9, 0.6, 0.4 }, { 255, 0.7, 0.8, 1 } };
+  tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.4 }, { 200, 0.9 }, { 255, 0.9 } };
+  const auto table = renderer.caster().paraviewTable(tf);
+  View truth = cameraMove(defaultView(vol, 160, 120), -30, 15, 0, 1.1, { 0, 0 });
+  truth.background = { 0, 0, 0 };
+  for (const bool lit : { true, false })
+  {
+    truth.lighting = Lighting{};
+    truth.lighting.shade = lit;
+    truth.lighting.specular = lit ? 0.5 : 0.0;
+    truth.lighting.specularPower = 30;
+    const Image picture =
+      compositeOverBackground(renderer.caster().render(table, truth), truth.background);
+    MatchOptions opt;
+    opt.reconstruction.iterations = 300;
+    const auto m = matchPicture(renderer, picture, opt);
+    EXPECT_TRUE(m.lightingEstimated);
+    EXPECT_EQ(m.view.lighting.shade, lit)
+      << "fit " << m.fitPSNR << " dB, the other lighting's " << m.otherLightingFitPSNR << " dB";
+    EXPECT_GT(m.fitPSNR, m.otherLightingFitPSNR);
+    std::printf("%s picture: fit %.1f dB, the other lighting's %.1f dB\n", lit ? "lit" : "unlit",
+      m.fitPSNR, m.otherLightingFitPSNR);
+  }
 }
 
 TEST(Match, RefusesWhatItCannotUse)

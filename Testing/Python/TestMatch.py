@@ -9,7 +9,9 @@ neghip_oblique.json's camera, ParaView's palette background) is matched
 Then ddg.apply(m, camera=True) from another camera: the view's camera properties equal the
 Match's view (1e-6), the LUT's RGBPoints equal the Match's preset (1e-6), and ParaView's
 screenshot at the picture's size (orientation axes off, the background the Match estimated) is
-within 30 dB of the picture. Bad input: ddg.match on a uniform picture raises DDGError naming it.
+within 30 dB of the picture, and the display's Shade is off as the picture (was on). Lighting
+from a view dict sets Shade and its coefficients; bad lighting is refused before anything is
+written. Bad input: ddg.match on a uniform picture raises DDGError naming it.
 
 Usage: build/bin/pvpython TestMatch.py DDG OUTDIR
 """
@@ -91,7 +93,10 @@ view.CameraPosition = [0, 0, 300]
 view.CameraFocalPoint = [31.5, 31.5, 31.5]
 view.CameraViewUp = [0, 1, 0]
 Render(view)
+display = Show(neghip, view)
+display.Shade = 1  # the match's picture is unlit: apply turns Shade off (its look)
 ddg.apply(m, source=neghip, view=view, camera=True)
+assert display.Shade == 0 and "lighting" not in m.view, (display.Shade, m.view.get("lighting"))
 camera = {
     "position": list(view.CameraPosition),
     "focal_point": list(view.CameraFocalPoint),
@@ -108,6 +113,25 @@ SaveScreenshot(shot, view, ImageResolution=m.view["size"])
 figure = psnr(read_png(shot), read_png(picture_path))
 print(f"ParaView's render of the match at its camera vs the picture: PSNR {figure:.2f} dB")
 assert figure >= 30, figure
+
+# lighting from a view JSON: Shade and its coefficients; a bad one refused before any write
+lit = dict(m.view, lighting={"shade": True, "specular": 0.5, "specular_power": 30})
+ddg.apply(m, source=neghip, view=view, lighting=lit)
+got = (display.Shade, display.Ambient, display.Diffuse, display.Specular, display.SpecularPower)
+assert got == (1, 0, 1, 0.5, 30), got
+before = list(lut.RGBPoints)
+cool_warm = ddg.data_path("TransferFunctions/neghip_cool_warm.json")
+for bad, words in (
+    ({"shade": True, "specular": 2}, "must lie in [0, 1]"),
+    ({"shine": 1}, "unknown"),
+):
+    try:
+        ddg.apply(cool_warm, source=neghip, view=view, lighting=dict(m.view, lighting=bad))
+        raise AssertionError("bad lighting %s was applied" % bad)
+    except ddg.DDGError as e:
+        print("bad lighting:", e)
+        assert words in str(e), e
+assert list(lut.RGBPoints) == before and display.Shade == 1, "a refused apply changed the scene"
 
 # a picture the match cannot use
 uniform = os.path.join(outdir, "uniform.png")
