@@ -65,64 +65,104 @@ struct LightingFrame
   static LightingFrame of(const Volume& volume, const View& view);
 };
 
-/// The light sums of a sample with eye-space normal direction m (not normalised) and eye-space
-/// position p (used by the specular term only): diffuse multiplies the table colour, specular
-/// adds. Returns false when m = 0 (VTK's normal is NaN: no light reaches, the sample is black).
-/// The specular power: kit.power's table in float, std::pow in double (gradient checks).
-template <typename S>
-bool lightSums(const LightKit& kit, const S m[3], const S p[3], S diff[3], S spec[3])
+/// The light sums of lanes 0 .. count-1, lane l with eye-space normal direction m[.][l] (not
+/// normalised) and eye-space position p[.][l] (read by the specular term only): diffuse
+/// multiplies the table colour, specular adds; lit[l] = 0 where m = 0 (VTK's normal is NaN: no
+/// light reaches, the sample is black; its sums are 0), else 1. The same operations per lane in
+/// arrays the compiler vectorises (the ray caster lights the samples of a batch together; K = 1
+/// is lightSums). The specular power: kit.power's table in float (branch-free, the table read
+/// lane by lane), std::pow in double (gradient checks).
+template <typename S, int K>
+void lightSumsBatch(const LightKit& kit, int count, const S (&m)[3][K], const S (&p)[3][K],
+  S (&diff)[3][K], S (&spec)[3][K], S (&lit)[K])
 {
-  diff[0] = diff[1] = diff[2] = spec[0] = spec[1] = spec[2] = S(0);
-  const S len2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
-  if (!(len2 > S(0)))
-    return false;
-  const S inv = S(1) / std::sqrt(len2);
-  const S n[3] = { m[0] * inv, m[1] * inv, m[2] * inv };
-  const bool specular = kit.specular > 0.0f;
-  S w[3] = { 0, 0, 0 }, nw = 0; // the direction from the eye to the sample, n . w
-  if (specular)
+  S n[3][K];
+  for (int l = 0; l < count; ++l)
   {
-    const S pl = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-    if (pl > S(0))
-      for (int a = 0; a < 3; ++a)
-        w[a] = p[a] / pl;
-    nw = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
+    const S len2 = m[0][l] * m[0][l] + m[1][l] * m[1][l] + m[2][l] * m[2][l];
+    lit[l] = len2 > S(0) ? S(1) : S(0);
+    const S inv = S(1) / std::sqrt(len2 > S(0) ? len2 : S(1));
+    for (int a = 0; a < 3; ++a)
+    {
+      n[a][l] = m[a][l] * inv;
+      diff[a][l] = spec[a][l] = S(0);
+    }
   }
+  const bool specular = kit.specular > 0.0f;
+  S w[3][K], nw[K]; // the direction from the eye to the sample, n . w
+  if (specular)
+    for (int l = 0; l < count; ++l)
+    {
+      const S pl = std::sqrt(p[0][l] * p[0][l] + p[1][l] * p[1][l] + p[2][l] * p[2][l]);
+      const S inv = pl > S(0) ? S(1) / pl : S(0);
+      for (int a = 0; a < 3; ++a)
+        w[a][l] = p[a][l] * inv;
+      nw[l] = n[0][l] * w[0][l] + n[1][l] * w[1][l] + n[2][l] * w[2][l];
+    }
   for (int i = 0; i < LightKit::kLights; ++i)
   {
     const auto& d = kit.direction[static_cast<size_t>(i)];
     const auto& c = kit.colour[static_cast<size_t>(i)];
-    const S nd = n[0] * d[0] + n[1] * d[1] + n[2] * d[2];
-    const S l = std::abs(nd); // two-sided
-    if (!(l > S(0)))
+    S nd[K], la[K], rho[K];
+    for (int l = 0; l < count; ++l)
+    {
+      nd[l] = n[0][l] * d[0] + n[1][l] * d[1] + n[2][l] * d[2];
+      la[l] = std::abs(nd[l]); // two-sided
+      for (int a = 0; a < 3; ++a)
+        diff[a][l] += la[l] * c[a];
+    }
+    if (!specular)
       continue;
-    for (int a = 0; a < 3; ++a)
-      diff[a] += l * c[a];
-    if (specular)
+    for (int l = 0; l < count; ++l)
     {
       // r = normalize(2 l n - d): |2 l n - d| = 1 when n . d = l, sqrt(1 + 8 l^2) when flipped
-      const S rl = nd >= S(0) ? S(1) : std::sqrt(S(1) + S(8) * l * l);
-      const S rho = (2 * l * nw - (d[0] * w[0] + d[1] * w[1] + d[2] * w[2])) / rl;
-      if (rho > S(0))
-      {
-        S sp;
-        if constexpr (std::is_same_v<S, float>)
-        {
-          const float t = std::min(rho, 1.0f) * LightKit::kPowerSteps;
-          const int k = std::min(static_cast<int>(t), LightKit::kPowerSteps - 1);
-          sp = kit.power[static_cast<size_t>(k)] +
-            (t - k) * (kit.power[static_cast<size_t>(k) + 1] - kit.power[static_cast<size_t>(k)]);
-        }
-        else
-        {
-          sp = std::pow(rho, static_cast<S>(kit.specularPower));
-        }
-        for (int a = 0; a < 3; ++a)
-          spec[a] += sp * c[a];
-      }
+      const S rl = nd[l] >= S(0) ? S(1) : std::sqrt(S(1) + S(8) * la[l] * la[l]);
+      rho[l] = (2 * la[l] * nw[l] - (d[0] * w[0][l] + d[1] * w[1][l] + d[2] * w[2][l])) / rl;
     }
+    S sp[K]; // rho^power where light arrives (l > 0, rho > 0), else 0
+    if constexpr (std::is_same_v<S, float>)
+    {
+      int entry[K];
+      float frac[K], lo[K], hi[K];
+      for (int l = 0; l < count; ++l)
+      {
+        const float t = std::min(std::max(rho[l], 0.0f), 1.0f) * LightKit::kPowerSteps;
+        entry[l] = std::min(static_cast<int>(t), LightKit::kPowerSteps - 1);
+        frac[l] = t - static_cast<float>(entry[l]);
+      }
+      for (int l = 0; l < count; ++l)
+      {
+        lo[l] = kit.power[static_cast<size_t>(entry[l])];
+        hi[l] = kit.power[static_cast<size_t>(entry[l]) + 1];
+      }
+      for (int l = 0; l < count; ++l)
+        sp[l] = la[l] > 0.0f && rho[l] > 0.0f ? lo[l] + frac[l] * (hi[l] - lo[l]) : 0.0f;
+    }
+    else
+    {
+      for (int l = 0; l < count; ++l)
+        sp[l] = la[l] > S(0) && rho[l] > S(0) ? std::pow(rho[l], static_cast<S>(kit.specularPower))
+                                              : S(0);
+    }
+    for (int l = 0; l < count; ++l)
+      for (int a = 0; a < 3; ++a)
+        spec[a][l] += sp[l] * c[a];
   }
-  return true;
+}
+
+/// The light sums of one sample (lightSumsBatch for one lane). Returns false when m = 0.
+template <typename S>
+bool lightSums(const LightKit& kit, const S m[3], const S p[3], S diff[3], S spec[3])
+{
+  const S m1[3][1] = { { m[0] }, { m[1] }, { m[2] } }, p1[3][1] = { { p[0] }, { p[1] }, { p[2] } };
+  S d1[3][1], s1[3][1], lit[1];
+  lightSumsBatch(kit, 1, m1, p1, d1, s1, lit);
+  for (int a = 0; a < 3; ++a)
+  {
+    diff[a] = d1[a][0];
+    spec[a] = s1[a][0];
+  }
+  return lit[0] > S(0);
 }
 
 /// The lit colour before the clamp: kd diffuse (.) rgb + ks specular (ParaView clamps it to
@@ -133,22 +173,6 @@ void litColour(const LightKit& kit, const S diff[3], const S spec[3], const S rg
   for (int a = 0; a < 3; ++a)
     out[a] =
       static_cast<S>(kit.diffuse) * diff[a] * rgb[a] + static_cast<S>(kit.specular) * spec[a];
-}
-
-/// Shades the table colour rgb (in [0, 1]) of a sample: the lit colour in rgb, clamped to [0, 1]
-/// when `clamp` (ParaView clamps it with 1D transfer functions, not with 2D ones).
-inline void shadeSample(
-  const LightKit& kit, const float m[3], const float p[3], bool clamp, float rgb[3])
-{
-  float diff[3], spec[3], lit[3];
-  if (!lightSums(kit, m, p, diff, spec))
-  {
-    rgb[0] = rgb[1] = rgb[2] = 0.0f;
-    return;
-  }
-  litColour(kit, diff, spec, rgb, lit);
-  for (int a = 0; a < 3; ++a)
-    rgb[a] = clamp ? std::clamp(lit[a], 0.0f, 1.0f) : lit[a];
 }
 
 /// The per-point gradient (RayCaster::lightingGradients: ParaView's central difference over

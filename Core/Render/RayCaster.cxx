@@ -354,90 +354,31 @@ struct SampleLighting
 
   // Lights the table colours rgb[channel][lane] of lanes 0 .. count-1, lane l at index
   // coordinates e + kk[l] s with interpolated gradient g[axis][lane]; clamps the lit colour
-  // to [0, 1] when `clamp` (1D tables). lightSums and litColour (Render/Lighting.h) over the
-  // lanes at once: the same operations per lane, in arrays the compiler vectorises (the
-  // specular power's table lookup alone lane by lane).
+  // to [0, 1] when `clamp` (1D tables). The lanes together (lightSumsBatch, Render/Lighting.h).
   template <int kLanes>
   void shadeBatch(int count, const float (&g)[3][kLanes], const float e[3], const float s[3],
     const float (&kk)[kLanes], bool clamp, float (&rgb)[3][kLanes]) const
   {
-    float n[3][kLanes], valid[kLanes];
+    float m[3][kLanes], p[3][kLanes];
     for (int l = 0; l < count; ++l)
-    {
-      float m[3];
       for (int r = 0; r < 3; ++r)
-        m[r] = normalMap[r][0] * g[0][l] + normalMap[r][1] * g[1][l] + normalMap[r][2] * g[2][l];
-      const float len2 = m[0] * m[0] + m[1] * m[1] + m[2] * m[2];
-      valid[l] = len2 > 0.0f ? 1.0f : 0.0f;
-      const float inv = 1.0f / std::sqrt(len2 > 0.0f ? len2 : 1.0f);
-      for (int r = 0; r < 3; ++r)
-        n[r][l] = m[r] * inv;
-    }
-    const bool specular = kit.specular > 0.0f;
-    float w[3][kLanes], nw[kLanes];
-    if (specular) // only the specular term looks at where the sample is
+        m[r][l] = normalMap[r][0] * g[0][l] + normalMap[r][1] * g[1][l] + normalMap[r][2] * g[2][l];
+    if (kit.specular > 0.0f) // only the specular term looks at where the sample is
       for (int l = 0; l < count; ++l)
       {
         const float x[3] = { e[0] + kk[l] * s[0], e[1] + kk[l] * s[1], e[2] + kk[l] * s[2] };
-        float p[3];
         for (int r = 0; r < 3; ++r)
-          p[r] = positionMap[r][0] * x[0] + positionMap[r][1] * x[1] + positionMap[r][2] * x[2] +
+          p[r][l] = positionMap[r][0] * x[0] + positionMap[r][1] * x[1] + positionMap[r][2] * x[2] +
             positionOffset[r];
-        const float pl = std::sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
-        const float inv = pl > 0.0f ? 1.0f / pl : 0.0f;
-        for (int r = 0; r < 3; ++r)
-          w[r][l] = pl > 0.0f ? p[r] * inv : 0.0f;
-        nw[l] = n[0][l] * w[0][l] + n[1][l] * w[1][l] + n[2][l] * w[2][l];
       }
-    float diff[3][kLanes] = {}, spec[3][kLanes] = {};
-    for (int i = 0; i < LightKit::kLights; ++i)
-    {
-      const auto& d = kit.direction[static_cast<size_t>(i)];
-      const auto& c = kit.colour[static_cast<size_t>(i)];
-      float la[kLanes], rho[kLanes];
-      for (int l = 0; l < count; ++l)
-      {
-        const float nd = n[0][l] * d[0] + n[1][l] * d[1] + n[2][l] * d[2];
-        la[l] = std::abs(nd); // two-sided
-        for (int a = 0; a < 3; ++a)
-          diff[a][l] += la[l] * c[a];
-        if (specular)
-        {
-          // r = normalize(2 l n - d): |2 l n - d| = 1 when n . d = l, sqrt(1 + 8 l^2) flipped
-          const float rl = nd >= 0.0f ? 1.0f : std::sqrt(1.0f + 8.0f * la[l] * la[l]);
-          rho[l] = (2 * la[l] * nw[l] - (d[0] * w[0][l] + d[1] * w[1][l] + d[2] * w[2][l])) / rl;
-        }
-      }
-      if (!specular)
-        continue;
-      // rho^power from kit.power's table (lightSums' lookup), without branches: lanes where no
-      // specular light arrives (l = 0 or rho <= 0) add 0
-      int entry[kLanes];
-      float frac[kLanes], lo[kLanes], hi[kLanes];
-      for (int l = 0; l < count; ++l)
-      {
-        const float t = std::min(std::max(rho[l], 0.0f), 1.0f) * LightKit::kPowerSteps;
-        entry[l] = std::min(static_cast<int>(t), LightKit::kPowerSteps - 1);
-        frac[l] = t - static_cast<float>(entry[l]);
-      }
-      for (int l = 0; l < count; ++l)
-      {
-        lo[l] = kit.power[static_cast<size_t>(entry[l])];
-        hi[l] = kit.power[static_cast<size_t>(entry[l]) + 1];
-      }
-      for (int l = 0; l < count; ++l)
-      {
-        const float sp = la[l] > 0.0f && rho[l] > 0.0f ? lo[l] + frac[l] * (hi[l] - lo[l]) : 0.0f;
-        for (int a = 0; a < 3; ++a)
-          spec[a][l] += sp * c[a];
-      }
-    }
+    float diff[3][kLanes], spec[3][kLanes], lit[kLanes];
+    lightSumsBatch(kit, count, m, p, diff, spec, lit);
     for (int a = 0; a < 3; ++a)
       for (int l = 0; l < count; ++l)
       {
-        const float lit = kit.diffuse * diff[a][l] * rgb[a][l] + kit.specular * spec[a][l];
-        const float out = clamp ? std::clamp(lit, 0.0f, 1.0f) : lit;
-        rgb[a][l] = valid[l] > 0.0f ? out : 0.0f; // m = 0: no light reaches, black
+        const float c = kit.diffuse * diff[a][l] * rgb[a][l] + kit.specular * spec[a][l];
+        const float out = clamp ? std::clamp(c, 0.0f, 1.0f) : c;
+        rgb[a][l] = lit[l] > 0.0f ? out : 0.0f; // m = 0: no light reaches, black
       }
   }
 };
