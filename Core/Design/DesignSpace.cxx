@@ -355,6 +355,16 @@ void DesignSpaceSpec::validate() const
     throw Error("design space spec: \"viewport_opacity\" must be in (0, 1]");
   if (dimensions != 1 && dimensions != 2)
     throw Error("design space spec: \"dimensions\" must be 1 or 2");
+  if (!(litFraction >= 0 && litFraction <= 1))
+    throw Error("design space spec: \"lit_fraction\" must be in [0, 1]");
+  try
+  {
+    lighting.validate();
+  }
+  catch (const Error& e)
+  {
+    throw Error(std::string("design space spec: ") + e.what());
+  }
   for (const auto& r : regions)
   {
     if (!(r.lo < r.hi) || !std::isfinite(r.lo) || !std::isfinite(r.hi) || r.peak < r.lo ||
@@ -384,7 +394,8 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
     throw Error(origin + ": expected a JSON object");
   DesignSpaceSpec s;
   static const char* known[] = { "regions", "dimensions", "max_regions", "min_active", "saturation",
-    "lightness", "opacity", "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity" };
+    "lightness", "opacity", "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity",
+    "lighting", "lit_fraction" };
   for (auto it = j.begin(); it != j.end(); ++it)
   {
     if (std::find_if(std::begin(known), std::end(known),
@@ -413,6 +424,9 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
     s.minActive = j.value("min_active", s.minActive);
     s.meanShift = j.value("mean_shift", s.meanShift);
     s.viewportOpacity = j.value("viewport_opacity", s.viewportOpacity);
+    s.litFraction = j.value("lit_fraction", s.litFraction);
+    if (j.contains("lighting"))
+      s.lighting = parseLighting(j["lighting"].dump(), origin);
     if (j.contains("regions"))
     {
       for (const auto& r : j["regions"])
@@ -466,6 +480,11 @@ std::string designSpaceSpecToJson(const DesignSpaceSpec& s)
   j["elevation"] = s.elevation;
   j["zoom"] = s.zoom;
   j["viewport_opacity"] = s.viewportOpacity;
+  if (s.lighting != Lighting{})
+  {
+    j["lighting"] = nlohmann::json::parse(lightingToJson(s.lighting));
+    j["lit_fraction"] = s.litFraction;
+  }
   if (!s.regions.empty())
   {
     j["regions"] = nlohmann::json::array();
@@ -556,7 +575,17 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   e.background = u(rng) < 0.5 ? 0 : 1;
   e.viewExp.background = { static_cast<double>(e.background), static_cast<double>(e.background),
     static_cast<double>(e.background) };
+  if (spec.lighting.shade && u(rng) < spec.litFraction)
+    e.viewExp.lighting = e.viewView.lighting = spec.lighting;
   return e;
+}
+
+View designDefaultView(const Volume& volume, const DesignSpaceSpec& spec, int size)
+{
+  View v = defaultView(volume, size, size);
+  if (spec.lighting.shade)
+    v.lighting = spec.lighting;
+  return v;
 }
 
 std::vector<GaussianPrimitive> auxiliaryPrimitives(

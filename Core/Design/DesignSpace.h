@@ -70,6 +70,12 @@ struct DesignSpaceSpec
   std::array<double, 2> elevation{ -60, 60 };    ///< ["elevation"] degrees [-60, 60]
   std::array<double, 2> zoom{ 0.9, 1.4 };        ///< ["zoom"] [0.9, 1.4]
   double viewportOpacity = 0.35; ///< ["viewport_opacity"] auxiliary TF's opacity [0.35]
+  /// ["lighting"] the exemplars' lighting, a view JSON's "lighting" object (ParaView's Shade and
+  /// coefficients) [unlit]
+  Lighting lighting;
+  /// ["lit_fraction"] with Shade on in "lighting": the share of exemplars rendered lit, the
+  /// others unlit — the query analyzer learns lit and unlit pictures of the same designs [0.5]
+  double litFraction = 0.5;
 
   /// Throws ddg::Error with the key for out-of-range values (ranges must be increasing and
   /// inside [0, 1] where they are fractions; maxRegions 1..16; ...).
@@ -87,17 +93,23 @@ struct Exemplar
   std::uint64_t seed = 0;
   std::vector<int> active;                   ///< indices of the regions it uses
   std::vector<GaussianPrimitive> primitives; ///< TF_exp, one per active region
-  View viewExp, viewView;                    ///< V_exp and V_view
+  View viewExp, viewView;                    ///< V_exp and V_view (with its lighting)
   int background = 0;                        ///< 0 black, 1 white (of the RGB image at V_exp)
 };
 
-/// Draws exemplar `index` of the design space deterministically from (seed, index).
+/// Draws exemplar `index` of the design space deterministically from (seed, index). With Shade
+/// on in spec.lighting, its views are lit with probability spec.litFraction (one more draw, after
+/// the others: an unlit spec's exemplars are what they were before lighting existed).
 Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size);
 
 /// The view the exemplars use: ParaView's reset camera (defaultView, size x size) orbited by
 /// azimuth (about +y) and elevation, +y up, zoomed (distance and parallel scale / zoom).
 View orbitView(const Volume& volume, int size, double azimuthDeg, double elevationDeg, double zoom);
+
+/// The view a design space's designs are shown at when none is given: ParaView's reset camera
+/// (defaultView, size x size), lit as the design space's exemplars (spec.lighting with Shade on).
+View designDefaultView(const Volume& volume, const DesignSpaceSpec& spec, int size);
 
 /// Ray casts a TF of primitives (none: an empty image) as the generator does: a 256-entry 1D
 /// table, or (dimensions 2) a 256 x 64 table over the value range x

@@ -34,7 +34,7 @@ Eigen::Vector3d vec3(const json& j, const char* key, const std::string& origin)
 
 // "lighting": every key optional (ParaView's default), no other key (a typo would silently
 // render unlit or with the default coefficients).
-Lighting parseLighting(const json& l, const std::string& origin)
+Lighting lightingOf(const json& l, const std::string& origin)
 {
   if (!l.is_object())
   {
@@ -122,10 +122,14 @@ void View::validate() const
   {
     throw Error("opacity_unit_distance must be positive");
   }
-  const Lighting& l = lighting;
-  for (auto [name, value, top] : { std::tuple{ "ambient", l.ambient, 1.0 },
-         std::tuple{ "diffuse", l.diffuse, 1.0 }, std::tuple{ "specular", l.specular, 1.0 },
-         std::tuple{ "specular_power", l.specularPower, 100.0 } })
+  lighting.validate();
+}
+
+void Lighting::validate() const
+{
+  for (auto [name, value, top] : { std::tuple{ "ambient", ambient, 1.0 },
+         std::tuple{ "diffuse", diffuse, 1.0 }, std::tuple{ "specular", specular, 1.0 },
+         std::tuple{ "specular_power", specularPower, 100.0 } })
   {
     if (!(value >= 0.0 && value <= top))
     {
@@ -135,6 +139,37 @@ void View::validate() const
       throw Error(msg.str());
     }
   }
+}
+
+Lighting parseLighting(const std::string& jsonText, const std::string& origin)
+{
+  json j;
+  try
+  {
+    j = json::parse(jsonText);
+  }
+  catch (const json::parse_error& e)
+  {
+    throw Error(origin + " is not valid JSON: " + e.what());
+  }
+  const Lighting l = lightingOf(j, origin);
+  try
+  {
+    l.validate();
+  }
+  catch (const Error& e)
+  {
+    throw Error(origin + ": " + e.what());
+  }
+  return l;
+}
+
+std::string lightingToJson(const Lighting& l)
+{
+  return json{
+    { "shade", l.shade }, { "ambient", l.ambient }, { "diffuse", l.diffuse },
+    { "specular", l.specular }, { "specular_power", l.specularPower }
+  }.dump();
 }
 
 View parseView(const std::string& jsonText, const std::string& origin)
@@ -193,7 +228,7 @@ View parseView(const std::string& jsonText, const std::string& origin)
     }
     if (j.contains("lighting") && !j["lighting"].is_null())
     {
-      v.lighting = parseLighting(j["lighting"], origin);
+      v.lighting = lightingOf(j["lighting"], origin);
     }
   }
   catch (const json::exception& e)
@@ -240,9 +275,7 @@ std::string viewToJson(const View& v)
   }
   if (v.lighting != Lighting{})
   {
-    const Lighting& l = v.lighting;
-    j["lighting"] = { { "shade", l.shade }, { "ambient", l.ambient }, { "diffuse", l.diffuse },
-      { "specular", l.specular }, { "specular_power", l.specularPower } };
+    j["lighting"] = json::parse(lightingToJson(v.lighting));
   }
   return j.dump(2) + "\n";
 }

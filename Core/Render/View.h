@@ -41,7 +41,16 @@ struct Lighting
       specular == o.specular && specularPower == o.specularPower;
   }
   bool operator!=(const Lighting& o) const { return !(*this == o); }
+  /// Throws ddg::Error for a coefficient outside ParaView's range (ambient, diffuse, specular in
+  /// [0, 1], specular_power in [0, 100]).
+  void validate() const;
 };
+
+/// A view JSON's "lighting" object (JSON text): every key optional (ParaView's default), no other
+/// key; range-checked. Throws ddg::Error naming `origin`. parseView reads "lighting" with it.
+Lighting parseLighting(const std::string& jsonText, const std::string& origin = "lighting");
+/// The "lighting" object of a view JSON, as viewToJson writes it (compact JSON text).
+std::string lightingToJson(const Lighting& lighting);
 
 /// What to render and how: the view JSON
 ///   { "camera": { "position": [x,y,z], "focal_point": [x,y,z], "view_up": [x,y,z],

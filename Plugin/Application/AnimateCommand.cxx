@@ -40,7 +40,8 @@ int runAnimate(const AnimateArgs& a)
   const auto session = openBundle(a.model, a.volume);
   ddg::DesignGallery& g = session->gallery();
   const auto lock = makeLock(g, a.lock, a.lockFrom);
-  const auto view = thumbnailView(session->volume(), a.view, a.size);
+  const auto view =
+    thumbnailView(session->volume(), session->gallery().model().spec(), a.view, a.size);
   const auto za = resolveDesign(g, a.from), zb = resolveDesign(g, a.to);
   const auto t0 = Clock::now();
   const auto anim = g.animate(za, zb, view, a.frames, a.easing, a.keyEvery, lock.get());

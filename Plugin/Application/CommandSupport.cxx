@@ -73,9 +73,10 @@ OutlineBox parseBox(const std::string& text)
   return b;
 }
 
-View thumbnailView(const Volume& volume, const std::string& path, int size)
+View thumbnailView(
+  const Volume& volume, const DesignSpaceSpec& spec, const std::string& path, int size)
 {
-  View v = path.empty() ? defaultView(volume, size, size) : readView(path);
+  View v = path.empty() ? designDefaultView(volume, spec, size) : readView(path);
   v.width = v.height = size;
   return v;
 }

@@ -44,8 +44,10 @@ std::vector<int> parseInts(const std::string& text, const char* what);
 #ifdef DDG_WITH_TORCH
 /// --box x0,y0,x1,y1 on the outline plane (x0 < x1, y0 < y1).
 OutlineBox parseBox(const std::string& text);
-/// The thumbnails' view: the view file's camera, else the volume's default view, at size x size.
-View thumbnailView(const Volume& volume, const std::string& path, int size);
+/// The thumbnails' view: the view file's camera, else the design space's default view (lit as its
+/// exemplars: designDefaultView), at size x size.
+View thumbnailView(
+  const Volume& volume, const DesignSpaceSpec& spec, const std::string& path, int size);
 /// The bundle of --model opened for --volume (Core's BundleSession).
 std::unique_ptr<BundleSession> openBundle(const std::string& modelDir, const std::string& volume);
 /// A design reference's latent (row:N, image:PATH, latent:PATH, history:PATH).

@@ -57,7 +57,8 @@ int runGallery(const GalleryArgs& a)
   }
   if (!a.box.empty())
     state.drillIn(parseBox(a.box));
-  const auto view = thumbnailView(session->volume(), a.view, a.thumb);
+  const auto view =
+    thumbnailView(session->volume(), session->gallery().model().spec(), a.view, a.thumb);
   const auto t0 = Clock::now();
   const auto rows = ddg::selectThumbnails(g.outline(), state.current(), state.count, state.seed);
   const double selectMs = msSince(t0);

@@ -51,7 +51,8 @@ int runNavigate(const NavigateArgs& a)
   const int rows = anchors.size() == 2 ? 1 : a.rows;
   const auto cells = ddg::navigationGrid(anchors, rows, a.cols, w);
   const auto lock = makeLock(g, a.lock, a.lockFrom);
-  const auto view = thumbnailView(session->volume(), a.view, a.thumb);
+  const auto view =
+    thumbnailView(session->volume(), session->gallery().model().spec(), a.view, a.thumb);
   const auto t0 = Clock::now();
   std::vector<ddg::Image> images;
   for (const auto& c : cells)

@@ -46,8 +46,9 @@ int runReplay(const ReplayArgs& a)
     std::printf("step %zu (%s): outline position (%.4f, %.4f)\n", i + 1,
       history.steps[i].action.c_str(), p[0], p[1]);
   }
-  const ddg::View view =
-    a.view.empty() ? ddg::defaultView(session->volume(), 256, 256) : ddg::readView(a.view);
+  const ddg::View view = a.view.empty()
+    ? ddg::designDefaultView(session->volume(), session->gallery().model().spec(), 256)
+    : ddg::readView(a.view);
   if (!a.outLatent.empty())
     ddg::writeLatentFile(z, a.outLatent);
   if (!a.outDesign.empty())

@@ -41,6 +41,7 @@ void vtkDDGDesignGallery::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ModelDirectory: " << this->ModelDirectory << "\n";
   os << indent << "ViewFile: " << this->ViewFile << "\n";
   os << indent << "ViewJSON: " << this->ViewJSON << "\n";
+  os << indent << "LightingJSON: " << this->LightingJSON << "\n";
   os << indent << "Box: " << this->Box[0] << " " << this->Box[1] << " " << this->Box[2] << " "
      << this->Box[3] << "\n";
   os << indent << "Count: " << this->Count << "\n";
@@ -76,9 +77,11 @@ void vtkDDGDesignGallery::Execute(
     ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array);
   const auto& outline = gallery.outline();
   ddg::View view = this->ViewFile.empty() && this->ViewJSON.empty()
-    ? ddg::defaultView(gallery.volume())
+    ? ddg::designDefaultView(gallery.volume(), gallery.model().spec(), this->ThumbnailSize)
     : ddg::filterView(this->ViewJSON, this->ViewFile);
   view.width = view.height = this->ThumbnailSize;
+  if (!this->LightingJSON.empty())
+    view.lighting = ddg::parseLighting(this->LightingJSON, "the thumbnails' lighting");
   const bool whole =
     this->Box[0] == 0 && this->Box[1] == 0 && this->Box[2] == 0 && this->Box[3] == 0;
   const ddg::OutlineBox box = whole

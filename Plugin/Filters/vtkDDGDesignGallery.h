@@ -52,6 +52,15 @@ public:
   ///@}
 
   ///@{
+  /// The thumbnails' lighting, a view JSON's "lighting" object ("{}": unlit); when set it
+  /// replaces the view's (the panel: the representation's Shade, so that thumbnails look as the
+  /// volume is shown). Empty: a given view's own lighting, or at the default view the design
+  /// space's (its spec's "lighting" with Shade on). (default: empty)
+  vtkSetStdStringFromCharMacro(LightingJSON);
+  vtkGetCharFromStdStringMacro(LightingJSON);
+  ///@}
+
+  ///@{
   /// Box of the outline plane shown (x0, y0, x1, y1); all zero: the whole outline. (default: 0)
   vtkSetVector4Macro(Box, double);
   vtkGetVector4Macro(Box, double);
@@ -93,6 +102,7 @@ private:
   std::string ModelDirectory;
   std::string ViewFile;
   std::string ViewJSON;
+  std::string LightingJSON;
   double Box[4] = { 0, 0, 0, 0 };
   int Count = 64;
   int Seed = 1;

@@ -174,6 +174,12 @@ void pqDDGDesignState::refreshOutline()
   vtkSMPropertyHelper(this->GalleryProxy, "ViewJSON")
     .Set(view.isEmpty() ? "" : ddgpanel::jsonText(view).toUtf8().constData());
   this->ThumbnailView = view;
+  // lit as the volume is shown (its representation's Shade and coefficients; {}: Shade off)
+  const QJsonObject scene = this->currentView(ThumbnailSize);
+  this->ThumbnailLighting = scene.value("lighting").toObject();
+  if (this->GalleryProxy->GetProperty("LightingJSON"))
+    vtkSMPropertyHelper(this->GalleryProxy, "LightingJSON")
+      .Set(scene.isEmpty() ? "" : ddgpanel::jsonText(this->ThumbnailLighting).toUtf8().constData());
   this->GalleryProxy->UpdateVTKObjects();
   this->setBusy(true);
   this->GalleryProxy->UpdatePipeline();

@@ -154,7 +154,8 @@ public:
   void setThumbnailsAtCamera(bool atCamera) { this->ThumbnailsAtCamera = atCamera; }
   /// True when the thumbnails shown were rendered at a camera far from `view`'s: its direction
   /// turned by more than 30 degrees, or the volume's size on screen changed by more than 1.5x
-  /// (distance or parallel scale): time to render them again at `view`.
+  /// (distance or parallel scale): time to render them again at `view`. Also when `view`'s
+  /// lighting (the volume's Shade) is not the one they were lit with, at any camera.
   bool thumbnailsOutdated(const QJsonObject& view) const;
 
   // --- designs -------------------------------------------------------------------------------
@@ -302,7 +303,8 @@ private:
   QVector<QRectF> Boxes; ///< drill-in stack; the last is shown
   int Seed = 1;
   bool ThumbnailsAtCamera = true;
-  QJsonObject ThumbnailView; ///< the view JSON the thumbnails shown were rendered at
+  QJsonObject ThumbnailView;     ///< the view JSON the thumbnails shown were rendered at
+  QJsonObject ThumbnailLighting; ///< the volume's lighting they were lit with ({}: Shade off)
 
   QJsonArray Steps;
   QJsonArray LockSteps;

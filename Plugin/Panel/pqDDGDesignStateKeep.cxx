@@ -42,6 +42,9 @@ unsigned int keyOf(vtkSMSourceProxy* source)
 
 bool pqDDGDesignState::thumbnailsOutdated(const QJsonObject& view) const
 {
+  if (this->Loaded && !view.isEmpty() &&
+    view.value("lighting").toObject() != this->ThumbnailLighting)
+    return true; // Shade (or its coefficients) changed: thumbnails look as the volume is shown
   if (!this->Loaded || !this->ThumbnailsAtCamera || view.isEmpty())
     return false;
   double a[3], b[3], da = 0, db = 0, sa = 0, sb = 0;

@@ -180,6 +180,30 @@ for i in range(designs.GetNumberOfRows()):
     if thumb.GetValue(i) >= 0:
         filter_rows[int(thumb.GetValue(i))] = i
 assert filter_rows == cli_rows, (filter_rows, cli_rows)
+# lit as the volume is shown: LightingJSON (the panel sends the representation's Shade)
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+
+def sheet_pixels():
+    gal.UpdatePipeline()
+    s = servermanager.Fetch(gal, idx=0)
+    return vtk_to_numpy(s.GetPointData().GetScalars()).astype(float)
+
+
+unlit = sheet_pixels()
+gal.LightingJSON = json.dumps({"shade": True, "specular": 0.5, "specular_power": 30})
+lit = sheet_pixels()
+gal.LightingJSON = "{}"
+assert abs(sheet_pixels() - unlit).max() == 0, "LightingJSON {} is not unlit"
+print(f"thumbnails lit: mean change {abs(lit - unlit).mean():.2f} levels")
+assert abs(lit - unlit).mean() > 1, "Shade on did not change the thumbnails"
+gal.GetClientSideObject().AddObserver(vtkCommand.ErrorEvent, on_error)
+messages.clear()
+gal.LightingJSON = json.dumps({"shine": 1})
+gal.UpdatePipeline()
+assert len(messages) == 1 and "unknown lighting key" in messages[0], messages
+print("bad lighting:", messages[0].strip().splitlines()[-1])
+gal.LightingJSON = ""
 box = designs.GetFieldData().GetArray("Box")
 print(
     f"design gallery ok: 16 thumbnails over box ({box.GetValue(0):.2f}, {box.GetValue(1):.2f}, "
