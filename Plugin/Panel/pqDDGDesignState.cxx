@@ -91,6 +91,7 @@ void pqDDGDesignState::clearModel()
 
 bool pqDDGDesignState::loadModel(const QString& directory)
 {
+  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (!this->Source || this->Array.isEmpty())
     return false;
   this->clearModel();
@@ -160,6 +161,7 @@ bool pqDDGDesignState::ready(bool needDesign)
 
 void pqDDGDesignState::refreshOutline()
 {
+  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (!this->ready())
     return;
   const QRectF box = this->Boxes.isEmpty() ? QRectF() : this->Boxes.last();
@@ -277,6 +279,7 @@ void pqDDGDesignState::setShownBox(const QRectF& box)
 
 void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
 {
+  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (!this->ready())
     return;
   if (this->hasMatch() || !this->QueryPicture.isEmpty())
@@ -388,6 +391,7 @@ bool pqDDGDesignState::setSteps(const QJsonArray& steps, bool newPath)
 
 bool pqDDGDesignState::updateDesign()
 {
+  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (!this->ready(true))
     return false;
   this->Current.View = this->currentView(PreviewSide);

@@ -35,6 +35,7 @@ void setBuild(vtkSMSourceProxy* proxy, const QString& directory, const QString& 
 QJsonObject pqDDGDesignState::planBuild(
   const QString& directory, double budgetMinutes, bool overwrite)
 {
+  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (!this->Source || this->Array.isEmpty())
     return { { "error", tr("Select a volume first.") } };
   if (!this->PlanProxy || this->PlanSource != this->Source)
@@ -53,6 +54,7 @@ QJsonObject pqDDGDesignState::planBuild(
 
 bool pqDDGDesignState::startBuild(const QString& directory, double budgetMinutes, bool overwrite)
 {
+  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (this->BuildProxy)
   {
     this->report(tr("A build is already running."), true);

@@ -53,6 +53,7 @@ double first(const QJsonArray& values, int k = 0)
 
 bool pqDDGDesignState::match(bool fromCurrentCamera)
 {
+  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (this->Busy || !this->ready(true))
     return false;
   if (this->QueryPicture.isEmpty())

@@ -21,9 +21,11 @@
 #include <vtkSMDDGScene.h>
 #include <vtkSMParaViewPipelineControllerWithRendering.h>
 #include <vtkSMPropertyHelper.h>
+#include <vtkSMProxyManager.h>
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
 #include <vtkSMUndoElement.h>
+#include <vtkSMUndoStackBuilder.h>
 #include <vtkSMViewProxy.h>
 #include <vtkStringArray.h>
 #include <vtkTable.h>
@@ -168,6 +170,7 @@ QString currentPreset(pqDataRepresentation* repr)
 
 vtkSmartPointer<vtkSMSourceProxy> newFilter(const char* name, vtkSMSourceProxy* input, int port)
 {
+  const NoUndo quiet; // the panel's own filter
   vtkSmartPointer<vtkSMSourceProxy> filter;
   filter.TakeReference(
     vtkSMSourceProxy::SafeDownCast(input->GetSessionProxyManager()->NewProxy("filters", name)));
@@ -179,8 +182,24 @@ vtkSmartPointer<vtkSMSourceProxy> newFilter(const char* name, vtkSMSourceProxy* 
   return filter;
 }
 
+NoUndo::NoUndo()
+{
+  if (auto* builder = vtkSMProxyManager::GetProxyManager()->GetUndoStackBuilder())
+  {
+    this->Was = builder->GetIgnoreAllChanges();
+    builder->SetIgnoreAllChanges(true);
+  }
+}
+
+NoUndo::~NoUndo()
+{
+  if (auto* builder = vtkSMProxyManager::GetProxyManager()->GetUndoStackBuilder())
+    builder->SetIgnoreAllChanges(this->Was);
+}
+
 vtkSmartPointer<vtkDataObject> fetch(vtkSMSourceProxy* producer, int port)
 {
+  const NoUndo quiet; // the data mover is the panel's
   vtkSmartPointer<vtkSMProxy> mover;
   mover.TakeReference(producer->GetSessionProxyManager()->NewProxy("misc", "DataMover"));
   if (!mover)

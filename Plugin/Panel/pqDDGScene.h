@@ -65,6 +65,22 @@ QString currentPreset(pqDataRepresentation* repr);
 /// `input`'s session.
 vtkSmartPointer<vtkSMSourceProxy> newFilter(const char* name, vtkSMSourceProxy* input, int port);
 
+/// While it lives, changes to proxies stay off ParaView's undo stack. The panel's own proxies
+/// (its filters, data movers) are not the user's scene, but ParaView records any proxy's change
+/// outside an undo set as a step of its own ("Changed 'vtkSMProxy'"), which would then stand
+/// between an Apply and the user's Undo (e.g. thumbnails redrawn after Apply changed Shade).
+class NoUndo
+{
+public:
+  NoUndo();
+  ~NoUndo();
+  NoUndo(const NoUndo&) = delete;
+  NoUndo& operator=(const NoUndo&) = delete;
+
+private:
+  bool Was = false;
+};
+
 /// Fetches output `port` of `producer` (already updated) from the first process: a copy on the
 /// client (nullptr when it is empty).
 vtkSmartPointer<vtkDataObject> fetch(vtkSMSourceProxy* producer, int port);
