@@ -156,7 +156,8 @@ struct MatchResult
   std::array<double, 3> orbit{ 0, 0, 0 }; ///< azimuth, elevation, roll from the reset camera (deg)
   double zoom = 1;                        ///< distance factor from the reset camera
   std::array<double, 2> pan{ 0, 0 };      ///< pan right, up, in view heights at the focal point
-  /// Seconds per stage: background and masks, camera search, the final fit, and in all.
+  /// Seconds per stage: background and masks, camera search, the final fit, and in all (lighting
+  /// estimated: summed over every lighting matched).
   double backgroundSeconds = 0, cameraSeconds = 0, fitSeconds = 0, seconds = 0;
   /// The camera search's seconds by part (camera searched; a given camera: silhouettes only):
   /// the silhouettes (directions, their refinement, the distance's correction), the colours'
