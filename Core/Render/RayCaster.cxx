@@ -629,11 +629,7 @@ struct March
             continue;
           light->shadeBatch(count, gp, e3, s3, kp, !TwoD, rgb);
           for (int q = 0; q < count; ++q)
-          {
-            c[lane[q]].r = rgb[0][q];
-            c[lane[q]].g = rgb[1][q];
-            c[lane[q]].b = rgb[2][q];
-          }
+            c[lane[q]] = RGBA{ rgb[0][q], rgb[1][q], rgb[2][q], c[lane[q]].a };
         }
         for (int l = 0; l < n; ++l)
         {
