@@ -1,6 +1,7 @@
 // BenchDifferentiable.cxx: cost of the analytic adjoint and of reconstruction.
 //  (a) backward time / forward time of DifferentiableRenderer at 256 x 256 on Engine (all pixels,
-//      median of N runs), next to RayCaster's forward time for scale;
+//      median of N runs), next to RayCaster's forward time for scale; --shade: also lit, with
+//      the lit / unlit ratios;
 //  (c) time to reach 40 dB in the self-consistency case (random Gaussian-primitive TF rendered
 //      at one view, reconstructed from that image alone) at 256 x 256, on Tooth and Engine:
 //      optimisation time only (the PSNR checks every 10 steps are not counted).
@@ -90,7 +91,7 @@ int main(int argc, char** argv)
 {
   int size = 256, runs = 5;
   ReconstructionOptions ropt;
-  bool memoryOnly = false, timingOnly = false;
+  bool memoryOnly = false, timingOnly = false, shade = false;
   double samplesPerVoxel = 2; // ParaView's rule: sample distance = mean spacing / 2
   for (int i = 1; i < argc; ++i)
   {
@@ -99,10 +100,12 @@ int main(int argc, char** argv)
     {
       std::printf(
         "BenchDifferentiable [--size N] [--runs N] [--memory] [--rays N] [--lr X] [--bins N]\n"
-        "                    [--samples-per-voxel S] [--timing-only]\n"
+        "                    [--samples-per-voxel S] [--timing-only] [--shade]\n"
         "(a) backward/forward time on Engine, (c) time to 40 dB on Tooth and Engine\n"
         "(not with --timing-only). Sample distance = mean spacing / S (2: ParaView's rule).\n"
-        "--memory: time and working memory of one forward + backward on Engine.\n");
+        "--memory: time and working memory of one forward + backward on Engine.\n"
+        "--shade: (a) also with Shade on (ParaView's default coefficients) and the lit / unlit\n"
+        "ratios of forward, backward and both, measured in the same run.\n");
       return 0;
     }
     if (a == "--size" && i + 1 < argc)
@@ -113,6 +116,8 @@ int main(int argc, char** argv)
       memoryOnly = true;
     else if (a == "--timing-only")
       timingOnly = true;
+    else if (a == "--shade")
+      shade = true;
     else if (a == "--samples-per-voxel" && i + 1 < argc)
       samplesPerVoxel = std::stod(argv[++i]);
     else if (a == "--rays" && i + 1 < argc)
@@ -176,31 +181,54 @@ int main(int argc, char** argv)
     std::printf("ours: sum of dL/dTable %.6g (L = sum of premultiplied RGBA)\n", sum);
     return 0;
   }
-  std::vector<double> fwd, bwd, fast;
-  for (int r = 0; r < runs + 1; ++r)
+  // (a) forward, backward and the ray caster's forward at `v`, medians of `runs` (after one
+  // unmeasured run, which also computes the lit gradients once)
+  auto timeAt = [&](const View& v, double& f, double& b, double& q)
   {
-    auto t0 = Clock::now();
-    renderer.forward(
-      table.rgba.data(), table.width, table.min, table.max, view, opt, {}, rgba, records);
-    const double f = since(t0);
-    dRGBA.assign(rgba.size(), 1.0f);
-    t0 = Clock::now();
-    renderer.backward(
-      table.rgba.data(), table.width, table.min, table.max, view, opt, {}, records, dRGBA, dTable);
-    const double b = since(t0);
-    t0 = Clock::now();
-    renderer.caster().render(table, view, opt);
-    const double q = since(t0);
-    if (r > 0)
+    std::vector<double> fwd, bwd, fast;
+    for (int r = 0; r < runs + 1; ++r)
     {
-      fwd.push_back(f);
-      bwd.push_back(b);
-      fast.push_back(q);
+      auto t0 = Clock::now();
+      renderer.forward(
+        table.rgba.data(), table.width, table.min, table.max, v, opt, {}, rgba, records);
+      const double tf = since(t0);
+      dRGBA.assign(rgba.size(), 1.0f);
+      t0 = Clock::now();
+      renderer.backward(
+        table.rgba.data(), table.width, table.min, table.max, v, opt, {}, records, dRGBA, dTable);
+      const double tb = since(t0);
+      t0 = Clock::now();
+      renderer.caster().render(table, v, opt);
+      const double tq = since(t0);
+      if (r > 0)
+      {
+        fwd.push_back(tf);
+        bwd.push_back(tb);
+        fast.push_back(tq);
+      }
     }
-  }
+    f = median(fwd);
+    b = median(bwd);
+    q = median(fast);
+  };
+  double f = 0, b = 0, q = 0;
+  timeAt(view, f, b, q);
   std::printf("(a) engine %dx%d, engine_block, median of %d: forward %.1f ms, backward %.1f ms, "
               "backward/forward %.2f (RayCaster forward with skipping %.1f ms)\n",
-    size, size, runs, median(fwd), median(bwd), median(bwd) / median(fwd), median(fast));
+    size, size, runs, f, b, b / f, q);
+  if (shade)
+  {
+    View lit = view;
+    lit.lighting = Lighting{};
+    lit.lighting.shade = true;
+    double fl = 0, bl = 0, ql = 0;
+    timeAt(lit, fl, bl, ql);
+    std::printf("(a) Shade on (ParaView's default coefficients): forward %.1f ms, backward %.1f ms, "
+                "backward/forward %.2f (RayCaster %.1f ms)\n"
+                "    lit / unlit, same samples: forward %.2fx, backward %.2fx, forward + backward "
+                "%.2fx, RayCaster %.2fx\n",
+      fl, bl, bl / fl, ql, fl / f, bl / b, (fl + bl) / (f + b), ql / q);
+  }
   if (timingOnly)
     return 0;
   timeToQuality("tooth", 11, size, ropt);
