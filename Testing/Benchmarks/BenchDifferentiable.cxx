@@ -223,10 +223,11 @@ int main(int argc, char** argv)
     lit.lighting.shade = true;
     double fl = 0, bl = 0, ql = 0;
     timeAt(lit, fl, bl, ql);
-    std::printf("(a) Shade on (ParaView's default coefficients): forward %.1f ms, backward %.1f ms, "
-                "backward/forward %.2f (RayCaster %.1f ms)\n"
-                "    lit / unlit, same samples: forward %.2fx, backward %.2fx, forward + backward "
-                "%.2fx, RayCaster %.2fx\n",
+    std::printf(
+      "(a) Shade on (ParaView's default coefficients): forward %.1f ms, backward %.1f ms, "
+      "backward/forward %.2f (RayCaster %.1f ms)\n"
+      "    lit / unlit, same samples: forward %.2fx, backward %.2fx, forward + backward "
+      "%.2fx, RayCaster %.2fx\n",
       fl, bl, bl / fl, ql, fl / f, bl / b, (fl + bl) / (f + b), ql / q);
   }
   if (timingOnly)
