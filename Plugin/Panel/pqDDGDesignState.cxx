@@ -171,13 +171,12 @@ void pqDDGDesignState::refreshOutline()
   vtkSMPropertyHelper(this->GalleryProxy, "ThumbnailSize").Set(ThumbnailSize);
   vtkSMPropertyHelper(this->GalleryProxy, "Seed").Set(this->Seed);
   // the volume's default view (the whole volume in sight), or the view's camera once asked for
-  const QJsonObject view =
-    this->ThumbnailsAtCamera ? this->currentView(ThumbnailSize) : QJsonObject();
+  const QJsonObject scene = this->currentView(ThumbnailSize);
+  const QJsonObject view = this->ThumbnailsAtCamera ? scene : QJsonObject();
   vtkSMPropertyHelper(this->GalleryProxy, "ViewJSON")
     .Set(view.isEmpty() ? "" : ddgpanel::jsonText(view).toUtf8().constData());
   this->ThumbnailView = view;
   // lit as the volume is shown (its representation's Shade and coefficients; {}: Shade off)
-  const QJsonObject scene = this->currentView(ThumbnailSize);
   this->ThumbnailLighting = scene.value("lighting").toObject();
   if (this->GalleryProxy->GetProperty("LightingJSON"))
     vtkSMPropertyHelper(this->GalleryProxy, "LightingJSON")
