@@ -648,6 +648,9 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     fits.resize(fits.size() > 1 && fits[1].loss < 1.25 * fits[0].loss ? 2 : 1);
     for (size_t i = 0; i < fits.size(); ++i)
     {
+      // a hop first (MatchCamera.h), judged with the short fit's TF
+      fits[i].camera = hopAround(fits[i].camera,
+        [&](const CameraParams& c) { return photometricLoss(fits[i].tf, c, sopt.render); });
       for (int round = 0; round < std::max(1, opt.cameraRounds); ++round)
       {
         fits[i].camera = refine(fits[i].tf, fits[i].camera, round == 0 ? 80 : 40, sopt.render);

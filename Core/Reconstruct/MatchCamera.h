@@ -143,6 +143,29 @@ CameraParams nelderMead(const CameraParams& start, F&& f, int evaluations, doubl
   return r;
 }
 
+// The camera among `start` and the 24 cameras 10 and 20 degrees around it in azimuth and
+// elevation with the lowest loss(camera): a hop out of a basin the refinement would not leave
+// (a silhouette's twin across a near-symmetric object, e.g. the elevation's sign on a body seen
+// from the side).
+template <typename L>
+CameraParams hopAround(const CameraParams& start, L&& loss)
+{
+  CameraParams best = start;
+  double lowest = loss(start);
+  for (double da : { -20.0, -10.0, 0.0, 10.0, 20.0 })
+    for (double de : { -20.0, -10.0, 0.0, 10.0, 20.0 })
+    {
+      if (da == 0 && de == 0)
+        continue;
+      CameraParams c = start;
+      c.az += da;
+      c.el = std::clamp(c.el + de, -89.0, 89.0);
+      if (const double l = loss(c); l < lowest)
+        best = c, lowest = l;
+    }
+  return best;
+}
+
 // The emission model of a picture at a camera, for screening cameras by the picture's colours
 // where silhouettes cannot tell them apart (a roundish, translucent object): each pixel's
 // difference from the background, d_p = picture_p - background_p, is fitted as a linear
