@@ -1,5 +1,15 @@
 """ParaView renders of a volume with a preset and a view JSON, shared by the parity and
-round-trip tests (run with pvpython under a display)."""
+round-trip tests (run with pvpython under a display).
+
+As a program it renders one image in a process of its own, so that Mesa's settings can be its
+own: `pvpython pvrender.py VOLUME VIEW_JSON OUT_PNG (--preset FILE | --boxes FILE)`."""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+
 from paraview.simple import (
     ColorBy,
     CreateView,
@@ -72,3 +82,56 @@ def paraview_render(volume_path, preset, view_json, out_png, boxes_2d=None):
     Delete(display)
     Delete(view)
     Delete(reader)
+
+
+# Mesa's llvmpipe filters 8-bit textures on a fast path of its own ("AoS" sampling): each filtered
+# value is itself 8-bit, so a gradient from two of them moves in steps of 1/255 of the range.
+# GALLIVM_PERF=no_aos_sampling makes it filter in float, as for every other texture type.
+EXACT_SAMPLING = {"GALLIVM_PERF": "no_aos_sampling"}
+
+
+def paraview_render_in_process_of_its_own(
+    volume_path, view_json, out_png, env, preset=None, boxes_2d=None
+):
+    """paraview_render in a pvpython of its own, with ``env`` added to its environment (Mesa reads
+    its settings once per process)."""
+    folder = os.path.dirname(os.path.abspath(out_png))
+    stem = os.path.splitext(os.path.basename(out_png))[0]
+    view_path = os.path.join(folder, stem + "_pvrender_view.json")
+    with open(view_path, "w") as f:
+        json.dump(view_json, f)
+    tf_path = os.path.join(folder, stem + "_pvrender_tf.json")
+    with open(tf_path, "w") as f:
+        json.dump(boxes_2d if boxes_2d else preset, f)
+    pvpython = shutil.which("pvpython") or "/usr/bin/pvpython"
+    subprocess.run(
+        [pvpython, os.path.abspath(__file__), volume_path, view_path, out_png]
+        + ["--boxes" if boxes_2d else "--preset", tf_path],
+        check=True,
+        env={**os.environ, **env},
+    )
+
+
+if __name__ == "__main__":
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("volume")
+    parser.add_argument("view")
+    parser.add_argument("out")
+    tf = parser.add_mutually_exclusive_group(required=True)
+    tf.add_argument("--preset", help="a ParaView preset JSON (1D)")
+    tf.add_argument("--boxes", help="ParaView 2D TF boxes (`ddg export --format paraview-2d`)")
+    args = parser.parse_args()
+    with open(args.view) as f:
+        view_json = json.load(f)
+    with open(args.preset or args.boxes) as f:
+        tf_json = json.load(f)
+    if args.preset and isinstance(tf_json, list):
+        tf_json = tf_json[0]
+    paraview_render(
+        args.volume,
+        tf_json if args.preset else None,
+        view_json,
+        args.out,
+        boxes_2d=tf_json if args.boxes else None,
+    )
+    sys.exit(0)
