@@ -35,6 +35,11 @@ using json = nlohmann::json;
 
 namespace
 {
+
+// The Volume representation's lighting properties with their view-JSON keys (ViewJSON reads them,
+// SetLighting writes them); Shade itself is "shade".
+constexpr std::pair<const char*, const char*> LightingProperties[] = { { "ambient", "Ambient" },
+  { "diffuse", "Diffuse" }, { "specular", "Specular" }, { "specular_power", "SpecularPower" } };
 json triple(vtkSMProxy* proxy, const char* name)
 {
   vtkSMPropertyHelper h(proxy, name);
@@ -229,11 +234,12 @@ std::string vtkSMDDGScene::SetLighting(
     return {};
   vtkSMPropertyHelper(representation, "Shade").Set(l.shade ? 1 : 0);
   if (l.shade)
-    for (auto [name, value] :
-      { std::pair{ "Ambient", l.ambient }, std::pair{ "Diffuse", l.diffuse },
-        std::pair{ "Specular", l.specular }, std::pair{ "SpecularPower", l.specularPower } })
-      if (representation->GetProperty(name))
-        vtkSMPropertyHelper(representation, name).Set(value);
+  {
+    const json values = json::parse(ddg::lightingToJson(l));
+    for (auto [key, name] : LightingProperties)
+      if (representation->GetProperty(name) && values.contains(key))
+        vtkSMPropertyHelper(representation, name).Set(values[key].get<double>());
+  }
   representation->UpdateVTKObjects();
   return {};
 }
@@ -282,8 +288,7 @@ std::string vtkSMDDGScene::ViewJSON(
   {
     json lighting;
     lighting["shade"] = true;
-    for (auto [key, name] : { std::pair{ "ambient", "Ambient" }, std::pair{ "diffuse", "Diffuse" },
-           std::pair{ "specular", "Specular" }, std::pair{ "specular_power", "SpecularPower" } })
+    for (auto [key, name] : LightingProperties)
       if (repr->GetProperty(name))
         lighting[key] = vtkSMPropertyHelper(repr, name).GetAsDouble();
     out["lighting"] = lighting;
