@@ -11,8 +11,10 @@
 #   IMAGE_WEIGHT: decoder's image loss through the differentiable ray caster [100]; the decoder
 #   also gets a cosine learning-rate schedule over ITERATIONS
 #   DDG (the ddg program) [build/bin/ddg], WORK (scratch folder) [build/models/VOLUME], MODEL_OUT
-#   (the bundle folder written, replaced if present) [Data/Models/VOLUME] and OUTLINE (designs in
-#   the outline; 0: no outline) [50000] may be set in the environment.
+#   (the bundle folder written, replaced if present) [Data/Models/VOLUME], OUTLINE (designs in
+#   the outline; 0: no outline) [50000] and SPEC (a design-space spec JSON for `ddg generate`,
+#   e.g. one with "lighting" for lit exemplars; [the documented defaults]) may be set in the
+#   environment.
 #   e.g. scripts/train_model.sh tooth        -> Data/Models/tooth/
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -39,24 +41,38 @@ if [ -z "$OUT" ] || [ "$OUT" = . ] || [ "$OUT" = .. ]; then
 fi
 OUTLINE=${OUTLINE:-50000}
 mkdir -p "$WORK" "$(dirname "$OUT")"
-# generation is deterministic: a complete dataset of the same volume, count, size, seed and first
-# index is reused
+SPEC=${SPEC:-}
+SPEC_ARGS=()
+if [ -n "$SPEC" ]; then
+  [ -f "$SPEC" ] || { echo "train_model: SPEC $SPEC is not a file" >&2; exit 1; }
+  SPEC_ARGS=(--spec "$SPEC")
+fi
+# generation is deterministic: a complete dataset of the same volume, spec, count, size, seed and
+# first index is reused (the spec used is kept beside it as generated_with_spec.json)
 generate() { # DIR COUNT FIRST
   if [ -f "$1/dataset.json" ] && /usr/bin/python3 -c "
 import json, sys
 d = json.load(open('$1/dataset.json'))
-sys.exit(0 if (d['count'], d['size'], d['seed'], d['first_index']) == ($2, $SIZE, 1, $3) else 1)"; then
+spec = open('$SPEC').read() if '$SPEC' else ''
+try:
+    used = open('$1/generated_with_spec.json').read()
+except OSError:
+    used = None
+same = (d['count'], d['size'], d['seed'], d['first_index']) == ($2, $SIZE, 1, $3)
+sys.exit(0 if same and used == spec else 1)"; then
     echo "train_model: reusing $1"
   else
-    $DDG generate --volume "Data/Volumes/$VOLUME.vti" --count "$2" --size "$SIZE" --seed 1 \
-      --first-index "$3" --out "$1" --quiet
+    rm -f "$1/generated_with_spec.json"
+    $DDG generate --volume "Data/Volumes/$VOLUME.vti" "${SPEC_ARGS[@]}" --count "$2" \
+      --size "$SIZE" --seed 1 --first-index "$3" --out "$1" --quiet
+    if [ -n "$SPEC" ]; then cp "$SPEC" "$1/generated_with_spec.json"; else : > "$1/generated_with_spec.json"; fi
   fi
 }
 generate "$WORK/train" "$COUNT" 0
 generate "$WORK/heldout" 1000 1000000
 $DDG train --kind "$KIND" --volume "Data/Volumes/$VOLUME.vti" --data "$WORK/train" \
   --eval-data "$WORK/heldout" --eval-count 1000 --out "$WORK/bundle" --lr "$LR" \
-  --max-iterations "$ITERATIONS" --minutes 30 --width "$WIDTH" --seed 1 --threads 2 \
+  --max-iterations "$ITERATIONS" --minutes 45 --width "$WIDTH" --seed 1 --threads 2 \
   --checkpoint "$WORK/checkpoint.pt" "${EXTRA[@]}"
 if [ "$OUTLINE" != 0 ]; then
   $DDG outline --model "$WORK/bundle" --volume "Data/Volumes/$VOLUME.vti" --count "$OUTLINE" \

@@ -153,3 +153,40 @@ TEST(MatchEmission, OverlaysAreTakenAsBackground)
   for (size_t k = 0; k < moves.size(); ++k)
     EXPECT_DOUBLE_EQ(ra[k], rb[k]);
 }
+
+// The hop before the photometric refinement (MatchCamera.h's hopAround): from a camera in a
+// shallow basin at elevation +9 whose twin at -9 (azimuth 12 further) is deeper, it moves to the
+// grid camera nearest the twin, from where a local search reaches it; in the deeper basin it
+// stays; and elevation never leaves [-89, 89].
+TEST(MatchCamera, HopsOutOfATwinBasin)
+{
+  auto basin = [](const CameraParams& c, double az, double el, double depth) {
+    return depth * std::exp(-(std::pow(c.az - az, 2) + std::pow(c.el - el, 2)) / (2 * 8.0 * 8.0));
+  };
+  int evaluations = 0;
+  auto loss = [&](const CameraParams& c)
+  {
+    ++evaluations;
+    return 1.0 - basin(c, -76, 9, 0.5) - basin(c, -88, -9, 0.8);
+  };
+  CameraParams shallow;
+  shallow.az = -76;
+  shallow.el = 9;
+  shallow.roll = 3;
+  const CameraParams hop = hopAround(shallow, loss);
+  EXPECT_EQ(evaluations, 25);
+  EXPECT_DOUBLE_EQ(hop.az, -86);
+  EXPECT_DOUBLE_EQ(hop.el, -11);
+  EXPECT_DOUBLE_EQ(hop.roll, 3); // only azimuth and elevation move
+  EXPECT_LT(loss(hop), loss(shallow));
+  CameraParams deep;
+  deep.az = -88;
+  deep.el = -9;
+  const CameraParams stay = hopAround(deep, loss);
+  EXPECT_DOUBLE_EQ(stay.az, -88);
+  EXPECT_DOUBLE_EQ(stay.el, -9);
+  CameraParams top;
+  top.el = 85;
+  const CameraParams clamped = hopAround(top, [](const CameraParams& c) { return -c.el; });
+  EXPECT_DOUBLE_EQ(clamped.el, 89);
+}
