@@ -11,7 +11,7 @@ Two comparisons per (volume, 2D TF, view):
    volume is checked against ParaView with Mesa's exact texture filtering (GALLIVM_PERF=
    no_aos_sampling, in a pvpython of its own): Mesa's default path for 8-bit textures returns
    8-bit filtered values, and a lit 2D sample's gradient, the difference of two of them, moves
-   in steps of 1/255 (measured: that path alone costs the Tooth 12 dB; Documentation/
+   in steps of 1/255 (measured: that path alone costs the Tooth 13 dB; Documentation/
    Rendering.md). The figures on Mesa's default path are printed and written to parity2d.md,
    not checked.
 2. Conversion (unlit; bar --min-psnr, default 30 dB): our 2D TF (Gaussian primitives) rendered by
