@@ -65,7 +65,7 @@ sys.exit(0 if same and used == spec else 1)"; then
     rm -f "$1/generated_with_spec.json"
     $DDG generate --volume "Data/Volumes/$VOLUME.vti" "${SPEC_ARGS[@]}" --count "$2" \
       --size "$SIZE" --seed 1 --first-index "$3" --out "$1" --quiet
-    if [ -n "$SPEC" ]; then cp "$SPEC" "$1/generated_with_spec.json"; else : > "$1/generated_with_spec.json"; fi
+    cp "${SPEC:-/dev/null}" "$1/generated_with_spec.json"
   fi
 }
 generate "$WORK/train" "$COUNT" 0

@@ -36,10 +36,20 @@ using json = nlohmann::json;
 namespace
 {
 
-// The Volume representation's lighting properties with their view-JSON keys (ViewJSON reads them,
-// SetLighting writes them); Shade itself is "shade".
-constexpr std::pair<const char*, const char*> LightingProperties[] = { { "ambient", "Ambient" },
-  { "diffuse", "Diffuse" }, { "specular", "Specular" }, { "specular_power", "SpecularPower" } };
+// The Volume representation's lighting properties: view-JSON key, property, ddg::Lighting's field
+// (ViewJSON reads them, SetLighting writes them); Shade itself is "shade".
+struct LightingProperty
+{
+  const char* key;
+  const char* name;
+  double ddg::Lighting::*field;
+};
+constexpr LightingProperty LightingProperties[] = { { "ambient", "Ambient",
+                                                      &ddg::Lighting::ambient },
+  { "diffuse", "Diffuse", &ddg::Lighting::diffuse },
+  { "specular", "Specular", &ddg::Lighting::specular },
+  { "specular_power", "SpecularPower", &ddg::Lighting::specularPower } };
+
 json triple(vtkSMProxy* proxy, const char* name)
 {
   vtkSMPropertyHelper h(proxy, name);
@@ -234,12 +244,9 @@ std::string vtkSMDDGScene::SetLighting(
     return {};
   vtkSMPropertyHelper(representation, "Shade").Set(l.shade ? 1 : 0);
   if (l.shade)
-  {
-    const json values = json::parse(ddg::lightingToJson(l));
-    for (auto [key, name] : LightingProperties)
-      if (representation->GetProperty(name) && values.contains(key))
-        vtkSMPropertyHelper(representation, name).Set(values[key].get<double>());
-  }
+    for (const auto& p : LightingProperties)
+      if (representation->GetProperty(p.name))
+        vtkSMPropertyHelper(representation, p.name).Set(l.*p.field);
   representation->UpdateVTKObjects();
   return {};
 }
@@ -288,9 +295,9 @@ std::string vtkSMDDGScene::ViewJSON(
   {
     json lighting;
     lighting["shade"] = true;
-    for (auto [key, name] : LightingProperties)
-      if (repr->GetProperty(name))
-        lighting[key] = vtkSMPropertyHelper(repr, name).GetAsDouble();
+    for (const auto& p : LightingProperties)
+      if (repr->GetProperty(p.name))
+        lighting[p.key] = vtkSMPropertyHelper(repr, p.name).GetAsDouble();
     out["lighting"] = lighting;
   }
   return out.dump();

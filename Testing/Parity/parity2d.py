@@ -36,15 +36,6 @@ from pvrender import (  # noqa: E402
     paraview_render,
     paraview_render_in_process_of_its_own,
 )
-from vtkmodules.vtkIOXML import vtkXMLImageDataReader  # noqa: E402
-
-
-def is_8bit(volume_path):
-    """Whether the volume's scalars are 8-bit (Mesa filters their texture on its 8-bit path)."""
-    reader = vtkXMLImageDataReader()
-    reader.SetFileName(volume_path)
-    reader.Update()
-    return reader.GetOutput().GetPointData().GetScalars().GetDataTypeSize() == 1
 
 
 # (volume, 2D TF, whether the conversion (2.) is checked). The CT head's wide primitives lose
@@ -80,7 +71,10 @@ def main():
     exact_rows, fit_rows, failed = [], [], 0
     for volume, tf_name, check_conversion in CASES:
         volume_path = os.path.join(args.data, "Volumes", volume + ".vti")
-        eight_bit = is_8bit(volume_path)
+        # 8-bit scalars (`ddg info`): Mesa filters their texture on its 8-bit path
+        info = ddg("info", "--volume", volume_path).splitlines()
+        scalar_type = next(line.split()[-1] for line in info if line.startswith("scalar type"))
+        eight_bit = scalar_type in ("uint8", "int8")
         tf_path = os.path.join(args.data, "TransferFunctions", tf_name + ".json")
         for view_name in VIEWS:
             view_path = os.path.join(args.data, "Views", f"{volume}_{view_name}.json")

@@ -8,7 +8,6 @@ import json
 import os
 import shutil
 import subprocess
-import sys
 
 from paraview.simple import (
     ColorBy,
@@ -134,4 +133,3 @@ if __name__ == "__main__":
         args.out,
         boxes_2d=tf_json if args.boxes else None,
     )
-    sys.exit(0)
