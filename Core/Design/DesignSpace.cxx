@@ -357,6 +357,8 @@ void DesignSpaceSpec::validate() const
     throw Error("design space spec: \"dimensions\" must be 1 or 2");
   if (!(litFraction >= 0 && litFraction <= 1))
     throw Error("design space spec: \"lit_fraction\" must be in [0, 1]");
+  if (!(pictureFraction >= 0 && pictureFraction <= 1))
+    throw Error("design space spec: \"picture_fraction\" must be in [0, 1]");
   try
   {
     lighting.validate();
@@ -395,7 +397,7 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
   DesignSpaceSpec s;
   static const char* known[] = { "regions", "dimensions", "max_regions", "min_active", "saturation",
     "lightness", "opacity", "mean_shift", "stddev_scale", "elevation", "zoom", "viewport_opacity",
-    "lighting", "lit_fraction" };
+    "lighting", "lit_fraction", "picture_fraction" };
   for (auto it = j.begin(); it != j.end(); ++it)
   {
     if (std::find_if(std::begin(known), std::end(known),
@@ -425,6 +427,7 @@ DesignSpaceSpec parseDesignSpaceSpec(const std::string& text, const std::string&
     s.meanShift = j.value("mean_shift", s.meanShift);
     s.viewportOpacity = j.value("viewport_opacity", s.viewportOpacity);
     s.litFraction = j.value("lit_fraction", s.litFraction);
+    s.pictureFraction = j.value("picture_fraction", s.pictureFraction);
     if (j.contains("lighting"))
       s.lighting = parseLighting(j["lighting"].dump(), origin);
     if (j.contains("regions"))
@@ -485,6 +488,8 @@ std::string designSpaceSpecToJson(const DesignSpaceSpec& s)
     j["lighting"] = nlohmann::json::parse(lightingToJson(s.lighting));
     j["lit_fraction"] = s.litFraction;
   }
+  if (s.pictureFraction > 0)
+    j["picture_fraction"] = s.pictureFraction;
   if (!s.regions.empty())
   {
     j["regions"] = nlohmann::json::array();
@@ -577,6 +582,8 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
     static_cast<double>(e.background) };
   if (spec.lighting.shade && u(rng) < spec.litFraction)
     e.viewExp.lighting = e.viewView.lighting = spec.lighting;
+  if (spec.pictureFraction > 0 && u(rng) < spec.pictureFraction)
+    e.picture = samplePictureLook(rng, size);
   return e;
 }
 

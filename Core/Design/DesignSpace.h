@@ -2,6 +2,8 @@
 // value histogram, one base Gaussian primitive per region, and the spec of how exemplars vary.
 #pragma once
 
+#include "Design/PictureLook.h"
+
 #include "Image/Image.h"
 #include "Render/RayCaster.h"
 #include "Render/View.h"
@@ -76,6 +78,10 @@ struct DesignSpaceSpec
   /// ["lit_fraction"] with Shade on in "lighting": the share of exemplars rendered lit, the
   /// others unlit — the query analyzer learns lit and unlit pictures of the same designs [0.5]
   double litFraction = 0.5;
+  /// ["picture_fraction"] the share of exemplars whose analyzer image is drawn as a user's
+  /// picture (PictureLook.h: frame, roll, pan, zoom, backgrounds, overlays, JPEG) and framed as a
+  /// query is (prepareQueryImage), the others a clean render over black or white [0]
+  double pictureFraction = 0;
 
   /// Throws ddg::Error with the key for out-of-range values (ranges must be increasing and
   /// inside [0, 1] where they are fractions; maxRegions 1..16; ...).
@@ -95,11 +101,15 @@ struct Exemplar
   std::vector<GaussianPrimitive> primitives; ///< TF_exp, one per active region
   View viewExp, viewView;                    ///< V_exp and V_view (with its lighting)
   int background = 0;                        ///< 0 black, 1 white (of the RGB image at V_exp)
+  /// The analyzer's image drawn as a user's picture of V_exp (spec.pictureFraction), else unset
+  std::optional<PictureLook> picture;
 };
 
 /// Draws exemplar `index` of the design space deterministically from (seed, index). With Shade
 /// on in spec.lighting, its views are lit with probability spec.litFraction (one more draw, after
-/// the others: an unlit spec's exemplars are what they were before lighting existed).
+/// the others: an unlit spec's exemplars are what they were before lighting existed); with
+/// spec.pictureFraction > 0 its analyzer image is a user's picture with that probability (drawn
+/// after the lighting, the same way).
 Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size);
 

@@ -3,6 +3,7 @@
 
 #include "Design/DesignCheck.h"
 #include "Design/DesignJson.h"
+#include "Gallery/QueryImage.h"
 
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
@@ -49,6 +50,17 @@ void toBytes(const Image& img, std::uint8_t* out)
 json viewJson(const View& v)
 {
   return json::parse(viewToJson(v));
+}
+
+// A picture's colour legend: the design's colours in the order of their values.
+std::vector<std::array<double, 3>> legend(std::vector<GaussianPrimitive> tf)
+{
+  std::sort(tf.begin(), tf.end(),
+    [](const GaussianPrimitive& a, const GaussianPrimitive& b) { return a.mean[0] < b.mean[0]; });
+  std::vector<std::array<double, 3>> colours;
+  for (const auto& g : tf)
+    colours.push_back({ g.rgb[0], g.rgb[1], g.rgb[2] });
+  return colours;
 }
 
 } // namespace
@@ -147,7 +159,16 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
                 return;
             }
             std::uint8_t* out = records.data() + rec * q;
-            toBytes(compositeOverBackground(exp, e.viewExp.background), out);
+            if (e.picture) // a user's picture of the design, framed as a query is
+            {
+              const View pv = pictureView(e.viewExp, *e.picture);
+              toBytes(prepareQueryImage(
+                        drawPicture(render(e.primitives, pv), pv, *e.picture, legend(e.primitives)),
+                        opt.size),
+                out);
+            }
+            else
+              toBytes(compositeOverBackground(exp, e.viewExp.background), out);
             toBytes(render(aux, e.viewView), out + 3 * px);
             toBytes(render(e.primitives, e.viewView), out + 7 * px);
             drawn[q] = std::move(e);
@@ -217,6 +238,8 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
       j["exemplars"].push_back({ { "seed", e.seed }, { "active", e.active }, { "primitives", p },
         { "view_exp", viewJson(e.viewExp) }, { "view_view", viewJson(e.viewView) },
         { "background", e.background } });
+      if (e.picture)
+        j["exemplars"].back()["picture"] = json::parse(pictureLookToJson(*e.picture));
     }
     writeFileAtomic((fs::path(dir) / "dataset.json").string(), j.dump() + "\n", "dataset index");
   }
@@ -265,6 +288,8 @@ ExemplarDataset::ExemplarDataset(const std::string& dir)
       x.viewExp = parseView(e.at("view_exp").dump(), indexPath);
       x.viewView = parseView(e.at("view_view").dump(), indexPath);
       x.background = e.at("background").get<int>();
+      if (e.contains("picture"))
+        x.picture = parsePictureLook(e.at("picture").dump(), indexPath);
       Items.push_back(std::move(x));
     }
   }

@@ -47,11 +47,13 @@ struct GenerateReport
 /// Writes `dir` (created if needed; existing dataset files are replaced only when the new ones
 /// are complete):
 ///   shard-NNNNN.bin  "DDGXSHRD", uint32 version 1, count, size, 0; then per exemplar, uint8:
-///                    RGB at V_exp over its black/white background (size*size*3), the viewport
+///                    RGB at V_exp over its black/white background, or the exemplar's user's
+///                    picture framed as a query (Exemplar::picture; size*size*3), the viewport
 ///                    image (auxiliary TF at V_view, premultiplied RGBA, size*size*4) and the
 ///                    ground truth (TF_exp at V_view, premultiplied RGBA, size*size*4)
 ///   dataset.json     format, version, volume fingerprint, size, count, seed, spec, regions,
-///                    and per exemplar its seed, active regions, primitives and both views;
+///                    and per exemplar its seed, active regions, primitives, both views and
+///                    its picture's look (when it has one);
 ///                    written last, so a dataset without it is incomplete.
 /// Each exemplar is rendered on one thread, exemplars in parallel. Progress gets the fraction
 /// done, on the calling thread, at least every 0.25 s of work and after each shard, and may

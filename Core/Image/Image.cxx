@@ -163,6 +163,30 @@ Image decodeImage(const std::string& bytes, const std::string& origin)
   }
 }
 
+Image jpegRoundTrip(const Image& image, int quality)
+{
+  if (image.empty() || (image.channels != 1 && image.channels != 3))
+    throw Error("jpegRoundTrip needs a gray or RGB image");
+  if (quality < 1 || quality > 100)
+    throw Error("JPEG quality must be in [1, 100]");
+  std::vector<unsigned char> bytes(image.pixels.size());
+  for (size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] =
+      static_cast<unsigned char>(std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f));
+  std::vector<unsigned char> file;
+  OIIO::Filesystem::IOVecOutput writer(file);
+  OIIO::Filesystem::IOProxy* proxy = &writer;
+  auto out = OIIO::ImageOutput::create("memory.jpg");
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::UINT8);
+  spec.attribute("Compression", "jpeg:" + std::to_string(quality));
+  spec.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  if (!out || !out->supports("ioproxy") || !out->open("memory.jpg", spec) ||
+    !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close())
+    throw Error(
+      "cannot encode a JPEG in memory: " + (out ? out->geterror() : std::string("no JPEG writer")));
+  return decodeImage(std::string(file.begin(), file.end()), "JPEG in memory");
+}
+
 void writeImage(const Image& image, const std::string& path)
 {
   if (image.empty() || (image.channels != 1 && image.channels != 3 && image.channels != 4))

@@ -74,6 +74,10 @@ Image readImage(const std::string& path, ImageFileInfo* info);
 /// ddg::Error for another format or a file OpenImageIO cannot read.
 Image decodeImage(const std::string& bytes, const std::string& origin = "image data");
 
+/// The image JPEG-compressed at `quality` (1..100) with OpenImageIO and read back, in memory:
+/// what a picture saved as JPEG looks like. RGB (or gray) values k / 255. Throws ddg::Error.
+Image jpegRoundTrip(const Image& image, int quality);
+
 /// Resamples an image to width x height with OpenImageIO's filtered resize.
 Image resizeImage(const Image& image, int width, int height);
 

@@ -39,13 +39,14 @@ int runEval(const std::string& modelDir, const std::string& dataDir, int count, 
   const auto e = model.evaluate(data, count);
   if (!perExemplar.empty())
   {
-    std::string csv = "index,active_regions,background,psnr,ssim,emd\n";
+    std::string csv = "index,active_regions,background,psnr,ssim,emd,lit,picture\n";
     char line[160];
     for (size_t i = 0; i < e.items.size(); ++i)
     {
       const auto& x = data.exemplars()[i];
-      std::snprintf(line, sizeof(line), "%zu,%zu,%d,%.4f,%.5f,%.5f\n", i, x.active.size(),
-        x.background, e.items[i].psnr, e.items[i].ssim, e.items[i].emd);
+      std::snprintf(line, sizeof(line), "%zu,%zu,%d,%.4f,%.5f,%.5f,%d,%d\n", i, x.active.size(),
+        x.background, e.items[i].psnr, e.items[i].ssim, e.items[i].emd,
+        static_cast<int>(x.viewExp.lighting.shade), static_cast<int>(x.picture.has_value()));
       csv += line;
     }
     ddg::writeFileAtomic(perExemplar, csv, "per-exemplar figures");
