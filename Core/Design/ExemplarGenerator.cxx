@@ -162,12 +162,14 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
             if (e.picture) // a user's picture of the design, framed as a query is
             {
               const View pv = pictureView(e.viewExp, *e.picture);
-              toBytes(prepareQueryImage(
-                        drawPicture(render(e.primitives, pv), pv, *e.picture, legend(e.primitives)),
-                        opt.size),
-                out);
+              const Image picture =
+                drawPicture(render(e.primitives, pv), pv, *e.picture, legend(e.primitives));
+              if (hasQueryContent(picture))
+                toBytes(prepareQueryImage(picture, opt.size), out);
+              else // nothing shows (a query would be refused): the clean image, no look
+                e.picture.reset();
             }
-            else
+            if (!e.picture)
               toBytes(compositeOverBackground(exp, e.viewExp.background), out);
             toBytes(render(aux, e.viewView), out + 3 * px);
             toBytes(render(e.primitives, e.viewView), out + 7 * px);

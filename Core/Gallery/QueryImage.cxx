@@ -157,6 +157,11 @@ Image prepareQueryImage(const Image& image, int size)
   return out;
 }
 
+bool hasQueryContent(const Image& rgb)
+{
+  return findContent(rgbOverBlack(rgb)).x1 >= 0;
+}
+
 double framedPSNR(const Image& picture, const Image& render, int size)
 {
   if (render.channels != 4)

@@ -26,6 +26,10 @@ namespace ddg
 /// other than 1-4 channels, fully transparent or uniform.
 Image prepareQueryImage(const Image& image, int size);
 
+/// Whether prepareQueryImage finds content in an RGB image: a pixel that differs from the median
+/// of the border by more than 0.04 in a channel.
+bool hasQueryContent(const Image& rgb);
+
 /// How close a design's render looks to the query's picture when the picture's camera is not
 /// known: PSNR (dB) of the two, each cut to a square 10 % larger than its content's box (content:
 /// pixels differing from the picture's background, the median of its border, by more than 0.04)
