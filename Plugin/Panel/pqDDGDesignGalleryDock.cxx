@@ -239,8 +239,9 @@ void pqDDGDesignGalleryDock::connectState()
   QObject::connect(state, &pqDDGDesignState::queryDone, this,
     [this]()
     {
-      this->showDesign(); // with its PSNR against the picture
-      this->showMatch();  // the picture
+      if (this->State->isLoaded())
+        this->showDesign(); // with its PSNR against the picture
+      this->showMatch();    // the picture
       if (this->Ui->matchAfterQuery->isChecked())
         this->runMatch();
     });

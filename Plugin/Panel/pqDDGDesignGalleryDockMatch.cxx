@@ -80,7 +80,10 @@ void pqDDGDesignGalleryDock::showMatch()
     ui.matchPreview->clear();
     ui.matchInfo->setText(this->State->queryPicture().isEmpty()
         ? tr("Query with a picture, then Match fits a transfer function (and the camera) to it.")
-        : tr("Match refines the design toward the picture."));
+        : this->State->isLoaded()
+        ? tr("Match refines the design toward the picture.")
+        : tr("Match fits a transfer function (and the camera) to the picture, from grey: this "
+             "volume has no model."));
     return;
   }
   ui.matchPreview->setPixmap(fitted(m.Render, ui.matchPreview));
@@ -91,7 +94,7 @@ void pqDDGDesignGalleryDock::showMatch()
     ? tr("Shade on, Specular %1").arg(lighting.value("specular").toDouble(), 0, 'f', 1)
     : tr("Shade on");
   ui.matchInfo->setText(
-    tr("PSNR against the picture: the query's design %1 dB \u2192 the match %2 dB (fit %3 dB, "
+    tr("PSNR against the picture: %12 %1 dB \u2192 the match %2 dB (fit %3 dB, "
        "%4 steps)\nCamera %5, silhouette overlap %6; picture %10 (%11)\nTime: background %7 s, "
        "camera %8 s, fit %9 s")
       .arg(m.PSNRBefore, 0, 'f', 1)
@@ -104,7 +107,8 @@ void pqDDGDesignGalleryDock::showMatch()
       .arg(t(1), 0, 'f', 1)
       .arg(t(2), 0, 'f', 1)
       .arg(lit)
-      .arg(m.LightingEstimated ? tr("estimated") : tr("as the view says")));
+      .arg(m.LightingEstimated ? tr("estimated") : tr("as the view says"))
+      .arg(this->State->isLoaded() ? tr("the query's design") : tr("the start (grey)")));
 }
 
 void pqDDGDesignGalleryDock::showMatchProgress(
@@ -133,7 +137,7 @@ void pqDDGDesignGalleryDock::runMatch()
 
 void pqDDGDesignGalleryDock::applyMatch()
 {
-  if (!this->State->ready(true))
+  if (!this->State->hasVolume())
     return;
   if (!this->State->hasMatch())
   {

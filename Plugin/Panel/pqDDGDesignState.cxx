@@ -137,13 +137,20 @@ void pqDDGDesignState::setBusy(bool busy)
   Q_EMIT this->busyChanged(busy);
 }
 
-bool pqDDGDesignState::ready(bool needDesign)
+bool pqDDGDesignState::hasVolume()
 {
   if (!this->Source || this->Array.isEmpty())
   {
     this->report(tr("Select a volume first."), true);
     return false;
   }
+  return true;
+}
+
+bool pqDDGDesignState::ready(bool needDesign)
+{
+  if (!this->hasVolume())
+    return false;
   if (!this->Loaded)
   {
     this->report(tr("Load or build a model for this volume first."), true);
@@ -279,13 +286,24 @@ void pqDDGDesignState::setShownBox(const QRectF& box)
 void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
 {
   const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
-  if (!this->ready())
+  if (!this->hasVolume())
     return;
   if (this->hasMatch() || !this->QueryPicture.isEmpty())
   {
     this->QueryPicture.clear(); // a new picture: the match of the last one goes
     this->LastMatch = Match();
     Q_EMIT this->matchChanged();
+  }
+  if (!this->Loaded) // no design space: the picture is what Match fits, from grey
+  {
+    this->QueryPicture = imageFile;
+    this->QueryName = name;
+    this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
+    this->report(tr("No model for this volume: Match fits a transfer function (and the camera) "
+                    "to '%1' without one. Build or Load a model to browse designs like it.")
+                   .arg(name));
+    Q_EMIT this->queryDone();
+    return;
   }
   vtkSMPropertyHelper(this->QueryProxy, "ImageData").Set(imageFile.toBase64().constData());
   const QJsonObject view = this->currentView(PreviewSide);

@@ -141,6 +141,8 @@ public:
 
   /// True when there is a volume, a model and (`needDesign`) a design; else says what is missing.
   bool ready(bool needDesign = false);
+  /// True when there is a volume (what the match of a picture needs: no model); else says so.
+  bool hasVolume();
 
   // --- the outline ---------------------------------------------------------------------------
   /// Renders the thumbnails of the outline part shown (outlineChanged or a message).
@@ -160,6 +162,7 @@ public:
 
   // --- designs -------------------------------------------------------------------------------
   /// Queries with an image file's bytes (PNG, JPEG or TIFF); `name` is recorded in the step.
+  /// Without a model the picture is kept for the match alone (queryDone, no design).
   void query(const QByteArray& imageFile, const QString& name);
   void pick(int row);
   /// The outline part shown now (its drill-in depth: depth()).

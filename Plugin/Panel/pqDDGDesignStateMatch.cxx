@@ -53,8 +53,8 @@ double first(const QJsonArray& values, int k = 0)
 
 bool pqDDGDesignState::match(bool fromCurrentCamera)
 {
-  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
-  if (this->Busy || !this->ready(true))
+  const ddgpanel::NoUndo quiet;         // the panel's own proxies (its steps are Apply's alone)
+  if (this->Busy || !this->hasVolume()) // no model needed: without a design, from grey
     return false;
   if (this->QueryPicture.isEmpty())
   {
@@ -177,10 +177,11 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
   m.Steps = this->Steps;
   m.FromCurrentCamera = fromCurrentCamera;
   Q_EMIT this->matchChanged();
-  this->report(tr("Matched in %1 s: PSNR against the picture %2 dB (the query's design: %3 dB). "
+  this->report(tr("Matched in %1 s: PSNR against the picture %2 dB (%4: %3 dB). "
                   "Apply writes it.")
                  .arg(m.Timings.size() == 4 ? m.Timings[3] : 0.0, 0, 'f', 1)
                  .arg(m.PSNRAfter, 0, 'f', 1)
-                 .arg(m.PSNRBefore, 0, 'f', 1));
+                 .arg(m.PSNRBefore, 0, 'f', 1)
+                 .arg(this->Loaded ? tr("the query's design") : tr("the start, grey")));
   return true;
 }

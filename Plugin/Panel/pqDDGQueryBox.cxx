@@ -118,7 +118,7 @@ void pqDDGQueryBox::queryFile(const QString& path)
 
 void pqDDGQueryBox::queryImage(const QImage& image, const QString& name)
 {
-  if (!this->State->ready())
+  if (!this->State->hasVolume())
     return;
   QByteArray png;
   if (!image.isNull())
