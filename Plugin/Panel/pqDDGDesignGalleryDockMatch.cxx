@@ -94,10 +94,12 @@ void pqDDGDesignGalleryDock::showMatch()
     ? tr("Shade on, Specular %1").arg(lighting.value("specular").toDouble(), 0, 'f', 1)
     : tr("Shade on");
   ui.matchInfo->setText(
-    tr("PSNR against the picture: %12 %1 dB \u2192 the match %2 dB (fit %3 dB, "
+    tr("PSNR against the picture: %1the match %2 dB (fit %3 dB, "
        "%4 steps)\nCamera %5, silhouette overlap %6; picture %10 (%11)\nTime: background %7 s, "
        "camera %8 s, fit %9 s")
-      .arg(m.PSNRBefore, 0, 'f', 1)
+      .arg(std::isfinite(m.PSNRBefore) // none when the match starts from grey (no model)
+          ? tr("the query's design %1 dB \u2192 ").arg(m.PSNRBefore, 0, 'f', 1)
+          : QString())
       .arg(m.PSNRAfter, 0, 'f', 1)
       .arg(m.FitPSNR, 0, 'f', 1)
       .arg(m.Iterations)
@@ -107,8 +109,7 @@ void pqDDGDesignGalleryDock::showMatch()
       .arg(t(1), 0, 'f', 1)
       .arg(t(2), 0, 'f', 1)
       .arg(lit)
-      .arg(m.LightingEstimated ? tr("estimated") : tr("as the view says"))
-      .arg(this->State->isLoaded() ? tr("the query's design") : tr("the start (grey)")));
+      .arg(m.LightingEstimated ? tr("estimated") : tr("as the view says")));
 }
 
 void pqDDGDesignGalleryDock::showMatchProgress(

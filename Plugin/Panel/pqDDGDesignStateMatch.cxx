@@ -5,6 +5,7 @@
 #include <QCoreApplication>
 #include <QJsonDocument>
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <vector>
 #include <vtkAlgorithm.h>
@@ -177,11 +178,11 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
   m.Steps = this->Steps;
   m.FromCurrentCamera = fromCurrentCamera;
   Q_EMIT this->matchChanged();
-  this->report(tr("Matched in %1 s: PSNR against the picture %2 dB (%4: %3 dB). "
-                  "Apply writes it.")
+  this->report(tr("Matched in %1 s: PSNR against the picture %2 dB%3. Apply writes it.")
                  .arg(m.Timings.size() == 4 ? m.Timings[3] : 0.0, 0, 'f', 1)
                  .arg(m.PSNRAfter, 0, 'f', 1)
-                 .arg(m.PSNRBefore, 0, 'f', 1)
-                 .arg(this->Loaded ? tr("the query's design") : tr("the start, grey")));
+                 .arg(std::isfinite(m.PSNRBefore)
+                     ? tr(" (the query's design: %1 dB)").arg(m.PSNRBefore, 0, 'f', 1)
+                     : QString()));
   return true;
 }
