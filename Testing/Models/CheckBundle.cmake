@@ -1,6 +1,6 @@
 # CheckBundle.cmake: a shipped model bundle loads and reproduces its recorded check figures.
 # Regenerates the bundle's first CHECK held-out exemplars (seed 1, indices from 1 000 000, the
-# bundle's image size), evaluates the bundle on them and compares PSNR and SSIM with
+# bundle's image size and design-space spec), evaluates the bundle on them and compares PSNR and SSIM with
 # bundle.json's metrics.check within PSNR_TOL dB and SSIM_TOL. A shipped bundle must also have
 # met issue 4's bar on its 1 000 held-out exemplars (recorded in metrics): bar.json beside this
 # script, PSNR >= 28 dB, SSIM >= 0.90, invariance >= 0.95.
@@ -28,8 +28,11 @@ execute_process(COMMAND awk "BEGIN { exit (${barPsnr} >= ${minPsnr} && ${barSsim
 if(NOT meets EQUAL 0)
   message(FATAL_ERROR "the bundle misses the bar: PSNR ${barPsnr} dB, SSIM ${barSsim}, invariance ${barInvariance}")
 endif()
+# the held-out exemplars of the bundle's own design space (e.g. lit ones, users' pictures)
+string(JSON spec GET "${bundle}" spec)
+file(WRITE "${WORK}_spec.json" "${spec}")
 execute_process(COMMAND "${DDG}" generate --volume "${VOLUME}" --count ${count} --size ${size} --seed 1
-    --first-index 1000000 --out "${WORK}" --quiet
+    --first-index 1000000 --spec "${WORK}_spec.json" --out "${WORK}" --quiet
   RESULT_VARIABLE code OUTPUT_QUIET ERROR_VARIABLE err)
 if(NOT code EQUAL 0)
   message(FATAL_ERROR "ddg generate failed: ${err}")
