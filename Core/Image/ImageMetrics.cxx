@@ -2,6 +2,7 @@
 // EMD (LEMON's network simplex).
 #include "Image/ImageMetrics.h"
 
+#include "Common/Error.h"
 #include "TransferFunction/ColorSpace.h"
 
 #include <lemon/network_simplex.h>
@@ -310,6 +311,58 @@ double colorHistogramEMD(const Image& a, const Image& b)
       total += static_cast<double>(flow) * distance[e];
   }
   return total / (static_cast<double>(na / g) * static_cast<double>(nb));
+}
+
+double slicedWasserstein(const std::vector<std::array<float, 3>>& a,
+  const std::vector<std::array<float, 3>>& b, int directions, std::mt19937_64& rng,
+  std::vector<std::array<float, 3>>* gradient)
+{
+  if (a.empty() || b.empty() || directions < 1)
+    throw Error("slicedWasserstein needs two non-empty sets and at least one direction");
+  const size_t n = a.size(), m = b.size();
+  if (gradient)
+    gradient->assign(n, { 0.0f, 0.0f, 0.0f });
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<double> pa(n), pb(m);
+  std::vector<size_t> order(n);
+  double total = 0;
+  for (int d = 0; d < directions; ++d)
+  {
+    double u[3], len = 0;
+    do
+    {
+      len = 0;
+      for (double& x : u)
+      {
+        x = normal(rng);
+        len += x * x;
+      }
+    } while (len < 1e-12);
+    len = std::sqrt(len);
+    for (double& x : u)
+      x /= len;
+    for (size_t i = 0; i < n; ++i)
+      pa[i] = u[0] * a[i][0] + u[1] * a[i][1] + u[2] * a[i][2];
+    for (size_t j = 0; j < m; ++j)
+      pb[j] = u[0] * b[j][0] + u[1] * b[j][1] + u[2] * b[j][2];
+    std::sort(pb.begin(), pb.end());
+    std::iota(order.begin(), order.end(), size_t(0));
+    std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return pa[x] < pa[y]; });
+    for (size_t r = 0; r < n; ++r)
+    {
+      // b's quantile at a's rank r
+      const double q = std::clamp((r + 0.5) / n * m - 0.5, 0.0, static_cast<double>(m - 1));
+      const size_t lo = std::min(static_cast<size_t>(q), m - 1), hi = std::min(lo + 1, m - 1);
+      const double partner = pb[lo] + (q - lo) * (pb[hi] - pb[lo]);
+      const size_t i = order[r];
+      const double diff = pa[i] - partner;
+      total += diff * diff;
+      if (gradient)
+        for (int c = 0; c < 3; ++c)
+          (*gradient)[i][c] += static_cast<float>(2.0 * diff * u[c] / (n * directions));
+    }
+  }
+  return total / (static_cast<double>(n) * directions);
 }
 
 } // namespace ddg

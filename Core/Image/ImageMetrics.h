@@ -4,6 +4,10 @@
 
 #include "Image/Image.h"
 
+#include <array>
+#include <random>
+#include <vector>
+
 namespace ddg
 {
 
@@ -34,5 +38,16 @@ double ssimWithGradient(const float* x, const float* y, int width, int height, d
 /// distances rounded to 2^-40 for the solver, so within ~1e-12 of the exact optimum). 0 for
 /// identical colour distributions. Images may differ in size.
 double colorHistogramEMD(const Image& a, const Image& b);
+
+/// Sliced Wasserstein distance between two sets of points in 3D (e.g. colours in CIELAB): the
+/// mean over `directions` unit vectors (drawn uniformly on the sphere from `rng`) of the mean
+/// squared difference between a's projections, sorted, and b's projections at the same ranks
+/// (b's quantile (i + 0.5) / n, linear between its order statistics), so the sets may differ in
+/// size. With `gradient`: OVERWRITES it with the derivative with respect to a's points (each
+/// rank's partner held fixed: exact wherever no two projections of a tie). Throws ddg::Error
+/// for an empty set or directions < 1.
+double slicedWasserstein(const std::vector<std::array<float, 3>>& a,
+  const std::vector<std::array<float, 3>>& b, int directions, std::mt19937_64& rng,
+  std::vector<std::array<float, 3>>* gradient = nullptr);
 
 } // namespace ddg

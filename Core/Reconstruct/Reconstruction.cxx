@@ -7,6 +7,7 @@
 #include "Numerics/Adam.h"
 #include "Reconstruct/TransferParameterisation.h"
 #include "Render/RayCaster.h"
+#include "TransferFunction/ColorSpace.h"
 
 #include <algorithm>
 #include <chrono>
@@ -337,11 +338,20 @@ private:
   std::vector<float> Table, DTable;
 };
 
+// What the optimisation loop fits: the loss of the stage's current table, its gradient
+// ACCUMULATED into the stage.
+class DataTerm
+{
+public:
+  virtual ~DataTerm() = default;
+  virtual double evaluate(TableStage& stage, std::mt19937& rng) = 0;
+};
+
 // The data term over all targets: per target, the pixel loss on a random subset of its
 // candidate pixels (mean over pixels and channels), plus (ssimWeight > 0) (1 - SSIM) on a
 // random patch; mean over targets. Draws from rng in a fixed order: target by target, the
 // pixel subset, then the patch.
-class ImageLoss
+class ImageLoss : public DataTerm
 {
 public:
   ImageLoss(std::vector<PreparedTarget> targets, const ReconstructionOptions& opt)
@@ -350,8 +360,7 @@ public:
   {
   }
 
-  // Loss of the stage's current table; ACCUMULATES its gradient into the stage.
-  double evaluate(TableStage& stage, std::mt19937& rng)
+  double evaluate(TableStage& stage, std::mt19937& rng) override
   {
     double loss = 0;
     for (auto& t : Targets)
@@ -437,6 +446,152 @@ private:
   std::vector<RayRecord> Records;
 };
 
+// The pixels (index y w + x; -1: beyond the image) of the square framedColours describes, for
+// an RGB image (3 floats per pixel) at `view`; those `leaveOut` sets are left out.
+std::vector<int> framedPixels(
+  const float* rgb, int w, int h, const View& view, const std::vector<std::uint8_t>& leaveOut)
+{
+  int x0 = w, y0 = h, x1 = -1, y1 = -1;
+  for (int y = 0; y < h; ++y)
+  {
+    const auto bg = view.backgroundAt(y);
+    for (int x = 0; x < w; ++x)
+    {
+      const float* c = rgb + 3 * (static_cast<size_t>(y) * w + x);
+      if (std::abs(c[0] - bg[0]) > 0.04 || std::abs(c[1] - bg[1]) > 0.04 ||
+        std::abs(c[2] - bg[2]) > 0.04)
+      {
+        x0 = std::min(x0, x);
+        x1 = std::max(x1, x);
+        y0 = std::min(y0, y);
+        y1 = std::max(y1, y);
+      }
+    }
+  }
+  int sx = 0, sy = 0, sw = w, sh = h; // nothing differs: the whole image
+  if (x1 >= 0)
+  {
+    sw = sh = std::max(4, static_cast<int>(std::lround(1.1 * std::max(x1 - x0 + 1, y1 - y0 + 1))));
+    sx = (x0 + x1 + 1 - sw) / 2;
+    sy = (y0 + y1 + 1 - sh) / 2;
+  }
+  std::vector<int> pixels;
+  for (int y = sy; y < sy + sh; ++y)
+    for (int x = sx; x < sx + sw; ++x)
+    {
+      const bool in = x >= 0 && y >= 0 && x < w && y < h;
+      const int p = in ? y * w + x : -1;
+      if (p >= 0 && !leaveOut.empty() && leaveOut[static_cast<size_t>(p)])
+        continue;
+      pixels.push_back(p);
+    }
+  return pixels;
+}
+
+// The colour targets' term: per target, every pixel rendered, over the view's background, cut
+// to the square on its content (ColourTarget), the sliced Wasserstein distance of its CIELAB
+// colours to the target's; mean over targets. Squares reaching past the image count the
+// background there. Draws the directions from rng, target by target.
+class ColourLoss : public DataTerm
+{
+public:
+  ColourLoss(const std::vector<ColourTarget>& targets, const ReconstructionOptions& opt)
+    : Targets(targets)
+    , Opt(opt)
+  {
+    for (size_t i = 0; i < targets.size(); ++i)
+    {
+      const auto& t = targets[i];
+      t.view.validate();
+      if (t.colours.empty())
+        throw Error("colour target " + std::to_string(i) + " has no colours");
+      auto& lab = Lab.emplace_back();
+      for (const auto& c : t.colours)
+      {
+        if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
+          throw Error("colour target " + std::to_string(i) + " holds non-finite colours");
+        const RGB l = rgbToLab({ std::clamp<double>(c[0], 0, 1), std::clamp<double>(c[1], 0, 1),
+          std::clamp<double>(c[2], 0, 1) });
+        lab.push_back(
+          { static_cast<float>(l[0]), static_cast<float>(l[1]), static_cast<float>(l[2]) });
+      }
+    }
+  }
+
+  double evaluate(TableStage& stage, std::mt19937& rng) override
+  {
+    double loss = 0;
+    for (size_t ti = 0; ti < Targets.size(); ++ti)
+    {
+      const View& view = Targets[ti].view;
+      const int w = view.width, h = view.height;
+      stage.forward(view, {}, RGBA, Records);
+      // over the background, framed as framedColours frames a picture (pixel -1: the
+      // background beyond the image); their Lab values and Jacobians
+      Over.assign(static_cast<size_t>(w) * h * 3, 0.0f);
+      for (int y = 0; y < h; ++y)
+      {
+        const auto bg = view.backgroundAt(y);
+        for (int x = 0; x < w; ++x)
+        {
+          const size_t i = static_cast<size_t>(y) * w + x;
+          for (int k = 0; k < 3; ++k)
+            Over[3 * i + k] = static_cast<float>(
+              std::clamp(RGBA[4 * i + k] + (1.0 - RGBA[4 * i + 3]) * bg[k], 0.0, 1.0));
+        }
+      }
+      Colours.clear();
+      Jacobians.clear();
+      Pixel = framedPixels(Over.data(), w, h, view, {});
+      for (const int p : Pixel)
+      {
+        const RGB c = p >= 0 ? RGB{ Over[3 * static_cast<size_t>(p)],
+          Over[3 * static_cast<size_t>(p) + 1], Over[3 * static_cast<size_t>(p) + 2] }
+                             : view.background; // beyond the image: background (bottom row's)
+        const RGB l = rgbToLab(c, Jacobians.emplace_back().m);
+        Colours.push_back(
+          { static_cast<float>(l[0]), static_cast<float>(l[1]), static_cast<float>(l[2]) });
+      }
+      std::mt19937_64 directions(rng());
+      const double k = 1.0 / static_cast<double>(Targets.size());
+      loss += k * slicedWasserstein(Colours, Lab[ti], Opt.directions, directions, &Gradient);
+      // dL/d(premultiplied RGBA): out = C + (1 - A) background, Lab = f(out)
+      DRGBA.assign(RGBA.size(), 0.0f);
+      for (size_t q = 0; q < Colours.size(); ++q)
+      {
+        if (Pixel[q] < 0)
+          continue;
+        const size_t i = static_cast<size_t>(Pixel[q]);
+        const auto bg = view.backgroundAt(Pixel[q] / w);
+        for (int c = 0; c < 3; ++c)
+        {
+          double g = 0;
+          for (int r = 0; r < 3; ++r)
+            g += Jacobians[q].m[r][c] * Gradient[q][r];
+          DRGBA[4 * i + c] += static_cast<float>(k * g);
+          DRGBA[4 * i + 3] -= static_cast<float>(k * g * bg[c]);
+        }
+      }
+      stage.backward(view, {}, Records, DRGBA);
+    }
+    return loss;
+  }
+
+private:
+  const std::vector<ColourTarget>& Targets;
+  const ReconstructionOptions& Opt;
+  std::vector<std::vector<std::array<float, 3>>> Lab; // the targets' colours
+  std::vector<std::array<float, 3>> Colours, Gradient;
+  std::vector<int> Pixel;
+  struct Jacobian
+  {
+    double m[3][3];
+  };
+  std::vector<Jacobian> Jacobians; // d Lab / d RGB of each colour
+  std::vector<float> RGBA, DRGBA, Over;
+  std::vector<RayRecord> Records;
+};
+
 // --- the optimisation loop ---------------------------------------------------------------
 
 // What a result holds of the TF: its entries as table1D or table2D, and its primitives.
@@ -474,7 +629,7 @@ struct ResultLayout
 // After each step: the loss is recorded, progress is called (with the current TF every
 // snapshotEvery steps; false cancels: throws Cancelled), and the run stops once the smoothed
 // loss (EMA 0.9) improved by less than `tolerance` (relative) for `patience` steps.
-void optimise(TransferParameterisation& param, TableStage& stage, ImageLoss& data,
+void optimise(TransferParameterisation& param, TableStage& stage, DataTerm& data,
   const ResultLayout& layout, const ReconstructionOptions& opt,
   const ReconstructionProgress& progress, ReconstructionResult& result)
 {
@@ -536,17 +691,12 @@ void optimise(TransferParameterisation& param, TableStage& stage, ImageLoss& dat
   storeCurrent();
 }
 
-} // namespace
-
-ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& renderer,
-  const std::vector<ReconstructionTarget>& targets, const ReconstructionOptions& opt,
-  const ReconstructionProgress& progress)
+// Checks the options, sets up what is optimised (free bins or Gaussian primitives) and runs
+// the loop on `data`.
+ReconstructionResult fit(const DifferentiableRenderer& renderer, DataTerm& data,
+  const ReconstructionOptions& opt, const ReconstructionProgress& progress)
 {
   const auto start = std::chrono::steady_clock::now();
-  if (targets.empty())
-  {
-    throw Error("no target image");
-  }
   if (opt.bins < 2 || opt.bins > 4096 ||
     (opt.twoD && (opt.gradientBins < 2 || opt.gradientBins > 1024)))
   {
@@ -565,11 +715,12 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   {
     throw Error("learning rate and iterations must be positive, smoothness and rays non-negative");
   }
-  std::vector<PreparedTarget> prepared;
-  for (size_t i = 0; i < targets.size(); ++i)
-  {
-    prepared.push_back(prepare(targets[i], i));
-  }
+  if (opt.directions < 1)
+    throw Error("the sliced Wasserstein distance needs at least one direction");
+  if (!opt.initialPrimitives.empty() &&
+    static_cast<int>(opt.initialPrimitives.size()) != opt.primitives)
+    throw Error("the parametric fit was given " + std::to_string(opt.initialPrimitives.size()) +
+      " starting primitives for " + std::to_string(opt.primitives));
 
   const Volume& vol = renderer.caster().volume();
   const auto range = vol.range();
@@ -583,8 +734,13 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
   // What is optimised: free bins (logits of every entry) or Gaussian primitives.
   std::unique_ptr<TransferParameterisation> param;
   if (opt.primitives > 0)
-    param = std::make_unique<GaussianPrimitiveParameters>(
+  {
+    auto primitives = std::make_unique<GaussianPrimitiveParameters>(
       opt.primitives, opt.twoD, layout.range, layout.gradientRange, opt.bins, opt.gradientBins);
+    if (!opt.initialPrimitives.empty())
+      primitives->startFrom(opt.initialPrimitives);
+    param = std::move(primitives);
+  }
   else if (opt.twoD)
     param = std::make_unique<FreeBins>(FreeBins::twoD(opt.bins, opt.gradientBins, opt.smoothness));
   else
@@ -592,12 +748,67 @@ ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& r
       FreeBins::oneD(opt.bins, layout.range, opt.smoothness, opt.initial1D));
 
   TableStage stage(renderer, opt, layout.range, layout.gradientRange);
-  ImageLoss data(std::move(prepared), opt);
   ReconstructionResult result;
   result.twoD = opt.twoD;
   optimise(*param, stage, data, layout, opt, progress, result);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+} // namespace
+
+ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& renderer,
+  const std::vector<ReconstructionTarget>& targets, const ReconstructionOptions& opt,
+  const ReconstructionProgress& progress)
+{
+  if (targets.empty())
+  {
+    throw Error("no target image");
+  }
+  std::vector<PreparedTarget> prepared;
+  for (size_t i = 0; i < targets.size(); ++i)
+  {
+    prepared.push_back(prepare(targets[i], i));
+  }
+  ImageLoss data(std::move(prepared), opt);
+  return fit(renderer, data, opt, progress);
+}
+
+ReconstructionResult reconstructFromColours(const DifferentiableRenderer& renderer,
+  const std::vector<ColourTarget>& targets, const ReconstructionOptions& opt,
+  const ReconstructionProgress& progress)
+{
+  if (targets.empty())
+    throw Error("no colour target");
+  ColourLoss data(targets, opt);
+  return fit(renderer, data, opt, progress);
+}
+
+std::vector<std::array<float, 3>> framedColours(
+  const Image& picture, const View& view, const Image& leaveOut)
+{
+  if (picture.channels != 3 || picture.width != view.width || picture.height != view.height)
+    throw Error("framedColours needs an RGB picture of its view's size");
+  std::vector<std::uint8_t> out;
+  if (!leaveOut.empty())
+  {
+    if (leaveOut.width != picture.width || leaveOut.height != picture.height)
+      throw Error("framedColours: the mask's size differs from the picture's");
+    for (size_t i = 0; i < static_cast<size_t>(picture.width) * picture.height; ++i)
+      out.push_back(leaveOut.pixels[i * leaveOut.channels] > 0.5f);
+  }
+  std::vector<std::array<float, 3>> colours;
+  for (const int p : framedPixels(picture.pixels.data(), picture.width, picture.height, view, out))
+  {
+    if (p < 0)
+      colours.push_back({ static_cast<float>(view.background[0]),
+        static_cast<float>(view.background[1]), static_cast<float>(view.background[2]) });
+    else
+      colours.push_back({ picture.pixels[3 * static_cast<size_t>(p)],
+        picture.pixels[3 * static_cast<size_t>(p) + 1],
+        picture.pixels[3 * static_cast<size_t>(p) + 2] });
+  }
+  return colours;
 }
 
 TransferFunctionFile resultTransferFunction(

@@ -87,6 +87,11 @@ struct ReconstructionOptions
   int primitives = 0;
   /// Start from this TF (1D) [grey, opacity 0.02].
   std::optional<TransferTable1D> initial1D;
+  /// The parametric fit starts from these primitives when there are `primitives` of them
+  /// [empty: evenly spread].
+  std::vector<GaussianPrimitive> initialPrimitives;
+  /// Colour targets: directions of the sliced Wasserstein distance per step [64].
+  int directions = 64;
   /// Seed of the pixel sampling [1].
   unsigned seed = 1;
   /// Sample distance, offset, threads (jitter is ignored).
@@ -116,6 +121,34 @@ using ReconstructionProgress =
 /// loss becomes non-finite.
 ReconstructionResult reconstructTransferFunction(const DifferentiableRenderer& renderer,
   const std::vector<ReconstructionTarget>& targets, const ReconstructionOptions& options,
+  const ReconstructionProgress& progress = {});
+
+/// A picture compared by its colours alone: one of another volume, whose pixels line up with no
+/// render of this one. The render at `view` over its background is framed as framedColours
+/// frames a picture and its colours there are compared with `colours` (sRGB in [0, 1]: a
+/// picture's framedColours) by the sliced Wasserstein distance of their CIELAB values
+/// (ImageMetrics.h: slicedWasserstein), so that the TF gives the render the picture's colours in
+/// the picture's proportions, background included.
+struct ColourTarget
+{
+  View view;
+  std::vector<std::array<float, 3>> colours;
+};
+
+/// The colours of an RGB picture (values in [0, 1]) in the square 10 % larger than the box of
+/// its content — the pixels differing from `view`'s background (View::backgroundAt, the view the
+/// picture's size) by more than 0.04 in a channel — on the box's centre, the background counted
+/// where the square reaches past the picture; the whole picture when nothing differs. Pixels
+/// where `leaveOut` (1 channel, the picture's size; optional) is above 0.5 are left out (a
+/// picture's overlays). Throws ddg::Error for sizes that differ.
+std::vector<std::array<float, 3>> framedColours(
+  const Image& picture, const View& view, const Image& leaveOut = {});
+
+/// reconstructTransferFunction with colour targets (the mean of their distances; every pixel of
+/// each view rendered per step, options.raysPerIteration and ssimWeight unused). Throws
+/// ddg::Error for a target without colours, non-finite colours, or an invalid view.
+ReconstructionResult reconstructFromColours(const DifferentiableRenderer& renderer,
+  const std::vector<ColourTarget>& targets, const ReconstructionOptions& options,
   const ReconstructionProgress& progress = {});
 
 /// `result` as a TF file: a ParaView preset (1D: nodes at the bins, ParaView's midpoint and

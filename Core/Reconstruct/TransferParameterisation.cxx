@@ -2,11 +2,13 @@
 // (decode, rasterize, chain rule through rasterizeAdjoint).
 #include "Reconstruct/TransferParameterisation.h"
 
+#include "Common/Error.h"
 #include "Numerics/Logistic.h"
 #include "TransferFunction/TransferFunction2D.h"
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 namespace ddg
 {
@@ -124,8 +126,32 @@ std::size_t GaussianPrimitiveParameters::size() const
   return static_cast<std::size_t>(Count) * kPerPrimitive;
 }
 
+void GaussianPrimitiveParameters::startFrom(const std::vector<GaussianPrimitive>& primitives)
+{
+  if (static_cast<int>(primitives.size()) != Count)
+    throw Error("the parametric fit starts from " + std::to_string(Count) + " primitives, not " +
+      std::to_string(primitives.size()));
+  Start.assign(size(), 0.0);
+  for (int k = 0; k < Count; ++k)
+  {
+    const GaussianPrimitive& g = primitives[static_cast<std::size_t>(k)];
+    double* t = &Start[static_cast<std::size_t>(k) * kPerPrimitive];
+    for (int a = 0; a < 2; ++a)
+    {
+      const bool axis = a == 0 || TwoD; // 1D: the gradient-axis slots as initial() sets them
+      t[a] = axis ? (g.mean[a] - Lo[a]) / Span[a] : 0.5;
+      t[2 + a] = axis ? std::log(std::max(g.stddev[a] / Span[a], 1e-5)) : std::log(0.5);
+    }
+    for (int c = 0; c < 3; ++c)
+      t[4 + c] = logit(g.rgb[c], kLogitMargin);
+    t[7] = logit(g.opacity, kLogitMargin);
+  }
+}
+
 std::vector<double> GaussianPrimitiveParameters::initial() const
 {
+  if (!Start.empty())
+    return Start;
   std::vector<double> theta(size(), 0.0);
   for (int k = 0; k < Count; ++k)
   {

@@ -102,6 +102,9 @@ public:
 
   /// The primitives of theta.
   std::vector<GaussianPrimitive> decode(const std::vector<double>& theta) const;
+  /// initial() becomes theta of these primitives (decode's inverse; colours and opacity kept
+  /// inside the logit's margin). Throws ddg::Error unless there are `count` of them.
+  void startFrom(const std::vector<GaussianPrimitive>& primitives);
 
 private:
   int Count = 0;
@@ -110,6 +113,7 @@ private:
   int Bins = 0, GradientBins = 1;
   std::array<double, 2> Lo{ 0, 0 }, Span{ 1, 1 };
   std::vector<GaussianPrimitive> Current; ///< decoded at the last forward
+  std::vector<double> Start;              ///< startFrom's theta (empty: evenly spread)
 };
 
 } // namespace ddg

@@ -146,6 +146,34 @@ RGB rgbToLab(const RGB& c)
   return { 116.0 * fy - 16.0, 500.0 * (fx - fy), 200.0 * (fy - fz) };
 }
 
+RGB rgbToLab(const RGB& c, double jacobian[3][3])
+{
+  // d linearize / dc and d labF / dv, piece by piece as the functions themselves
+  auto dLinearize = [](double v)
+  { return v > 0.04045 ? 2.4 / 1.055 * std::pow((v + 0.055) / 1.055, 1.4) : 1.0 / 12.92; };
+  auto dLabF = [](double v)
+  { return v > 0.008856 ? 1.0 / (3.0 * std::cbrt(v) * std::cbrt(v)) : 7.787; };
+  static constexpr double m[3][3] = { { 0.4124, 0.3576, 0.1805 }, { 0.2126, 0.7152, 0.0722 },
+    { 0.0193, 0.1192, 0.9505 } };
+  static constexpr double ref[3] = { kRefX, kRefY, kRefZ };
+  const double lin[3] = { linearize(c[0]), linearize(c[1]), linearize(c[2]) };
+  double f[3], df[3][3]; // f(x / ref) and its derivative with respect to rgb
+  for (int i = 0; i < 3; ++i)
+  {
+    const double v = (m[i][0] * lin[0] + m[i][1] * lin[1] + m[i][2] * lin[2]) / ref[i];
+    f[i] = labF(v);
+    for (int j = 0; j < 3; ++j)
+      df[i][j] = dLabF(v) * m[i][j] / ref[i] * dLinearize(c[j]);
+  }
+  for (int j = 0; j < 3; ++j)
+  {
+    jacobian[0][j] = 116.0 * df[1][j];
+    jacobian[1][j] = 500.0 * (df[0][j] - df[1][j]);
+    jacobian[2][j] = 200.0 * (df[1][j] - df[2][j]);
+  }
+  return { 116.0 * f[1] - 16.0, 500.0 * (f[0] - f[1]), 200.0 * (f[1] - f[2]) };
+}
+
 RGB labToRgb(const RGB& lab)
 {
   const double fy = (lab[0] + 16.0) / 116.0;

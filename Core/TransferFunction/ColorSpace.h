@@ -31,6 +31,9 @@ RGB rgbToHsv(const RGB& rgb);
 RGB hsvToRgb(const RGB& hsv);
 RGB rgbToLab(const RGB& rgb);
 RGB labToRgb(const RGB& lab);
+/// rgbToLab and its Jacobian: jacobian[i][j] = d lab_i / d rgb_j (the left derivative at the
+/// kinks of sRGB's and Lab's piecewise curves).
+RGB rgbToLab(const RGB& rgb, double jacobian[3][3]);
 
 /// Interpolates between two colours at s in [0, 1] as vtkColorTransferFunction does for a
 /// segment with sharpness < 0.01 (after the midpoint remapping of s).

@@ -1,0 +1,124 @@
+// TestColourDistribution.cxx: comparing colours without pixel correspondence — rgbToLab's
+// Jacobian and the sliced Wasserstein distance's gradient against finite differences, and the
+// reconstruction from colour targets (a picture of the same look from another camera).
+#include "Image/ImageMetrics.h"
+#include "Reconstruct/Reconstruction.h"
+#include "TransferFunction/ColorSpace.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace ddg;
+
+TEST(ColourDistribution, LabJacobianMatchesFiniteDifferences)
+{
+  // both pieces of sRGB's curve and of Lab's f
+  for (const RGB c : { RGB{ 0.8, 0.4, 0.1 }, RGB{ 0.02, 0.03, 0.5 }, RGB{ 0.01, 0.02, 0.015 } })
+  {
+    double J[3][3];
+    const RGB lab = rgbToLab(c, J);
+    const RGB plain = rgbToLab(c);
+    for (int i = 0; i < 3; ++i)
+      EXPECT_NEAR(lab[i], plain[i], 1e-12);
+    for (int j = 0; j < 3; ++j)
+    {
+      constexpr double h = 1e-7;
+      RGB up = c, down = c;
+      up[j] += h;
+      down[j] -= h;
+      const RGB a = rgbToLab(up), b = rgbToLab(down);
+      for (int i = 0; i < 3; ++i)
+        EXPECT_NEAR(J[i][j], (a[i] - b[i]) / (2 * h), 1e-4 * std::max(1.0, std::abs(J[i][j])));
+    }
+  }
+}
+
+TEST(ColourDistribution, SlicedWassersteinAndItsGradient)
+{
+  std::mt19937 pick(3);
+  std::uniform_real_distribution<float> u(0.0f, 50.0f);
+  std::vector<std::array<float, 3>> a(40), b(70);
+  for (auto& p : a)
+    p = { u(pick), u(pick), u(pick) };
+  for (auto& p : b)
+    p = { u(pick) + 10, u(pick), u(pick) };
+  // a set against itself, and against itself repeated (another size, the same distribution)
+  std::mt19937_64 rng(1);
+  EXPECT_NEAR(slicedWasserstein(a, a, 16, rng), 0.0, 1e-9);
+  std::vector<std::array<float, 3>> twice = a;
+  twice.insert(twice.end(), a.begin(), a.end());
+  std::mt19937_64 rng2(1);
+  EXPECT_LT(slicedWasserstein(a, twice, 16, rng2), 1.0); // quantiles between equal pairs
+  // the gradient: central differences with the same directions
+  std::vector<std::array<float, 3>> g;
+  std::mt19937_64 r0(7);
+  const double d0 = slicedWasserstein(a, b, 8, r0, &g);
+  EXPECT_GT(d0, 10.0);
+  for (int i : { 0, 7, 23 })
+    for (int c = 0; c < 3; ++c)
+    {
+      auto up = a, down = a;
+      constexpr float h = 1e-2f;
+      up[static_cast<size_t>(i)][static_cast<size_t>(c)] += h;
+      down[static_cast<size_t>(i)][static_cast<size_t>(c)] -= h;
+      std::mt19937_64 r1(7), r2(7);
+      const double fd =
+        (slicedWasserstein(up, b, 8, r1) - slicedWasserstein(down, b, 8, r2)) / (2.0 * h);
+      EXPECT_NEAR(g[static_cast<size_t>(i)][static_cast<size_t>(c)], fd, 1e-3 + 1e-3 * std::abs(fd));
+    }
+  std::mt19937_64 r3(1);
+  EXPECT_THROW(slicedWasserstein({}, b, 8, r3), Error);
+  EXPECT_THROW(slicedWasserstein(a, b, 0, r3), Error);
+}
+
+TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
+{
+  // a sphere whose shell and core take two colours; the picture is from the other side
+  const int n = 24;
+  std::vector<float> v;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const double r = std::hypot(i - 11.5, j - 11.5, k - 11.5);
+        v.push_back(r < 5 ? 220.0f : (r < 10 ? 120.0f : 0.0f));
+      }
+  const Volume vol({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
+  const DifferentiableRenderer renderer(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 0, 0, 0 }, { 120, 0.9, 0.3, 0.1 }, { 220, 0.2, 0.8, 0.9 } };
+  tf.opacity = { { 0, 0 }, { 100, 0 }, { 120, 0.05 }, { 140, 0 }, { 200, 0 }, { 220, 0.8 } };
+  View picture = defaultView(vol, 40, 40);
+  picture.background = { 0.32, 0.34, 0.43 };
+  picture.camera.position = picture.camera.focalPoint +
+    (picture.camera.focalPoint - picture.camera.position); // the back
+  const Image shot = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(tf), picture), picture.background);
+  ColourTarget target;
+  target.view = defaultView(vol, 40, 40);
+  target.view.background = picture.background;
+  target.colours = framedColours(shot, picture);
+  EXPECT_LT(target.colours.size(), shot.pixels.size() / 3); // the square on the sphere
+
+  ReconstructionOptions opt;
+  opt.primitives = 2;
+  opt.initialPrimitives = { GaussianPrimitive{ { 120, 0 }, { 10, 1 }, { 0.5, 0.5, 0.5 }, 0.2 },
+    GaussianPrimitive{ { 220, 0 }, { 10, 1 }, { 0.5, 0.5, 0.5 }, 0.2 } };
+  opt.iterations = 150;
+  opt.learningRate = 0.1;
+  const auto result = reconstructFromColours(renderer, { target }, opt);
+  EXPECT_LT(result.loss.back(), 0.2 * result.loss.front());
+  // the found look from the picture's own camera is close to the picture
+  const Image found = compositeOverBackground(
+    renderResult(renderer.caster(), result, picture), picture.background);
+  EXPECT_GT(psnr(found, shot), 25.0);
+  // the core's primitive took the core's colour (blue-green), the shell's its orange
+  ASSERT_EQ(result.primitives.size(), 2u);
+  EXPECT_GT(result.primitives[1].rgb[2], result.primitives[1].rgb[0]);
+
+  EXPECT_THROW(reconstructFromColours(renderer, { ColourTarget{ target.view, {} } }, opt), Error);
+  opt.initialPrimitives.pop_back();
+  EXPECT_THROW(reconstructFromColours(renderer, { target }, opt), Error);
+}
