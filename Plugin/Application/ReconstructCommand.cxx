@@ -8,6 +8,7 @@
 #include "Gallery/Export.h"
 #include "Image/Image.h"
 #include "Image/ImageMetrics.h"
+#include "Reconstruct/CarryLook.h"
 #include "Reconstruct/Match.h"
 #include "Reconstruct/Reconstruction.h"
 #include "Render/DifferentiableRenderer.h"
@@ -32,7 +33,7 @@ struct ReconstructArgs
   std::string volume, out, outImage, init, array, loss = "l1";
   std::vector<std::string> targets, views, masks;
   std::vector<double> background;
-  bool twoD = false, resample = false, quiet = false, estimateView = false;
+  bool twoD = false, resample = false, quiet = false, estimateView = false, otherVolume = false;
   std::string outView, outOverlay, shade = "auto";
   int bins = 128, gradientBins = 32, iterations = 500, rays = -1, threads = 0, primitives = 0;
   int cameraCandidates = ddg::MatchOptions().cameraCandidates;
@@ -224,8 +225,56 @@ int runMatch(const ReconstructArgs& a)
   return 0;
 }
 
+// A picture of another volume: Core's carryLook (its colours carried over by region).
+int runCarry(const ReconstructArgs& a)
+{
+  if (a.targets.size() != 1 || !a.views.empty() || !a.masks.empty() || a.twoD || a.estimateView ||
+    !a.outView.empty() || !a.outOverlay.empty() || !a.init.empty())
+    throw ddg::Error("--other-volume takes one --target and no --view, --mask, --2d, --init, "
+                     "--estimate-view, --out-view or --out-overlay");
+  const auto t0 = Clock::now();
+  const ddg::Image picture = readTarget(a.targets[0], nullptr, false);
+  const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
+  const ddg::DifferentiableRenderer renderer(volume);
+  ddg::CarryLookOptions opt;
+  opt.fit.seed = a.seed;
+  opt.fit.render.threads = a.threads;
+  if (a.shade == "on")
+    opt.lighting.shade = true;
+  const double tLoad = msSince(t0);
+  const auto r = ddg::carryLook(renderer, picture, opt,
+    [&](int step, double loss, const ddg::ReconstructionResult*)
+    {
+      if (!a.quiet && step % 50 == 0)
+      {
+        std::printf("step %4d  colour distance %.3f\n", step, loss);
+        std::fflush(stdout);
+      }
+      return true;
+    });
+  ddg::View view = ddg::orbitView(volume, 512, opt.views[0][0], opt.views[0][1], 1.0);
+  r.background.applyTo(view);
+  view.lighting = opt.lighting;
+  writeResult(r.fit, a, "carried look", renderer.caster(), view);
+  std::printf("background: (%.3f %.3f %.3f); overlays left out: %.1f %% of the foreground\n",
+    r.background.bottom[0], r.background.bottom[1], r.background.bottom[2], 100 * r.overlayShare);
+  for (const auto& c : r.regions)
+    std::printf("region [%g, %g] <- the picture's colour (%.2f %.2f %.2f), %.0f %% of its object\n",
+      c.region.lo, c.region.hi, c.colour[0], c.colour[1], c.colour[2], 100 * c.share);
+  std::printf("colour distance %.2f -> %.2f (CIELAB, sliced Wasserstein) after %d steps; %.2f s "
+              "(load %.0f ms); wrote %s\n",
+    r.distanceStart, r.distanceEnd, r.fit.iterations, r.fit.seconds, tLoad, a.out.c_str());
+  if (!a.outImage.empty())
+    ddg::writeImage(ddg::compositeOverBackground(
+                      ddg::renderResult(renderer.caster(), r.fit, view, {}), view.background),
+      a.outImage);
+  return 0;
+}
+
 int runReconstruct(const ReconstructArgs& a)
 {
+  if (a.otherVolume)
+    return runCarry(a);
   if (a.targets.size() == 1 && a.masks.empty())
   {
     if (a.views.size() > 1)
@@ -351,6 +400,10 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     ->expected(3)
     ->check(CLI::Range(0.0, 1.0));
   reconstruct->add_flag("--2d", rc->twoD, "Reconstruct a 2D TF (value x gradient magnitude)");
+  reconstruct->add_flag("--other-volume", rc->otherVolume,
+    "The --target is a picture of another volume of the same kind: carry its look over (its "
+    "colours matched to this volume's feature regions by rank, refined by colour distribution; "
+    "no camera; --out-image renders it at azimuth 30, elevation 20)");
   reconstruct->add_option("--bins", rc->bins, "TF resolution along the value (default 128)")
     ->check(CLI::Range(2, 4096));
   reconstruct

@@ -2,6 +2,7 @@
 // Jacobian and the sliced Wasserstein distance's gradient against finite differences, and the
 // reconstruction from colour targets (a picture of the same look from another camera).
 #include "Image/ImageMetrics.h"
+#include "Reconstruct/CarryLook.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/ColorSpace.h"
 
@@ -66,7 +67,8 @@ TEST(ColourDistribution, SlicedWassersteinAndItsGradient)
       std::mt19937_64 r1(7), r2(7);
       const double fd =
         (slicedWasserstein(up, b, 8, r1) - slicedWasserstein(down, b, 8, r2)) / (2.0 * h);
-      EXPECT_NEAR(g[static_cast<size_t>(i)][static_cast<size_t>(c)], fd, 1e-3 + 1e-3 * std::abs(fd));
+      EXPECT_NEAR(
+        g[static_cast<size_t>(i)][static_cast<size_t>(c)], fd, 1e-3 + 1e-3 * std::abs(fd));
     }
   std::mt19937_64 r3(1);
   EXPECT_THROW(slicedWasserstein({}, b, 8, r3), Error);
@@ -92,8 +94,8 @@ TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
   tf.opacity = { { 0, 0 }, { 100, 0 }, { 120, 0.05 }, { 140, 0 }, { 200, 0 }, { 220, 0.8 } };
   View picture = defaultView(vol, 40, 40);
   picture.background = { 0.32, 0.34, 0.43 };
-  picture.camera.position = picture.camera.focalPoint +
-    (picture.camera.focalPoint - picture.camera.position); // the back
+  picture.camera.position =
+    picture.camera.focalPoint + (picture.camera.focalPoint - picture.camera.position); // the back
   const Image shot = compositeOverBackground(
     renderer.caster().render(renderer.caster().paraviewTable(tf), picture), picture.background);
   ColourTarget target;
@@ -111,8 +113,8 @@ TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
   const auto result = reconstructFromColours(renderer, { target }, opt);
   EXPECT_LT(result.loss.back(), 0.2 * result.loss.front());
   // the found look from the picture's own camera is close to the picture
-  const Image found = compositeOverBackground(
-    renderResult(renderer.caster(), result, picture), picture.background);
+  const Image found =
+    compositeOverBackground(renderResult(renderer.caster(), result, picture), picture.background);
   EXPECT_GT(psnr(found, shot), 25.0);
   // the core's primitive took the core's colour (blue-green), the shell's its orange
   ASSERT_EQ(result.primitives.size(), 2u);
@@ -121,4 +123,62 @@ TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
   EXPECT_THROW(reconstructFromColours(renderer, { ColourTarget{ target.view, {} } }, opt), Error);
   opt.initialPrimitives.pop_back();
   EXPECT_THROW(reconstructFromColours(renderer, { target }, opt), Error);
+}
+
+TEST(ColourDistribution, CarriesALookToAnotherVolume)
+{
+  // A and B of the same kind: a core in a shell in air, at other values, sizes and proportions
+  auto sphere = [](int n, float shell, float core, double coreRadius, ScalarType type)
+  {
+    std::vector<float> v;
+    const double c = 0.5 * (n - 1);
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i)
+        {
+          const double r = std::hypot(i - c, j - c, k - c) / c;
+          v.push_back(r < coreRadius ? core : (r < 0.85 ? shell : 0.0f));
+        }
+    return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, type);
+  };
+  const Volume a = sphere(24, 100, 200, 0.45, ScalarType::UInt8);
+  const Volume b = sphere(28, 1000, 3000, 0.55, ScalarType::UInt16);
+  // A's look: a faint orange shell, a white core; B's reference: the same TF at B's values
+  auto look = [](double shell, double core)
+  {
+    TransferFunction1D tf;
+    tf.color = { { 0, 0, 0, 0 }, { shell, 0.9, 0.5, 0.2 }, { core, 1, 1, 0.95 } };
+    tf.opacity = { { 0, 0 }, { 0.8 * shell, 0 }, { shell, 0.03 }, { 1.2 * shell, 0 },
+      { 0.9 * core, 0 }, { core, 0.9 } };
+    return tf;
+  };
+  const DifferentiableRenderer ra(a), rb(b);
+  View shotView = orbitView(a, 64, 200, -10, 1.1);
+  shotView.width = 80; // a landscape picture, another camera than the fit's views
+  shotView.background = { 0.32, 0.34, 0.43 };
+  const Image shot = compositeOverBackground(
+    ra.caster().render(ra.caster().paraviewTable(look(100, 200)), shotView), shotView.background);
+
+  CarryLookOptions opt;
+  opt.size = 40;
+  opt.fit.iterations = 120;
+  const auto r = carryLook(rb, shot, opt);
+  EXPECT_LT(r.distanceEnd, 0.5 * r.distanceStart);
+  ASSERT_EQ(r.regions.size(), 2u); // the shell and the core, by value
+  EXPECT_LT(r.regions[0].region.peak, r.regions[1].region.peak);
+  // the core's colour is lighter than the shell's
+  EXPECT_GT(r.regions[1].colour[2], r.regions[0].colour[2]);
+  // B with the carried look against B with A's TF at B's values, at a view the fit never saw
+  View check = orbitView(b, 64, 90, 40, 1.0);
+  check.background = shotView.background;
+  const Image reference = compositeOverBackground(
+    rb.caster().render(rb.caster().paraviewTable(look(1000, 3000)), check), check.background);
+  const Image carried =
+    compositeOverBackground(renderResult(rb.caster(), r.fit, check), check.background);
+  const double db = psnr(carried, reference);
+  EXPECT_GT(db, 22.0);
+  // a picture with nothing in it is refused
+  Image empty(40, 30, 3);
+  std::fill(empty.pixels.begin(), empty.pixels.end(), 0.3f);
+  EXPECT_THROW(carryLook(rb, empty, opt), Error);
 }

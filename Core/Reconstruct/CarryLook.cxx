@@ -1,0 +1,186 @@
+// CarryLook.cxx: another volume's picture -> this volume's TF with its look (CarryLook.h).
+#include "Reconstruct/CarryLook.h"
+
+#include "Common/Error.h"
+#include "Image/ImageMetrics.h"
+#include "Reconstruct/MatchParts.h"
+#include "TransferFunction/ColorSpace.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+namespace ddg
+{
+namespace
+{
+using Lab = std::array<double, 3>;
+
+// k-means of Lab colours into k clusters started at lightness quantiles; returns the centres
+// ordered by lightness and each one's share of the colours.
+std::vector<std::pair<Lab, double>> lightnessClusters(const std::vector<Lab>& colours, int k)
+{
+  std::vector<Lab> sorted = colours;
+  std::sort(sorted.begin(), sorted.end(), [](const Lab& a, const Lab& b) { return a[0] < b[0]; });
+  std::vector<Lab> centre(static_cast<size_t>(k));
+  for (int c = 0; c < k; ++c)
+    centre[static_cast<size_t>(c)] = sorted[std::min(sorted.size() - 1,
+      static_cast<size_t>((c + 0.5) / k * static_cast<double>(sorted.size())))];
+  std::vector<int> member(colours.size(), 0);
+  for (int round = 0; round < 20; ++round)
+  {
+    for (size_t i = 0; i < colours.size(); ++i)
+    {
+      double best = 1e300;
+      for (int c = 0; c < k; ++c)
+      {
+        double d = 0;
+        for (int a = 0; a < 3; ++a)
+          d += (colours[i][a] - centre[static_cast<size_t>(c)][a]) *
+            (colours[i][a] - centre[static_cast<size_t>(c)][a]);
+        if (d < best)
+        {
+          best = d;
+          member[i] = c;
+        }
+      }
+    }
+    std::vector<Lab> sum(static_cast<size_t>(k), Lab{ 0, 0, 0 });
+    std::vector<double> count(static_cast<size_t>(k), 0);
+    for (size_t i = 0; i < colours.size(); ++i)
+    {
+      for (int a = 0; a < 3; ++a)
+        sum[static_cast<size_t>(member[i])][a] += colours[i][a];
+      count[static_cast<size_t>(member[i])] += 1;
+    }
+    for (int c = 0; c < k; ++c)
+      if (count[static_cast<size_t>(c)] > 0)
+        for (int a = 0; a < 3; ++a)
+          centre[static_cast<size_t>(c)][a] =
+            sum[static_cast<size_t>(c)][a] / count[static_cast<size_t>(c)];
+  }
+  std::vector<std::pair<Lab, double>> out;
+  for (int c = 0; c < k; ++c)
+    out.push_back({ centre[static_cast<size_t>(c)],
+      static_cast<double>(std::count(member.begin(), member.end(), c)) / colours.size() });
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
+  return out;
+}
+
+// The colour distance of `primitives` over the targets (fixed directions: comparable figures).
+double distanceOf(const DifferentiableRenderer& renderer, const std::vector<ColourTarget>& targets,
+  const ReconstructionOptions& fit, const std::vector<GaussianPrimitive>& primitives)
+{
+  ReconstructionOptions o = fit;
+  o.initialPrimitives = primitives;
+  o.iterations = 1;
+  o.learningRate = 1e-12;
+  o.directions = 256;
+  o.seed = 1;
+  return reconstructFromColours(renderer, targets, o).loss.front();
+}
+} // namespace
+
+CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& input,
+  const CarryLookOptions& opt, const ReconstructionProgress& progress)
+{
+  using namespace matchparts;
+  if (opt.size < 16 || opt.views.empty() || opt.maxRegions < 1)
+    throw Error("carrying a look needs renders of at least 16 pixels, a view and a region");
+  if (input.channels < 3 || input.width < 16 || input.height < 16)
+    throw Error("the picture must be RGB or RGBA and at least 16 x 16 pixels");
+  // RGB over black; large pictures at 512 on the longer side (colours, not detail, count)
+  Image picture = input.channels == 4 ? compositeOverBackground(input, { 0, 0, 0 })
+                                      : toChannels(input, 3);
+  const int longer = std::max(picture.width, picture.height);
+  if (longer > 512)
+    picture = resizeImage(picture, std::max(16, picture.width * 512 / longer),
+      std::max(16, picture.height * 512 / longer));
+  const int W = picture.width, H = picture.height;
+  CarryLookResult result;
+  // 1. background, foreground, overlays
+  result.background = estimateBackground(picture);
+  View pv;
+  pv.width = W;
+  pv.height = H;
+  result.background.applyTo(pv);
+  const double tol = std::max(3.5 / 255.0, 4.0 * result.background.noise);
+  Mask foreground(W, H);
+  for (int y = 0; y < H; ++y)
+  {
+    const auto bg = pv.backgroundAt(y);
+    for (int x = 0; x < W; ++x)
+    {
+      double d = 0;
+      for (int c = 0; c < 3; ++c)
+        d = std::max(d, std::abs(picture.at(x, y, c) - bg[static_cast<size_t>(c)]));
+      foreground(x, y) = d > tol;
+    }
+  }
+  std::vector<int> area;
+  const std::vector<int> label = components(foreground, area);
+  if (area.empty() || *std::max_element(area.begin(), area.end()) < 16)
+    throw Error("the picture shows nothing but its background colour: there is no look to carry");
+  const int largest = *std::max_element(area.begin(), area.end());
+  Image overlay(W, H, 1);
+  long left = 0, total = 0;
+  std::vector<Lab> object;
+  for (size_t i = 0; i < label.size(); ++i)
+  {
+    if (label[i] < 0)
+      continue;
+    ++total;
+    if (area[static_cast<size_t>(label[i])] < 0.2 * largest)
+    {
+      overlay.pixels[i] = 1;
+      ++left;
+      continue;
+    }
+    object.push_back(rgbToLab(
+      { picture.pixels[3 * i], picture.pixels[3 * i + 1], picture.pixels[3 * i + 2] }));
+  }
+  result.overlayShare = static_cast<double>(left) / total;
+  // 2. the picture's colours
+  const auto colours = framedColours(picture, pv, overlay);
+  // 3. regions by value, matched with colour clusters by lightness
+  const Volume& vol = renderer.caster().volume();
+  std::vector<FeatureRegion> regions = findFeatureRegions(vol, opt.maxRegions);
+  if (regions.empty())
+    throw Error("the volume has no feature regions to carry a look onto");
+  std::sort(regions.begin(), regions.end(),
+    [](const FeatureRegion& a, const FeatureRegion& b) { return a.peak < b.peak; });
+  const auto clusters = lightnessClusters(object, static_cast<int>(regions.size()));
+  std::vector<GaussianPrimitive> start;
+  for (size_t k = 0; k < regions.size(); ++k)
+  {
+    const RGB rgb = labToRgb(clusters[k].first);
+    result.regions.push_back({ regions[k], { rgb[0], rgb[1], rgb[2] }, clusters[k].second });
+    GaussianPrimitive g = basePrimitive(regions[k]);
+    g.rgb = { std::clamp(rgb[0], 0.0, 1.0), std::clamp(rgb[1], 0.0, 1.0),
+      std::clamp(rgb[2], 0.0, 1.0) };
+    g.opacity = 0.2;
+    start.push_back(g);
+  }
+  // 4. the fit at the volume's views over the picture's background
+  std::vector<ColourTarget> targets;
+  for (const auto& [azimuth, elevation] : opt.views)
+  {
+    ColourTarget t;
+    t.view = orbitView(vol, opt.size, azimuth, elevation, 1.0);
+    result.background.applyTo(t.view);
+    t.view.lighting = opt.lighting;
+    t.colours = colours;
+    targets.push_back(std::move(t));
+  }
+  ReconstructionOptions fit = opt.fit;
+  fit.twoD = false;
+  fit.primitives = static_cast<int>(start.size());
+  fit.initialPrimitives = start;
+  result.fit = reconstructFromColours(renderer, targets, fit, progress);
+  result.distanceStart = distanceOf(renderer, targets, fit, start);
+  result.distanceEnd = distanceOf(renderer, targets, fit, result.fit.primitives);
+  return result;
+}
+
+} // namespace ddg

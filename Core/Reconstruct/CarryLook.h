@@ -1,0 +1,77 @@
+// CarryLook.h: the look of another volume's picture carried over to this volume (issue 20) — a
+// picture of volume A (a figure, a colleague's screenshot) gives volume B of the same kind a TF
+// with A's look, though no pixel of the picture lines up with any render of B.
+#pragma once
+
+#include "Design/DesignSpace.h"
+#include "Reconstruct/Match.h"
+#include "Reconstruct/Reconstruction.h"
+
+#include <array>
+#include <optional>
+#include <vector>
+
+namespace ddg
+{
+
+/// Options (defaults in brackets).
+struct CarryLookOptions
+{
+  /// Side of the volume's renders the fit compares [96].
+  int size = 96;
+  /// Their cameras: ParaView's reset camera orbited by (azimuth, elevation) degrees
+  /// [(30, 20), (150, 20), (270, 20)].
+  std::vector<std::array<double, 2>> views{ { 30, 20 }, { 150, 20 }, { 270, 20 } };
+  /// Their lighting (Shade and coefficients) [unlit].
+  Lighting lighting;
+  /// Feature regions of the volume, at most [4] (findFeatureRegions).
+  int maxRegions = 4;
+  /// The fit: reconstructFromColours with one Gaussian primitive per region, from the start
+  /// below [200 iterations, learning rate 0.05, 64 directions; primitives and
+  /// initialPrimitives are set here].
+  ReconstructionOptions fit = [] {
+    ReconstructionOptions o;
+    o.iterations = 200;
+    o.learningRate = 0.05;
+    return o;
+  }();
+};
+
+/// One feature region of the volume and the picture's colour it was matched with.
+struct CarriedRegion
+{
+  FeatureRegion region;
+  std::array<double, 3> colour{ 0, 0, 0 }; ///< sRGB: the mean of the picture's colour cluster
+  double share = 0; ///< the cluster's share of the object's pixels in the picture
+};
+
+struct CarryLookResult
+{
+  ReconstructionResult fit;          ///< the TF (table1D, primitives) and the fit's losses
+  PictureBackground background;      ///< the picture's, estimated; the renders were over it
+  std::vector<CarriedRegion> regions; ///< by value, with the colours they started from
+  double overlayShare = 0; ///< share of the picture's foreground left out as overlays
+  /// The colour distance (sliced Wasserstein, CIELAB units squared) of the start and of the
+  /// result (each over the views, 256 directions, seed 1).
+  double distanceStart = 0, distanceEnd = 0;
+};
+
+/// Carries the look of `picture` (RGB or RGBA; any size; a picture of another volume of the
+/// same kind) over to the renderer's volume:
+///  1. the picture's background is estimated (estimateBackground) and its foreground found
+///     (pixels off the background by more than its noise allows); parts of the foreground under
+///     20 % of the largest are overlays (axes, text, a scalar bar) and are left out;
+///  2. the picture's colours: framedColours (its content's square, overlays left out);
+///  3. the volume's feature regions (findFeatureRegions), ordered by value, are matched with the
+///     picture's object colours by rank: k-means in CIELAB with one cluster per region (started
+///     at lightness quantiles), clusters ordered by lightness, the k-th darkest to the k-th
+///     lowest region; each region starts as its base primitive in its cluster's colour at
+///     opacity 0.2;
+///  4. reconstructFromColours refines the primitives at the option's views over the picture's
+///     background.
+/// Throws ddg::Error for a picture without one background colour or without content, a volume
+/// without feature regions; Cancelled when progress returns false.
+CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& picture,
+  const CarryLookOptions& options = {}, const ReconstructionProgress& progress = {});
+
+} // namespace ddg
