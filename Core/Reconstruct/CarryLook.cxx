@@ -25,8 +25,8 @@ std::vector<std::pair<Lab, double>> lightnessClusters(const std::vector<Lab>& co
   std::sort(sorted.begin(), sorted.end(), [](const Lab& a, const Lab& b) { return a[0] < b[0]; });
   std::vector<Lab> centre(static_cast<size_t>(k));
   for (int c = 0; c < k; ++c)
-    centre[static_cast<size_t>(c)] = sorted[std::min(sorted.size() - 1,
-      static_cast<size_t>((c + 0.5) / k * static_cast<double>(sorted.size())))];
+    centre[static_cast<size_t>(c)] = sorted[std::min(
+      sorted.size() - 1, static_cast<size_t>((c + 0.5) / k * static_cast<double>(sorted.size())))];
   std::vector<int> member(colours.size(), 0);
   for (int round = 0; round < 20; ++round)
   {
@@ -64,7 +64,8 @@ std::vector<std::pair<Lab, double>> lightnessClusters(const std::vector<Lab>& co
   for (int c = 0; c < k; ++c)
     out.push_back({ centre[static_cast<size_t>(c)],
       static_cast<double>(std::count(member.begin(), member.end(), c)) / colours.size() });
-  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
+  std::sort(
+    out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
   return out;
 }
 
@@ -91,8 +92,8 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   if (input.channels < 3 || input.width < 16 || input.height < 16)
     throw Error("the picture must be RGB or RGBA and at least 16 x 16 pixels");
   // RGB over black; large pictures at 512 on the longer side (colours, not detail, count)
-  Image picture = input.channels == 4 ? compositeOverBackground(input, { 0, 0, 0 })
-                                      : toChannels(input, 3);
+  Image picture =
+    input.channels == 4 ? compositeOverBackground(input, { 0, 0, 0 }) : toChannels(input, 3);
   const int longer = std::max(picture.width, picture.height);
   if (longer > 512)
     picture = resizeImage(picture, std::max(16, picture.width * 512 / longer),
@@ -137,8 +138,8 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
       ++left;
       continue;
     }
-    object.push_back(rgbToLab(
-      { picture.pixels[3 * i], picture.pixels[3 * i + 1], picture.pixels[3 * i + 2] }));
+    object.push_back(
+      rgbToLab({ picture.pixels[3 * i], picture.pixels[3 * i + 1], picture.pixels[3 * i + 2] }));
   }
   result.overlayShare = static_cast<double>(left) / total;
   // 2. the picture's colours

@@ -29,7 +29,8 @@ struct CarryLookOptions
   /// The fit: reconstructFromColours with one Gaussian primitive per region, from the start
   /// below [200 iterations, learning rate 0.05, 64 directions; primitives and
   /// initialPrimitives are set here].
-  ReconstructionOptions fit = [] {
+  ReconstructionOptions fit = []
+  {
     ReconstructionOptions o;
     o.iterations = 200;
     o.learningRate = 0.05;
@@ -47,10 +48,10 @@ struct CarriedRegion
 
 struct CarryLookResult
 {
-  ReconstructionResult fit;          ///< the TF (table1D, primitives) and the fit's losses
-  PictureBackground background;      ///< the picture's, estimated; the renders were over it
+  ReconstructionResult fit;           ///< the TF (table1D, primitives) and the fit's losses
+  PictureBackground background;       ///< the picture's, estimated; the renders were over it
   std::vector<CarriedRegion> regions; ///< by value, with the colours they started from
-  double overlayShare = 0; ///< share of the picture's foreground left out as overlays
+  double overlayShare = 0;            ///< share of the picture's foreground left out as overlays
   /// The colour distance (sliced Wasserstein, CIELAB units squared) of the start and of the
   /// result (each over the views, 256 directions, seed 1).
   double distanceStart = 0, distanceEnd = 0;
