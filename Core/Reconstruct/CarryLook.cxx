@@ -106,24 +106,12 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   pv.width = W;
   pv.height = H;
   result.background.applyTo(pv);
-  const double tol = std::max(3.5 / 255.0, 4.0 * result.background.noise);
-  Mask foreground(W, H);
-  for (int y = 0; y < H; ++y)
-  {
-    const auto bg = pv.backgroundAt(y);
-    for (int x = 0; x < W; ++x)
-    {
-      double d = 0;
-      for (int c = 0; c < 3; ++c)
-        d = std::max(d, std::abs(picture.at(x, y, c) - bg[static_cast<size_t>(c)]));
-      foreground(x, y) = d > tol;
-    }
-  }
+  const Mask foreground = foregroundOf(picture, pv, result.background.noise);
   std::vector<int> area;
   const std::vector<int> label = components(foreground, area);
   if (area.empty() || *std::max_element(area.begin(), area.end()) < 16)
     throw Error("the picture shows nothing but its background colour: there is no look to carry");
-  const int largest = *std::max_element(area.begin(), area.end());
+  const std::vector<char> small = smallParts(area, 0.2);
   Image overlay(W, H, 1);
   long left = 0, total = 0;
   std::vector<Lab> object;
@@ -132,7 +120,7 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
     if (label[i] < 0)
       continue;
     ++total;
-    if (area[static_cast<size_t>(label[i])] < 0.2 * largest)
+    if (small[static_cast<size_t>(label[i])])
     {
       overlay.pixels[i] = 1;
       ++left;

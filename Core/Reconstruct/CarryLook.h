@@ -57,8 +57,8 @@ struct CarryLookResult
   double distanceStart = 0, distanceEnd = 0;
 };
 
-/// Carries the look of `picture` (RGB or RGBA; any size; a picture of another volume of the
-/// same kind) over to the renderer's volume:
+/// Carries the look of `picture` (RGB, or RGBA with straight alpha as PNG stores it; any size; a
+/// picture of another volume of the same kind) over to the renderer's volume:
 ///  1. the picture's background is estimated (estimateBackground) and its foreground found
 ///     (pixels off the background by more than its noise allows); parts of the foreground under
 ///     20 % of the largest are overlays (axes, text, a scalar bar) and are left out;

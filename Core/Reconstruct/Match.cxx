@@ -169,19 +169,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
       result.background = estimateBackground(pic.rgb);
     }
     result.background.applyTo(view);
-    const double tol = std::max(3.5 / 255.0, 4.0 * result.background.noise);
-    for (int y = 0; y < H; ++y)
-    {
-      const auto bgc = view.backgroundAt(y);
-      for (int x = 0; x < W; ++x)
-      {
-        const float* p = &pic.rgb.pixels[3 * (static_cast<size_t>(y) * W + x)];
-        double d = 0;
-        for (int c = 0; c < 3; ++c)
-          d = std::max(d, std::abs(p[c] - bgc[c]));
-        pic.foreground(x, y) = d > tol;
-      }
-    }
+    pic.foreground = foregroundOf(pic.rgb, view, result.background.noise);
   }
   pic.label = components(pic.foreground, pic.area);
   const long foregroundArea = std::accumulate(pic.area.begin(), pic.area.end(), 0L);
@@ -189,13 +177,10 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   {
     throw Error("the picture shows nothing but the background colour: there is nothing to match");
   }
-  const int largest =
-    static_cast<int>(std::max_element(pic.area.begin(), pic.area.end()) - pic.area.begin());
   // overlay candidates: parts much smaller than the largest (axes, text, a scalar bar)
   std::vector<char> candidate(pic.area.size(), 0);
   if (opt.maskOverlays)
-    for (size_t k = 0; k < pic.area.size(); ++k)
-      candidate[k] = static_cast<int>(k) != largest && pic.area[k] < 0.2 * pic.area[largest];
+    candidate = smallParts(pic.area, 0.2);
   result.backgroundSeconds = secondsSince(t0);
   report("camera", 0.05, nullptr);
 

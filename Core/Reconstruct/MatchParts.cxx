@@ -19,6 +19,37 @@ Image toImage(const Mask& mask)
 }
 
 // Dilation by a (2r+1)^2 box (separable).
+Mask foregroundOf(const Image& rgb, const View& view, double noise)
+{
+  const int W = rgb.width, H = rgb.height;
+  const double tol = std::max(3.5 / 255.0, 4.0 * noise);
+  Mask foreground(W, H);
+  for (int y = 0; y < H; ++y)
+  {
+    const auto bgc = view.backgroundAt(y);
+    for (int x = 0; x < W; ++x)
+    {
+      const float* p = &rgb.pixels[3 * (static_cast<size_t>(y) * W + x)];
+      double d = 0;
+      for (int c = 0; c < 3; ++c)
+        d = std::max(d, std::abs(p[c] - bgc[static_cast<size_t>(c)]));
+      foreground(x, y) = d > tol;
+    }
+  }
+  return foreground;
+}
+
+std::vector<char> smallParts(const std::vector<int>& area, double fraction)
+{
+  std::vector<char> small(area.size(), 0);
+  if (area.empty())
+    return small;
+  const int largest = *std::max_element(area.begin(), area.end());
+  for (size_t k = 0; k < area.size(); ++k)
+    small[k] = area[k] < fraction * largest;
+  return small;
+}
+
 Mask dilate(const Mask& in, int r)
 {
   if (r <= 0)

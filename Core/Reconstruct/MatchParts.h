@@ -49,6 +49,11 @@ struct Mask
 Image toImage(const Mask& mask);
 /// Dilation by a (2r+1)^2 box.
 Mask dilate(const Mask& in, int r);
+/// The foreground of an RGB picture over `view`'s background (View::backgroundAt, the view the
+/// picture's size): pixels off it by more than max(3.5 levels of 255, 4 x noise) in a channel.
+Mask foregroundOf(const Image& rgb, const View& view, double noise);
+/// Overlay candidates among connected parts: those under `fraction` of the largest part's area.
+std::vector<char> smallParts(const std::vector<int>& area, double fraction);
 /// Downsampling: a coarse pixel is set when at least half of its area is.
 Mask shrink(const Mask& in, int w, int h);
 /// The mask with every unset region that does not reach the border set.
