@@ -21,6 +21,7 @@ PACKAGES=(
   cmake ninja-build g++ python3-dev googletest libgtest-dev libbenchmark-dev
   python3-numpy python3-matplotlib python3-pil clang-format black
   mpi-default-bin  # mpiexec, for Plugin.MPIServer (mpiexec -np 2 pvserver)
+  mricron-data  # brain templates (Colin27, INIA19) for Testing/Benchmarks/carry_look_pairs.py
   # rendering without a display
   xvfb xauth
 )

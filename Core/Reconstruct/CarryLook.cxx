@@ -18,8 +18,10 @@ namespace
 using Lab = std::array<double, 3>;
 
 // k-means of Lab colours into k clusters started at lightness quantiles; returns the centres
-// ordered by lightness and each one's share of the colours.
-std::vector<std::pair<Lab, double>> lightnessClusters(const std::vector<Lab>& colours, int k)
+// ordered by lightness and each one's share of the colours; `member` gets each colour's
+// cluster (in that order).
+std::vector<std::pair<Lab, double>> lightnessClusters(
+  const std::vector<Lab>& colours, int k, std::vector<int>& member)
 {
   std::vector<Lab> sorted = colours;
   std::sort(sorted.begin(), sorted.end(), [](const Lab& a, const Lab& b) { return a[0] < b[0]; });
@@ -27,7 +29,7 @@ std::vector<std::pair<Lab, double>> lightnessClusters(const std::vector<Lab>& co
   for (int c = 0; c < k; ++c)
     centre[static_cast<size_t>(c)] = sorted[std::min(
       sorted.size() - 1, static_cast<size_t>((c + 0.5) / k * static_cast<double>(sorted.size())))];
-  std::vector<int> member(colours.size(), 0);
+  member.assign(colours.size(), 0);
   for (int round = 0; round < 20; ++round)
   {
     for (size_t i = 0; i < colours.size(); ++i)
@@ -60,13 +62,54 @@ std::vector<std::pair<Lab, double>> lightnessClusters(const std::vector<Lab>& co
           centre[static_cast<size_t>(c)][a] =
             sum[static_cast<size_t>(c)][a] / count[static_cast<size_t>(c)];
   }
+  std::vector<int> order(static_cast<size_t>(k));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(),
+    [&](int a, int b)
+    { return centre[static_cast<size_t>(a)][0] < centre[static_cast<size_t>(b)][0]; });
+  std::vector<int> rank(static_cast<size_t>(k));
   std::vector<std::pair<Lab, double>> out;
-  for (int c = 0; c < k; ++c)
+  for (int r = 0; r < k; ++r)
+  {
+    const int c = order[static_cast<size_t>(r)];
+    rank[static_cast<size_t>(c)] = r;
     out.push_back({ centre[static_cast<size_t>(c)],
       static_cast<double>(std::count(member.begin(), member.end(), c)) / colours.size() });
-  std::sort(
-    out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first[0] < b.first[0]; });
+  }
+  for (int& m : member)
+    m = rank[static_cast<size_t>(m)];
   return out;
+}
+
+// A cluster's material colour: its pixels are the material over the background at various
+// opacities (c = a m + (1 - a) b), so the colour is taken along the mean direction away from
+// the background, as far as the cluster's 90th percentile of distance reaches (RGB).
+RGB unmixed(const std::vector<std::array<double, 6>>& pixels)
+{
+  if (pixels.empty())
+    return { 0.5, 0.5, 0.5 };
+  std::array<double, 3> c{ 0, 0, 0 }, b{ 0, 0, 0 };
+  std::vector<double> d;
+  double mean = 0;
+  for (const auto& p : pixels)
+  {
+    double dd = 0;
+    for (int a = 0; a < 3; ++a)
+    {
+      c[a] += p[a] / pixels.size();
+      b[a] += p[3 + a] / pixels.size();
+      dd += (p[a] - p[3 + a]) * (p[a] - p[3 + a]);
+    }
+    d.push_back(std::sqrt(dd));
+    mean += d.back() / pixels.size();
+  }
+  std::nth_element(d.begin(), d.begin() + static_cast<long>(0.9 * (d.size() - 1)), d.end());
+  const double far = d[static_cast<size_t>(0.9 * (d.size() - 1))];
+  const double scale = mean > 1e-6 ? std::max(1.0, far / mean) : 1.0;
+  RGB m;
+  for (int a = 0; a < 3; ++a)
+    m[a] = std::clamp(b[a] + scale * (c[a] - b[a]), 0.0, 1.0);
+  return m;
 }
 
 // The colour distance of `primitives` over the targets (fixed directions: comparable figures).
@@ -115,6 +158,7 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   Image overlay(W, H, 1);
   long left = 0, total = 0;
   std::vector<Lab> object;
+  std::vector<std::array<double, 6>> objectRGB; // colour, background behind it
   for (size_t i = 0; i < label.size(); ++i)
   {
     if (label[i] < 0)
@@ -126,8 +170,10 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
       ++left;
       continue;
     }
-    object.push_back(
-      rgbToLab({ picture.pixels[3 * i], picture.pixels[3 * i + 1], picture.pixels[3 * i + 2] }));
+    const RGB c{ picture.pixels[3 * i], picture.pixels[3 * i + 1], picture.pixels[3 * i + 2] };
+    object.push_back(rgbToLab(c));
+    const auto bg = pv.backgroundAt(static_cast<int>(i / static_cast<size_t>(W)));
+    objectRGB.push_back({ c[0], c[1], c[2], bg[0], bg[1], bg[2] });
   }
   result.overlayShare = static_cast<double>(left) / total;
   // 2. the picture's colours
@@ -139,16 +185,25 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
     throw Error("the volume has no feature regions to carry a look onto");
   std::sort(regions.begin(), regions.end(),
     [](const FeatureRegion& a, const FeatureRegion& b) { return a.peak < b.peak; });
-  const auto clusters = lightnessClusters(object, static_cast<int>(regions.size()));
+  std::vector<int> member;
+  const auto clusters = lightnessClusters(object, static_cast<int>(regions.size()), member);
   std::vector<GaussianPrimitive> start;
   for (size_t k = 0; k < regions.size(); ++k)
   {
-    const RGB rgb = labToRgb(clusters[k].first);
+    RGB rgb = labToRgb(clusters[k].first);
+    if (opt.unmix)
+    {
+      std::vector<std::array<double, 6>> pixels;
+      for (size_t i = 0; i < member.size(); ++i)
+        if (member[i] == static_cast<int>(k))
+          pixels.push_back(objectRGB[i]);
+      rgb = unmixed(pixels);
+    }
     result.regions.push_back({ regions[k], { rgb[0], rgb[1], rgb[2] }, clusters[k].second });
     GaussianPrimitive g = basePrimitive(regions[k]);
     g.rgb = { std::clamp(rgb[0], 0.0, 1.0), std::clamp(rgb[1], 0.0, 1.0),
       std::clamp(rgb[2], 0.0, 1.0) };
-    g.opacity = 0.2;
+    g.opacity = opt.startOpacity;
     start.push_back(g);
   }
   // 4. the fit at the volume's views over the picture's background
@@ -170,6 +225,17 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   result.distanceStart = distanceOf(renderer, targets, fit, start);
   result.distanceEnd = distanceOf(renderer, targets, fit, result.fit.primitives);
   return result;
+}
+
+View carriedLookView(
+  const Volume& volume, const CarryLookResult& result, const CarryLookOptions& options, int size)
+{
+  if (options.views.empty())
+    throw Error("carrying a look needs a view");
+  View view = orbitView(volume, size, options.views[0][0], options.views[0][1], 1.0);
+  result.background.applyTo(view);
+  view.lighting = options.lighting;
+  return view;
 }
 
 } // namespace ddg

@@ -17,8 +17,8 @@ namespace ddg
 /// Options (defaults in brackets).
 struct CarryLookOptions
 {
-  /// Side of the volume's renders the fit compares [96].
-  int size = 96;
+  /// Side of the volume's renders the fit compares [64].
+  int size = 64;
   /// Their cameras: ParaView's reset camera orbited by (azimuth, elevation) degrees
   /// [(30, 20), (150, 20), (270, 20)].
   std::vector<std::array<double, 2>> views{ { 30, 20 }, { 150, 20 }, { 270, 20 } };
@@ -26,13 +26,19 @@ struct CarryLookOptions
   Lighting lighting;
   /// Feature regions of the volume, at most [4] (findFeatureRegions).
   int maxRegions = 4;
+  /// Each region starts in its colour cluster's material colour: the cluster taken away from
+  /// the background as far as its 90th percentile of distance reaches (its pixels are the
+  /// material over the background at various opacities) [true]; false: the cluster's mean.
+  bool unmix = true;
+  /// Each region's primitive starts at this peak opacity [0.2].
+  double startOpacity = 0.2;
   /// The fit: reconstructFromColours with one Gaussian primitive per region, from the start
-  /// below [200 iterations, learning rate 0.05, 64 directions; primitives and
+  /// below [150 iterations, learning rate 0.05, 64 directions; primitives and
   /// initialPrimitives are set here].
   ReconstructionOptions fit = []
   {
     ReconstructionOptions o;
-    o.iterations = 200;
+    o.iterations = 150;
     o.learningRate = 0.05;
     return o;
   }();
@@ -74,5 +80,10 @@ struct CarryLookResult
 /// without feature regions; Cancelled when progress returns false.
 CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& picture,
   const CarryLookOptions& options = {}, const ReconstructionProgress& progress = {});
+
+/// The view a carried look is shown at: the options' first view of the volume, `size` pixels
+/// square, over the picture's background (as estimated), lit as the options say.
+View carriedLookView(
+  const Volume& volume, const CarryLookResult& result, const CarryLookOptions& options, int size);
 
 } // namespace ddg

@@ -447,7 +447,8 @@ private:
 };
 
 // The pixels (index y w + x; -1: beyond the image) of the square framedColours describes, for
-// an RGB image (3 floats per pixel) at `view`; those `leaveOut` sets are left out.
+// an RGB image (3 floats per pixel) at `view`; those `leaveOut` sets are left out (of the
+// content's box too: an overlay in a corner does not widen the square).
 std::vector<int> framedPixels(
   const float* rgb, int w, int h, const View& view, const std::vector<std::uint8_t>& leaveOut)
 {
@@ -457,6 +458,8 @@ std::vector<int> framedPixels(
     const auto bg = view.backgroundAt(y);
     for (int x = 0; x < w; ++x)
     {
+      if (!leaveOut.empty() && leaveOut[static_cast<size_t>(y) * w + x])
+        continue;
       const float* c = rgb + 3 * (static_cast<size_t>(y) * w + x);
       if (std::abs(c[0] - bg[0]) > 0.04 || std::abs(c[1] - bg[1]) > 0.04 ||
         std::abs(c[2] - bg[2]) > 0.04)

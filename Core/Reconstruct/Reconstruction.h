@@ -140,7 +140,7 @@ struct ColourTarget
 /// picture's size) by more than 0.04 in a channel — on the box's centre, the background counted
 /// where the square reaches past the picture; the whole picture when nothing differs. Pixels
 /// where `leaveOut` (1 channel, the picture's size; optional) is above 0.5 are left out (a
-/// picture's overlays). Throws ddg::Error for sizes that differ.
+/// picture's overlays), of the content's box too. Throws ddg::Error for sizes that differ.
 std::vector<std::array<float, 3>> framedColours(
   const Image& picture, const View& view, const Image& leaveOut = {});
 

@@ -230,7 +230,7 @@ int runCarry(const ReconstructArgs& a)
 {
   if (a.targets.size() != 1 || !a.views.empty() || !a.masks.empty() || a.twoD || a.estimateView ||
     !a.outView.empty() || !a.outOverlay.empty() || !a.init.empty())
-    throw ddg::Error("--other-volume takes one --target and no --view, --mask, --2d, --init, "
+    throw ddg::Error("--carry-look takes one --target and no --view, --mask, --2d, --init, "
                      "--estimate-view, --out-view or --out-overlay");
   const auto t0 = Clock::now();
   const ddg::Image picture = readTarget(a.targets[0], nullptr, false);
@@ -252,9 +252,7 @@ int runCarry(const ReconstructArgs& a)
       }
       return true;
     });
-  ddg::View view = ddg::orbitView(volume, 512, opt.views[0][0], opt.views[0][1], 1.0);
-  r.background.applyTo(view);
-  view.lighting = opt.lighting;
+  const ddg::View view = ddg::carriedLookView(volume, r, opt, 512);
   writeResult(r.fit, a, "carried look", renderer.caster(), view);
   std::printf("background: (%.3f %.3f %.3f); overlays left out: %.1f %% of the foreground\n",
     r.background.bottom[0], r.background.bottom[1], r.background.bottom[2], 100 * r.overlayShare);
@@ -400,8 +398,9 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     ->expected(3)
     ->check(CLI::Range(0.0, 1.0));
   reconstruct->add_flag("--2d", rc->twoD, "Reconstruct a 2D TF (value x gradient magnitude)");
-  reconstruct->add_flag("--other-volume", rc->otherVolume,
-    "The --target is a picture of another volume of the same kind: carry its look over (its "
+  reconstruct->add_flag("--carry-look,--other-volume", rc->otherVolume,
+    "The --target is a picture of another volume of the same kind: carry its look over (Core's "
+    "carryLook, the filter's CarryLook, ddg.carry_look in pvpython; its "
     "colours matched to this volume's feature regions by rank, refined by colour distribution; "
     "no camera; --out-image renders it at azimuth 30, elevation 20)");
   reconstruct->add_option("--bins", rc->bins, "TF resolution along the value (default 128)")

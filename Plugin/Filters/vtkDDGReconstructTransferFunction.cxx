@@ -12,6 +12,7 @@
 #include "Common/FileUtil.h"
 #include "Image/Image.h"
 #include "Image/ImageMetrics.h"
+#include "Reconstruct/CarryLook.h"
 #include "Reconstruct/Match.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/TransferFunctionIO.h"
@@ -60,6 +61,7 @@ void vtkDDGReconstructTransferFunction::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Smoothness: " << this->Smoothness << "\n";
   os << indent << "LearningRate: " << this->LearningRate << "\n";
   os << indent << "MatchPicture: " << this->MatchPicture << "\n";
+  os << indent << "CarryLook: " << this->CarryLook << "\n";
   os << indent << "EstimateCamera: " << this->EstimateCamera << "\n";
   os << indent << "InitialTransferFunction: " << this->InitialTransferFunction.size()
      << " characters\n";
@@ -182,6 +184,11 @@ int vtkDDGReconstructTransferFunction::FillOutputPortInformation(int port, vtkIn
 void vtkDDGReconstructTransferFunction::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
+  if (this->CarryLook)
+  {
+    this->ExecuteCarryLook(input, array, outputVector);
+    return;
+  }
   if (this->MatchPicture)
   {
     this->ExecuteMatch(input, array, outputVector);
@@ -423,6 +430,85 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
     addImageArray(masks, result.masks.foreground, "Foreground", 1);
   if (!result.masks.overlay.empty())
     addImageArray(masks, result.masks.overlay, "Overlay", 1);
+  if (!this->OutputFile.empty())
+    ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
+}
+
+// --- another volume's picture (ddg::carryLook) ---------------------------------------------------
+
+void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
+{
+  this->Preview = nullptr;
+  ddg::Image picture =
+    ddg::filterImage(this->TargetImageData, this->TargetImageFile, "TargetImage");
+  if (picture.channels == 1 || picture.channels == 2)
+    picture = ddg::toChannels(picture, picture.channels == 2 ? 4 : 3);
+  const ddg::Volume volume = ddg::toCoreVolume(input, array);
+  const ddg::DifferentiableRenderer renderer(volume);
+  ddg::CarryLookOptions opt;
+  opt.fit.snapshotEvery = this->PreviewEvery;
+  // the preview: the fit's TF at the first view, over the picture's background when it has one
+  ddg::CarryLookResult previewOf;
+  try
+  {
+    previewOf.background = ddg::estimateBackground(ddg::toChannels(picture, 3));
+  }
+  catch (const ddg::Error&)
+  {
+  }
+  const ddg::View previewView = ddg::carriedLookView(volume, previewOf, opt, 128);
+  const ddg::RayCaster& caster = renderer.caster();
+  const int steps = opt.fit.iterations;
+  this->SetProgressText("carry");
+  const auto result = ddg::carryLook(renderer, picture, opt,
+    [&](int step, double, const ddg::ReconstructionResult* snapshot)
+    {
+      if (snapshot)
+      {
+        auto image = vtkSmartPointer<vtkImageData>::New();
+        addImageArray(image,
+          overBackground(ddg::renderResult(caster, *snapshot, previewView, {}), previewView),
+          "Image", 3);
+        this->Preview = image;
+      }
+      this->UpdateProgress(std::clamp(static_cast<double>(step) / steps, 0.0, 1.0));
+      return !this->GetAbortExecute();
+    });
+  this->SetProgressText(nullptr);
+
+  vtkTable* output = vtkTable::GetData(outputVector, 0);
+  const ddg::View view = ddg::carriedLookView(volume, result, opt, 256);
+  const std::string json = writeTable(
+    output, result.fit, volume, view, presetName(input, array, "carried look", this->OutputFile));
+  vtkFieldData* fd = output->GetFieldData();
+  addString(fd, "View", ddg::viewToJson(view));
+  addBackground(fd, view);
+  auto regions = vtkSmartPointer<vtkDoubleArray>::New();
+  regions->SetName("Regions");
+  regions->SetNumberOfComponents(6);
+  for (const auto& r : result.regions)
+  {
+    const double row[6] = { r.region.lo, r.region.hi, r.colour[0], r.colour[1], r.colour[2],
+      r.share };
+    regions->InsertNextTuple(row);
+  }
+  fd->AddArray(regions);
+  addNumbers(fd, "ColourDistance", { result.distanceStart, result.distanceEnd });
+  addNumbers(fd, "OverlayShare", { result.overlayShare });
+  addNumbers(fd, "Timings", { result.fit.seconds });
+  auto iterations = vtkSmartPointer<vtkIntArray>::New();
+  iterations->SetName("Iterations");
+  iterations->InsertNextValue(result.fit.iterations);
+  fd->AddArray(iterations);
+  auto converged = vtkSmartPointer<vtkIntArray>::New();
+  converged->SetName("Converged");
+  converged->InsertNextValue(result.fit.converged ? 1 : 0);
+  fd->AddArray(converged);
+  // port 1: the TF as it is applied (ParaView's table of the preset's nodes) at the view
+  addImageArray(vtkImageData::GetData(outputVector, 1),
+    overBackground(caster.render(caster.paraviewTable(ddg::parsePreset(json)), view), view),
+    "Image", 3);
   if (!this->OutputFile.empty())
     ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
 }

@@ -88,6 +88,29 @@ void pqDDGDesignGalleryDock::showMatch()
   }
   ui.matchPreview->setPixmap(fitted(m.Render, ui.matchPreview));
   const auto t = [&m](int k) { return m.Timings.size() > k ? m.Timings[k] : 0.0; };
+  if (m.Carried)
+  {
+    QStringList regions;
+    for (const auto& r : m.Regions)
+      regions << tr("values %1\u2013%2 \u2190 the picture's colour (%3, %4, %5), %6 % of its "
+                    "object")
+                   .arg(r[0], 0, 'g', 4)
+                   .arg(r[1], 0, 'g', 4)
+                   .arg(std::lround(255 * r[2]))
+                   .arg(std::lround(255 * r[3]))
+                   .arg(std::lround(255 * r[4]))
+                   .arg(std::lround(100 * r[5]));
+    ui.matchInfo->setText(
+      tr("Another volume's picture: its look carried over to this volume (shown from azimuth "
+         "30, elevation 20; the camera is not the picture's).\n%1\nColour distance (CIELAB) "
+         "%2 \u2192 %3 in %4 steps, %5 s")
+        .arg(regions.join("\n"))
+        .arg(m.DistanceStart, 0, 'f', 1)
+        .arg(m.DistanceEnd, 0, 'f', 1)
+        .arg(m.Iterations)
+        .arg(t(0), 0, 'f', 1));
+    return;
+  }
   const QJsonObject lighting = m.View.value("lighting").toObject();
   const QString lit = !lighting.value("shade").toBool() ? tr("unlit")
     : lighting.value("specular").toDouble() > 0
@@ -129,7 +152,8 @@ void pqDDGDesignGalleryDock::runMatch()
   bool matched = false;
   {
     pqDDGInputGuard guard{ this->Ui->cancelMatch, this->Ui->cancel };
-    matched = this->State->match(this->Ui->pictureCamera->isChecked());
+    matched =
+      this->State->match(this->Ui->pictureCamera->isChecked(), this->Ui->otherVolume->isChecked());
   }
   this->showMatch();
   if (!matched) // why, next to the Match button too
@@ -147,7 +171,8 @@ void pqDDGDesignGalleryDock::applyMatch()
   }
   const pqDDGDesignState::Match& m = this->State->lastMatch();
   const bool twoD = !m.ParaView2D.isEmpty();
-  const bool moveCamera = this->Ui->moveCamera->isChecked();
+  // another volume's picture has no camera here: Apply writes the TF alone
+  const bool moveCamera = this->Ui->moveCamera->isChecked() && !m.Carried;
   pqDataRepresentation* repr = ddgpanel::representation(this->State->volume());
   auto* view = qobject_cast<pqRenderView*>(pqActiveObjects::instance().activeView());
   if (moveCamera && !view)
@@ -179,6 +204,13 @@ void pqDDGDesignGalleryDock::applyMatch()
   if (view)
     view->render();
   const bool shade = m.View.value("lighting").toObject().value("shade").toBool();
+  if (m.Carried)
+  {
+    this->setStatus(tr("Applied the look carried over from another volume's picture to '%1'%2; "
+                       "the camera stays, Shade %3 (Edit > Undo takes it back).")
+                      .arg(this->Source->getSMName(), note, shade ? tr("on") : tr("off")));
+    return;
+  }
   this->setStatus(
     tr("Applied the match to '%1'%2%3; Shade %4 as in the picture (Edit > Undo "
        "takes it back).")

@@ -15,6 +15,7 @@
 #include <QRect>
 #include <QRectF>
 #include <QVector>
+#include <array>
 
 #include <vtkSmartPointer.h>
 #include <vtkWeakPointer.h>
@@ -83,6 +84,11 @@ public:
     QString Picture;                ///< the picture's name (as the query step records it)
     QJsonArray Steps;               ///< the design's steps the match started from
     bool FromCurrentCamera = false; ///< the camera was given (the current one), not estimated
+    bool Carried = false;           ///< another volume's picture: its look carried over (no camera)
+    /// Carried: per feature region of this volume, value from, to, the picture's r, g, b it was
+    /// matched with, that colour's share of the picture's object
+    QVector<std::array<double, 6>> Regions;
+    double DistanceStart = 0, DistanceEnd = 0; ///< Carried: colour distance (CIELAB)
   };
 
   /// Makes the view JSON of the current camera with `maxSide` pixels on its longer side (empty
@@ -192,8 +198,9 @@ public:
   /// camera (`fromCurrentCamera`: the picture was taken from it) or at a camera estimated from
   /// the picture. Reports progress (matchProgress, with a preview in a builtin session), stops on
   /// cancel(); true when a match was found (matchChanged), false with a message (the scene is
-  /// never touched here).
-  bool match(bool fromCurrentCamera);
+  /// never touched here). `otherVolume`: the picture shows another volume of the same kind; its
+  /// look is carried over instead (the filter's CarryLook: no camera, no design needed).
+  bool match(bool fromCurrentCamera, bool otherVolume = false);
   bool hasMatch() const { return !this->LastMatch.Preset.isEmpty(); }
   const Match& lastMatch() const { return this->LastMatch; }
   /// The picture of the last query (an image file's bytes) and its name.

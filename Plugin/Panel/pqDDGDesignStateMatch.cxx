@@ -52,7 +52,7 @@ double first(const QJsonArray& values, int k = 0)
 }
 } // namespace
 
-bool pqDDGDesignState::match(bool fromCurrentCamera)
+bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
 {
   const ddgpanel::NoUndo quiet;         // the panel's own proxies (its steps are Apply's alone)
   if (this->Busy || !this->hasVolume()) // no model needed: without a design, from grey
@@ -66,7 +66,8 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
   }
   if (!this->MatchProxy)
     this->MatchProxy = ddgpanel::newFilter("DDGReconstructTransferFunction", this->Source, 0);
-  if (!this->MatchProxy || !this->MatchProxy->GetProperty("MatchPicture"))
+  if (!this->MatchProxy || !this->MatchProxy->GetProperty("MatchPicture") ||
+    !this->MatchProxy->GetProperty("CarryLook"))
   {
     this->MatchProxy = nullptr;
     this->report(tr("The DesignGallery plugin on the server cannot match pictures (load this "
@@ -80,6 +81,7 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
   vtkSMPropertyHelper(p, "SelectInputScalars")
     .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
   vtkSMPropertyHelper(p, "MatchPicture").Set(1);
+  vtkSMPropertyHelper(p, "CarryLook").Set(otherVolume ? 1 : 0);
   vtkSMPropertyHelper(p, "TargetImageData").Set(this->QueryPicture.toBase64().constData());
   // the picture's camera: the current one (its size becomes the picture's), or estimated from
   // ParaView's reset camera; the representation's opacity unit distance either way
@@ -97,7 +99,9 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
 
   this->LastMatch = Match();
   Q_EMIT this->matchChanged();
-  this->report(tr("Matching the picture (Cancel stops it)..."));
+  this->report(otherVolume ? tr("Carrying the look of another volume's picture over (Cancel "
+                                "stops it)...")
+                           : tr("Matching the picture (Cancel stops it)..."));
   this->setBusy(true);
   // progress and cancel: ParaView processes events while the filter reports progress; in a
   // builtin session the filter is reachable here, so Cancel sets its AbortExecute and its
@@ -148,8 +152,12 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
   {
     const QString text = cancelled || error == "cancelled"
       ? tr("Match cancelled: nothing was applied, the scene is unchanged.")
-      : tr("The match failed: %1. Nothing was applied, the scene is unchanged.")
-          .arg(error.isEmpty() ? tr("no transfer function (see the Output Messages)") : error);
+      : tr("The match failed: %1. Nothing was applied, the scene is unchanged.%2")
+          .arg(error.isEmpty() ? tr("no transfer function (see the Output Messages)") : error)
+          .arg(!otherVolume && error.contains("no camera explains")
+              ? tr(" If the picture shows another volume, tick \"the picture shows another "
+                   "volume\" and Match again.")
+              : QString());
     this->report(text, true);
     return false;
   }
@@ -159,9 +167,20 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
     m.Preset = ddgpanel::fieldText(table, "TransferFunction2D");
   m.ParaView2D = ddgpanel::fieldText(table, "ParaViewTransferFunction2D");
   m.View = QJsonDocument::fromJson(ddgpanel::fieldText(table, "View").toUtf8()).object();
+  m.Carried = otherVolume;
+  if (otherVolume)
+  {
+    const QJsonArray rows = ddgpanel::fieldNumbers(table, "Regions");
+    for (int k = 0; k + 5 < rows.size(); k += 6)
+      m.Regions.push_back({ rows[k].toDouble(), rows[k + 1].toDouble(), rows[k + 2].toDouble(),
+        rows[k + 3].toDouble(), rows[k + 4].toDouble(), rows[k + 5].toDouble() });
+    const QJsonArray distance = ddgpanel::fieldNumbers(table, "ColourDistance");
+    m.DistanceStart = first(distance, 0);
+    m.DistanceEnd = first(distance, 1);
+  }
   m.CameraEstimated = first(ddgpanel::fieldNumbers(table, "CameraEstimated")) != 0;
   m.LightingEstimated = first(ddgpanel::fieldNumbers(table, "LightingEstimated")) != 0;
-  m.Overlap = first(ddgpanel::fieldNumbers(table, "Overlap"));
+  m.Overlap = otherVolume ? 0.0 : first(ddgpanel::fieldNumbers(table, "Overlap"));
   m.FitPSNR = first(ddgpanel::fieldNumbers(table, "FitPSNR"));
   const QJsonArray psnr = ddgpanel::fieldNumbers(table, "PicturePSNR");
   m.PSNRBefore = first(psnr, 0);
@@ -178,6 +197,17 @@ bool pqDDGDesignState::match(bool fromCurrentCamera)
   m.Steps = this->Steps;
   m.FromCurrentCamera = fromCurrentCamera;
   Q_EMIT this->matchChanged();
+  if (otherVolume)
+  {
+    this->report(tr("Carried the look of another volume's picture over in %1 s: %2 regions of "
+                    "this volume matched with its colours (colour distance %3 \u2192 %4). Apply "
+                    "writes it.")
+                   .arg(m.Timings.value(0), 0, 'f', 1)
+                   .arg(m.Regions.size())
+                   .arg(m.DistanceStart, 0, 'f', 1)
+                   .arg(m.DistanceEnd, 0, 'f', 1));
+    return true;
+  }
   this->report(tr("Matched in %1 s: PSNR against the picture %2 dB%3. Apply writes it.")
                  .arg(m.Timings.size() == 4 ? m.Timings[3] : 0.0, 0, 'f', 1)
                  .arg(m.PSNRAfter, 0, 'f', 1)

@@ -31,7 +31,7 @@ Images are numpy arrays (height, width, 3) of uint8, top row first.
 The package's modules: ``ddg.plugin`` (loading the plugin, ``DDGError``, ``data_path``),
 ``ddg.scene`` (the volume's array, views, images, ``apply``, ``render``), ``ddg.designs`` (models,
 designs, queries, the gallery, ``animate``) and ``ddg.tf`` (``reconstruct``, ``match``,
-``paraview_2d``, ``export``); every public name is also ``ddg.<name>``.
+``carry_look``, ``paraview_2d``, ``export``); every public name is also ``ddg.<name>``.
 """
 from .plugin import DDGError, _ensure_plugin, data_path
 
@@ -52,7 +52,15 @@ from .designs import (  # noqa: E402
     pick,
     query,
 )
-from .tf import Match, export, match, paraview_2d, reconstruct  # noqa: E402
+from .tf import (
+    CarriedLook,
+    Match,
+    carry_look,
+    export,
+    match,
+    paraview_2d,
+    reconstruct,
+)  # noqa: E402
 
 __all__ = [
     "Model",
@@ -67,6 +75,8 @@ __all__ = [
     "reconstruct",
     "match",
     "Match",
+    "carry_look",
+    "CarriedLook",
     "apply",
     "interpolate",
     "edit",

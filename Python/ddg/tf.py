@@ -229,6 +229,83 @@ def match(
         proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
 
 
+class CarriedLook:
+    """What ``carry_look`` found: another volume's look carried over to this one.
+
+    Attributes:
+        tf: the TF (ParaView preset dict, for ``apply``/``export``).
+        view: where the look is shown (view JSON dict: azimuth 30, elevation 20 from ParaView's
+            reset camera, 256 x 256, over the picture's background). Not the picture's camera:
+            another volume's picture has none here.
+        regions: per feature region of this volume, a dict: "values" (from, to), "colour" (the
+            picture's r, g, b in [0, 1] it was matched with), "share" (that colour's share of
+            the picture's object).
+        distance_start, distance_end: the colour distance (CIELAB, sliced Wasserstein) of the
+            start and of the result.
+        overlay_share: share of the picture's foreground left out as overlays.
+        seconds: the fit's time; iterations: its steps.
+        image: the TF's render at ``view`` over the background, (h, w, 3) uint8.
+    """
+
+    def __init__(self, table, images):
+        self.tf = _first_tf(json.loads(_tf_text(table)))
+        self.view = json.loads(_field_string(table, "View"))
+        rows = _field_numbers(table, "Regions")
+        self.regions = [
+            {
+                "values": (float(rows[k]), float(rows[k + 1])),
+                "colour": tuple(float(x) for x in rows[k + 2 : k + 5]),
+                "share": float(rows[k + 5]),
+            }
+            for k in range(0, len(rows), 6)
+        ]
+        self.distance_start, self.distance_end = (
+            float(x) for x in _field_numbers(table, "ColourDistance")
+        )
+        self.overlay_share = float(_field_numbers(table, "OverlayShare")[0])
+        self.seconds = float(_field_numbers(table, "Timings")[0])
+        self.iterations = int(_field_numbers(table, "Iterations")[0])
+        self.image = _rgb(images, images.GetPointData().GetArray("Image")).astype("uint8")
+
+    def __repr__(self):
+        return "CarriedLook(%d regions, colour distance %.1f -> %.1f, %.1f s)" % (
+            len(self.regions),
+            self.distance_start,
+            self.distance_end,
+            self.seconds,
+        )
+
+
+def carry_look(image, source=None):
+    """The look of ``image``, a picture of *another* volume of the same kind (a figure from a
+    paper, a colleague's screenshot; a file path or a numpy image (h, w, 3)), carried over to
+    ``source`` (default: the active source): DDG Reconstruct Transfer Function with Carry Look
+    on (Core's ``carryLook``). The picture's object colours are matched to this volume's feature
+    regions by rank (darkest to the lowest values), then refined by colour distribution; no
+    pixel of the picture has to line up with this volume.
+
+    Returns a ``CarriedLook`` (``.tf`` for ``apply``, ``.regions`` says what was matched with
+    what). Raises DDGError with the filter's reason (a picture of nothing but its background,
+    no dominant background, an unreadable image, a volume without feature regions)."""
+    source = _source(source)
+    proxy = _proxy(
+        "DDGReconstructTransferFunction",
+        source,
+        CarryLook=1,
+        TargetImageData=_image_text(image),
+    )
+    try:
+        _run(proxy)
+        table = servermanager.Fetch(proxy, idx=0)
+        if not _tf_text(table):
+            raise DDGError("no transfer function (see the Output Messages)")
+        return CarriedLook(table, servermanager.Fetch(proxy, idx=1))
+    except DDGError as e:
+        raise DDGError("carry_look: %s" % e) from None
+    finally:
+        proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
+
+
 def paraview_2d(tf, source=None, view=None):
     """ParaView 5.11's TransferFunction2D for a 2D TF (Design, DDG 2D JSON dict or file) on
     ``source``: a dict of the proxy's ``Boxes`` (8 numbers per Gaussian box: lower-left x, y,

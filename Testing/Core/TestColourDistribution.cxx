@@ -75,6 +75,38 @@ TEST(ColourDistribution, SlicedWassersteinAndItsGradient)
   EXPECT_THROW(slicedWasserstein(a, b, 0, r3), Error);
 }
 
+TEST(ColourDistribution, FramesTheContentWithoutItsOverlays)
+{
+  // a 20 x 20 red square in the middle of a grey 100 x 100 picture, a white 6 x 6 "axes" mark
+  // in the lower left corner: left out, it widens neither the square nor the colours
+  View view;
+  view.width = view.height = 100;
+  view.background = { 0.3, 0.3, 0.4 };
+  Image picture(100, 100, 3), leaveOut(100, 100, 1);
+  for (int y = 0; y < 100; ++y)
+    for (int x = 0; x < 100; ++x)
+    {
+      const bool object = x >= 40 && x < 60 && y >= 40 && y < 60;
+      const bool mark = x >= 2 && x < 8 && y >= 92 && y < 98;
+      const RGB c = object ? RGB{ 0.9, 0.1, 0.1 } : mark ? RGB{ 1, 1, 1 } : view.background;
+      for (int k = 0; k < 3; ++k)
+        picture.at(x, y, k) = static_cast<float>(c[static_cast<size_t>(k)]);
+      leaveOut.at(x, y, 0) = mark ? 1.0f : 0.0f;
+    }
+  const auto colours = framedColours(picture, view, leaveOut);
+  // the square 10 % larger than the object's 20 x 20 box: 22 x 22, of which 400 red pixels
+  ASSERT_EQ(colours.size(), 22u * 22u);
+  size_t red = 0;
+  for (const auto& c : colours)
+  {
+    EXPECT_LT(c[0] + c[1] + c[2], 2.5f) << "an overlay pixel was kept";
+    red += c[0] > 0.8f;
+  }
+  EXPECT_EQ(red, 400u);
+  // without the mask the mark is content: the square reaches the corner
+  EXPECT_GT(framedColours(picture, view).size(), 60u * 60u);
+}
+
 TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
 {
   // a sphere whose shell and core take two colours; the picture is from the other side

@@ -14,6 +14,11 @@ over all pixels).
   view up within 5 degrees, render PSNR >= 30 dB.
 - Cancel (AbortExecute from a ProgressEvent observer): LastError "cancelled", both outputs
   empty, no error message.
+- Carry Look (another volume's picture): the iron protein rendered with neghip_shells carried
+  over to NegHip: 1-4 regions in value order with colours and shares in [0, 1], the colour
+  distance down, View 256 x 256 over the estimated palette background, output 1 equal to DDG
+  Volume Render of the preset at View (>= 40 dB), OutputFile the preset; cancelled: nothing
+  written, empty outputs; a uniform picture refused with one message.
 - Bad input: a uniform picture, a 6x6 picture, a file that is no image, a picture of another
   volume (Engine's shipped screenshot): LastError says why, one error message each, empty
   outputs.
@@ -271,6 +276,63 @@ def main_cases():
 
 
 main_cases()
+
+
+def carry_cases():
+    """CarryLook on: a picture of the iron protein (another volume of the same kind) carried
+    over to NegHip."""
+    ironprot = os.path.join(data, "Volumes", "ironprot.vti")
+    view = dict(known)
+    picture = render_picture(view, "ironprot_picture.png", vol=ironprot)
+    out_file = os.path.join(outdir, "carried.json")
+    error, table, images = run(
+        CarryLook=1, TargetImageFile=picture, ViewJSON="", OutputFile=out_file, PreviewEvery=50
+    )
+    assert error == "", error
+    preset = json.loads(field(table, "Preset"))[0]
+    regions = np.reshape(field(table, "Regions"), (-1, 6))
+    start, end = field(table, "ColourDistance")
+    shown = json.loads(field(table, "View"))
+    print(
+        f"carried look: {len(regions)} regions {regions.round(2).tolist()}, colour distance "
+        f"{start:.2f} -> {end:.2f}, {field(table, 'Iterations')} steps, {field(table, 'Timings')} s"
+    )
+    assert 1 <= len(regions) <= 4
+    assert np.all(regions[:, 0] < regions[:, 1]) and np.all(np.diff(regions[:, 0]) > 0)
+    assert np.all((regions[:, 2:6] >= 0) & (regions[:, 2:6] <= 1))
+    assert end < start, (start, end)
+    assert shown["size"] == [256, 256], shown["size"]
+    # the picture's palette background estimated and shown behind the look
+    assert np.allclose(field(table, "Background")[:3], [0.32, 0.34, 0.43], atol=0.01)
+    assert len(preset["RGBPoints"]) >= 8 and len(preset["Points"]) >= 8
+    with open(out_file) as f:
+        assert json.load(f)[0]["RGBPoints"] == preset["RGBPoints"]
+    image = image_array(images, "Image")
+    assert image.shape == (256, 256, 3), image.shape
+    assert psnr(image, rerender(field(table, "Preset"), shown)) >= 40
+    # cancel: nothing written, empty outputs
+    os.remove(out_file)
+    observer = algorithm.AddObserver(
+        vtkCommand.ProgressEvent, lambda obj, event: obj.SetAbortExecute(1)
+    )
+    error, table, images = run(PreviewEvery=49)  # a change: the filter runs again
+    algorithm.RemoveObserver(observer)
+    assert error == "cancelled", error
+    assert table.GetNumberOfRows() == 0 and images.GetNumberOfPoints() == 0
+    assert not os.path.exists(out_file), "a cancelled carry wrote its file"
+    # a uniform picture: no look to carry
+    messages.clear()
+    error, table, images = run(
+        TargetImageFile=os.path.join(testdata, "query_uniform.png"), OutputFile=""
+    )
+    assert "nothing but its background colour" in error, error
+    assert len(messages) == 1 and table.GetNumberOfRows() == 0, messages
+    print(f"carry, uniform picture: {error}")
+    match.CarryLook = 0
+    match.PreviewEvery = 0
+
+
+carry_cases()
 
 
 # --- bad input: the reason, one message, empty outputs -----------------------------------------

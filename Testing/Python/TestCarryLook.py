@@ -1,0 +1,71 @@
+"""ddg.carry_look and ddg.apply: another volume's picture carried over (build/bin/pvpython).
+
+A picture of the iron protein (the project's render, `ddg render`, of neghip_shells.json at
+neghip_oblique.json's camera over ParaView's palette background) is carried over to NegHip, an
+electron density of the same kind: the CarriedLook holds 1-4 regions of NegHip's values (in
+value order, colours in [0, 1]), the colour distance goes down, its image is the view's size;
+ddg.apply(look.tf) writes the preset into NegHip's colour map (1e-6). Bad input: a uniform
+picture raises DDGError naming it, and the colour map is unchanged.
+
+Usage: build/bin/pvpython TestCarryLook.py DDG OUTDIR
+"""
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+import ddg
+from paraview.simple import GetActiveViewOrCreate, GetColorTransferFunction, Show
+from paraview.simple import XMLImageDataReader
+
+ddg_exe, outdir = sys.argv[1:3]
+os.makedirs(outdir, exist_ok=True)
+with open(ddg.data_path("Views/neghip_oblique.json")) as f:
+    view = json.load(f)
+view["size"] = [240, 180]
+view["background"] = [0.32, 0.34, 0.43]
+view_path = os.path.join(outdir, "picture_view.json")
+with open(view_path, "w") as f:
+    json.dump(view, f)
+picture = os.path.join(outdir, "ironprot.png")
+subprocess.run(
+    [ddg_exe, "render", "--volume", ddg.data_path("Volumes/ironprot.vti"), "--view", view_path]
+    + ["--tf", ddg.data_path("TransferFunctions/neghip_shells.json"), "--out", picture],
+    check=True,
+)
+
+neghip = XMLImageDataReader(FileName=[ddg.data_path("Volumes/neghip.vti")])
+render_view = GetActiveViewOrCreate("RenderView")
+display = Show(neghip, render_view)
+look = ddg.carry_look(picture, neghip)
+print(look)
+for r in look.regions:
+    print(
+        "  values %.1f-%.1f <- colour %s, %.0f %%" % (*r["values"], r["colour"], 100 * r["share"])
+    )
+assert 1 <= len(look.regions) <= 4, look.regions
+assert all(r["values"][0] < r["values"][1] for r in look.regions)
+assert [r["values"][0] for r in look.regions] == sorted(r["values"][0] for r in look.regions)
+assert all(0 <= c <= 1 for r in look.regions for c in r["colour"])
+assert look.distance_end < look.distance_start, (look.distance_start, look.distance_end)
+assert look.image.shape == (256, 256, 3), look.image.shape
+assert look.view["size"] == [256, 256]
+
+array = neghip.PointData.keys()[0]
+lut = GetColorTransferFunction(array)
+ddg.apply(look.tf, source=neghip, view=render_view)
+assert np.allclose(list(lut.RGBPoints), look.tf["RGBPoints"], atol=1e-6), "not applied"
+
+before = list(lut.RGBPoints)
+uniform = os.path.join(outdir, "uniform.png")
+ddg.save_image(np.full((60, 80, 3), 0.4), uniform)
+try:
+    ddg.carry_look(uniform, neghip)
+    raise AssertionError("a uniform picture's look was carried")
+except ddg.DDGError as e:
+    print("uniform picture:", e)
+    assert "nothing but its background colour" in str(e), e
+assert list(lut.RGBPoints) == before, "a refused carry changed the scene"
+print("ok")
