@@ -7,6 +7,7 @@
 #include "TransferFunction/ColorSpace.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -112,17 +113,89 @@ RGB unmixed(const std::vector<std::array<double, 6>>& pixels)
   return m;
 }
 
-// The colour distance of `primitives` over the targets (fixed directions: comparable figures).
-double distanceOf(const DifferentiableRenderer& renderer, const std::vector<ColourTarget>& targets,
-  const ReconstructionOptions& fit, const std::vector<GaussianPrimitive>& primitives)
+// How well the volume's silhouettes take the shape of the picture's object (its filled
+// silhouette): the best IoU over directions (elevation -60..60 by 30 x azimuth by 30, and the
+// poles) and occupancy levels, each silhouette aligned with the object by moments (centroid,
+// area, principal axis; 12 turns for round shapes): the camera search's first stage (Match.cxx).
+double shapeAgreementOf(const Volume& volume, const matchparts::Mask& object)
 {
-  ReconstructionOptions o = fit;
-  o.initialPrimitives = primitives;
-  o.iterations = 1;
-  o.learningRate = 1e-12;
-  o.directions = 256;
-  o.seed = 1;
-  return reconstructFromColours(renderer, targets, o).loss.front();
+  using namespace matchparts;
+  const SilhouetteModel model(volume);
+  if (model.levels() == 0)
+    return 0;
+  const double sf = 128.0 / std::max(object.w, object.h);
+  const int sw = std::max(8, static_cast<int>(std::lround(object.w * sf))),
+            sh = std::max(8, static_cast<int>(std::lround(object.h * sf)));
+  const Mask target = fillHoles(shrink(object, sw, sh));
+  Mask care(sw, sh);
+  std::fill(care.m.begin(), care.m.end(), std::uint8_t{ 1 });
+  const Moments mt = moments(target, &care);
+  if (mt.area < 4)
+    return 0;
+  const View start = defaultView(volume, sw, sh);
+  std::vector<std::pair<double, double>> directions{ { 0, 89 }, { 0, -89 } };
+  for (double el = -60; el <= 60; el += 30)
+    for (double az = -180; az < 180; az += 30)
+      directions.emplace_back(az, el);
+  double best = 0;
+  Mask rendered;
+  for (const auto& [az, el] : directions)
+    for (int level = 0; level < model.levels(); ++level)
+    {
+      model.render(cameraMove(start, az, el, 0, 1, { 0, 0 }), level, sw, sh, rendered);
+      const Moments mr = moments(rendered);
+      if (mr.area < 4)
+        continue;
+      const double scale = std::sqrt(mt.area / mr.area);
+      std::vector<double> rhos{ mt.angle - mr.angle, mt.angle - mr.angle + M_PI };
+      if (mt.anisotropy < 1.3 || mr.anisotropy < 1.3)
+        for (int k = 0; k < 12; ++k)
+          rhos.push_back(k * M_PI / 6);
+      for (double rho : rhos)
+        best = std::max(
+          best, similarityIoU(target, care, rendered, mr.cx, mr.cy, mt.cx, mt.cy, rho, scale));
+    }
+  return best;
+}
+
+// The share of the object's pixels deeper inside it than 2 % of its box's longer side: a
+// rendered volume is a solid shape (most of it survives), lines and text are not.
+double solidShareOf(const matchparts::Mask& object)
+{
+  using namespace matchparts;
+  int x0 = object.w, y0 = object.h, x1 = -1, y1 = -1;
+  long count = 0;
+  for (int y = 0; y < object.h; ++y)
+    for (int x = 0; x < object.w; ++x)
+      if (object(x, y))
+      {
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        ++count;
+      }
+  if (count == 0)
+    return 0;
+  const int r =
+    std::max(1, static_cast<int>(std::lround(0.02 * std::max(x1 - x0 + 1, y1 - y0 + 1))));
+  Mask outside(object.w, object.h);
+  for (size_t i = 0; i < object.m.size(); ++i)
+    outside.m[i] = !object.m[i];
+  const Mask near = dilate(outside, r);
+  long deep = 0;
+  for (size_t i = 0; i < object.m.size(); ++i)
+    deep += object.m[i] && !near.m[i];
+  return static_cast<double>(deep) / count;
+}
+
+// The colour distance of the TF `start` describes (its initialPrimitives, or its initial1D for
+// free bins) over the targets (fixed directions: comparable figures).
+double distanceOf(const DifferentiableRenderer& renderer, const std::vector<ColourTarget>& targets,
+  ReconstructionOptions start)
+{
+  start.iterations = 1;
+  start.learningRate = 1e-12;
+  start.directions = 256;
+  start.seed = 1;
+  return reconstructFromColours(renderer, targets, start).loss.front();
 }
 } // namespace
 
@@ -130,6 +203,7 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   const CarryLookOptions& opt, const ReconstructionProgress& progress)
 {
   using namespace matchparts;
+  const auto t0 = std::chrono::steady_clock::now();
   if (opt.size < 16 || opt.views.empty() || opt.maxRegions < 1)
     throw Error("carrying a look needs renders of at least 16 pixels, a view and a region");
   if (input.channels < 3 || input.width < 16 || input.height < 16)
@@ -176,6 +250,13 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
     objectRGB.push_back({ c[0], c[1], c[2], bg[0], bg[1], bg[2] });
   }
   result.overlayShare = static_cast<double>(left) / total;
+  Mask objectMask(W, H);
+  for (size_t i = 0; i < label.size(); ++i)
+    objectMask.m[i] = label[i] >= 0 && !small[static_cast<size_t>(label[i])];
+  if (const double solid = solidShareOf(objectMask); solid < opt.minimumSolidShare)
+    throw Error("the picture shows lines or text, not a rendered volume (" +
+      std::to_string(static_cast<int>(std::lround(100 * solid))) +
+      " % of its content is solid): there is no look to carry");
   // 2. the picture's colours
   const auto colours = framedColours(picture, pv, overlay);
   // 3. regions by value, matched with colour clusters by lightness
@@ -219,11 +300,32 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   }
   ReconstructionOptions fit = opt.fit;
   fit.twoD = false;
-  fit.primitives = static_cast<int>(start.size());
-  fit.initialPrimitives = start;
+  // the volume's air (values under its lowest feature region) stays clear
+  fit.transparentBelow = std::min_element(regions.begin(), regions.end(),
+    [](const FeatureRegion& a, const FeatureRegion& b) {
+      return a.lo < b.lo;
+    })->lo;
+  if (fit.initial1D) // from the caller's TF (a query's design): free bins; regions reported
+  {
+    fit.primitives = 0;
+    fit.initialPrimitives.clear();
+  }
+  else
+  {
+    fit.primitives = static_cast<int>(start.size());
+    fit.initialPrimitives = start;
+  }
+  result.shapeAgreement = shapeAgreementOf(vol, objectMask);
+  result.shapesAgree = result.shapeAgreement >= opt.minimumShapeAgreement;
   result.fit = reconstructFromColours(renderer, targets, fit, progress);
-  result.distanceStart = distanceOf(renderer, targets, fit, start);
-  result.distanceEnd = distanceOf(renderer, targets, fit, result.fit.primitives);
+  result.distanceStart = distanceOf(renderer, targets, fit);
+  ReconstructionOptions end = fit;
+  if (fit.primitives > 0)
+    end.initialPrimitives = result.fit.primitives;
+  else
+    end.initial1D = result.fit.table1D;
+  result.distanceEnd = distanceOf(renderer, targets, end);
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return result;
 }
 

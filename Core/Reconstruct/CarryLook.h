@@ -32,9 +32,17 @@ struct CarryLookOptions
   bool unmix = true;
   /// Each region's primitive starts at this peak opacity [0.2].
   double startOpacity = 0.2;
+  /// Below this share of the picture's content lying deeper inside it than 2 % of its size, the
+  /// picture shows lines or text (a chart, a diagram), not a rendered volume: refused [0.25].
+  double minimumSolidShare = 0.25;
+  /// Below this shape agreement the result says the shapes disagree (the picture may show a
+  /// volume of another kind) [0.6, the match's silhouette floor].
+  double minimumShapeAgreement = 0.6;
   /// The fit: reconstructFromColours with one Gaussian primitive per region, from the start
   /// below [150 iterations, learning rate 0.05, 64 directions; primitives and
-  /// initialPrimitives are set here].
+  /// initialPrimitives are set here]. With `fit.initial1D` (a TF of this volume to start from:
+  /// a query's design) the fit is of free bins from it instead; the regions are still matched
+  /// and reported.
   ReconstructionOptions fit = []
   {
     ReconstructionOptions o;
@@ -61,6 +69,14 @@ struct CarryLookResult
   /// The colour distance (sliced Wasserstein, CIELAB units squared) of the start and of the
   /// result (each over the views, 256 directions, seed 1).
   double distanceStart = 0, distanceEnd = 0;
+  /// How well this volume's silhouettes take the shape of the picture's object: the best IoU
+  /// over 62 directions and the occupancy levels, each aligned with the object by moments
+  /// (position, size, turn). Low: the picture may show a volume of another kind.
+  double shapeAgreement = 0;
+  /// shapeAgreement reaches the options' minimumShapeAgreement (not a confidence in the look:
+  /// only a gross shape mismatch is caught).
+  bool shapesAgree = false;
+  double seconds = 0; ///< the whole call's wall time
 };
 
 /// Carries the look of `picture` (RGB, or RGBA with straight alpha as PNG stores it; any size; a
@@ -75,9 +91,13 @@ struct CarryLookResult
 ///     lowest region; each region starts as its base primitive in its cluster's colour at
 ///     opacity 0.2;
 ///  4. reconstructFromColours refines the primitives at the option's views over the picture's
-///     background.
-/// Throws ddg::Error for a picture without one background colour or without content, a volume
-/// without feature regions; Cancelled when progress returns false.
+///     background, the values under the lowest region held transparent (the volume's air).
+/// Throws ddg::Error for a picture without one background colour or without content, one of
+/// lines or text (minimumSolidShare), a volume without feature regions; Cancelled when progress
+/// returns false. A picture whose object this volume's silhouettes cannot take the shape of
+/// (shapesAgree false) may show a volume of another kind; measured, volumes of other kinds with
+/// blob-like outlines (a tooth, a brain, an engine block, a head) agree at 0.82-0.90, so this
+/// flags a gross mismatch only.
 CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& picture,
   const CarryLookOptions& options = {}, const ReconstructionProgress& progress = {});
 

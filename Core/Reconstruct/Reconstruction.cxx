@@ -749,6 +749,9 @@ ReconstructionResult fit(const DifferentiableRenderer& renderer, DataTerm& data,
   else
     param = std::make_unique<FreeBins>(
       FreeBins::oneD(opt.bins, layout.range, opt.smoothness, opt.initial1D));
+  if (opt.transparentBelow && !opt.twoD)
+    param = std::make_unique<OpacityFloor>(
+      std::move(param), opt.bins, layout.range, *opt.transparentBelow);
 
   TableStage stage(renderer, opt, layout.range, layout.gradientRange);
   ReconstructionResult result;

@@ -90,6 +90,9 @@ struct ReconstructionOptions
   /// The parametric fit starts from these primitives when there are `primitives` of them
   /// [empty: evenly spread].
   std::vector<GaussianPrimitive> initialPrimitives;
+  /// 1D: entries under this value keep opacity 0 whatever the fit does (OpacityFloor: a
+  /// volume's air stays transparent) [unset: none].
+  std::optional<double> transparentBelow;
   /// Colour targets: directions of the sliced Wasserstein distance per step [64].
   int directions = 64;
   /// Seed of the pixel sampling [1].

@@ -230,4 +230,37 @@ std::vector<double> GaussianPrimitiveParameters::learningRates(double base) cons
   return rates;
 }
 
+OpacityFloor::OpacityFloor(std::unique_ptr<TransferParameterisation> inner, int bins,
+  std::array<double, 2> range, double lowest)
+  : Inner(std::move(inner))
+{
+  if (!Inner || bins < 2)
+    throw Error("an opacity floor needs a parameterisation and at least 2 bins");
+  Transparent.resize(static_cast<size_t>(bins));
+  for (int b = 0; b < bins; ++b)
+    Transparent[static_cast<size_t>(b)] =
+      range[0] + static_cast<double>(b) * (range[1] - range[0]) / (bins - 1) < lowest;
+}
+
+void OpacityFloor::forward(const std::vector<double>& theta, std::vector<double>& values)
+{
+  Inner->forward(theta, InnerValues);
+  if (InnerValues.size() != 4 * Transparent.size())
+    throw Error("an opacity floor is for 1D tables of its bins");
+  values = InnerValues;
+  for (size_t b = 0; b < Transparent.size(); ++b)
+    if (Transparent[b])
+      values[4 * b + 3] = 0;
+}
+
+void OpacityFloor::backward(const std::vector<double>&, const std::vector<double>& dL_dValues,
+  std::vector<double>& dL_dTheta) const
+{
+  std::vector<double> d = dL_dValues;
+  for (size_t b = 0; b < Transparent.size(); ++b)
+    if (Transparent[b])
+      d[4 * b + 3] = 0;
+  Inner->backward(InnerValues, d, dL_dTheta);
+}
+
 } // namespace ddg

@@ -7,6 +7,8 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -42,6 +44,38 @@ public:
   virtual std::vector<double> learningRates(double base) const;
   /// The Gaussian primitives of the last forward [none: free bins].
   virtual std::vector<GaussianPrimitive> primitives() const { return {}; }
+};
+
+/// Another 1D parameterisation with the opacity of the entries below `lowest` held at 0 (entry b
+/// at range[0] + b (range[1] - range[0]) / (bins - 1)): forward zeroes them, backward drops
+/// their gradients. Keeps a volume's air (the values under its feature regions) transparent
+/// whatever the fit does with the inner parameters.
+class OpacityFloor : public TransferParameterisation
+{
+public:
+  OpacityFloor(std::unique_ptr<TransferParameterisation> inner, int bins,
+    std::array<double, 2> range, double lowest);
+
+  std::size_t size() const override { return Inner->size(); }
+  std::vector<double> initial() const override { return Inner->initial(); }
+  void forward(const std::vector<double>& theta, std::vector<double>& values) override;
+  void backward(const std::vector<double>& values, const std::vector<double>& dL_dValues,
+    std::vector<double>& dL_dTheta) const override;
+  void addPrior(
+    const std::vector<double>& values, double& loss, std::vector<double>& dL_dValues) const override
+  {
+    Inner->addPrior(values, loss, dL_dValues);
+  }
+  std::vector<double> learningRates(double base) const override
+  {
+    return Inner->learningRates(base);
+  }
+  std::vector<GaussianPrimitive> primitives() const override { return Inner->primitives(); }
+
+private:
+  std::unique_ptr<TransferParameterisation> Inner;
+  std::vector<std::uint8_t> Transparent; ///< per entry: held at opacity 0
+  std::vector<double> InnerValues;       ///< the inner forward's output (its backward needs it)
 };
 
 /// Free bins: theta = the logit of every entry's R, G, B and A; values = sigmoid(theta).

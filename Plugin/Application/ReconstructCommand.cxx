@@ -229,8 +229,8 @@ int runMatch(const ReconstructArgs& a)
 int runCarry(const ReconstructArgs& a)
 {
   if (a.targets.size() != 1 || !a.views.empty() || !a.masks.empty() || a.twoD || a.estimateView ||
-    !a.outView.empty() || !a.outOverlay.empty() || !a.init.empty())
-    throw ddg::Error("--carry-look takes one --target and no --view, --mask, --2d, --init, "
+    !a.outView.empty() || !a.outOverlay.empty())
+    throw ddg::Error("--carry-look takes one --target and no --view, --mask, --2d, "
                      "--estimate-view, --out-view or --out-overlay");
   const auto t0 = Clock::now();
   const ddg::Image picture = readTarget(a.targets[0], nullptr, false);
@@ -239,6 +239,9 @@ int runCarry(const ReconstructArgs& a)
   ddg::CarryLookOptions opt;
   opt.fit.seed = a.seed;
   opt.fit.render.threads = a.threads;
+  if (!a.init.empty()) // from a TF of this volume (a query's design): free bins from it
+    opt.fit.initial1D =
+      ddg::bakeTable(ddg::readPreset(a.init), volume.range()[0], volume.range()[1], 1024);
   if (a.shade == "on")
     opt.lighting.shade = true;
   const double tLoad = msSince(t0);
@@ -259,9 +262,13 @@ int runCarry(const ReconstructArgs& a)
   for (const auto& c : r.regions)
     std::printf("region [%g, %g] <- the picture's colour (%.2f %.2f %.2f), %.0f %% of its object\n",
       c.region.lo, c.region.hi, c.colour[0], c.colour[1], c.colour[2], 100 * c.share);
+  std::printf(
+    "shape agreement %.2f (this volume's best silhouette against the picture's object)%s\n",
+    r.shapeAgreement,
+    r.shapesAgree ? "" : ": the shapes disagree, the picture may show a volume of another kind");
   std::printf("colour distance %.2f -> %.2f (CIELAB, sliced Wasserstein) after %d steps; %.2f s "
               "(load %.0f ms); wrote %s\n",
-    r.distanceStart, r.distanceEnd, r.fit.iterations, r.fit.seconds, tLoad, a.out.c_str());
+    r.distanceStart, r.distanceEnd, r.fit.iterations, r.seconds, tLoad, a.out.c_str());
   if (!a.outImage.empty())
     ddg::writeImage(ddg::compositeOverBackground(
                       ddg::renderResult(renderer.caster(), r.fit, view, {}), view.background),

@@ -495,8 +495,9 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   }
   fd->AddArray(regions);
   addNumbers(fd, "ColourDistance", { result.distanceStart, result.distanceEnd });
+  addNumbers(fd, "ShapeAgreement", { result.shapeAgreement, result.shapesAgree ? 1.0 : 0.0 });
   addNumbers(fd, "OverlayShare", { result.overlayShare });
-  addNumbers(fd, "Timings", { result.fit.seconds });
+  addNumbers(fd, "Timings", { result.seconds });
   auto iterations = vtkSmartPointer<vtkIntArray>::New();
   iterations->SetName("Iterations");
   iterations->InsertNextValue(result.fit.iterations);

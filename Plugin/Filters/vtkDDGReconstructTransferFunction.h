@@ -164,7 +164,9 @@ public:
   /// elevation 20 from ParaView's reset camera, 256 x 256, over the picture's background),
   /// "Background", "Regions" (per feature region of the input: value from, value to, the
   /// picture's red, green, blue it was matched with, that colour's share of the picture's
-  /// object), "ColourDistance" (start, end: CIELAB sliced Wasserstein), "OverlayShare",
+  /// object), "ColourDistance" (start, end: CIELAB sliced Wasserstein), "ShapeAgreement" (the
+  /// input's best silhouette IoU against the picture's object, and 1 when it reaches 0.6, else
+  /// 0: the shapes disagree, the picture may show a volume of another kind), "OverlayShare",
   /// "Timings" (total, s), "Iterations" and "Converged"; output port 1 the render at View.
   /// Progress text is "carry"; GetPreview shows the fit every PreviewEvery steps. (default: off)
   vtkSetMacro(CarryLook, bool);

@@ -103,12 +103,17 @@ void pqDDGDesignGalleryDock::showMatch()
     ui.matchInfo->setText(
       tr("Another volume's picture: its look carried over to this volume (shown from azimuth "
          "30, elevation 20; the camera is not the picture's).\n%1\nColour distance (CIELAB) "
-         "%2 \u2192 %3 in %4 steps, %5 s")
+         "%2 \u2192 %3 in %4 steps, %5 s; shape agreement %6%7")
         .arg(regions.join("\n"))
         .arg(m.DistanceStart, 0, 'f', 1)
         .arg(m.DistanceEnd, 0, 'f', 1)
         .arg(m.Iterations)
-        .arg(t(0), 0, 'f', 1));
+        .arg(t(0), 0, 'f', 1)
+        .arg(m.ShapeAgreement, 0, 'f', 2)
+        .arg(m.ShapesAgree
+            ? QString()
+            : tr(" \u2014 the shapes disagree: the picture may show a volume of another "
+                 "kind")));
     return;
   }
   const QJsonObject lighting = m.View.value("lighting").toObject();

@@ -89,6 +89,8 @@ public:
     /// matched with, that colour's share of the picture's object
     QVector<std::array<double, 6>> Regions;
     double DistanceStart = 0, DistanceEnd = 0; ///< Carried: colour distance (CIELAB)
+    double ShapeAgreement = 0; ///< Carried: silhouette IoU against the picture's object
+    bool ShapesAgree = false;  ///< Carried: ShapeAgreement reaches 0.6
   };
 
   /// Makes the view JSON of the current camera with `maxSide` pixels on its longer side (empty

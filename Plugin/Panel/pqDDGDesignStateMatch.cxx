@@ -177,6 +177,9 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
     const QJsonArray distance = ddgpanel::fieldNumbers(table, "ColourDistance");
     m.DistanceStart = first(distance, 0);
     m.DistanceEnd = first(distance, 1);
+    const QJsonArray agreement = ddgpanel::fieldNumbers(table, "ShapeAgreement");
+    m.ShapeAgreement = first(agreement, 0);
+    m.ShapesAgree = first(agreement, 1) > 0.5;
   }
   m.CameraEstimated = first(ddgpanel::fieldNumbers(table, "CameraEstimated")) != 0;
   m.LightingEstimated = first(ddgpanel::fieldNumbers(table, "LightingEstimated")) != 0;
@@ -199,13 +202,20 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   Q_EMIT this->matchChanged();
   if (otherVolume)
   {
-    this->report(tr("Carried the look of another volume's picture over in %1 s: %2 regions of "
-                    "this volume matched with its colours (colour distance %3 \u2192 %4). Apply "
-                    "writes it.")
-                   .arg(m.Timings.value(0), 0, 'f', 1)
-                   .arg(m.Regions.size())
-                   .arg(m.DistanceStart, 0, 'f', 1)
-                   .arg(m.DistanceEnd, 0, 'f', 1));
+    this->report(
+      tr("Carried the look of another volume's picture over in %1 s: %2 regions of "
+         "this volume matched with its colours (colour distance %3 \u2192 %4). %5")
+        .arg(m.Timings.value(0), 0, 'f', 1)
+        .arg(m.Regions.size())
+        .arg(m.DistanceStart, 0, 'f', 1)
+        .arg(m.DistanceEnd, 0, 'f', 1)
+        .arg(m.ShapesAgree
+            ? tr("Apply writes it.")
+            : tr("The shapes disagree: this volume's silhouettes take the picture's object's shape "
+                 "at %1 only (under 0.6): it may show a volume of another kind. Apply "
+                 "writes it anyway.")
+                .arg(m.ShapeAgreement, 0, 'f', 2)),
+      !m.ShapesAgree);
     return true;
   }
   this->report(tr("Matched in %1 s: PSNR against the picture %2 dB%3. Apply writes it.")

@@ -243,7 +243,10 @@ class CarriedLook:
         distance_start, distance_end: the colour distance (CIELAB, sliced Wasserstein) of the
             start and of the result.
         overlay_share: share of the picture's foreground left out as overlays.
-        seconds: the fit's time; iterations: its steps.
+        shape_agreement: this volume's best silhouette IoU against the picture's object;
+            shapes_agree: it reaches 0.6 (False: the picture may show a volume of another kind;
+            blob-like volumes of other kinds agree too, so only a gross mismatch is caught).
+        seconds: the whole carry's time; iterations: the fit's steps.
         image: the TF's render at ``view`` over the background, (h, w, 3) uint8.
     """
 
@@ -263,16 +266,23 @@ class CarriedLook:
             float(x) for x in _field_numbers(table, "ColourDistance")
         )
         self.overlay_share = float(_field_numbers(table, "OverlayShare")[0])
+        agreement = _field_numbers(table, "ShapeAgreement")
+        self.shape_agreement, self.shapes_agree = float(agreement[0]), bool(agreement[1])
         self.seconds = float(_field_numbers(table, "Timings")[0])
         self.iterations = int(_field_numbers(table, "Iterations")[0])
         self.image = _rgb(images, images.GetPointData().GetArray("Image")).astype("uint8")
 
     def __repr__(self):
-        return "CarriedLook(%d regions, colour distance %.1f -> %.1f, %.1f s)" % (
-            len(self.regions),
-            self.distance_start,
-            self.distance_end,
-            self.seconds,
+        return (
+            "CarriedLook(%d regions, colour distance %.1f -> %.1f, shape agreement %.2f%s, %.1f s)"
+            % (
+                len(self.regions),
+                self.distance_start,
+                self.distance_end,
+                self.shape_agreement,
+                "" if self.shapes_agree else " (shapes disagree: another kind?)",
+                self.seconds,
+            )
         )
 
 

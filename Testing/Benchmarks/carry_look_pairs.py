@@ -9,6 +9,8 @@ For every pair (A, B) and TF of carry_look_pairs.json:
   3. the methods find a TF for B from A's picture:
        query        B's own design space (`ddg build --budget`, cached per volume) queried with
                     the picture (`ddg query`): the query alone
+       query_carry  the query's design as the start of the carried look's fit (`ddg reconstruct
+                    --carry-look --init`: free bins from it, refined by colour distribution)
        carry        `ddg reconstruct --other-volume`: the look carried over
        match_other  `ddg reconstruct` as for a picture of B itself (what a user gets without
                     saying the picture is of another volume)
@@ -45,9 +47,10 @@ from make_suite import JPEG_QUALITY, draw_camera  # noqa: E402
 from score import canonical_renders, score_renders  # noqa: E402
 from suite_paraview import VolumeScene, use_default_palette  # noqa: E402
 
-METHODS = ("query", "carry", "match_other", "match_same")
+METHODS = ("query", "query_carry", "carry", "match_other", "match_same")
 LABELS = {
     "query": "query alone (B's design space)",
+    "query_carry": "query, then the look carried from it",
     "carry": "carried look (--other-volume)",
     "match_other": "match, as if the picture were of B",
     "match_same": "same-volume match (B's own picture)",
@@ -193,7 +196,7 @@ def bundle_for(args, name, volume):
     return path if status == 0 else None
 
 
-def run_case(args, pair, tf, spec, volumes):
+def run_case(args, pair, tf, spec, volumes, previous):
     name = "%s_%s" % (pair["name"], tf["name"].split("_")[-1])
     work = os.path.abspath(os.path.join(args.out, name))
     os.makedirs(work, exist_ok=True)
@@ -219,6 +222,10 @@ def run_case(args, pair, tf, spec, volumes):
             )
             jobs["query"] = [args.ddg, "query", "--model", bundle, "--volume", b, "--image", image]
             jobs["query"] += ["--view", view, "--out-tf", os.path.join(work, "query.json")]
+            jobs["query_carry"] = [args.ddg, "reconstruct", "--volume", b, "--quiet"]
+            jobs["query_carry"] += ["--threads", str(args.threads), "--target", image]
+            jobs["query_carry"] += ["--carry-look", "--init", os.path.join(work, "query.json")]
+            jobs["query_carry"] += ["--out", os.path.join(work, "query_carry.json")]
     base = [args.ddg, "reconstruct", "--volume", b, "--quiet"] + threads
     jobs["carry"] = base + ["--target", image, "--other-volume"]
     jobs["carry"] += ["--out", os.path.join(work, "carry.json")]
@@ -234,6 +241,7 @@ def run_case(args, pair, tf, spec, volumes):
     true = canonical_renders(b, preset_b, out_dir=renders, stem="reference")
     record = {"name": name, "pair": pair["name"], "a": pair["a"], "b": pair["b"]}
     record.update({"tf": tf["name"], "picture": spec, "camera_moves": moves, "methods": {}})
+    record["methods"].update(previous.get(name, {}).get("methods", {}))
     print("%s: %s -> %s, %s" % (name, pair["a"], pair["b"], os.path.basename(image)), flush=True)
     for method in [m for m in METHODS if m in args.methods and m in jobs]:
         seconds, status = run(jobs[method], os.path.join(work, method + ".log"))
@@ -322,12 +330,17 @@ def main():
         for name, source in spec["volumes"].items()
         if name in needed
     }
+    # methods measured before (another --methods run into the same folder) are kept
+    listing = os.path.join(args.out, "pairs.json")
+    previous = {}
+    if os.path.isfile(listing):
+        with open(listing) as f:
+            previous = {r["name"]: r for r in json.load(f)}
     records = []
     for pair in pairs:
         for i, tf in enumerate(pair["tfs"]):
-            records.append(
-                run_case(args, pair, tf, spec["pictures"][i % len(spec["pictures"])], volumes)
-            )
+            picture_spec = spec["pictures"][i % len(spec["pictures"])]
+            records.append(run_case(args, pair, tf, picture_spec, volumes, previous))
             with open(os.path.join(args.out, "pairs.json"), "w") as f:
                 json.dump(records, f, indent=1)
     with open(os.path.join(args.out, "pairs.md"), "w") as f:

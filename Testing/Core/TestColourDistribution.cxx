@@ -209,8 +209,61 @@ TEST(ColourDistribution, CarriesALookToAnotherVolume)
     compositeOverBackground(renderResult(rb.caster(), r.fit, check), check.background);
   const double db = psnr(carried, reference);
   EXPECT_GT(db, 22.0);
+  // two spheres: the shapes agree
+  EXPECT_GT(r.shapeAgreement, 0.8);
+  EXPECT_TRUE(r.shapesAgree);
   // a picture with nothing in it is refused
   Image empty(40, 30, 3);
   std::fill(empty.pixels.begin(), empty.pixels.end(), 0.3f);
   EXPECT_THROW(carryLook(rb, empty, opt), Error);
+  // a chart (a frame, a curve, tick marks: lines 2 pixels wide on white) is refused
+  Image chart(160, 120, 3);
+  std::fill(chart.pixels.begin(), chart.pixels.end(), 1.0f);
+  auto ink = [&](int x, int y, RGB c)
+  {
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx)
+        for (int k = 0; k < 3; ++k)
+          chart.at(std::min(159, x + dx), std::min(119, y + dy), k) = static_cast<float>(c[k]);
+  };
+  for (int x = 20; x < 150; ++x)
+  {
+    ink(x, 100, { 0, 0, 0 });
+    ink(x, 10, { 0, 0, 0 });
+    ink(x, static_cast<int>(55 + 35 * std::sin(x / 12.0)), { 0.1, 0.3, 0.9 });
+  }
+  for (int y = 10; y < 101; ++y)
+  {
+    ink(20, y, { 0, 0, 0 });
+    ink(149, y, { 0, 0, 0 });
+  }
+  try
+  {
+    carryLook(rb, chart, opt);
+    ADD_FAILURE() << "a chart's look was carried";
+  }
+  catch (const Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("lines or text"), std::string::npos) << e.what();
+  }
+  // a picture of a long thin rod (another kind of volume): answered, the shapes disagree
+  std::vector<float> rod(48 * 48 * 48, 0.0f);
+  for (int k = 0; k < 48; ++k)
+    for (int j = 0; j < 48; ++j)
+      for (int i = 0; i < 48; ++i)
+        if (std::hypot(i - 23.5, j - 23.5) < 3 && k > 2 && k < 45)
+          rod[static_cast<size_t>((k * 48 + j) * 48 + i)] = 200;
+  const Volume rodVolume({ 48, 48, 48 }, { 0, 0, 0 }, { 1, 1, 1 }, rod, ScalarType::UInt8);
+  const DifferentiableRenderer rr(rodVolume);
+  View side = orbitView(rodVolume, 64, 90, 0, 1.0);
+  side.background = shotView.background;
+  TransferFunction1D white;
+  white.color = { { 0, 1, 1, 1 }, { 200, 1, 1, 1 } };
+  white.opacity = { { 0, 0 }, { 100, 0 }, { 200, 0.9 } };
+  const Image rodShot = compositeOverBackground(
+    rr.caster().render(rr.caster().paraviewTable(white), side), side.background);
+  opt.fit.iterations = 5;
+  const auto other = carryLook(rb, rodShot, opt);
+  EXPECT_LT(other.shapeAgreement, 0.6) << "a rod's picture agrees with a sphere";
+  EXPECT_FALSE(other.shapesAgree);
 }

@@ -9,6 +9,7 @@
 // the starting TF (grey, opacity 0.02; the initial 1D TF; primitives spread over the range).
 #include "Reconstruct/TransferParameterisation.h"
 
+#include "Common/Error.h"
 #include "TransferFunction/TransferFunction1D.h"
 
 #include <gtest/gtest.h>
@@ -176,4 +177,30 @@ TEST(TransferParameterisation, GaussianPrimitivesDecodeAndPullBackThroughTheRast
 
   GaussianPrimitiveParameters q(2, true, { 0, 1 }, { 0, 2 }, 16, 8);
   checkBackward(q, perturbed(q.initial(), 9, 0.05), 10, kPrimitiveStep, kPrimitiveRelTol);
+}
+
+TEST(TransferParameterisation, OpacityFloorHoldsTheAirTransparentAndPullsBackTheRest)
+{
+  // free bins over [0, 100] under a floor at 30: entries at 0 .. 28.6 (b < 5 of 15) transparent
+  const std::array<double, 2> range{ 0, 100 };
+  OpacityFloor floor(std::make_unique<FreeBins>(FreeBins::oneD(15, range, 0.0)), 15, range, 30.0);
+  const auto theta = perturbed(floor.initial(), 3, 0.5);
+  std::vector<double> values;
+  floor.forward(theta, values);
+  ASSERT_EQ(values.size(), 60u);
+  for (int b = 0; b < 15; ++b)
+    if (b * 100.0 / 14 < 30.0)
+      EXPECT_EQ(values[static_cast<size_t>(4 * b + 3)], 0.0) << "entry " << b;
+    else
+      EXPECT_GT(values[static_cast<size_t>(4 * b + 3)], 0.0) << "entry " << b;
+  checkBackward(floor, theta, 11);
+  // and over Gaussian primitives (their rasterization in float)
+  OpacityFloor primitives(std::make_unique<GaussianPrimitiveParameters>(
+                            3, false, range, std::array<double, 2>{ 0, 1 }, 32, 1),
+    32, range, 30.0);
+  checkBackward(
+    primitives, perturbed(primitives.initial(), 5, 0.3), 13, kPrimitiveStep, kPrimitiveRelTol);
+  // a table of another size than its bins is refused
+  OpacityFloor wrong(std::make_unique<FreeBins>(FreeBins::oneD(15, range, 0.0)), 16, range, 30.0);
+  EXPECT_THROW(wrong.forward(theta, values), Error);
 }
