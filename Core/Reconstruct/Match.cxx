@@ -290,11 +290,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
           if (mr.area < 4)
             continue;
           const double scale = std::sqrt(mt.area / mr.area);
-          std::vector<double> rhos{ mt.angle - mr.angle, mt.angle - mr.angle + M_PI };
-          if (mt.anisotropy < 1.3 || mr.anisotropy < 1.3)
-            for (int k = 0; k < 12; ++k)
-              rhos.push_back(k * M_PI / 6);
-          for (double rho : rhos)
+          for (double rho : alignmentTurns(mt, mr))
           {
             const double iou =
               similarityIoU(target, care, rendered, mr.cx, mr.cy, mt.cx, mt.cy, rho, scale);

@@ -252,6 +252,15 @@ double similarityIoU(const Mask& target, const Mask& care, const Mask& rendered,
   return uni ? static_cast<double>(inter) / uni : 0.0;
 }
 
+std::vector<double> alignmentTurns(const Moments& mt, const Moments& mr)
+{
+  std::vector<double> rhos{ mt.angle - mr.angle, mt.angle - mr.angle + M_PI };
+  if (mt.anisotropy < 1.3 || mr.anisotropy < 1.3)
+    for (int k = 0; k < 12; ++k)
+      rhos.push_back(k * M_PI / 6);
+  return rhos;
+}
+
 double maskIoU(const Mask& target, const Mask& care, const Mask& rendered)
 {
   long inter = 0, uni = 0;

@@ -72,6 +72,10 @@ Moments moments(const Mask& m, const Mask* care = nullptr);
 /// to the target's ct, rotated by rho (pixel coordinates, y down) and scaled.
 double similarityIoU(const Mask& target, const Mask& care, const Mask& rendered, double cr_x,
   double cr_y, double ct_x, double ct_y, double rho, double scale);
+/// The image-plane turns (radians) that may align a rendered silhouette `mr` with a target
+/// `mt`: their principal axes either way, and every 30 degrees when either is round (anisotropy
+/// under 1.3).
+std::vector<double> alignmentTurns(const Moments& mt, const Moments& mr);
 /// IoU of two masks over the pixels `care` keeps.
 double maskIoU(const Mask& target, const Mask& care, const Mask& rendered);
 

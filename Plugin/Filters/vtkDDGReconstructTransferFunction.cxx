@@ -96,6 +96,19 @@ void addString(vtkFieldData* fd, const char* name, const std::string& value)
   fd->AddArray(s);
 }
 
+/// "Iterations" and "Converged" of a fit.
+void addFitFigures(vtkFieldData* fd, const ddg::ReconstructionResult& fit)
+{
+  auto iterations = vtkSmartPointer<vtkIntArray>::New();
+  iterations->SetName("Iterations");
+  iterations->InsertNextValue(fit.iterations);
+  fd->AddArray(iterations);
+  auto converged = vtkSmartPointer<vtkIntArray>::New();
+  converged->SetName("Converged");
+  converged->InsertNextValue(fit.converged ? 1 : 0);
+  fd->AddArray(converged);
+}
+
 void addBackground(vtkFieldData* fd, const ddg::View& view)
 {
   auto a = vtkSmartPointer<vtkDoubleArray>::New();
@@ -234,14 +247,7 @@ void vtkDDGReconstructTransferFunction::Execute(
   const std::string json = writeTable(output, result, volume, target.view,
     presetName(input, array, "reconstruction", this->OutputFile));
   addBackground(output->GetFieldData(), target.view);
-  auto info = vtkSmartPointer<vtkIntArray>::New();
-  info->SetName("Iterations");
-  info->InsertNextValue(result.iterations);
-  output->GetFieldData()->AddArray(info);
-  auto converged = vtkSmartPointer<vtkIntArray>::New();
-  converged->SetName("Converged");
-  converged->InsertNextValue(result.converged ? 1 : 0);
-  output->GetFieldData()->AddArray(converged);
+  addFitFigures(output->GetFieldData(), result);
   if (!this->OutputFile.empty())
     ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
 }
@@ -286,6 +292,15 @@ ddg::Image overBackground(const ddg::Image& rgba, const ddg::View& view)
                           : ddg::compositeOverBackground(rgba, view.background);
 }
 
+/// The target picture (base64 data or a file), grey and grey-alpha made RGB and RGBA.
+ddg::Image pictureOf(const std::string& data, const std::string& file)
+{
+  ddg::Image picture = ddg::filterImage(data, file, "TargetImage");
+  if (picture.channels == 1 || picture.channels == 2)
+    picture = ddg::toChannels(picture, picture.channels == 2 ? 4 : 3);
+  return picture;
+}
+
 /// The part {x, y, width, height} of an image (the whole image when the part is empty).
 ddg::Image cropped(const ddg::Image& image, const std::array<int, 4>& crop)
 {
@@ -305,10 +320,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   this->Preview = nullptr;
-  ddg::Image picture =
-    ddg::filterImage(this->TargetImageData, this->TargetImageFile, "TargetImage");
-  if (picture.channels == 1 || picture.channels == 2)
-    picture = ddg::toChannels(picture, picture.channels == 2 ? 4 : 3);
+  const ddg::Image picture = pictureOf(this->TargetImageData, this->TargetImageFile);
   const ddg::Volume volume = ddg::toCoreVolume(input, array);
   const ddg::DifferentiableRenderer renderer(volume);
 
@@ -397,14 +409,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   addNumbers(fd, "Pan", { result.pan[0], result.pan[1] });
   addNumbers(fd, "Timings",
     { result.backgroundSeconds, result.cameraSeconds, result.fitSeconds, result.seconds });
-  auto iterations = vtkSmartPointer<vtkIntArray>::New();
-  iterations->SetName("Iterations");
-  iterations->InsertNextValue(result.tf.iterations);
-  fd->AddArray(iterations);
-  auto converged = vtkSmartPointer<vtkIntArray>::New();
-  converged->SetName("Converged");
-  converged->InsertNextValue(result.tf.converged ? 1 : 0);
-  fd->AddArray(converged);
+  addFitFigures(fd, result.tf);
 
   // before / after at the found view, and port 1: the render and the masks
   // the part of the picture matched (inside a letterbox): the view and the masks are its size
@@ -440,10 +445,7 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   this->Preview = nullptr;
-  ddg::Image picture =
-    ddg::filterImage(this->TargetImageData, this->TargetImageFile, "TargetImage");
-  if (picture.channels == 1 || picture.channels == 2)
-    picture = ddg::toChannels(picture, picture.channels == 2 ? 4 : 3);
+  const ddg::Image picture = pictureOf(this->TargetImageData, this->TargetImageFile);
   const ddg::Volume volume = ddg::toCoreVolume(input, array);
   const ddg::DifferentiableRenderer renderer(volume);
   ddg::CarryLookOptions opt;
@@ -498,14 +500,7 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   addNumbers(fd, "ShapeAgreement", { result.shapeAgreement, result.shapesAgree ? 1.0 : 0.0 });
   addNumbers(fd, "OverlayShare", { result.overlayShare });
   addNumbers(fd, "Timings", { result.seconds });
-  auto iterations = vtkSmartPointer<vtkIntArray>::New();
-  iterations->SetName("Iterations");
-  iterations->InsertNextValue(result.fit.iterations);
-  fd->AddArray(iterations);
-  auto converged = vtkSmartPointer<vtkIntArray>::New();
-  converged->SetName("Converged");
-  converged->InsertNextValue(result.fit.converged ? 1 : 0);
-  fd->AddArray(converged);
+  addFitFigures(fd, result.fit);
   // port 1: the TF as it is applied (ParaView's table of the preset's nodes) at the view
   addImageArray(vtkImageData::GetData(outputVector, 1),
     overBackground(caster.render(caster.paraviewTable(ddg::parsePreset(json)), view), view),
