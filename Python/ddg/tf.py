@@ -77,6 +77,21 @@ def reconstruct(
     return _first_tf(json.loads(text))
 
 
+def _fit_picture(proxy, label, result):
+    """Runs a Reconstruct Transfer Function proxy set up for a picture; returns
+    ``result(table, images)``; DDGError names ``label``. The picture is dropped from the proxy."""
+    try:
+        _run(proxy)
+        table = servermanager.Fetch(proxy, idx=0)
+        if not _tf_text(table):
+            raise DDGError("no transfer function (see the Output Messages)")
+        return result(table, servermanager.Fetch(proxy, idx=1))
+    except DDGError as e:
+        raise DDGError("%s: %s" % (label, e)) from None
+    finally:
+        proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
+
+
 class Match:
     """What ``match`` found for a picture.
 
@@ -217,16 +232,7 @@ def match(
     if minimum_overlap is not None:
         props["MinimumOverlap"] = float(minimum_overlap)
     proxy = _proxy("DDGReconstructTransferFunction", source, **props)
-    try:
-        _run(proxy)
-        table = servermanager.Fetch(proxy, idx=0)
-        if not _tf_text(table):
-            raise DDGError("no transfer function (see the Output Messages)")
-        return Match(table, servermanager.Fetch(proxy, idx=1))
-    except DDGError as e:
-        raise DDGError("match: %s" % e) from None
-    finally:
-        proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
+    return _fit_picture(proxy, "match", Match)
 
 
 class CarriedLook:
@@ -304,16 +310,7 @@ def carry_look(image, source=None):
         CarryLook=1,
         TargetImageData=_image_text(image),
     )
-    try:
-        _run(proxy)
-        table = servermanager.Fetch(proxy, idx=0)
-        if not _tf_text(table):
-            raise DDGError("no transfer function (see the Output Messages)")
-        return CarriedLook(table, servermanager.Fetch(proxy, idx=1))
-    except DDGError as e:
-        raise DDGError("carry_look: %s" % e) from None
-    finally:
-        proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
+    return _fit_picture(proxy, "carry_look", CarriedLook)
 
 
 def paraview_2d(tf, source=None, view=None):

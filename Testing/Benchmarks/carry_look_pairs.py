@@ -43,7 +43,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..", "..")
 sys.path.insert(0, os.path.join(HERE, "..", "Suite"))
 sys.path.insert(0, os.path.join(ROOT, "scripts"))
-from make_suite import JPEG_QUALITY, draw_camera  # noqa: E402
+from make_suite import JPEG_QUALITY, draw_camera, place_camera  # noqa: E402
 from score import canonical_renders, score_renders  # noqa: E402
 from suite_paraview import VolumeScene, use_default_palette  # noqa: E402
 
@@ -146,10 +146,7 @@ def picture(volume, preset, spec, path):
     scene = VolumeScene(volume, spec["size"], gui_look=True)
     try:
         scene.apply(preset)
-        cam = scene.orbit(moves["azimuth"], moves["elevation"])
-        cam.Roll(moves["roll"])
-        scene.pan(*moves["pan"])
-        cam.Dolly(moves["zoom"])
+        place_camera(scene, moves)
         options = {"Quality": JPEG_QUALITY} if spec["format"] == "jpg" else {}
         scene.screenshot(path, **options)
     finally:

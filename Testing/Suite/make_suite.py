@@ -49,6 +49,14 @@ def draw_camera(seed):
     }
 
 
+def place_camera(scene, moves):
+    """The scene's camera moved from ParaView's reset camera by draw_camera's moves."""
+    cam = scene.orbit(moves["azimuth"], moves["elevation"])
+    cam.Roll(moves["roll"])
+    scene.pan(*moves["pan"])
+    cam.Dolly(moves["zoom"])
+
+
 def load_cases(path, names=None):
     with open(path) as f:
         cases = json.load(f)["cases"]
@@ -73,10 +81,7 @@ def make_case(case, data_dir, out_dir):
     scene = VolumeScene(volume, case["size"], gui_look=True, lighting=case.get("lighting"))
     try:
         scene.apply(preset)
-        cam = scene.orbit(moves["azimuth"], moves["elevation"])
-        cam.Roll(moves["roll"])
-        scene.pan(*moves["pan"])
-        cam.Dolly(moves["zoom"])
+        place_camera(scene, moves)
         image = os.path.join(case_dir, "screenshot." + case["format"])
         options = {"Quality": JPEG_QUALITY} if case["format"] == "jpg" else {}
         scene.screenshot(image, **options)
