@@ -64,7 +64,6 @@ BoxCorners::BoxCorners(const Volume& volume, int dimensions, double opacityUnitD
 {
   const auto& n = volume.dims();
   const auto& sp = volume.spacing();
-  const auto& values = volume.values();
   std::vector<float> gradient;
   if (dimensions == 2)
   {
@@ -86,7 +85,7 @@ BoxCorners::BoxCorners(const Volume& volume, int dimensions, double opacityUnitD
           const int x = (c & 1) ? n[0] - 1 - i : i, y = (c & 2) ? n[1] - 1 - j : j,
                     z = (c & 4) ? n[2] - 1 - k : k;
           const size_t at = (static_cast<size_t>(z) * n[1] + y) * n[0] + x;
-          Values[c].push_back(values[at]);
+          Values[c].push_back(volume.value(static_cast<std::int64_t>(at)));
           if (dimensions == 2)
             Gradients[c].push_back(gradient[at]);
         }

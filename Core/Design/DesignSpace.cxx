@@ -42,10 +42,15 @@ ValueHistogram valueHistogram(const Volume& volume)
   auto& smooth = vh.smooth;
   hist.assign(kBins, 0.0);
   smooth.assign(kBins, 0.0);
-  for (float v : volume.values())
-  {
-    hist[std::clamp(static_cast<int>((v - range[0]) / vh.width), 0, kBins - 1)] += 1.0;
-  }
+  volume.visit(
+    [&](const auto* p)
+    {
+      for (std::int64_t i = 0; i < volume.voxelCount(); ++i)
+      {
+        const float v = static_cast<float>(p[i]);
+        hist[std::clamp(static_cast<int>((v - range[0]) / vh.width), 0, kBins - 1)] += 1.0;
+      }
+    });
   const double total = static_cast<double>(volume.voxelCount());
   // log scale (small features matter), noise floor, smoothing
   std::vector<double> h(kBins);
@@ -159,7 +164,6 @@ std::vector<FeatureRegion> findFeatureRegions2D(
   const ValueHistogram vh = valueHistogram(volume);
   const double airCut = range[0] + vh.start * vh.width;
   const auto grad = volume.gradientMagnitude();
-  const auto& values = volume.values();
   // gradient axis up to the 99.5th percentile (a few extreme voxels would squeeze the rest)
   std::vector<float> sorted(grad);
   const size_t q = std::min(sorted.size() - 1, static_cast<size_t>(0.995 * sorted.size()));
@@ -168,11 +172,12 @@ std::vector<FeatureRegion> findFeatureRegions2D(
   const double dv = (range[1] - range[0]) / V, dg = gmax / G;
   std::vector<double> hist(V * G, 0.0);
   double nonAir = 0;
-  for (size_t i = 0; i < values.size(); ++i)
+  for (size_t i = 0; i < grad.size(); ++i)
   {
-    if (values[i] < airCut)
+    const float value = volume.value(static_cast<std::int64_t>(i));
+    if (value < airCut)
       continue;
-    const int a = std::clamp(static_cast<int>((values[i] - range[0]) / dv), 0, V - 1);
+    const int a = std::clamp(static_cast<int>((value - range[0]) / dv), 0, V - 1);
     const int b = std::clamp(static_cast<int>(grad[i] / dg), 0, G - 1);
     hist[b * V + a] += 1.0;
     nonAir += 1.0;
@@ -611,16 +616,21 @@ std::vector<GaussianPrimitive> auxiliaryPrimitives(
 std::string volumeFingerprint(const Volume& volume)
 {
   std::uint64_t h = 1469598103934665603ull;
-  for (float v : volume.values())
-  {
-    std::uint32_t bits;
-    std::memcpy(&bits, &v, 4);
-    for (int b = 0; b < 4; ++b)
+  volume.visit(
+    [&](const auto* p)
     {
-      h ^= (bits >> (8 * b)) & 0xFF;
-      h *= 1099511628211ull;
-    }
-  }
+      for (std::int64_t i = 0; i < volume.voxelCount(); ++i)
+      {
+        const float v = static_cast<float>(p[i]); // the hash of the float values, as ever
+        std::uint32_t bits;
+        std::memcpy(&bits, &v, 4);
+        for (int q = 0; q < 4; ++q)
+        {
+          h ^= (bits >> (8 * q)) & 0xFF;
+          h *= 1099511628211ull;
+        }
+      }
+    });
   const auto& d = volume.dims();
   const auto& s = volume.spacing();
   char buf[256];

@@ -66,13 +66,12 @@ OutlineCheck checkOutline(
   if (dims == 1)
   {
     const auto& n = volume.dims();
-    const auto& values = volume.values();
     std::vector<float> faces;
     for (int k = 0; k < n[2]; ++k)
       for (int j = 0; j < n[1]; ++j)
         for (int i = 0; i < n[0]; ++i)
           if (i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1)
-            faces.push_back(values[(static_cast<size_t>(k) * n[1] + j) * n[0] + i]);
+            faces.push_back(volume.at(i, j, k));
     const auto range = volume.range();
     for (const auto& tf : tfs)
     {

@@ -299,87 +299,41 @@ template <typename S>
 struct DifferentiableRendererT<S>::Internals
 {
   RayCaster Caster;
-  // The scalars in the smallest type that holds the original exactly (as RayCaster does):
-  // a quarter of the memory traffic for 8-bit volumes.
-  ScalarType Type = ScalarType::Float32;
-  std::vector<std::uint8_t> U8;
-  std::vector<std::int8_t> I8;
-  std::vector<std::uint16_t> U16;
-  std::vector<std::int16_t> I16;
+  GradientStencil Stencil; // Shade and 2D: the gradient at a sample, from the scalars
   double TextureScale = 1;
 
   explicit Internals(const Volume& v)
     : Caster(v)
+    , Stencil(GradientStencil::of(v))
+    , TextureScale(RayCaster::textureScale(v.originalType()))
   {
-    const auto& vol = Caster.volume();
-    Type = vol.originalType();
-    auto copy = [&](auto& out)
-    {
-      out.resize(vol.values().size());
-      std::transform(vol.values().begin(), vol.values().end(), out.begin(),
-        [](float x) { return static_cast<typename std::decay_t<decltype(out)>::value_type>(x); });
-    };
-    switch (Type)
-    {
-      case ScalarType::UInt8:
-        copy(U8);
-        break;
-      case ScalarType::Int8:
-        copy(I8);
-        break;
-      case ScalarType::UInt16:
-        copy(U16);
-        break;
-      case ScalarType::Int16:
-        copy(I16);
-        break;
-      default:
-        break;
-    }
-    TextureScale = RayCaster::textureScale(vol.originalType());
   }
 
-  // Calls f(sampler) with a FieldSampler over the values in their compact type.
+  // Calls f(sampler) with a FieldSampler over the volume's scalars in their own type (shared
+  // with the Volume and the RayCaster: no copy).
   template <typename F>
   void withValues(F&& f) const
   {
     const auto& d = Caster.volume().dims();
-    auto run = [&](const auto* data)
-    {
-      using T = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
-      f(FieldSampler<S, T>{ data, d[0], d[1], d[2] });
-    };
-    switch (Type)
-    {
-      case ScalarType::UInt8:
-        run(U8.data());
-        break;
-      case ScalarType::Int8:
-        run(I8.data());
-        break;
-      case ScalarType::UInt16:
-        run(U16.data());
-        break;
-      case ScalarType::Int16:
-        run(I16.data());
-        break;
-      default:
-        run(Caster.volume().values().data());
-        break;
-    }
+    Caster.volume().visit(
+      [&](const auto* data)
+      {
+        using T = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
+        f(FieldSampler<S, T>{ data, d[0], d[1], d[2] });
+      });
   }
 
   // The 2D transfer function's gradient axis of kBatch samples e + (k0 + l) st (index
-  // coordinates): transferGradient of the per-point gradients interpolated there.
-  void sampleTransferGradients(const float* g, const S e[3], const S st[3], S k0, S* out) const
+  // coordinates): transferGradient of the gradient there (GradientStencil over the scalars v).
+  template <typename T>
+  void sampleTransferGradients(const T* v, const S e[3], const S st[3], S k0, S* out) const
   {
-    const auto& n = Caster.volume().dims();
     for (int l = 0; l < FieldSampler<S>::kBatch; ++l)
     {
       const S kk = k0 + static_cast<S>(l);
       const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
       S grad[3];
-      interpolateGradient(g, n, x, grad);
+      Stencil.at(v, x, grad);
       out[l] = transferGradient(grad);
     }
   }
@@ -391,7 +345,6 @@ struct DifferentiableRendererT<S>::Internals
     bool clampLit = true; // 1D: ParaView clamps the lit colour; 2D: it does not
     LightKit kit;
     LightingFrame frame;
-    const float* gradients = nullptr; // RayCaster::lightingGradients (Shade on, or 2D)
     Eigen::Vector3d boxMin, boxMax, origin, spacing;
     double d = 1, unit = 1, offset = 0.5;
     S termination = S(1) - S(1) / S(255);
@@ -422,8 +375,6 @@ struct DifferentiableRendererT<S>::Internals
       s.kit = LightKit::paraview(view.lighting);
       s.frame = LightingFrame::of(vol, view);
     }
-    if (view.lighting.shade || twoD)
-      s.gradients = Caster.lightingGradients().data();
     s.clampLit = !twoD;
     if (!(s.offset >= 0 && s.offset <= 1) || !(s.d > 0) || !std::isfinite(s.d))
     {
@@ -463,12 +414,13 @@ struct DifferentiableRendererT<S>::Internals
   // Shade on: the lit colour of sample kk (in steps) of the ray e + kk st, from its table colour
   // c, clamped to [0, 1] in 1D (ParaView clamps it there, not in 2D); with dLit, also
   // d(lit)/d(c) per channel (0 where the clamp cuts, or black).
-  void lightColour(const Setup& s, const S e[3], const S st[3], S kk, const S c[4], double col[3],
-    double* dLit) const
+  template <typename T>
+  void lightColour(const Setup& s, const T* v, const S e[3], const S st[3], S kk, const S c[4],
+    double col[3], double* dLit) const
   {
     const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
     S grad[3], diff[3], spec[3], lit[3];
-    interpolateGradient(s.gradients, Caster.volume().dims(), x, grad);
+    Stencil.at(v, x, grad);
     if (!sampleLightSums(s.kit, s.frame, grad, x, diff, spec))
     {
       for (int ch = 0; ch < 3; ++ch)
@@ -545,7 +497,7 @@ struct DifferentiableRendererT<S>::Internals
               Values.sampleBatch(e, st, kk0, value);
               if constexpr (TwoD)
               {
-                sampleTransferGradients(s.gradients, e, st, kk0, gradient);
+                sampleTransferGradients(Values.v, e, st, kk0, gradient);
               }
               const int n = static_cast<int>(
                 std::min<std::int64_t>(FieldSampler<S>::kBatch, seg.kLast + 1 - k0));
@@ -570,7 +522,8 @@ struct DifferentiableRendererT<S>::Internals
                 {
                   double col[3] = { c[0], c[1], c[2] };
                   if (s.lit)
-                    lightColour(s, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, nullptr);
+                    lightColour(
+                      s, Values.v, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, nullptr);
                   adjoint::blend(C, A, col, static_cast<double>(c[3]));
                   if (A > static_cast<double>(s.termination))
                   {
@@ -654,7 +607,8 @@ struct DifferentiableRendererT<S>::Internals
               double col[3] = { c[0], c[1], c[2] };
               double dLit[3] = { 1, 1, 1 }; // d(lit colour) / d(table colour), per channel
               if (s.lit && a > 0)
-                lightColour(s, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, dLit);
+                lightColour(
+                  s, Values.v, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, dLit);
               double g_c[3] = { 0, 0, 0 }, g_a = 0;
               adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
               for (int ch = 0; ch < 3; ++ch)
@@ -686,7 +640,7 @@ struct DifferentiableRendererT<S>::Internals
               Values.sampleBatch(e, st, kk0, value);
               if constexpr (TwoD)
               {
-                sampleTransferGradients(s.gradients, e, st, kk0, gradient);
+                sampleTransferGradients(Values.v, e, st, kk0, gradient);
               }
               for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= 0;
                    --l)

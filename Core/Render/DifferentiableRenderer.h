@@ -47,7 +47,7 @@ namespace ddg
 /// the lighting depends on the volume's gradient and the camera, not on the table, so the
 /// backward pass scales the colour gradient by Diffuse x the sample's diffuse light sum (0 where
 /// the 1D clamp cuts or no light reaches), recomputed in the replay from the per-point gradients
-/// (RayCaster::lightingGradients).
+/// (GradientStencil, Render/Lighting.h).
 ///
 /// Tables: `table` is a dense RGBA table of `width` entries over [min, max] in data values, with
 /// UNCORRECTED opacity and ParaView's lookup convention (TransferTable1D). Gradients are with

@@ -84,6 +84,17 @@ LightingFrame LightingFrame::of(const Volume& vol, const View& view)
   return f;
 }
 
+GradientStencil GradientStencil::of(const Volume& vol)
+{
+  GradientStencil g;
+  for (int a = 0; a < 3; ++a)
+  {
+    g.n[a] = vol.dims()[a];
+    g.scale[a] = g.n[a] > 1 ? static_cast<double>(g.n[a]) / ((g.n[a] - 1) * vol.spacing()[a]) : 0.0;
+  }
+  return g;
+}
+
 // The gradient ParaView's shader computes (for lighting and the 2D TF's gradient axis), per point:
 // the central difference (clamped at the faces, as the texture is) times N/(N-1) — the shader's
 // offset of one cell in texture coordinates is N/(N-1) voxels — divided by the spacing.
@@ -92,36 +103,23 @@ LightingFrame LightingFrame::of(const Volume& vol, const View& view)
 std::vector<float> lightingGradients(const Volume& vol)
 {
   const auto& d = vol.dims();
-  const auto& sp = vol.spacing();
-  const auto& v = vol.values();
   const int nx = d[0], ny = d[1], nz = d[2];
-  double scale[3];
-  for (int a = 0; a < 3; ++a)
-    scale[a] = static_cast<double>(d[a]) / ((d[a] - 1) * sp[a]);
-  std::vector<float> g(v.size() * 3);
-  parallelFor(nz, 0,
-    [&](std::int64_t k64, int)
+  const GradientStencil stencil = GradientStencil::of(vol);
+  std::vector<float> g(static_cast<size_t>(vol.voxelCount()) * 3);
+  vol.visit(
+    [&](const auto* v)
     {
-      const int k = static_cast<int>(k64);
-      const int k0 = std::max(k - 1, 0), k1 = std::min(k + 1, nz - 1);
-      for (int j = 0; j < ny; ++j)
-      {
-        const int j0 = std::max(j - 1, 0), j1 = std::min(j + 1, ny - 1);
-        for (int i = 0; i < nx; ++i)
+      parallelFor(nz, 0,
+        [&](std::int64_t k64, int)
         {
-          const int i0 = std::max(i - 1, 0), i1 = std::min(i + 1, nx - 1);
-          auto at = [&](int x, int y, int z)
-          {
-            return static_cast<double>(v[static_cast<size_t>(x) +
-              static_cast<size_t>(nx) * (y + static_cast<size_t>(ny) * z)]);
-          };
-          float* o = &g[3 *
-            (static_cast<size_t>(i) + static_cast<size_t>(nx) * (j + static_cast<size_t>(ny) * k))];
-          o[0] = static_cast<float>((at(i1, j, k) - at(i0, j, k)) * scale[0]);
-          o[1] = static_cast<float>((at(i, j1, k) - at(i, j0, k)) * scale[1]);
-          o[2] = static_cast<float>((at(i, j, k1) - at(i, j, k0)) * scale[2]);
-        }
-      }
+          const int k = static_cast<int>(k64);
+          for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i)
+              stencil.atPoint(v, i, j, k,
+                &g[3 *
+                  (static_cast<size_t>(i) +
+                    static_cast<size_t>(nx) * (j + static_cast<size_t>(ny) * k))]);
+        });
     });
   return g;
 }

@@ -6,10 +6,12 @@
 
 #include "Render/Adjoint.h"
 #include "Render/View.h"
+#include "Volume/Volume.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <type_traits>
 #include <vector>
 
@@ -49,9 +51,135 @@ struct LightKit
 
 /// ParaView's gradient per point, x, y, z interleaved (12 bytes per point): the central
 /// difference (clamped at the faces, as the texture is) times N/(N-1) — the shader's offset of
-/// one cell in texture coordinates is N/(N-1) voxels — over the spacing; interpolated at a
-/// sample by interpolateGradient. RayCaster::lightingGradients computes it once per volume.
+/// one cell in texture coordinates is N/(N-1) voxels — over the spacing. The reference the
+/// renderers' GradientStencil is checked against (they keep no per-point buffer).
 std::vector<float> lightingGradients(const Volume& vol);
+
+/// ParaView's gradient at a sample for Shade and the 2D TF's gradient axis: lightingGradients'
+/// per-point gradients interpolated trilinearly there, computed from the scalars around the
+/// sample's cell (its 8 corners and the 24 points beside them) instead of a per-point buffer —
+/// the same numbers with no memory per voxel.
+struct GradientStencil
+{
+  std::array<int, 3> n{ 2, 2, 2 };
+  double scale[3] = { 1, 1, 1 }; ///< N/(N-1) / spacing per axis
+
+  static GradientStencil of(const Volume& vol);
+
+  /// The differences of the scalars v (x fastest) along each axis at the 8 corners of the cell
+  /// whose first corner is point (i, j, k) (0 <= i <= nx - 2, ...): d[a][x + 2 y + 4 z], the
+  /// per-point gradients before scaling.
+  template <typename S, typename T>
+  void corners(const T* v, int i, int j, int k, S d[3][8]) const
+  {
+    const std::int64_t sy = n[0], sz = static_cast<std::int64_t>(n[0]) * n[1];
+    const T* p = v + i + sy * j + sz * k;
+    // the points before the cell (clamped at the faces) and after it, as offsets from p
+    const std::int64_t bx = i > 0 ? 1 : 0, ax = i + 2 < n[0] ? 2 : 1;
+    const std::int64_t by = j > 0 ? sy : 0, ay = j + 2 < n[1] ? 2 * sy : sy;
+    const std::int64_t bz = k > 0 ? sz : 0, az = k + 2 < n[2] ? 2 * sz : sz;
+    // a - b: exact in int for 8/16-bit scalars (one conversion), in S for float ones
+    auto D = [](T a, T b)
+    {
+      if constexpr (std::is_integral_v<T>)
+        return static_cast<S>(static_cast<int>(a) - static_cast<int>(b));
+      else
+        return static_cast<S>(a) - static_cast<S>(b);
+    };
+    for (int r = 0; r < 4; ++r) // x: the cell's four rows along x
+    {
+      const T* q = p + ((r & 1) ? sy : 0) + ((r & 2) ? sz : 0);
+      d[0][2 * r] = D(q[1], q[-bx]);
+      d[0][2 * r + 1] = D(q[ax], q[0]);
+    }
+    for (int r = 0; r < 4; ++r) // y: its four columns along y
+    {
+      const int x = r & 1, z = r >> 1;
+      const T* q = p + x + (z ? sz : 0);
+      d[1][x + 4 * z] = D(q[sy], q[-by]);
+      d[1][x + 2 + 4 * z] = D(q[ay], q[0]);
+    }
+    for (int r = 0; r < 4; ++r) // z: its four pillars along z
+    {
+      const T* q = p + r % 2 + (r / 2) * sy;
+      d[2][r] = D(q[sz], q[-bz]);
+      d[2][r + 4] = D(q[az], q[0]);
+    }
+  }
+
+  /// The gradient at weights fx, fy, fz in a cell from its corners' differences: per axis, the
+  /// differences interpolated, then scaled (the sum of interpolating the scaled per-point
+  /// gradients, up to rounding).
+  template <typename S>
+  void interpolate(const S d[3][8], S fx, S fy, S fz, S out[3]) const
+  {
+    for (int a = 0; a < 3; ++a)
+      out[a] = static_cast<S>(scale[a]) * adjoint::trilinear(d[a], fx, fy, fz);
+  }
+
+  /// The gradient in the cell whose first corner is point (i, j, k) at weights fx, fy, fz.
+  template <typename S, typename T>
+  void inCell(const T* v, int i, int j, int k, S fx, S fy, S fz, S out[3]) const
+  {
+    S d[3][8];
+    corners(v, i, j, k, d);
+    interpolate(d, fx, fy, fz, out);
+  }
+
+  /// The last cell's corner differences, kept while a ray's samples stay in one cell (about two
+  /// samples per cell at ParaView's half-voxel step).
+  template <typename S>
+  struct Cell
+  {
+    std::int64_t id = -1; ///< flat index of the first corner (-1: none yet)
+    S d[3][8]{};
+  };
+
+  /// inCell through `cell`: the differences recomputed only when the cell (flat index `id` of
+  /// point (i, j, k)) changes.
+  template <typename S, typename T>
+  void inCell(const T* v, int i, int j, int k, std::int64_t id, S fx, S fy, S fz, Cell<S>& cell,
+    S out[3]) const
+  {
+    if (cell.id != id)
+    {
+      corners(v, i, j, k, cell.d);
+      cell.id = id;
+    }
+    interpolate(cell.d, fx, fy, fz, out);
+  }
+
+  /// The gradient at index coordinates x (clamped to the grid as the scalar is).
+  template <typename S, typename T>
+  void at(const T* v, const S x[3], S out[3]) const
+  {
+    int i[3];
+    S f[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const S c = std::clamp(x[a], S(0), static_cast<S>(n[a] - 1));
+      i[a] = std::min(static_cast<int>(c), n[a] - 2);
+      f[a] = c - static_cast<S>(i[a]);
+    }
+    inCell(v, i[0], i[1], i[2], f[0], f[1], f[2], out);
+  }
+
+  /// The per-point gradient of point (i, j, k) (lightingGradients' entry).
+  template <typename T>
+  void atPoint(const T* v, int i, int j, int k, float out[3]) const
+  {
+    const std::int64_t sy = n[0], sz = static_cast<std::int64_t>(n[0]) * n[1];
+    const std::int64_t stride[3] = { 1, sy, sz };
+    const int at[3] = { i, j, k };
+    const T* p = v + i + sy * j + sz * k;
+    for (int a = 0; a < 3; ++a)
+    {
+      const std::int64_t back = at[a] > 0 ? stride[a] : 0, fwd = at[a] + 1 < n[a] ? stride[a] : 0;
+      out[a] = static_cast<float>(
+        (static_cast<double>(p[fwd]) - static_cast<double>(p[-back])) * scale[a]);
+    }
+  }
+};
 
 /// The maps of one render from a sample's index coordinates c to VTK's eye-space normal
 /// direction m = normalMap g (g the per-point gradient interpolated there) and eye-space position
@@ -175,34 +303,6 @@ void litColour(const LightKit& kit, const S diff[3], const S spec[3], const S rg
       static_cast<S>(kit.diffuse) * diff[a] * rgb[a] + static_cast<S>(kit.specular) * spec[a];
 }
 
-/// The per-point gradient (RayCaster::lightingGradients: ParaView's central difference over
-/// N/(N-1) voxels per axis, over the spacing) interpolated trilinearly at index coordinates x,
-/// clamped to the grid as the scalar is. For fields linear over the two cells either side this
-/// is the shader's difference of two interpolated values; otherwise it differs by O(1/N).
-template <typename S>
-void interpolateGradient(const float* g, const std::array<int, 3>& n, const S x[3], S grad[3])
-{
-  int i[3];
-  S f[3];
-  for (int a = 0; a < 3; ++a)
-  {
-    const S c = std::clamp(x[a], S(0), static_cast<S>(n[a] - 1));
-    i[a] = std::min(static_cast<int>(c), n[a] - 2);
-    f[a] = c - static_cast<S>(i[a]);
-  }
-  const size_t sy = 3 * static_cast<size_t>(n[0]), sz = sy * n[1];
-  const float* p = g +
-    3 *
-      (static_cast<size_t>(i[0]) +
-        static_cast<size_t>(n[0]) * (i[1] + static_cast<size_t>(n[1]) * i[2]));
-  for (int a = 0; a < 3; ++a)
-  {
-    const S c[8] = { p[a], p[3 + a], p[sy + a], p[sy + 3 + a], p[sz + a], p[sz + 3 + a],
-      p[sz + sy + a], p[sz + sy + 3 + a] };
-    grad[a] = adjoint::trilinear(c, f[0], f[1], f[2]);
-  }
-}
-
 /// The gradient axis of 2D transfer functions at a sample, from its interpolated gradient g:
 /// G = |g| / 2, the magnitude ParaView's 2D shader computes divided by the mean spacing
 /// (it looks up |d|, d_k = (F(x + N/(N-1) e_k) - F(x - N/(N-1) e_k)) avgS / (2 s_k)), so that
@@ -215,7 +315,7 @@ S transferGradient(const S g[3])
 
 // Shade on: the light sums of the sample at index coordinates x (diffuse multiplies the table
 // colour, specular adds; Render/Lighting.h), from the per-point gradient interpolated there
-// (interpolateGradient). False: no light reaches (zero gradient), the sample is black.
+// (GradientStencil). False: no light reaches (zero gradient), the sample is black.
 template <typename S>
 bool sampleLightSums(const LightKit& kit, const LightingFrame& frame, const S grad[3], const S x[3],
   S diff[3], S spec[3])

@@ -24,55 +24,66 @@ constexpr int kBlock = 8; // cells per block side for empty-space skipping
 constexpr int kSuper = 4; // blocks per superblock side (coarse skipping level)
 constexpr int kTile = 16; // pixels per tile side (unit of parallel work)
 
-// Volume prepared for the march: the scalars in their own (compact) type T, x fastest, and
-// per-block min/max for empty-space skipping. Block b covers cells [8b, 8b + 8), i.e. points
-// 8b .. 8b + 8, so a sample in the block only reads points inside the block's min/max.
+// Min and max of value(index, i, j, k) over the points of every block (block b covers cells
+// [8b, 8b + 8), i.e. points 8b .. 8b + 8): bx x by x bz blocks, x fastest.
+template <typename F>
+void blockRanges(int nx, int ny, int nz, const F& value, std::vector<float>& blockMin,
+  std::vector<float>& blockMax, int& bx, int& by, int& bz)
+{
+  bx = std::max(1, (nx - 1 + kBlock - 1) / kBlock);
+  by = std::max(1, (ny - 1 + kBlock - 1) / kBlock);
+  bz = std::max(1, (nz - 1 + kBlock - 1) / kBlock);
+  blockMin.assign(static_cast<size_t>(bx) * by * bz, 0.0f);
+  blockMax.assign(blockMin.size(), 0.0f);
+  const size_t sy = static_cast<size_t>(nx), sz = static_cast<size_t>(nx) * ny;
+  parallelFor(bz, 0,
+    [&](std::int64_t c64, int)
+    {
+      const int c = static_cast<int>(c64);
+      for (int b = 0; b < by; ++b)
+      {
+        for (int a = 0; a < bx; ++a)
+        {
+          float lo = value(a * kBlock + sy * b * kBlock + sz * c * kBlock, a * kBlock, b * kBlock,
+                  c * kBlock),
+                hi = lo;
+          for (int k = c * kBlock; k <= std::min(nz - 1, (c + 1) * kBlock); ++k)
+            for (int j = b * kBlock; j <= std::min(ny - 1, (b + 1) * kBlock); ++j)
+              for (int i = a * kBlock; i <= std::min(nx - 1, (a + 1) * kBlock); ++i)
+              {
+                const float v = value(i + sy * j + sz * k, i, j, k);
+                lo = std::min(lo, v);
+                hi = std::max(hi, v);
+              }
+          const size_t id = (static_cast<size_t>(c) * by + b) * bx + a;
+          blockMin[id] = lo;
+          blockMax[id] = hi;
+        }
+      }
+    });
+}
+
+// Volume prepared for the march: the volume's scalars in their own (compact) type T, x fastest
+// (read in place, not copied), and per-block min/max for empty-space skipping. Block b covers cells
+// [8b, 8b + 8), i.e. points 8b .. 8b + 8, so a sample in the block only reads points inside the
+// block's min/max.
 template <typename T>
 struct Field
 {
   int nx = 0, ny = 0, nz = 0;
-  std::vector<T> w;
+  const T* w = nullptr; // the Volume's scalars (RayCaster::Internals::Vol keeps them alive)
   int bx = 0, by = 0, bz = 0;
   std::vector<float> blockMin, blockMax;
 
-  void build(int dx, int dy, int dz, const std::vector<float>& values)
+  void build(int dx, int dy, int dz, const T* values)
   {
     nx = dx;
     ny = dy;
     nz = dz;
-    w.resize(values.size());
-    for (size_t i = 0; i < values.size(); ++i)
-    {
-      w[i] = static_cast<T>(values[i]); // exact: T is chosen to hold the original type
-    }
-    bx = std::max(1, (nx - 1 + kBlock - 1) / kBlock);
-    by = std::max(1, (ny - 1 + kBlock - 1) / kBlock);
-    bz = std::max(1, (nz - 1 + kBlock - 1) / kBlock);
-    blockMin.assign(static_cast<size_t>(bx) * by * bz, 0.0f);
-    blockMax.assign(blockMin.size(), 0.0f);
-    parallelFor(bz, 0,
-      [&](std::int64_t c64, int)
-      {
-        const int c = static_cast<int>(c64);
-        for (int b = 0; b < by; ++b)
-        {
-          for (int a = 0; a < bx; ++a)
-          {
-            float lo = static_cast<float>(w[index(a * kBlock, b * kBlock, c * kBlock)]), hi = lo;
-            for (int k = c * kBlock; k <= std::min(nz - 1, (c + 1) * kBlock); ++k)
-              for (int j = b * kBlock; j <= std::min(ny - 1, (b + 1) * kBlock); ++j)
-                for (int i = a * kBlock; i <= std::min(nx - 1, (a + 1) * kBlock); ++i)
-                {
-                  const float v = static_cast<float>(w[index(i, j, k)]);
-                  lo = std::min(lo, v);
-                  hi = std::max(hi, v);
-                }
-            const size_t id = (static_cast<size_t>(c) * by + b) * bx + a;
-            blockMin[id] = lo;
-            blockMax[id] = hi;
-          }
-        }
-      });
+    w = values;
+    blockRanges(
+      nx, ny, nz, [this](size_t id, int, int, int) { return static_cast<float>(w[id]); }, blockMin,
+      blockMax, bx, by, bz);
   }
 
   size_t index(int i, int j, int k) const
@@ -92,7 +103,7 @@ struct Field
     const int k = std::min(static_cast<int>(z), nz - 2);
     const float fx = x - i, fy = y - j, fz = z - k;
     const size_t sy = static_cast<size_t>(nx), sz = static_cast<size_t>(nx) * ny;
-    const T* p = w.data() + index(i, j, k);
+    const T* p = w + index(i, j, k);
     auto v = [p](size_t o) { return static_cast<float>(p[o]); };
     const float c00 = v(0) + fx * (v(1) - v(0));
     const float c10 = v(sy) + fx * (v(sy + 1) - v(sy));
@@ -143,11 +154,25 @@ struct RayCaster::Internals
   Field<std::uint16_t> U16;
   Field<std::int16_t> I16;
   Field<float> F32;
+  GradientStencil Stencil; // Shade and 2D tables: the gradient at a sample, from the scalars
   std::once_flag GradientOnce;
-  Field<float> Gradient; // 2D tables: block maxima of transferGradient (its values freed)
-  std::once_flag NormalOnce;
-  std::vector<float> Normals; // lighting: per point, the scaled central differences (x, y, z)
-  const std::vector<float>& lightingGradients(); // Normals, computed on first use
+  std::vector<float> GradientBlockMax; // 2D tables: block maxima of the per-point transferGradient
+
+  // The field of scalars of type T.
+  template <typename T>
+  Field<T>& fieldFor()
+  {
+    if constexpr (std::is_same_v<T, std::uint8_t>)
+      return U8;
+    else if constexpr (std::is_same_v<T, std::int8_t>)
+      return I8;
+    else if constexpr (std::is_same_v<T, std::uint16_t>)
+      return U16;
+    else if constexpr (std::is_same_v<T, std::int16_t>)
+      return I16;
+    else
+      return F32;
+  }
 
   // Calls f(field) with the field of the volume's storage type.
   template <typename F>
@@ -205,8 +230,14 @@ RayCaster::RayCaster(const Volume& volume)
   }
   In->Vol = volume;
   In->TextureScale = textureScale(volume.originalType());
-  In->Kind = storageFor(volume.originalType());
-  In->withField([&](auto& field) { field.build(d[0], d[1], d[2], volume.values()); });
+  In->Kind = storageFor(volume.storageType());
+  In->Stencil = GradientStencil::of(volume);
+  volume.visit(
+    [&](const auto* scalars)
+    {
+      using T = std::remove_const_t<std::remove_pointer_t<decltype(scalars)>>;
+      In->fieldFor<T>().build(d[0], d[1], d[2], scalars);
+    });
 }
 
 RayCaster::~RayCaster() = default;
@@ -306,27 +337,9 @@ constexpr int kBatch = 8; // samples interpolated together along a ray
 struct Lanes
 {
   std::int64_t idx[kBatch];
+  int i[kBatch], j[kBatch], k[kBatch]; // the first corner as a point (i, j, k)
   float fx[kBatch], fy[kBatch], fz[kBatch];
 };
-
-// Trilinear interpolation of the three interleaved components in the cell whose first corner is
-// point `idx`, with weights fx, fy, fz (the scalar's own, from sampleBatch).
-inline void sampleGradient(
-  const float* g, int nx, int ny, std::int64_t idx, float fx, float fy, float fz, float out[3])
-{
-  const size_t sy = 3 * static_cast<size_t>(nx), sz = sy * ny;
-  const float* p = g + 3 * static_cast<size_t>(idx);
-  for (int a = 0; a < 3; ++a)
-  {
-    const float c00 = p[a] + fx * (p[3 + a] - p[a]);
-    const float c10 = p[sy + a] + fx * (p[sy + 3 + a] - p[sy + a]);
-    const float c01 = p[sz + a] + fx * (p[sz + 3 + a] - p[sz + a]);
-    const float c11 = p[sz + sy + a] + fx * (p[sz + sy + 3 + a] - p[sz + sy + a]);
-    const float c0 = c00 + fy * (c10 - c00);
-    const float c1 = c01 + fy * (c11 - c01);
-    out[a] = c0 + fz * (c1 - c0);
-  }
-}
 
 // Lighting of one render: the light kit, and the maps from a sample's index coordinates to its
 // eye-space normal direction (m = E (.) R g, VTK's untransposed texture-to-eye matrix) and
@@ -417,13 +430,16 @@ inline void sampleBatch(const Field<T>& f, float k0, float ex, float ey, float e
     fy[l] = y - static_cast<float>(jj);
     fz[l] = z - static_cast<float>(kz);
     idx[l] = i + static_cast<std::int64_t>(f.nx) * (jj + static_cast<std::int64_t>(f.ny) * kz);
+    lanes.i[l] = i;
+    lanes.j[l] = jj;
+    lanes.k[l] = kz;
   }
   // The corners of every lane first (integers widened exactly), then the interpolation lane by
   // lane in arrays the compiler vectorises: the same operations per lane, the same values.
   using Wide = std::conditional_t<std::is_integral_v<T>, std::int32_t, float>;
   const std::int64_t sy1 = f.nx, sz1 = static_cast<std::int64_t>(f.nx) * f.ny;
   const std::int64_t offset[8] = { 0, 1, sy1, sy1 + 1, sz1, sz1 + 1, sz1 + sy1, sz1 + sy1 + 1 };
-  const T* p = f.w.data();
+  const T* p = f.w;
   Wide w[8][kBatch];
   for (int l = 0; l < kBatch; ++l)
   {
@@ -458,7 +474,7 @@ template <typename FieldT>
 struct March
 {
   const FieldT* field = nullptr;
-  const float* gradients = nullptr; // per-point gradients (RayCaster::lightingGradients): 2D, Shade
+  const GradientStencil* stencil = nullptr; // the gradient at a sample: 2D, Shade
   const Classify1D* c1 = nullptr;
   const Classify2D* c2 = nullptr;
   const SampleLighting* light = nullptr; // Shade on
@@ -495,6 +511,7 @@ struct March
     const float sx = static_cast<float>(s[0]), sy = static_cast<float>(s[1]),
                 sz = static_cast<float>(s[2]);
     const FieldT& f = *field;
+    GradientStencil::Cell<float> cell; // the gradient's last cell along this ray
     float cr = 0, cg = 0, cb = 0, ca = 0;
     // March block by block: find the block of sample k and the first sample past its far faces;
     // skip the block when the TF makes it transparent, else sample it without further checks.
@@ -592,8 +609,8 @@ struct March
           if constexpr (TwoD)
           {
             float gl[3];
-            sampleGradient(
-              gradients, f.nx, f.ny, lanes.idx[l], lanes.fx[l], lanes.fy[l], lanes.fz[l], gl);
+            stencil->inCell(f.w, lanes.i[l], lanes.j[l], lanes.k[l], lanes.idx[l], lanes.fx[l],
+              lanes.fy[l], lanes.fz[l], cell, gl);
             c[l] = c2->lookup(value[l], transferGradient(gl));
             for (int a = 0; a < 3; ++a)
               g[a][l] = gl[a];
@@ -615,8 +632,8 @@ struct March
                 for (int a = 0; a < 3; ++a)
                   gl[a] = g[a][l];
               else
-                sampleGradient(
-                  gradients, f.nx, f.ny, lanes.idx[l], lanes.fx[l], lanes.fy[l], lanes.fz[l], gl);
+                stencil->inCell(f.w, lanes.i[l], lanes.j[l], lanes.k[l], lanes.idx[l], lanes.fx[l],
+                  lanes.fy[l], lanes.fz[l], cell, gl);
               for (int a = 0; a < 3; ++a)
                 gp[a][count] = gl[a];
               kp[count] = j + static_cast<float>(k + l);
@@ -761,17 +778,6 @@ struct March
 
 } // namespace
 
-const std::vector<float>& RayCaster::Internals::lightingGradients()
-{
-  std::call_once(NormalOnce, [this] { Normals = ddg::lightingGradients(Vol); });
-  return Normals;
-}
-
-const std::vector<float>& RayCaster::lightingGradients() const
-{
-  return In->lightingGradients();
-}
-
 Image RayCaster::render(const TransferTable1D& table, const View& view,
   const RenderOptions& options, const ProgressCallback& progress, RenderStats* stats) const
 {
@@ -796,7 +802,7 @@ Image RayCaster::render(const TransferTable1D& table, const View& view,
       {
         lighting.setup(In->Vol, view);
         m.light = &lighting;
-        m.gradients = In->lightingGradients().data();
+        m.stencil = &In->Stencil;
       }
       return m.template run<false>(view, options.threads, progress, stats);
     });
@@ -807,18 +813,26 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
 {
   view.validate();
   table.validate();
-  const std::vector<float>& gradients = In->lightingGradients();
   std::call_once(In->GradientOnce,
     [&]
     {
       // Block maxima of the per-point transferGradient bound it at every sample (the norm of
       // a trilinear blend is at most the largest norm blended); the bound below is 0.
-      const auto& d = In->Vol.dims();
-      std::vector<float> magnitude(gradients.size() / 3);
-      for (size_t i = 0; i < magnitude.size(); ++i)
-        magnitude[i] = transferGradient(&gradients[3 * i]);
-      In->Gradient.build(d[0], d[1], d[2], magnitude);
-      In->Gradient.w = {};
+      In->withField(
+        [&](const auto& field)
+        {
+          std::vector<float> lo;
+          int bx, by, bz;
+          blockRanges(
+            field.nx, field.ny, field.nz,
+            [&](size_t, int i, int j, int k)
+            {
+              float g[3];
+              In->Stencil.atPoint(field.w, i, j, k, g);
+              return transferGradient(g);
+            },
+            lo, In->GradientBlockMax, bx, by, bz);
+        });
     });
   return In->withField(
     [&](const auto& field)
@@ -829,12 +843,12 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
       Classify2D c;
       c.prepare(table, In->TextureScale, m.d / unit);
       m.c2 = &c;
-      m.gradients = gradients.data();
-      const Field<float>& g = In->Gradient;
+      m.stencil = &In->Stencil;
+      const std::vector<float>& gradientMax = In->GradientBlockMax;
       m.blockEmpty.resize(field.blockMin.size());
       for (size_t b = 0; b < field.blockMin.size(); ++b)
       {
-        m.blockEmpty[b] = !c.anyOpaque(field.blockMin[b], field.blockMax[b], 0.0f, g.blockMax[b]);
+        m.blockEmpty[b] = !c.anyOpaque(field.blockMin[b], field.blockMax[b], 0.0f, gradientMax[b]);
       }
       m.buildSuperLevel();
       SampleLighting lighting;

@@ -73,8 +73,11 @@ struct RenderOptions
 /// Output: RGBA float image, premultiplied (C, A), row 0 at the top; compose it over a
 /// background with compositeOverBackground() (Image.h) to get ParaView's 8-bit screenshot.
 ///
-/// A RayCaster prepares the volume once (normalised copy, block min/max: about 4 bytes per
-/// voxel) and can render many tables and views, also concurrently.
+/// A RayCaster reads the volume's scalars in place, in their own type (no copy: it shares them
+/// with the Volume), keeps block min/max for empty-space skipping (8 bytes per 512 voxels) and
+/// computes the gradients Shade and 2D tables need at each sample from the scalars around it
+/// (GradientStencil, Render/Lighting.h: no per-voxel buffer); it can render many tables and
+/// views, also concurrently.
 class RayCaster
 {
 public:
@@ -116,16 +119,11 @@ public:
     const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
   /// Renders with a 2D (value x gradient magnitude) table, as ParaView's 2D transfer function
   /// with the gradient as Y: the gradient axis is taken per sample (transferGradient of the
-  /// interpolated lightingGradients, Render/Lighting.h), opacity corrected for the step as 1D
+  /// GradientStencil's gradient, Render/Lighting.h), opacity corrected for the step as 1D
   /// tables are; Shade on lights the sample as in 1D without clamping the lit colour (ParaView
   /// does not clamp it for 2D tables).
   Image render(const TransferTable2D& table, const View& view, const RenderOptions& options = {},
     const ProgressCallback& progress = {}, RenderStats* stats = nullptr) const;
-
-  /// Shade on or a 2D table: the per-point gradients samples interpolate (x, y, z interleaved: the
-  /// central difference, clamped at the faces, times N/(N-1), over the spacing;
-  /// Documentation/Rendering.md "Shade on"). Computed on first use and kept: 12 bytes per point.
-  const std::vector<float>& lightingGradients() const;
 
   /// The per-pixel jitter tile value used when RenderOptions::jitter is on, for pixel (x, y)
   /// counted from the bottom-left as ParaView's window coordinates.

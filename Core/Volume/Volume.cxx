@@ -2,11 +2,14 @@
 #include "Volume/Volume.h"
 
 #include "Common/Error.h"
+#include "Common/Parallel.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <sstream>
+#include <type_traits>
 
 namespace ddg
 {
@@ -77,13 +80,114 @@ int scalarTypeSize(ScalarType type)
   return 0;
 }
 
-Volume::Volume(std::array<int, 3> dims, std::array<double, 3> origin, std::array<double, 3> spacing,
-  std::vector<float> values, ScalarType originalType)
-  : Dims(dims)
-  , Origin(origin)
-  , Spacing(spacing)
-  , Values(std::move(values))
-  , OriginalType(originalType)
+ScalarType storageTypeFor(ScalarType original)
+{
+  switch (original)
+  {
+    case ScalarType::UInt8:
+    case ScalarType::Int8:
+    case ScalarType::UInt16:
+    case ScalarType::Int16:
+    case ScalarType::Float32:
+      return original;
+    default:
+      return ScalarType::Float32;
+  }
+}
+
+namespace
+{
+
+template <ScalarType>
+struct StorageOf;
+template <>
+struct StorageOf<ScalarType::UInt8>
+{
+  using type = std::uint8_t;
+};
+template <>
+struct StorageOf<ScalarType::Int8>
+{
+  using type = std::int8_t;
+};
+template <>
+struct StorageOf<ScalarType::UInt16>
+{
+  using type = std::uint16_t;
+};
+template <>
+struct StorageOf<ScalarType::Int16>
+{
+  using type = std::int16_t;
+};
+template <>
+struct StorageOf<ScalarType::Float32>
+{
+  using type = float;
+};
+
+// Calls f(S{}) with a value of the C++ type S the scalars of `storage` are kept in.
+template <typename F>
+decltype(auto) withStorage(ScalarType storage, F&& f)
+{
+  switch (storage)
+  {
+    case ScalarType::UInt8:
+      return f(std::uint8_t{});
+    case ScalarType::Int8:
+      return f(std::int8_t{});
+    case ScalarType::UInt16:
+      return f(std::uint16_t{});
+    case ScalarType::Int16:
+      return f(std::int16_t{});
+    default:
+      return f(float{});
+  }
+}
+
+// `scalars` converted to S: moved when T is S; integer S refuses values that are not one of it.
+template <typename S, typename T>
+std::vector<S> convertTo(std::vector<T>&& scalars, ScalarType originalType)
+{
+  if constexpr (std::is_same_v<S, T>)
+  {
+    (void)originalType;
+    return std::move(scalars);
+  }
+  else
+  {
+    std::vector<S> out(scalars.size());
+    for (size_t i = 0; i < scalars.size(); ++i)
+    {
+      const T x = scalars[i];
+      if constexpr (std::is_integral_v<S>)
+      {
+        const double d = static_cast<double>(x);
+        if (!(d >= static_cast<double>(std::numeric_limits<S>::lowest()) &&
+              d <= static_cast<double>(std::numeric_limits<S>::max()) &&
+              static_cast<double>(static_cast<S>(x)) == d))
+        {
+          std::ostringstream msg;
+          msg << "volume value " << d << " at voxel " << i << " is not a "
+              << scalarTypeName(originalType) << " (the volume's scalar type)";
+          throw Error(msg.str());
+        }
+      }
+      out[i] = static_cast<S>(x);
+    }
+    return out;
+  }
+}
+
+} // namespace
+
+struct Volume::Cache
+{
+  std::once_flag GradientOnce;
+  std::array<double, 2> GradientRange{ 0, 0 };
+};
+
+void Volume::checkGeometry(std::int64_t count) const
 {
   std::int64_t n = 1;
   for (int a = 0; a < 3; ++a)
@@ -104,42 +208,196 @@ Volume::Volume(std::array<int, 3> dims, std::array<double, 3> origin, std::array
     }
     n *= Dims[a];
   }
-  if (static_cast<std::int64_t>(Values.size()) != n)
+  if (count != n)
   {
     std::ostringstream msg;
-    msg << "volume has " << Values.size() << " values but its dimensions " << Dims[0] << " x "
-        << Dims[1] << " x " << Dims[2] << " need " << n;
+    msg << "volume has " << count << " values but its dimensions " << Dims[0] << " x " << Dims[1]
+        << " x " << Dims[2] << " need " << n;
     throw Error(msg.str());
   }
-  float lo = std::numeric_limits<float>::infinity();
-  float hi = -std::numeric_limits<float>::infinity();
-  for (float v : Values)
+}
+
+template <typename T>
+void Volume::adopt(std::shared_ptr<const void> owner, const T* data)
+{
+  Data = data;
+  Owner = std::move(owner);
+  Cached = std::make_shared<Cache>();
+  T lo = data[0], hi = data[0];
+  for (std::int64_t i = 1; i < Count; ++i)
   {
-    if (std::isfinite(v))
-    {
-      lo = std::min(lo, v);
-      hi = std::max(hi, v);
-    }
-    else
-    {
-      ++NonFiniteCount;
-    }
+    lo = std::min(lo, data[i]);
+    hi = std::max(hi, data[i]);
   }
-  if (NonFiniteCount == n)
+  Range = { static_cast<double>(lo), static_cast<double>(hi) };
+}
+
+namespace
+{
+
+// Finite range of float scalars; non-finite values replaced by the smallest finite one.
+std::int64_t replaceNonFinite(std::vector<float>& v)
+{
+  float lo = std::numeric_limits<float>::infinity();
+  std::int64_t bad = 0;
+  for (float x : v)
+  {
+    if (std::isfinite(x))
+      lo = std::min(lo, x);
+    else
+      ++bad;
+  }
+  if (bad == static_cast<std::int64_t>(v.size()))
   {
     throw Error("volume has no finite value (all voxels are NaN or infinite)");
   }
-  if (NonFiniteCount > 0)
+  if (bad > 0)
   {
-    for (float& v : Values)
-    {
-      if (!std::isfinite(v))
-      {
-        v = lo;
-      }
-    }
+    for (float& x : v)
+      if (!std::isfinite(x))
+        x = lo;
   }
-  Range = { lo, hi };
+  return bad;
+}
+
+} // namespace
+
+template <typename T>
+Volume Volume::make(std::array<int, 3> dims, std::array<double, 3> origin,
+  std::array<double, 3> spacing, ScalarType originalType, std::vector<T> scalars)
+{
+  Volume v;
+  v.Dims = dims;
+  v.Origin = origin;
+  v.Spacing = spacing;
+  v.OriginalType = originalType;
+  v.StorageType = storageTypeFor(originalType);
+  v.checkGeometry(static_cast<std::int64_t>(scalars.size()));
+  v.Count = static_cast<std::int64_t>(scalars.size());
+  withStorage(v.StorageType,
+    [&](auto tag)
+    {
+      using S = decltype(tag);
+      auto owned = std::make_shared<std::vector<S>>(convertTo<S>(std::move(scalars), originalType));
+      if constexpr (std::is_same_v<S, float>)
+      {
+        v.NonFiniteCount = replaceNonFinite(*owned);
+      }
+      const S* data = owned->data();
+      v.adopt<S>(std::move(owned), data);
+    });
+  return v;
+}
+
+Volume::Volume(std::array<int, 3> dims, std::array<double, 3> origin, std::array<double, 3> spacing,
+  std::vector<float> values, ScalarType originalType)
+{
+  *this = make(dims, origin, spacing, originalType, std::move(values));
+}
+
+template <typename T>
+Volume Volume::fromScalars(std::array<int, 3> dims, std::array<double, 3> origin,
+  std::array<double, 3> spacing, const T* data, ScalarType originalType)
+{
+  std::int64_t n = 1;
+  for (int d : dims)
+  {
+    n *= d > 0 ? d : 0;
+  }
+  if (storageTypeFor(originalType) == ScalarType::Float32 && !std::is_same_v<T, float>)
+  {
+    std::vector<float> f(static_cast<size_t>(n)); // straight to float: no copy of T first
+    for (std::int64_t i = 0; i < n; ++i)
+      f[static_cast<size_t>(i)] = static_cast<float>(data[i]);
+    return make(dims, origin, spacing, originalType, std::move(f));
+  }
+  return make(
+    dims, origin, spacing, originalType, std::vector<T>(data, data + static_cast<size_t>(n)));
+}
+
+Volume Volume::sharing(std::array<int, 3> dims, std::array<double, 3> origin,
+  std::array<double, 3> spacing, ScalarType type, const void* data,
+  std::shared_ptr<const void> owner)
+{
+  std::int64_t n = 1;
+  for (int d : dims)
+  {
+    n *= d > 0 ? d : 0;
+  }
+  auto copy = [&](auto tag)
+  {
+    using T = decltype(tag);
+    return fromScalars(dims, origin, spacing, static_cast<const T*>(data), type);
+  };
+  auto share = [&](auto tag)
+  {
+    using T = decltype(tag);
+    const T* p = static_cast<const T*>(data);
+    if constexpr (std::is_same_v<T, float>)
+    {
+      for (std::int64_t i = 0; i < n; ++i)
+        if (!std::isfinite(p[i]))
+          return copy(tag); // non-finite values are replaced in a copy of the volume's own
+    }
+    Volume v;
+    v.Dims = dims;
+    v.Origin = origin;
+    v.Spacing = spacing;
+    v.OriginalType = type;
+    v.StorageType = type;
+    v.checkGeometry(n);
+    v.Count = n;
+    v.Shared = true;
+    v.adopt<T>(std::move(owner), p);
+    return v;
+  };
+  switch (type)
+  {
+    case ScalarType::UInt8:
+      return share(std::uint8_t{});
+    case ScalarType::Int8:
+      return share(std::int8_t{});
+    case ScalarType::UInt16:
+      return share(std::uint16_t{});
+    case ScalarType::Int16:
+      return share(std::int16_t{});
+    case ScalarType::Float32:
+      return share(float{});
+    case ScalarType::UInt32:
+      return copy(std::uint32_t{});
+    case ScalarType::Int32:
+      return copy(std::int32_t{});
+    case ScalarType::Float64:
+      return copy(double{});
+  }
+  throw Error("unknown scalar type");
+}
+
+#define DDG_VOLUME_INSTANTIATE(T)                                                                  \
+  template Volume Volume::make<T>(                                                                 \
+    std::array<int, 3>, std::array<double, 3>, std::array<double, 3>, ScalarType, std::vector<T>); \
+  template Volume Volume::fromScalars<T>(                                                          \
+    std::array<int, 3>, std::array<double, 3>, std::array<double, 3>, const T*, ScalarType);
+DDG_VOLUME_INSTANTIATE(std::uint8_t)
+DDG_VOLUME_INSTANTIATE(std::int8_t)
+DDG_VOLUME_INSTANTIATE(std::uint16_t)
+DDG_VOLUME_INSTANTIATE(std::int16_t)
+DDG_VOLUME_INSTANTIATE(std::uint32_t)
+DDG_VOLUME_INSTANTIATE(std::int32_t)
+DDG_VOLUME_INSTANTIATE(float)
+DDG_VOLUME_INSTANTIATE(double)
+#undef DDG_VOLUME_INSTANTIATE
+
+std::vector<float> Volume::floatValues() const
+{
+  std::vector<float> out(static_cast<size_t>(Count));
+  visit(
+    [&](const auto* p)
+    {
+      for (std::int64_t i = 0; i < Count; ++i)
+        out[static_cast<size_t>(i)] = static_cast<float>(p[i]);
+    });
+  return out;
 }
 
 std::array<double, 6> Volume::bounds() const
@@ -182,48 +440,89 @@ double Volume::sampleWorld(double x, double y, double z) const
     (x - Origin[0]) / Spacing[0], (y - Origin[1]) / Spacing[1], (z - Origin[2]) / Spacing[2]);
 }
 
-std::vector<float> Volume::gradientMagnitude() const
+namespace
 {
-  std::vector<float> out(Values.size());
-  const int nx = Dims[0], ny = Dims[1], nz = Dims[2];
-  auto diff = [&](int a, int i, int j, int k) -> double
+
+// Calls f(index, |g|) for every point of k-slices [k0, k1): ParaView's gradient magnitude
+// (Volume::gradientMagnitude) from the scalars p.
+template <typename T, typename F>
+void forGradientMagnitudes(const T* p, const std::array<int, 3>& dims,
+  const std::array<double, 3>& spacing, int k0, int k1, F&& f)
+{
+  const int nx = dims[0], ny = dims[1], nz = dims[2];
+  double scale[3];
+  for (int a = 0; a < 3; ++a)
   {
-    int idx[3] = { i, j, k };
-    const int n = Dims[a];
-    if (n == 1)
-    {
-      return 0.0;
-    }
-    int lo = std::max(idx[a] - 1, 0);
-    int hi = std::min(idx[a] + 1, n - 1);
-    int ilo[3] = { i, j, k };
-    int ihi[3] = { i, j, k };
-    ilo[a] = lo;
-    ihi[a] = hi;
     // ParaView's: the texture clamps at the faces, its offset is N/(N-1) voxels, and it divides
-    // by twice the spacing whatever the offset
-    return (static_cast<double>(at(ihi[0], ihi[1], ihi[2])) - at(ilo[0], ilo[1], ilo[2])) * n /
-      ((n - 1) * 2.0 * Spacing[a]);
-  };
-  for (int k = 0; k < nz; ++k)
+    // by twice the spacing whatever the offset; 0 along an axis of extent 1
+    scale[a] = dims[a] > 1 ? dims[a] / ((dims[a] - 1) * 2.0 * spacing[a]) : 0.0;
+  }
+  const size_t sy = static_cast<size_t>(nx), sz = static_cast<size_t>(nx) * ny;
+  for (int k = k0; k < k1; ++k)
   {
+    const int kl = std::max(k - 1, 0), kh = std::min(k + 1, nz - 1);
     for (int j = 0; j < ny; ++j)
     {
+      const int jl = std::max(j - 1, 0), jh = std::min(j + 1, ny - 1);
+      const size_t row = sy * j + sz * k;
       for (int i = 0; i < nx; ++i)
       {
-        const double gx = diff(0, i, j, k), gy = diff(1, i, j, k), gz = diff(2, i, j, k);
-        out[static_cast<size_t>(i) + static_cast<size_t>(nx) * (j + static_cast<size_t>(ny) * k)] =
-          static_cast<float>(std::sqrt(gx * gx + gy * gy + gz * gz));
+        const int il = std::max(i - 1, 0), ih = std::min(i + 1, nx - 1);
+        const double gx = (static_cast<double>(p[row + ih]) - p[row + il]) * scale[0];
+        const double gy =
+          (static_cast<double>(p[sy * jh + sz * k + i]) - p[sy * jl + sz * k + i]) * scale[1];
+        const double gz =
+          (static_cast<double>(p[sy * j + sz * kh + i]) - p[sy * j + sz * kl + i]) * scale[2];
+        f(row + i, std::sqrt(gx * gx + gy * gy + gz * gz));
       }
     }
   }
+}
+
+} // namespace
+
+std::vector<float> Volume::gradientMagnitude() const
+{
+  std::vector<float> out(static_cast<size_t>(Count));
+  visit(
+    [&](const auto* p)
+    {
+      parallelFor(Dims[2], 0,
+        [&](std::int64_t k, int)
+        {
+          forGradientMagnitudes(p, Dims, Spacing, static_cast<int>(k), static_cast<int>(k) + 1,
+            [&](size_t i, double g) { out[i] = static_cast<float>(g); });
+        });
+    });
   return out;
 }
 
 std::array<double, 2> Volume::gradientMagnitudeRange() const
 {
-  const auto g = gradientMagnitude();
-  return { 0.0, std::max(1e-6, static_cast<double>(*std::max_element(g.begin(), g.end()))) };
+  if (!Cached)
+  {
+    return { 0.0, 1e-6 };
+  }
+  std::call_once(Cached->GradientOnce,
+    [this]
+    {
+      std::vector<double> maxima(static_cast<size_t>(resolveThreadCount(0, Dims[2])), 0.0);
+      visit(
+        [&](const auto* p)
+        {
+          parallelFor(Dims[2], 0,
+            [&](std::int64_t k, int t)
+            {
+              double& m = maxima[static_cast<size_t>(t)];
+              forGradientMagnitudes(p, Dims, Spacing, static_cast<int>(k), static_cast<int>(k) + 1,
+                [&](size_t, double g) { m = std::max(m, g); });
+            });
+        });
+      // the maximum of the float magnitudes, as gradientMagnitude() stores them
+      const double top = static_cast<float>(*std::max_element(maxima.begin(), maxima.end()));
+      Cached->GradientRange = { 0.0, std::max(1e-6, top) };
+    });
+  return Cached->GradientRange;
 }
 
 } // namespace ddg

@@ -33,20 +33,23 @@ bool fileExists(const std::string& path)
   return static_cast<bool>(f);
 }
 
-std::vector<unsigned char> readAllBytes(const std::string& path, size_t expected)
+// Reads exactly `expected` bytes of the (gzipped or plain) file into `out`; refuses a file that
+// holds fewer or more.
+void readExactly(const std::string& path, unsigned char* out, size_t expected)
 {
-  std::vector<unsigned char> bytes;
   gzFile f = gzopen(path.c_str(), "rb"); // reads plain files too
   if (!f)
   {
     throw Error("cannot open raw volume file '" + path + "'");
   }
-  bytes.resize(expected + 1);
   size_t total = 0;
-  while (total < bytes.size())
+  unsigned char extra = 0;
+  while (total <= expected)
   {
-    const unsigned chunk = static_cast<unsigned>(std::min<size_t>(bytes.size() - total, 1u << 30));
-    const int got = gzread(f, bytes.data() + total, chunk);
+    unsigned char* at = total < expected ? out + total : &extra;
+    const unsigned chunk =
+      total < expected ? static_cast<unsigned>(std::min<size_t>(expected - total, 1u << 30)) : 1u;
+    const int got = gzread(f, at, chunk);
     if (got < 0)
     {
       int err = 0;
@@ -68,18 +71,18 @@ std::vector<unsigned char> readAllBytes(const std::string& path, size_t expected
         << (total > expected ? expected : total) << " bytes but its JSON describes " << expected;
     throw Error(msg.str());
   }
-  bytes.resize(expected);
-  return bytes;
 }
 
+// The file's scalars read straight into the volume's buffer (no second copy when T is the type
+// the volume keeps).
 template <typename T>
-Volume convert(const std::array<int, 3>& dims, const std::array<double, 3>& origin,
-  const std::array<double, 3>& spacing, const std::vector<unsigned char>& bytes, bool swap,
+Volume readAs(const std::string& path, const std::array<int, 3>& dims,
+  const std::array<double, 3>& origin, const std::array<double, 3>& spacing, bool swap,
   ScalarType type)
 {
-  const size_t n = bytes.size() / sizeof(T);
+  const size_t n = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
   std::vector<T> data(n);
-  std::memcpy(data.data(), bytes.data(), n * sizeof(T));
+  readExactly(path, reinterpret_cast<unsigned char*>(data.data()), n * sizeof(T));
   if (swap && sizeof(T) > 1)
   {
     for (T& v : data)
@@ -91,7 +94,7 @@ Volume convert(const std::array<int, 3>& dims, const std::array<double, 3>& orig
       }
     }
   }
-  return Volume::fromScalars(dims, origin, spacing, data.data(), type);
+  return Volume::fromVector(dims, origin, spacing, std::move(data), type);
 }
 
 } // namespace
@@ -188,26 +191,24 @@ Volume readRawVolume(const std::string& path)
     const std::string stem = jsonPath.substr(0, jsonPath.size() - 5);
     rawPath = fileExists(stem + ".raw.gz") ? stem + ".raw.gz" : stem + ".raw";
   }
-  const size_t count = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
-  const auto bytes = readAllBytes(rawPath, count * static_cast<size_t>(scalarTypeSize(type)));
   switch (type)
   {
     case ScalarType::UInt8:
-      return convert<std::uint8_t>(dims, origin, spacing, bytes, swap, type);
+      return readAs<std::uint8_t>(rawPath, dims, origin, spacing, swap, type);
     case ScalarType::Int8:
-      return convert<std::int8_t>(dims, origin, spacing, bytes, swap, type);
+      return readAs<std::int8_t>(rawPath, dims, origin, spacing, swap, type);
     case ScalarType::UInt16:
-      return convert<std::uint16_t>(dims, origin, spacing, bytes, swap, type);
+      return readAs<std::uint16_t>(rawPath, dims, origin, spacing, swap, type);
     case ScalarType::Int16:
-      return convert<std::int16_t>(dims, origin, spacing, bytes, swap, type);
+      return readAs<std::int16_t>(rawPath, dims, origin, spacing, swap, type);
     case ScalarType::UInt32:
-      return convert<std::uint32_t>(dims, origin, spacing, bytes, swap, type);
+      return readAs<std::uint32_t>(rawPath, dims, origin, spacing, swap, type);
     case ScalarType::Int32:
-      return convert<std::int32_t>(dims, origin, spacing, bytes, swap, type);
+      return readAs<std::int32_t>(rawPath, dims, origin, spacing, swap, type);
     case ScalarType::Float32:
-      return convert<float>(dims, origin, spacing, bytes, swap, type);
+      return readAs<float>(rawPath, dims, origin, spacing, swap, type);
     case ScalarType::Float64:
-      return convert<double>(dims, origin, spacing, bytes, swap, type);
+      return readAs<double>(rawPath, dims, origin, spacing, swap, type);
   }
   throw Error("unsupported scalar type");
 }

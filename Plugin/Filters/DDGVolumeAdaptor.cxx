@@ -24,6 +24,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <memory>
 
 namespace ddg
 {
@@ -127,28 +128,36 @@ Volume toCoreVolume(vtkImageData* image, vtkDataArray* array)
   }
   const ScalarType type = scalarTypeOf(array->GetDataType());
   const vtkIdType n = array->GetNumberOfTuples();
-  std::vector<float> values(static_cast<size_t>(n));
-  switch (array->GetDataType())
+  const int vtkType = array->GetDataType();
+  const bool sameLayout = vtkType == VTK_UNSIGNED_CHAR || vtkType == VTK_SIGNED_CHAR ||
+    vtkType == VTK_CHAR || vtkType == VTK_UNSIGNED_SHORT || vtkType == VTK_SHORT ||
+    vtkType == VTK_FLOAT;
+  std::vector<float> values;
+  if (!(sameLayout && array->HasStandardMemoryLayout()))
   {
-    vtkTemplateMacro({
-      if (array->HasStandardMemoryLayout())
-      {
-        const auto* p = static_cast<const VTK_TT*>(array->GetVoidPointer(0));
-        for (vtkIdType i = 0; i < n; ++i)
+    values.resize(static_cast<size_t>(n));
+    switch (vtkType)
+    {
+      vtkTemplateMacro({
+        if (array->HasStandardMemoryLayout())
         {
-          values[static_cast<size_t>(i)] = static_cast<float>(p[i]);
+          const auto* p = static_cast<const VTK_TT*>(array->GetVoidPointer(0));
+          for (vtkIdType i = 0; i < n; ++i)
+          {
+            values[static_cast<size_t>(i)] = static_cast<float>(p[i]);
+          }
         }
-      }
-      else
-      {
-        for (vtkIdType i = 0; i < n; ++i)
+        else
         {
-          values[static_cast<size_t>(i)] = static_cast<float>(array->GetComponent(i, 0));
+          for (vtkIdType i = 0; i < n; ++i)
+          {
+            values[static_cast<size_t>(i)] = static_cast<float>(array->GetComponent(i, 0));
+          }
         }
-      }
-    });
-    default:
-      throw Error("volume array has a non-numeric type");
+      });
+      default:
+        throw Error("volume array has a non-numeric type");
+    }
   }
   double origin[3], spacing[3];
   image->GetOrigin(origin);
@@ -158,8 +167,17 @@ Volume toCoreVolume(vtkImageData* image, vtkDataArray* array)
   image->GetExtent(extent);
   std::array<double, 3> o{ origin[0] + extent[0] * spacing[0], origin[1] + extent[2] * spacing[1],
     origin[2] + extent[4] * spacing[2] };
-  return Volume({ dims[0], dims[1], dims[2] }, o, { spacing[0], spacing[1], spacing[2] },
-    std::move(values), type);
+  const std::array<int, 3> d{ dims[0], dims[1], dims[2] };
+  const std::array<double, 3> sp{ spacing[0], spacing[1], spacing[2] };
+  if (values.empty())
+  {
+    // 8/16-bit and float arrays are read in place: the Volume keeps a reference to the array
+    // (no copy of the data; ParaView's pipeline makes new arrays when it re-executes)
+    vtkSmartPointer<vtkDataArray> keep = array;
+    std::shared_ptr<const void> owner(array->GetVoidPointer(0), [keep](const void*) {});
+    return Volume::sharing(d, o, sp, type, array->GetVoidPointer(0), std::move(owner));
+  }
+  return Volume(d, o, sp, std::move(values), type);
 }
 
 Volume readVolumeFile(const std::string& path, const std::string& arrayName)

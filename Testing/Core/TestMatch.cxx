@@ -52,7 +52,7 @@ Volume blobVolume()
         const double knob =
           std::sqrt(std::pow(i - 10.0, 2) + std::pow(j - 26.0, 2) + std::pow(k - 8.0, 2));
         value = std::max(value, std::clamp(1.0 - (knob - 3.5) / 1.5, 0.0, 1.0) * 220.0);
-        v.push_back(static_cast<float>(value));
+        v.push_back(static_cast<float>(std::floor(value))); // uint8: whole numbers
       }
   return Volume({ nx, ny, nz }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
 }

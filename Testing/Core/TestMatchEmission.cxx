@@ -36,7 +36,7 @@ Volume ballVolume()
         value = std::max(value, 160.0 * bump(std::hypot(x + 5, y + 7, z - 5), 3.0));
         const double rod = std::hypot(y - 6, z - 6); // along x, on one side
         value = std::max(value, 140.0 * bump(rod, 1.8) * (x > -10 && x < 4));
-        v.push_back(static_cast<float>(value));
+        v.push_back(static_cast<float>(std::floor(value))); // uint8: whole numbers
       }
   return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
 }

@@ -9,6 +9,7 @@
 #include "ReferenceRayCaster.h"
 
 #include "Common/Error.h"
+#include "Render/Lighting.h"
 #include "Render/RayCaster.h"
 #include "TransferFunction/GaussianPrimitive.h"
 
@@ -210,8 +211,9 @@ TEST(RayCaster, ShadeOfATwoPointThinVolumeIsFinite)
   const Volume thick = blobVolume(ScalarType::Float32);
   const auto& d = thick.dims();
   std::vector<float> v(static_cast<size_t>(d[0]) * d[1] * 2);
-  std::copy(thick.values().begin() + static_cast<std::ptrdiff_t>(d[0]) * d[1] * 12,
-    thick.values().begin() + static_cast<std::ptrdiff_t>(d[0]) * d[1] * 14, v.begin());
+  const std::vector<float> all = thick.floatValues();
+  std::copy(all.begin() + static_cast<std::ptrdiff_t>(d[0]) * d[1] * 12,
+    all.begin() + static_cast<std::ptrdiff_t>(d[0]) * d[1] * 14, v.begin());
   const Volume thin({ d[0], d[1], 2 }, thick.origin(), thick.spacing(), v, ScalarType::Float32);
   const RayCaster caster(thin);
   View view = orbitView(thin, 30.0, false);
@@ -224,6 +226,75 @@ TEST(RayCaster, ShadeOfATwoPointThinVolumeIsFinite)
     sum += x;
   }
   EXPECT_GT(sum, 0.0);
+}
+
+// The renderers' gradient at a sample, computed from the scalars around its cell (no per-voxel
+// buffer), equals the per-point gradients (lightingGradients) interpolated there, inside, on the
+// faces and outside (clamped), for 8-bit and float volumes and one two points thin.
+TEST(RayCaster, GradientStencilEqualsInterpolatedPointGradients)
+{
+  const Volume thick = blobVolume(ScalarType::Float32);
+  const auto& d0 = thick.dims();
+  const std::vector<float> all = thick.floatValues();
+  const Volume thin({ d0[0], d0[1], 2 }, thick.origin(), thick.spacing(),
+    std::vector<float>(all.begin() + static_cast<std::ptrdiff_t>(d0[0]) * d0[1] * 12,
+      all.begin() + static_cast<std::ptrdiff_t>(d0[0]) * d0[1] * 14),
+    ScalarType::Float32);
+  for (const Volume& vol : { blobVolume(ScalarType::UInt8), thick, thin })
+  {
+    const auto& n = vol.dims();
+    const std::vector<float> g = lightingGradients(vol);
+    const GradientStencil stencil = GradientStencil::of(vol);
+    double top = 0;
+    for (float x : g)
+      top = std::max(top, std::abs(static_cast<double>(x)));
+    std::uint32_t state = 12345;
+    auto uniform = [&](double lo, double hi)
+    {
+      state = state * 1664525u + 1013904223u;
+      return lo + (hi - lo) * (state >> 8) / double(1u << 24);
+    };
+    for (int trial = 0; trial < 400; ++trial)
+    {
+      double x[3];
+      for (int a = 0; a < 3; ++a)
+        x[a] = trial % 4 == 0 ? (trial / 4 % 2 ? n[a] - 1.0 : 0.0) : uniform(-0.5, n[a] - 0.5);
+      // the reference: trilinear interpolation of the per-point gradients
+      double ref[3] = { 0, 0, 0 }, f[3];
+      int i[3];
+      for (int a = 0; a < 3; ++a)
+      {
+        const double c = std::clamp(x[a], 0.0, n[a] - 1.0);
+        i[a] = std::min(static_cast<int>(c), n[a] - 2);
+        f[a] = c - i[a];
+      }
+      for (int corner = 0; corner < 8; ++corner)
+      {
+        const int p[3] = { i[0] + (corner & 1), i[1] + ((corner >> 1) & 1), i[2] + (corner >> 2) };
+        const double w = (corner & 1 ? f[0] : 1 - f[0]) * ((corner >> 1) & 1 ? f[1] : 1 - f[1]) *
+          (corner >> 2 ? f[2] : 1 - f[2]);
+        const size_t at =
+          3 * (p[0] + static_cast<size_t>(n[0]) * (p[1] + static_cast<size_t>(n[1]) * p[2]));
+        for (int a = 0; a < 3; ++a)
+          ref[a] += w * g[at + a];
+      }
+      double got[3];
+      float gotF[3];
+      const float xf[3] = { static_cast<float>(x[0]), static_cast<float>(x[1]),
+        static_cast<float>(x[2]) };
+      vol.visit(
+        [&](const auto* v)
+        {
+          stencil.at(v, x, got);
+          stencil.at(v, xf, gotF);
+        });
+      for (int a = 0; a < 3; ++a)
+      {
+        EXPECT_NEAR(got[a], ref[a], 1e-6 * top) << "trial " << trial << " axis " << a;
+        EXPECT_NEAR(gotF[a], ref[a], 1e-4 * top) << "trial " << trial << " axis " << a;
+      }
+    }
+  }
 }
 
 TEST(RayCaster, MatchesReferenceWith2DTable)

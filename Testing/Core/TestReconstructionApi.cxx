@@ -24,7 +24,7 @@ Volume sphereVolume()
       {
         const double r =
           std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
-        v.push_back(static_cast<float>(std::clamp(255.0 - 18.0 * r, 0.0, 255.0)));
+        v.push_back(static_cast<float>(std::floor(std::clamp(255.0 - 18.0 * r, 0.0, 255.0))));
       }
   return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
 }

@@ -7,10 +7,12 @@
 #include "TempDir.h"
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <memory>
 
 using namespace ddg;
 
@@ -85,6 +87,58 @@ TEST(Volume, Validation)
   EXPECT_THROW(Volume({ 0, 2, 2 }, { 0, 0, 0 }, { 1, 1, 1 }, {}), Error);
   EXPECT_THROW(Volume({ 2, 2, 2 }, { 0, 0, 0 }, { 1, 0, 1 }, std::vector<float>(8)), Error);
   EXPECT_THROW(Volume({ 2, 2, 2 }, { 0, 0, 0 }, { 1, 1, 1 }, std::vector<float>(7)), Error);
+}
+
+// 8/16-bit and float32 scalars stay in their own type; copies and RayCasters share them; a
+// volume over another owner's memory reads it in place (and copies only to replace non-finite
+// values); a value that is not one of the type is refused.
+TEST(Volume, KeepsItsScalarsInTheirOwnTypeAndSharesThem)
+{
+  const Volume vol = linearVolume();
+  EXPECT_EQ(vol.storageType(), ScalarType::Int16);
+  EXPECT_EQ(vol.scalarBytes(), 2 * vol.voxelCount());
+  const void* data = vol.visit([](const auto* p) { return static_cast<const void*>(p); });
+  const Volume copy = vol; // NOLINT: the copy is the point
+  EXPECT_EQ(copy.visit([](const auto* p) { return static_cast<const void*>(p); }), data);
+  EXPECT_FLOAT_EQ(copy.at(1, 2, 3), 2 + 6 + 15);
+  const auto floats = vol.floatValues();
+  ASSERT_EQ(floats.size(), static_cast<size_t>(vol.voxelCount()));
+  EXPECT_FLOAT_EQ(floats[1 + 4 * (2 + 5 * 3)], 2 + 6 + 15);
+
+  for (ScalarType t : { ScalarType::UInt32, ScalarType::Int32, ScalarType::Float64 })
+    EXPECT_EQ(storageTypeFor(t), ScalarType::Float32) << scalarTypeName(t);
+  EXPECT_EQ(
+    Volume({ 2, 1, 1 }, { 0, 0, 0 }, { 1, 1, 1 }, { 1, 70000 }, ScalarType::UInt32).storageType(),
+    ScalarType::Float32);
+  EXPECT_THROW(
+    Volume({ 2, 1, 1 }, { 0, 0, 0 }, { 1, 1, 1 }, { 1, 3.5f }, ScalarType::UInt8), Error);
+  EXPECT_THROW(Volume({ 2, 1, 1 }, { 0, 0, 0 }, { 1, 1, 1 }, { 1, 300 }, ScalarType::UInt8), Error);
+
+  auto owned =
+    std::make_shared<std::vector<std::uint16_t>>(std::vector<std::uint16_t>{ 5, 9, 7, 1 });
+  const Volume shared = Volume::sharing(
+    { 2, 2, 1 }, { 0, 0, 0 }, { 1, 1, 1 }, ScalarType::UInt16, owned->data(), owned);
+  EXPECT_TRUE(shared.sharesScalars());
+  EXPECT_EQ(shared.visit([](const auto* p) { return static_cast<const void*>(p); }),
+    static_cast<const void*>(owned->data()));
+  EXPECT_EQ(shared.range()[0], 1);
+  EXPECT_EQ(shared.range()[1], 9);
+  owned.reset(); // the volume keeps the owner alive
+  EXPECT_FLOAT_EQ(shared.at(1, 0, 0), 9);
+
+  auto floatsOwned = std::make_shared<std::vector<float>>(
+    std::vector<float>{ 2, std::numeric_limits<float>::quiet_NaN(), 4, 3 });
+  const Volume cleaned = Volume::sharing(
+    { 2, 2, 1 }, { 0, 0, 0 }, { 1, 1, 1 }, ScalarType::Float32, floatsOwned->data(), floatsOwned);
+  EXPECT_FALSE(cleaned.sharesScalars()); // copied to replace the NaN
+  EXPECT_EQ(cleaned.nonFiniteCount(), 1);
+  EXPECT_FLOAT_EQ(cleaned.at(1, 0, 0), 2);
+  EXPECT_TRUE(std::isnan((*floatsOwned)[1])); // the owner's memory is not written
+
+  // the gradient range is the maximum of the per-point magnitudes, kept for copies
+  const auto g = vol.gradientMagnitude();
+  EXPECT_DOUBLE_EQ(vol.gradientMagnitudeRange()[1], *std::max_element(g.begin(), g.end()));
+  EXPECT_DOUBLE_EQ(copy.gradientMagnitudeRange()[1], vol.gradientMagnitudeRange()[1]);
 }
 
 TEST(VolumeIO, RawJsonPairs)
