@@ -324,16 +324,18 @@ struct DifferentiableRendererT<S>::Internals
   }
 
   // The 2D transfer function's gradient axis of kBatch samples e + (k0 + l) st (index
-  // coordinates): transferGradient of the gradient there (GradientStencil over the scalars v).
+  // coordinates): transferGradient of the gradient there (GradientStencil over the scalars v;
+  // `cell` keeps the ray's last cell).
   template <typename T>
-  void sampleTransferGradients(const T* v, const S e[3], const S st[3], S k0, S* out) const
+  void sampleTransferGradients(
+    const T* v, const S e[3], const S st[3], S k0, GradientStencil::Cell<S>& cell, S* out) const
   {
     for (int l = 0; l < FieldSampler<S>::kBatch; ++l)
     {
       const S kk = k0 + static_cast<S>(l);
       const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
       S grad[3];
-      Stencil.at(v, x, grad);
+      Stencil.at(v, x, cell, grad);
       out[l] = transferGradient(grad);
     }
   }
@@ -415,12 +417,12 @@ struct DifferentiableRendererT<S>::Internals
   // c, clamped to [0, 1] in 1D (ParaView clamps it there, not in 2D); with dLit, also
   // d(lit)/d(c) per channel (0 where the clamp cuts, or black).
   template <typename T>
-  void lightColour(const Setup& s, const T* v, const S e[3], const S st[3], S kk, const S c[4],
-    double col[3], double* dLit) const
+  void lightColour(const Setup& s, const T* v, GradientStencil::Cell<S>& cell, const S e[3],
+    const S st[3], S kk, const S c[4], double col[3], double* dLit) const
   {
     const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
     S grad[3], diff[3], spec[3], lit[3];
-    Stencil.at(v, x, grad);
+    Stencil.at(v, x, cell, grad);
     if (!sampleLightSums(s.kit, s.frame, grad, x, diff, spec))
     {
       for (int ch = 0; ch < 3; ++ch)
@@ -491,13 +493,14 @@ struct DifferentiableRendererT<S>::Internals
             std::int64_t k = 0;
             bool done = false;
             S value[FieldSampler<S>::kBatch], gradient[FieldSampler<S>::kBatch];
+            GradientStencil::Cell<S> cell; // the ray's last cell (2D gradients)
             for (std::int64_t k0 = 0; k0 <= seg.kLast && !done; k0 += FieldSampler<S>::kBatch)
             {
               const S kk0 = static_cast<S>(j) + static_cast<S>(k0);
               Values.sampleBatch(e, st, kk0, value);
               if constexpr (TwoD)
               {
-                sampleTransferGradients(Values.v, e, st, kk0, gradient);
+                sampleTransferGradients(Values.v, e, st, kk0, cell, gradient);
               }
               const int n = static_cast<int>(
                 std::min<std::int64_t>(FieldSampler<S>::kBatch, seg.kLast + 1 - k0));
@@ -522,8 +525,8 @@ struct DifferentiableRendererT<S>::Internals
                 {
                   double col[3] = { c[0], c[1], c[2] };
                   if (s.lit)
-                    lightColour(
-                      s, Values.v, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, nullptr);
+                    lightColour(s, Values.v, cell, e, st, static_cast<S>(j) + static_cast<S>(k), c,
+                      col, nullptr);
                   adjoint::blend(C, A, col, static_cast<double>(c[3]));
                   if (A > static_cast<double>(s.termination))
                   {
@@ -594,6 +597,7 @@ struct DifferentiableRendererT<S>::Internals
             double gA = g[3];
             double A = rec.alpha;
             S* dTable = local[static_cast<size_t>(threadId)].data();
+            GradientStencil::Cell<S> litCell; // the ray's last cell (Shade)
             // One sample of the replay, from the last to the first.
             auto replay = [&](S value, S gradient, std::int64_t k)
             {
@@ -608,7 +612,7 @@ struct DifferentiableRendererT<S>::Internals
               double dLit[3] = { 1, 1, 1 }; // d(lit colour) / d(table colour), per channel
               if (s.lit && a > 0)
                 lightColour(
-                  s, Values.v, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, dLit);
+                  s, Values.v, litCell, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, dLit);
               double g_c[3] = { 0, 0, 0 }, g_a = 0;
               adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
               for (int ch = 0; ch < 3; ++ch)
@@ -634,13 +638,14 @@ struct DifferentiableRendererT<S>::Internals
             // Re-interpolate, a batch of values at a time.
             constexpr int kB = FieldSampler<S>::kBatch;
             S value[kB], gradient[kB];
+            GradientStencil::Cell<S> cell; // the ray's last cell (2D gradients)
             for (std::int64_t k0 = kStop - kStop % kB; k0 >= 0; k0 -= kB)
             {
               const S kk0 = static_cast<S>(j) + static_cast<S>(k0);
               Values.sampleBatch(e, st, kk0, value);
               if constexpr (TwoD)
               {
-                sampleTransferGradients(Values.v, e, st, kk0, gradient);
+                sampleTransferGradients(Values.v, e, st, kk0, cell, gradient);
               }
               for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= 0;
                    --l)

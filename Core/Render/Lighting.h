@@ -164,6 +164,23 @@ struct GradientStencil
     inCell(v, i[0], i[1], i[2], f[0], f[1], f[2], out);
   }
 
+  /// at() through `cell` (the differences recomputed only when the cell changes).
+  template <typename S, typename T>
+  void at(const T* v, const S x[3], Cell<S>& cell, S out[3]) const
+  {
+    int i[3];
+    S f[3];
+    for (int a = 0; a < 3; ++a)
+    {
+      const S c = std::clamp(x[a], S(0), static_cast<S>(n[a] - 1));
+      i[a] = std::min(static_cast<int>(c), n[a] - 2);
+      f[a] = c - static_cast<S>(i[a]);
+    }
+    const std::int64_t id =
+      i[0] + static_cast<std::int64_t>(n[0]) * (i[1] + static_cast<std::int64_t>(n[1]) * i[2]);
+    inCell(v, i[0], i[1], i[2], id, f[0], f[1], f[2], cell, out);
+  }
+
   /// The per-point gradient of point (i, j, k) (lightingGradients' entry).
   template <typename T>
   void atPoint(const T* v, int i, int j, int k, float out[3]) const

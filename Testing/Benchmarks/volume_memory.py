@@ -12,6 +12,10 @@ each under /usr/bin/time -v (peak resident set size, wall seconds):
   recon2d       ddg reconstruct --2d, the same
   process       ddg render of Data/Volumes/neghip.vti (64^3): the process alone (libraries,
                 libtorch, VTK), to tell what the volume costs from what the program costs
+  kernel*       ddg render of Data/Volumes/engine.vti at 1200 x 1000, 1D / Shade / 2D / 2D Shade:
+                the render time ddg prints (the ray march alone, loading excluded)
+  kernel_recon* ddg reconstruct on Engine from those renders (1D, Shade, 2D), --iterations N:
+                the fit time ddg prints (forward, adjoint and Adam steps alone)
 
 and prints per command the peak, the bytes per voxel above the data itself ((peak - data bytes) /
 voxels, the issue's measure, the process included) and above data and process ((peak - data -
@@ -93,7 +97,8 @@ def view_file(work, lit):
 
 
 def timed(cmd, env=None):
-    """(peak MB, wall seconds) of one run under /usr/bin/time -v."""
+    """(peak MB, wall seconds, ddg's own render milliseconds or None) of one run under
+    /usr/bin/time -v."""
     proc = subprocess.run(["/usr/bin/time", "-v"] + cmd, capture_output=True, text=True, env=env)
     if proc.returncode != 0:
         raise SystemExit(f"failed: {' '.join(cmd)}\n{proc.stdout[-800:]}{proc.stderr[-1500:]}")
@@ -104,7 +109,10 @@ def timed(cmd, env=None):
     seconds = 0.0
     for part in wall.split(":"):
         seconds = seconds * 60 + float(part)
-    return peak / 1024.0, seconds
+    render = re.search(r"render ([0-9.]+) ms", proc.stdout)
+    fit = re.search(r"fit ([0-9.]+)\)", proc.stdout + proc.stderr)
+    own = float(render.group(1)) if render else (1000 * float(fit.group(1)) if fit else None)
+    return peak / 1024.0, seconds, own
 
 
 def commands(ddg, work, volume, iterations, threads, tag):
@@ -116,99 +124,165 @@ def commands(ddg, work, volume, iterations, threads, tag):
     small = os.path.join(DATA, "Volumes", "neghip.vti")
     small_tf = os.path.join(DATA, "TransferFunctions", "neghip_shells.json")
     small_view = os.path.join(DATA, "Views", "neghip_oblique.json")
-    return [
+    # the renderer's own time per sample: Engine (8.4 M voxels) at 1200 x 1000, load excluded
+    engine = os.path.join(DATA, "Volumes", "engine.vti")
+    kernel = json.load(open(os.path.join(DATA, "Views", "engine_oblique.json")))
+    kernel["size"] = [1200, 1000]
+    kernel_view = os.path.join(work, "kernel.json")
+    json.dump(kernel, open(kernel_view, "w"))
+    kernel["lighting"] = {"shade": True}
+    kernel_lit = os.path.join(work, "kernel_lit.json")
+    json.dump(kernel, open(kernel_lit, "w"))
+    engine_tf = os.path.join(DATA, "TransferFunctions", "engine_block.json")
+    kernels = [
         (
-            "process",
+            f"kernel{suffix}",
             [
                 ddg,
                 "render",
                 "--volume",
-                small,
+                engine,
                 "--tf",
-                small_tf,
+                tf,
                 "--view",
-                small_view,
+                v,
                 "--out",
-                os.path.join(work, f"small_{tag}.png"),
+                os.path.join(work, f"kernel{suffix}_{tag}.png"),
             ]
             + common,
-        ),
-        (
-            "render",
-            [ddg, "render", "--volume", volume, "--tf", tf1, "--view", view, "--out", ref] + common,
-        ),
-        (
-            "render_lit",
-            [
-                ddg,
-                "render",
-                "--volume",
-                volume,
-                "--tf",
-                tf1,
-                "--view",
-                lit,
-                "--out",
-                os.path.join(work, f"lit_{tag}.png"),
-            ]
-            + common,
-        ),
-        (
-            "render_2d",
-            [
-                ddg,
-                "render",
-                "--volume",
-                volume,
-                "--tf",
-                tf2,
-                "--view",
-                view,
-                "--out",
-                os.path.join(work, f"twod_{tag}.png"),
-            ]
-            + common,
-        ),
-        (
-            "recon1d",
-            [
-                ddg,
-                "reconstruct",
-                "--volume",
-                volume,
-                "--target",
-                ref,
-                "--view",
-                view,
-                "--out",
-                os.path.join(work, f"r1_{tag}.json"),
-                "--iterations",
-                str(iterations),
-                "--quiet",
-            ]
-            + common,
-        ),
-        (
-            "recon2d",
-            [
-                ddg,
-                "reconstruct",
-                "--volume",
-                volume,
-                "--target",
-                ref,
-                "--view",
-                view,
-                "--out",
-                os.path.join(work, f"r2_{tag}.json"),
-                "--2d",
-                "--iterations",
-                str(iterations),
-                "--quiet",
-            ]
-            + common,
-        ),
+        )
+        for suffix, tf, v in (
+            ("", engine_tf, kernel_view),
+            ("_lit", engine_tf, kernel_lit),
+            ("_2d", tf2, kernel_view),
+            ("_2d_lit", tf2, kernel_lit),
+        )
     ]
+    recon = [
+        (
+            f"kernel_recon{suffix}",
+            [
+                ddg,
+                "reconstruct",
+                "--volume",
+                engine,
+                "--target",
+                os.path.join(work, f"kernel{picture}_{tag}.png"),
+                "--view",
+                v,
+                "--out",
+                os.path.join(work, f"kr{suffix}_{tag}.json"),
+                "--iterations",
+                str(iterations),
+                "--quiet",
+            ]
+            + extra
+            + common,
+        )
+        for suffix, picture, v, extra in (
+            ("", "", kernel_view, []),
+            ("_lit", "_lit", kernel_lit, []),
+            ("_2d", "", kernel_view, ["--2d"]),
+        )
+    ]
+    return (
+        kernels
+        + recon
+        + [
+            (
+                "process",
+                [
+                    ddg,
+                    "render",
+                    "--volume",
+                    small,
+                    "--tf",
+                    small_tf,
+                    "--view",
+                    small_view,
+                    "--out",
+                    os.path.join(work, f"small_{tag}.png"),
+                ]
+                + common,
+            ),
+            (
+                "render",
+                [ddg, "render", "--volume", volume, "--tf", tf1, "--view", view, "--out", ref]
+                + common,
+            ),
+            (
+                "render_lit",
+                [
+                    ddg,
+                    "render",
+                    "--volume",
+                    volume,
+                    "--tf",
+                    tf1,
+                    "--view",
+                    lit,
+                    "--out",
+                    os.path.join(work, f"lit_{tag}.png"),
+                ]
+                + common,
+            ),
+            (
+                "render_2d",
+                [
+                    ddg,
+                    "render",
+                    "--volume",
+                    volume,
+                    "--tf",
+                    tf2,
+                    "--view",
+                    view,
+                    "--out",
+                    os.path.join(work, f"twod_{tag}.png"),
+                ]
+                + common,
+            ),
+            (
+                "recon1d",
+                [
+                    ddg,
+                    "reconstruct",
+                    "--volume",
+                    volume,
+                    "--target",
+                    ref,
+                    "--view",
+                    view,
+                    "--out",
+                    os.path.join(work, f"r1_{tag}.json"),
+                    "--iterations",
+                    str(iterations),
+                    "--quiet",
+                ]
+                + common,
+            ),
+            (
+                "recon2d",
+                [
+                    ddg,
+                    "reconstruct",
+                    "--volume",
+                    volume,
+                    "--target",
+                    ref,
+                    "--view",
+                    view,
+                    "--out",
+                    os.path.join(work, f"r2_{tag}.json"),
+                    "--2d",
+                    "--iterations",
+                    str(iterations),
+                    "--quiet",
+                ]
+                + common,
+            ),
+        ]
+    )
 
 
 def env_for(ddg):
@@ -241,23 +315,31 @@ def main():
     for r in range(args.repeat):
         for tag, ddg in builds:
             for name, cmd in commands(ddg, args.work, volume, args.iterations, args.threads, tag):
-                peak, wall = timed(cmd, env_for(ddg))
-                runs.setdefault((tag, name), []).append((peak, wall))
-                print(f"run {r + 1} {tag} {name}: peak {peak:.0f} MB, {wall:.2f} s", flush=True)
+                peak, wall, render = timed(cmd, env_for(ddg))
+                runs.setdefault((tag, name), []).append((peak, wall, render))
+                print(
+                    f"run {r + 1} {tag} {name}: peak {peak:.0f} MB, {wall:.2f} s"
+                    + (f", render {render:.0f} ms" if render else ""),
+                    flush=True,
+                )
+    with open(os.path.join(args.work, "runs.json"), "w") as f:
+        json.dump({f"{t} {n}": v for (t, n), v in runs.items()}, f)
     rows = []
     names = [n for n, _ in commands(args.ddg, args.work, volume, 1, 1, "A")]
     for tag, _ in builds:
-        process = statistics.median(p for p, _ in runs[(tag, "process")])
+        process = statistics.median(r[0] for r in runs[(tag, "process")])
         for name in names:
-            peak = statistics.median(p for p, _ in runs[(tag, name)])
-            wall = statistics.median(w for _, w in runs[(tag, name)])
+            peak = statistics.median(r[0] for r in runs[(tag, name)])
+            wall = statistics.median(r[1] for r in runs[(tag, name)])
             row = {
                 "build": tag,
                 "command": name,
                 "peak_mb": round(peak, 1),
                 "wall_s": round(wall, 2),
             }
-            if name != "process":
+            if name.startswith("kernel"):
+                row["render_ms"] = round(statistics.median(r[2] for r in runs[(tag, name)]), 1)
+            elif name != "process":
                 row["bytes_per_voxel_above_data"] = round((peak - data_mb) * 2**20 / voxels, 2)
                 row["bytes_per_voxel_above_data_and_process"] = round(
                     (peak - data_mb - process) * 2**20 / voxels, 2
@@ -268,24 +350,26 @@ def main():
         f"({data_mb:.0f} MB), {args.iterations} iterations, {args.threads} threads, "
         f"median of {args.repeat}",
         "",
-        "| build | command | peak MB | B/voxel above data | above data + process | wall s |",
-        "|---|---|---|---|---|---|",
+        "| build | command | peak MB | B/voxel above data | above data + process | wall s "
+        "| render ms |",
+        "|---|---|---|---|---|---|---|",
     ]
     for row in rows:
         lines.append(
             f"| {row['build']} | {row['command']} | {row['peak_mb']:.0f} | "
             f"{row.get('bytes_per_voxel_above_data', '')} | "
             f"{row.get('bytes_per_voxel_above_data_and_process', '')} | "
-            f"{row['wall_s']:.2f} |"
+            f"{row['wall_s']:.2f} | {row.get('render_ms', '')} |"
         )
     if args.baseline_ddg:
-        lines += ["", "| command | peak A/B | wall A/B |", "|---|---|---|"]
+        lines += ["", "| command | peak A/B | wall A/B | render A/B |", "|---|---|---|---|"]
         for name in names:
             a = next(r for r in rows if r["build"] == "A" and r["command"] == name)
             b = next(r for r in rows if r["build"] == "B" and r["command"] == name)
+            kernel = f"{a['render_ms'] / b['render_ms']:.3f}" if "render_ms" in a else ""
             lines.append(
                 f"| {name} | {a['peak_mb'] / b['peak_mb']:.3f} | "
-                f"{a['wall_s'] / b['wall_s']:.3f} |"
+                f"{a['wall_s'] / b['wall_s']:.3f} | {kernel} |"
             )
     text = "\n".join(lines)
     print(text)
