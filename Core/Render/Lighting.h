@@ -153,15 +153,8 @@ struct GradientStencil
   template <typename S, typename T>
   void at(const T* v, const S x[3], S out[3]) const
   {
-    int i[3];
-    S f[3];
-    for (int a = 0; a < 3; ++a)
-    {
-      const S c = std::clamp(x[a], S(0), static_cast<S>(n[a] - 1));
-      i[a] = std::min(static_cast<int>(c), n[a] - 2);
-      f[a] = c - static_cast<S>(i[a]);
-    }
-    inCell(v, i[0], i[1], i[2], f[0], f[1], f[2], out);
+    Cell<S> cell;
+    at(v, x, cell, out);
   }
 
   /// at() through `cell` (the differences recomputed only when the cell changes).

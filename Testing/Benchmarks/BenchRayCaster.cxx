@@ -277,9 +277,9 @@ int main(int argc, char** argv)
   {
     const double tLit = median(litMs);
     std::printf("ddg RayCaster, Shade on           %8.1f ms  (%.3g samples, %.1f Msamples/s/core; "
-                "first render %.1f ms with the gradients, 12 bytes per point, %.0f MB)\n",
+                "first render %.1f ms; gradients per sample, no buffer)\n",
       tLit, static_cast<double>(litStats.samples), litStats.samples / (tLit * 1e3) / nThreads,
-      firstLitMs, 12.0 * static_cast<double>(volume.voxelCount()) / 1e6);
+      firstLitMs);
     std::printf("Shade on / off, ddg, same samples  %.2fx\n", tLit / tOurs);
   }
   std::printf(

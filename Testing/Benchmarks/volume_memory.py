@@ -110,179 +110,93 @@ def timed(cmd, env=None):
     for part in wall.split(":"):
         seconds = seconds * 60 + float(part)
     render = re.search(r"render ([0-9.]+) ms", proc.stdout)
-    fit = re.search(r"fit ([0-9.]+)\)", proc.stdout + proc.stderr)
+    fit = re.search(r"fit ([0-9.]+)[;)]", proc.stdout + proc.stderr)
     own = float(render.group(1)) if render else (1000 * float(fit.group(1)) if fit else None)
     return peak / 1024.0, seconds, own
 
 
 def commands(ddg, work, volume, iterations, threads, tag):
-    tf1 = os.path.join(DATA, "TransferFunctions", "bonsai_tree.json")
-    tf2 = os.path.join(DATA, "TransferFunctions", "engine_2d_edges.json")
-    view, lit = view_file(work, False), view_file(work, True)
-    ref = os.path.join(work, f"ref_{tag}.png")
+    """(name, command) pairs in the order they run (renders before the reconstructions that
+    read them)."""
     common = ["--threads", str(threads)]
-    small = os.path.join(DATA, "Volumes", "neghip.vti")
-    small_tf = os.path.join(DATA, "TransferFunctions", "neghip_shells.json")
-    small_view = os.path.join(DATA, "Views", "neghip_oblique.json")
-    # the renderer's own time per sample: Engine (8.4 M voxels) at 1200 x 1000, load excluded
-    engine = os.path.join(DATA, "Volumes", "engine.vti")
-    kernel = json.load(open(os.path.join(DATA, "Views", "engine_oblique.json")))
-    kernel["size"] = [1200, 1000]
-    kernel_view = os.path.join(work, "kernel.json")
-    json.dump(kernel, open(kernel_view, "w"))
-    kernel["lighting"] = {"shade": True}
-    kernel_lit = os.path.join(work, "kernel_lit.json")
-    json.dump(kernel, open(kernel_lit, "w"))
-    engine_tf = os.path.join(DATA, "TransferFunctions", "engine_block.json")
-    kernels = [
-        (
-            f"kernel{suffix}",
-            [
-                ddg,
-                "render",
-                "--volume",
-                engine,
-                "--tf",
-                tf,
-                "--view",
-                v,
-                "--out",
-                os.path.join(work, f"kernel{suffix}_{tag}.png"),
-            ]
-            + common,
-        )
-        for suffix, tf, v in (
-            ("", engine_tf, kernel_view),
-            ("_lit", engine_tf, kernel_lit),
-            ("_2d", tf2, kernel_view),
-            ("_2d_lit", tf2, kernel_lit),
-        )
-    ]
-    recon = [
-        (
-            f"kernel_recon{suffix}",
+
+    def render(vol, tf, view, out):
+        return [
+            ddg,
+            "render",
+            "--volume",
+            vol,
+            "--tf",
+            tf,
+            "--view",
+            view,
+            "--out",
+            os.path.join(work, out),
+        ] + common
+
+    def reconstruct(vol, target, view, out, extra=()):
+        return (
             [
                 ddg,
                 "reconstruct",
                 "--volume",
-                engine,
+                vol,
                 "--target",
-                os.path.join(work, f"kernel{picture}_{tag}.png"),
+                os.path.join(work, target),
                 "--view",
-                v,
+                view,
                 "--out",
-                os.path.join(work, f"kr{suffix}_{tag}.json"),
+                os.path.join(work, out),
                 "--iterations",
                 str(iterations),
                 "--quiet",
             ]
-            + extra
-            + common,
+            + list(extra)
+            + common
         )
-        for suffix, picture, v, extra in (
-            ("", "", kernel_view, []),
-            ("_lit", "_lit", kernel_lit, []),
-            ("_2d", "", kernel_view, ["--2d"]),
-        )
+
+    tfs = os.path.join(DATA, "TransferFunctions")
+    tf1, tf2 = os.path.join(tfs, "bonsai_tree.json"), os.path.join(tfs, "engine_2d_edges.json")
+    view, lit = view_file(work, False), view_file(work, True)
+    # the march's own time: Engine (8.4 M voxels) at 1200 x 1000, loading excluded
+    engine = os.path.join(DATA, "Volumes", "engine.vti")
+    engine_tf = os.path.join(tfs, "engine_block.json")
+    kernel = json.load(open(os.path.join(DATA, "Views", "engine_oblique.json")))
+    kernel["size"] = [1200, 1000]
+    kview = os.path.join(work, "kernel.json")
+    json.dump(kernel, open(kview, "w"))
+    kernel["lighting"] = {"shade": True}
+    klit = os.path.join(work, "kernel_lit.json")
+    json.dump(kernel, open(klit, "w"))
+    return [
+        ("kernel", render(engine, engine_tf, kview, f"kernel_{tag}.png")),
+        ("kernel_lit", render(engine, engine_tf, klit, f"kernel_lit_{tag}.png")),
+        ("kernel_2d", render(engine, tf2, kview, f"kernel_2d_{tag}.png")),
+        ("kernel_2d_lit", render(engine, tf2, klit, f"kernel_2d_lit_{tag}.png")),
+        ("kernel_recon", reconstruct(engine, f"kernel_{tag}.png", kview, f"kr_{tag}.json")),
+        (
+            "kernel_recon_lit",
+            reconstruct(engine, f"kernel_lit_{tag}.png", klit, f"kr_lit_{tag}.json"),
+        ),
+        (
+            "kernel_recon_2d",
+            reconstruct(engine, f"kernel_{tag}.png", kview, f"kr_2d_{tag}.json", ["--2d"]),
+        ),
+        (
+            "process",
+            render(
+                os.path.join(DATA, "Volumes", "neghip.vti"),
+                os.path.join(tfs, "neghip_shells.json"),
+                os.path.join(DATA, "Views", "neghip_oblique.json"),
+                f"small_{tag}.png",
+            ),
+        ),
+        ("render", render(volume, tf1, view, f"ref_{tag}.png")),
+        ("render_lit", render(volume, tf1, lit, f"lit_{tag}.png")),
+        ("render_2d", render(volume, tf2, view, f"twod_{tag}.png")),
+        ("recon1d", reconstruct(volume, f"ref_{tag}.png", view, f"r1_{tag}.json")),
+        ("recon2d", reconstruct(volume, f"ref_{tag}.png", view, f"r2_{tag}.json", ["--2d"])),
     ]
-    return (
-        kernels
-        + recon
-        + [
-            (
-                "process",
-                [
-                    ddg,
-                    "render",
-                    "--volume",
-                    small,
-                    "--tf",
-                    small_tf,
-                    "--view",
-                    small_view,
-                    "--out",
-                    os.path.join(work, f"small_{tag}.png"),
-                ]
-                + common,
-            ),
-            (
-                "render",
-                [ddg, "render", "--volume", volume, "--tf", tf1, "--view", view, "--out", ref]
-                + common,
-            ),
-            (
-                "render_lit",
-                [
-                    ddg,
-                    "render",
-                    "--volume",
-                    volume,
-                    "--tf",
-                    tf1,
-                    "--view",
-                    lit,
-                    "--out",
-                    os.path.join(work, f"lit_{tag}.png"),
-                ]
-                + common,
-            ),
-            (
-                "render_2d",
-                [
-                    ddg,
-                    "render",
-                    "--volume",
-                    volume,
-                    "--tf",
-                    tf2,
-                    "--view",
-                    view,
-                    "--out",
-                    os.path.join(work, f"twod_{tag}.png"),
-                ]
-                + common,
-            ),
-            (
-                "recon1d",
-                [
-                    ddg,
-                    "reconstruct",
-                    "--volume",
-                    volume,
-                    "--target",
-                    ref,
-                    "--view",
-                    view,
-                    "--out",
-                    os.path.join(work, f"r1_{tag}.json"),
-                    "--iterations",
-                    str(iterations),
-                    "--quiet",
-                ]
-                + common,
-            ),
-            (
-                "recon2d",
-                [
-                    ddg,
-                    "reconstruct",
-                    "--volume",
-                    volume,
-                    "--target",
-                    ref,
-                    "--view",
-                    view,
-                    "--out",
-                    os.path.join(work, f"r2_{tag}.json"),
-                    "--2d",
-                    "--iterations",
-                    str(iterations),
-                    "--quiet",
-                ]
-                + common,
-            ),
-        ]
-    )
 
 
 def env_for(ddg):

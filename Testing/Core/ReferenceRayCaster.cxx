@@ -276,7 +276,7 @@ std::vector<double> referenceGradient(const Volume& volume, const std::vector<do
     int i;
     double f, c[3], a, Abefore, dLit[3];
   };
-  // Shade on: the model's gradient (RayCaster::lightingGradients, per point) interpolated
+  // Shade on: the model's gradient (lightingGradients, Render/Lighting.h, per point) interpolated
   // trilinearly per component, the obvious way
   std::vector<Volume> gradient;
   if (view.lighting.shade)
