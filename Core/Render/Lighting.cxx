@@ -91,6 +91,7 @@ GradientStencil GradientStencil::of(const Volume& vol)
   {
     g.n[a] = vol.dims()[a];
     g.scale[a] = g.n[a] > 1 ? static_cast<double>(g.n[a]) / ((g.n[a] - 1) * vol.spacing()[a]) : 0.0;
+    g.scaleFloat[a] = static_cast<float>(g.scale[a]);
   }
   return g;
 }

@@ -62,7 +62,8 @@ std::vector<float> lightingGradients(const Volume& vol);
 struct GradientStencil
 {
   std::array<int, 3> n{ 2, 2, 2 };
-  double scale[3] = { 1, 1, 1 }; ///< N/(N-1) / spacing per axis
+  double scale[3] = { 1, 1, 1 };     ///< N/(N-1) / spacing per axis
+  float scaleFloat[3] = { 1, 1, 1 }; ///< the same in float (the float renderers' per sample)
 
   static GradientStencil of(const Volume& vol);
 
@@ -107,33 +108,60 @@ struct GradientStencil
     }
   }
 
-  /// The gradient at weights fx, fy, fz in a cell from its corners' differences: per axis, the
-  /// differences interpolated, then scaled (the sum of interpolating the scaled per-point
-  /// gradients, up to rounding).
+  /// The last cell's corner differences, ready to interpolate: per axis a and row r (the cell's
+  /// rows along x, r = y + 2 z), base[a][r] = d[a][2 r] and delta[a][r] = d[a][2 r + 1] - base.
   template <typename S>
-  void interpolate(const S d[3][8], S fx, S fy, S fz, S out[3]) const
+  struct Cell
+  {
+    std::int64_t id = -1; ///< flat index of the first corner (-1: none yet)
+    S base[3][4]{};
+    S delta[3][4]{};
+  };
+
+  /// Fills `cell` with the differences of the cell whose first corner is point (i, j, k).
+  template <typename S, typename T>
+  void fill(const T* v, int i, int j, int k, Cell<S>& cell) const
+  {
+    S d[3][8];
+    corners(v, i, j, k, d);
+    for (int a = 0; a < 3; ++a)
+      for (int r = 0; r < 4; ++r)
+      {
+        cell.base[a][r] = d[a][2 * r];
+        cell.delta[a][r] = d[a][2 * r + 1] - d[a][2 * r];
+      }
+  }
+
+  /// The gradient at weights fx, fy, fz in a cell: per axis, the corners' differences interpolated
+  /// (x, then y, then z, as adjoint::trilinear), then scaled (the sum of interpolating the scaled
+  /// per-point gradients, up to rounding).
+  template <typename S>
+  void interpolate(const Cell<S>& cell, S fx, S fy, S fz, S out[3]) const
   {
     for (int a = 0; a < 3; ++a)
-      out[a] = static_cast<S>(scale[a]) * adjoint::trilinear(d[a], fx, fy, fz);
+    {
+      S c[4];
+      for (int r = 0; r < 4; ++r)
+        c[r] = cell.base[a][r] + fx * cell.delta[a][r];
+      const S c0 = c[0] + fy * (c[1] - c[0]);
+      const S c1 = c[2] + fy * (c[3] - c[2]);
+      S sa;
+      if constexpr (std::is_same_v<S, float>)
+        sa = scaleFloat[a];
+      else
+        sa = static_cast<S>(scale[a]);
+      out[a] = sa * (c0 + fz * (c1 - c0));
+    }
   }
 
   /// The gradient in the cell whose first corner is point (i, j, k) at weights fx, fy, fz.
   template <typename S, typename T>
   void inCell(const T* v, int i, int j, int k, S fx, S fy, S fz, S out[3]) const
   {
-    S d[3][8];
-    corners(v, i, j, k, d);
-    interpolate(d, fx, fy, fz, out);
+    Cell<S> cell;
+    fill(v, i, j, k, cell);
+    interpolate(cell, fx, fy, fz, out);
   }
-
-  /// The last cell's corner differences, kept while a ray's samples stay in one cell (about two
-  /// samples per cell at ParaView's half-voxel step).
-  template <typename S>
-  struct Cell
-  {
-    std::int64_t id = -1; ///< flat index of the first corner (-1: none yet)
-    S d[3][8]{};
-  };
 
   /// inCell through `cell`: the differences recomputed only when the cell (flat index `id` of
   /// point (i, j, k)) changes.
@@ -143,10 +171,10 @@ struct GradientStencil
   {
     if (cell.id != id)
     {
-      corners(v, i, j, k, cell.d);
+      fill(v, i, j, k, cell);
       cell.id = id;
     }
-    interpolate(cell.d, fx, fy, fz, out);
+    interpolate(cell, fx, fy, fz, out);
   }
 
   /// The gradient at index coordinates x (clamped to the grid as the scalar is).

@@ -488,9 +488,19 @@ struct March
   bool skip = true;
   Eigen::Vector3d origin, spacing, boxMin, boxMax;
 
+  // The gradient's cells of one worker: a direct-mapped table of the last cells seen, shared
+  // by the rays it marches (neighbouring rays cross the same cells).
+  static constexpr int kCellBits = 10; // 1024 cells, 106 KB per worker
+  static GradientStencil::Cell<float>& cellOf(
+    std::vector<GradientStencil::Cell<float>>& cells, std::int64_t id)
+  {
+    const std::uint64_t h = static_cast<std::uint64_t>(id) * 0x9E3779B97F4A7C15ull;
+    return cells[static_cast<size_t>(h >> (64 - kCellBits))];
+  }
+
   template <bool TwoD>
   void castRay(const Eigen::Vector3d& o, const Eigen::Vector3d& dir, float j, float* out,
-    RenderStats& stats) const
+    RenderStats& stats, std::vector<GradientStencil::Cell<float>>& cells) const
   {
     RaySegment seg;
     if (!raySegment(o, dir, boxMin, boxMax, origin, spacing, d, j, seg))
@@ -511,7 +521,6 @@ struct March
     const float sx = static_cast<float>(s[0]), sy = static_cast<float>(s[1]),
                 sz = static_cast<float>(s[2]);
     const FieldT& f = *field;
-    GradientStencil::Cell<float> cell; // the gradient's last cell along this ray
     float cr = 0, cg = 0, cb = 0, ca = 0;
     // March block by block: find the block of sample k and the first sample past its far faces;
     // skip the block when the TF makes it transparent, else sample it without further checks.
@@ -610,7 +619,7 @@ struct March
           {
             float gl[3];
             stencil->inCell(f.w, lanes.i[l], lanes.j[l], lanes.k[l], lanes.idx[l], lanes.fx[l],
-              lanes.fy[l], lanes.fz[l], cell, gl);
+              lanes.fy[l], lanes.fz[l], cellOf(cells, lanes.idx[l]), gl);
             c[l] = c2->lookup(value[l], transferGradient(gl));
             for (int a = 0; a < 3; ++a)
               g[a][l] = gl[a];
@@ -633,7 +642,7 @@ struct March
                   gl[a] = g[a][l];
               else
                 stencil->inCell(f.w, lanes.i[l], lanes.j[l], lanes.k[l], lanes.idx[l], lanes.fx[l],
-                  lanes.fy[l], lanes.fz[l], cell, gl);
+                  lanes.fy[l], lanes.fz[l], cellOf(cells, lanes.idx[l]), gl);
               for (int a = 0; a < 3; ++a)
                 gp[a][count] = gl[a];
               kp[count] = j + static_cast<float>(k + l);
@@ -728,6 +737,11 @@ struct March
     std::atomic<std::int64_t> done{ 0 };
     std::atomic<bool> cancel{ false };
     std::atomic<std::int64_t> rayCount{ 0 }, sampleCount{ 0 }, skipCount{ 0 };
+    std::vector<std::vector<GradientStencil::Cell<float>>> cells(
+      static_cast<size_t>(resolveThreadCount(threads, tiles)));
+    if (stencil)
+      for (auto& c : cells)
+        c.resize(size_t(1) << kCellBits);
     parallelFor(tiles, threads,
       [&](std::int64_t tile, int threadId)
       {
@@ -746,7 +760,8 @@ struct March
             rays.ray(x, y, o, dir);
             const float j =
               jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : static_cast<float>(offset);
-            castRay<TwoD>(o, dir, j, &img.at(x, y, 0), tileStats);
+            castRay<TwoD>(
+              o, dir, j, &img.at(x, y, 0), tileStats, cells[static_cast<size_t>(threadId)]);
           }
         }
         rayCount += tileStats.rays;
