@@ -61,13 +61,18 @@ LightKit LightKit::paraview(const Lighting& lighting)
 
 LightingFrame LightingFrame::of(const Volume& vol, const View& view)
 {
+  return of(vol.dims(), vol.origin(), vol.spacing(), view);
+}
+
+LightingFrame LightingFrame::of(const std::array<int, 3>& d, const std::array<double, 3>& origin,
+  const std::array<double, 3>& spacing, const View& view)
+{
   LightingFrame f;
-  const auto& d = vol.dims();
   const RayGenerator rays(view);
   const Eigen::Vector3d rows[3] = { rays.right(), rays.up(), -rays.forward() }; // world -> eye
   Eigen::Vector3d extent;
   for (int a = 0; a < 3; ++a)
-    extent[a] = (d[a] - 1) * vol.spacing()[a];
+    extent[a] = (d[a] - 1) * spacing[a];
   for (int r = 0; r < 3; ++r)
   {
     double offset = 0;
@@ -77,7 +82,7 @@ LightingFrame LightingFrame::of(const Volume& vol, const View& view)
       f.normalMap[r][a] = extent[r] * rows[r][a];
       // world' = origin + extent (c + 0.5) / N: the texture coordinate, not the point's
       f.positionMap[r][a] = rows[r][a] * extent[a] / d[a];
-      offset += rows[r][a] * (vol.origin()[a] + extent[a] * 0.5 / d[a] - view.camera.position[a]);
+      offset += rows[r][a] * (origin[a] + extent[a] * 0.5 / d[a] - view.camera.position[a]);
     }
     f.positionOffset[r] = offset;
   }
@@ -86,11 +91,17 @@ LightingFrame LightingFrame::of(const Volume& vol, const View& view)
 
 GradientStencil GradientStencil::of(const Volume& vol)
 {
+  return of(vol, vol.dims());
+}
+
+GradientStencil GradientStencil::of(const Volume& piece, const std::array<int, 3>& wholeDims)
+{
   GradientStencil g;
   for (int a = 0; a < 3; ++a)
   {
-    g.n[a] = vol.dims()[a];
-    g.scale[a] = g.n[a] > 1 ? static_cast<double>(g.n[a]) / ((g.n[a] - 1) * vol.spacing()[a]) : 0.0;
+    const double whole = wholeDims[a];
+    g.n[a] = piece.dims()[a];
+    g.scale[a] = whole > 1 ? whole / ((whole - 1) * piece.spacing()[a]) : 0.0;
     g.scaleFloat[a] = static_cast<float>(g.scale[a]);
   }
   return g;

@@ -66,6 +66,11 @@ struct GradientStencil
   float scaleFloat[3] = { 1, 1, 1 }; ///< the same in float (the float renderers' per sample)
 
   static GradientStencil of(const Volume& vol);
+  /// For a piece of a volume of `wholeDims` points: the piece's strides and faces, the whole's
+  /// scaling (N/(N-1) of the whole). The piece must hold one ghost point beside its owned cells
+  /// where they are not the whole's faces (VolumeBrick::validate), so that faces clamp as the
+  /// whole's do.
+  static GradientStencil of(const Volume& piece, const std::array<int, 3>& wholeDims);
 
   /// The differences of the scalars v (x fastest) along each axis at the 8 corners of the cell
   /// whose first corner is point (i, j, k) (0 <= i <= nx - 2, ...): d[a][x + 2 y + 4 z], the
@@ -229,6 +234,9 @@ struct LightingFrame
   double positionOffset[3];
 
   static LightingFrame of(const Volume& volume, const View& view);
+  /// The same for a volume of `dims` points from `origin` (a piece's whole volume).
+  static LightingFrame of(const std::array<int, 3>& dims, const std::array<double, 3>& origin,
+    const std::array<double, 3>& spacing, const View& view);
 };
 
 /// The light sums of lanes 0 .. count-1, lane l with eye-space normal direction m[.][l] (not

@@ -11,7 +11,9 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <mutex>
+#include <optional>
 #include <sstream>
 #include <type_traits>
 
@@ -56,6 +58,11 @@ Storage storageFor(ScalarType t)
 struct RayCaster::Internals
 {
   Volume Vol;
+  std::optional<VolumeBrick> Brick; // a piece of a whole volume
+  // The whole volume's geometry and range (the volume's own unless a piece)
+  std::array<int, 3> WholeDims{};
+  std::array<double, 3> WholeOrigin{};
+  std::array<double, 2> WholeRange{};
   double TextureScale = 1;
   Storage Kind = Storage::F32;
   Field<std::uint8_t> U8;
@@ -115,32 +122,71 @@ struct RayCaster::Internals
   }
 };
 
-RayCaster::RayCaster(const Volume& volume)
-  : In(std::make_unique<Internals>())
+namespace
+{
+void checkRenderable(const Volume& volume, const std::array<double, 2>& range, const char* what)
 {
   const auto& d = volume.dims();
   if (volume.empty())
   {
-    throw Error("volume is empty");
+    throw Error(std::string(what) + " is empty");
   }
   if (d[0] < 2 || d[1] < 2 || d[2] < 2)
   {
     std::ostringstream msg;
-    msg << "volume must have at least 2 points along each axis to be volume rendered, it has "
+    msg << what << " must have at least 2 points along each axis to be volume rendered, it has "
         << d[0] << " x " << d[1] << " x " << d[2];
     throw Error(msg.str());
   }
-  if (!(volume.range()[1] > volume.range()[0]))
+  if (!(range[1] > range[0]))
   {
     std::ostringstream msg;
-    msg << "volume is constant (every voxel is " << volume.range()[0]
+    msg << "volume is constant (every voxel is " << range[0]
         << "): a transfer function over an empty data range shows nothing";
     throw Error(msg.str());
   }
+}
+} // namespace
+
+RayCaster::RayCaster(const Volume& piece, const VolumeBrick& brick)
+  : RayCaster(piece, &brick)
+{
+}
+
+RayCaster::RayCaster(const Volume& volume)
+  : RayCaster(volume, nullptr)
+{
+}
+
+RayCaster::RayCaster(const Volume& volume, const VolumeBrick* brick)
+  : In(std::make_unique<Internals>())
+{
+  const auto& d = volume.dims();
+  if (brick)
+  {
+    brick->validate(volume, false);
+    if (brick->ownsNothing())
+      throw Error("this volume piece owns no cell: it has nothing to render");
+  }
+  checkRenderable(
+    volume, brick ? brick->wholeRange : volume.range(), brick ? "volume piece" : "volume");
   In->Vol = volume;
+  if (brick)
+  {
+    In->Brick = *brick;
+    In->WholeDims = brick->wholeDims;
+    In->WholeOrigin = brick->wholeOrigin;
+    In->WholeRange = brick->wholeRange;
+  }
+  else
+  {
+    In->WholeDims = volume.dims();
+    In->WholeOrigin = volume.origin();
+    In->WholeRange = volume.range();
+  }
   In->TextureScale = textureScale(volume.originalType());
   In->Kind = storageFor(volume.storageType());
-  In->Stencil = GradientStencil::of(volume);
+  In->Stencil = GradientStencil::of(volume, In->WholeDims);
   volume.visit(
     [&](const auto* scalars)
     {
@@ -154,6 +200,21 @@ RayCaster::~RayCaster() = default;
 const Volume& RayCaster::volume() const
 {
   return In->Vol;
+}
+
+std::array<double, 6> RayCaster::wholeBounds() const
+{
+  return In->Brick ? In->Brick->wholeBounds(In->Vol.spacing()) : In->Vol.bounds();
+}
+
+const VolumeBrick* RayCaster::brick() const
+{
+  return In->Brick ? &*In->Brick : nullptr;
+}
+
+const std::array<double, 2>& RayCaster::dataRange() const
+{
+  return In->WholeRange;
 }
 
 double RayCaster::textureScale(ScalarType type)
@@ -174,7 +235,7 @@ double RayCaster::textureScale(ScalarType type)
 double RayCaster::defaultSampleDistance() const
 {
   const auto& s = In->Vol.spacing();
-  const auto& d = In->Vol.dims();
+  const auto& d = In->WholeDims;
   double dist = (s[0] + s[1] + s[2]) / 6.0;
   const double n = std::pow(static_cast<double>(d[0] - 1) * (d[1] - 1) * (d[2] - 1), 0.333);
   if (n < 100.0)
@@ -186,8 +247,8 @@ double RayCaster::defaultSampleDistance() const
 
 double RayCaster::defaultOpacityUnitDistance() const
 {
-  const auto b = In->Vol.bounds();
-  const auto& d = In->Vol.dims();
+  const auto b = wholeBounds();
+  const auto& d = In->WholeDims;
   const double diag = std::sqrt(
     (b[1] - b[0]) * (b[1] - b[0]) + (b[3] - b[2]) * (b[3] - b[2]) + (b[5] - b[4]) * (b[5] - b[4]));
   const double cells = static_cast<double>(d[0] - 1) * (d[1] - 1) * (d[2] - 1);
@@ -201,14 +262,13 @@ double RayCaster::opacityUnitDistance(const View& view) const
 
 ParaViewTransfer2DMapping RayCaster::paraviewMapping2D(const View& view) const
 {
-  const auto& v = In->Vol;
-  return ParaViewTransfer2DMapping::forVolume(
-    v.dims(), v.spacing(), v.range(), defaultSampleDistance(), opacityUnitDistance(view));
+  return ParaViewTransfer2DMapping::forVolume(In->WholeDims, In->Vol.spacing(), In->WholeRange,
+    defaultSampleDistance(), opacityUnitDistance(view));
 }
 
 TransferTable1D RayCaster::paraviewTable(const TransferFunction1D& tf) const
 {
-  const auto& r = In->Vol.range();
+  const auto& r = In->WholeRange;
   return bakeTable(tf, r[0], r[1], paraviewTableWidth(tf, r[0], r[1]));
 }
 
@@ -259,18 +319,21 @@ struct SampleLighting
   float normalMap[3][3];                      // m = normalMap g
   float positionMap[3][3], positionOffset[3]; // P_eye = positionMap c + positionOffset
 
-  void setup(const Volume& vol, const View& view)
+  // `frame` of the whole volume; the march's index coordinates are `offset` points from the
+  // whole's (a piece of a volume), folded into the position's offset.
+  void setup(const LightingFrame& frame, const View& view, const double offset[3])
   {
     kit = LightKit::paraview(view.lighting);
-    const LightingFrame frame = LightingFrame::of(vol, view);
     for (int r = 0; r < 3; ++r)
     {
+      double shift = frame.positionOffset[r];
       for (int a = 0; a < 3; ++a)
       {
         normalMap[r][a] = static_cast<float>(frame.normalMap[r][a]);
         positionMap[r][a] = static_cast<float>(frame.positionMap[r][a]);
+        shift += frame.positionMap[r][a] * offset[a];
       }
-      positionOffset[r] = static_cast<float>(frame.positionOffset[r]);
+      positionOffset[r] = static_cast<float>(shift);
     }
   }
 
@@ -395,7 +458,12 @@ struct March
   bool jitter = false;
   double offset = 0.5;
   bool skip = true;
-  Eigen::Vector3d origin, spacing, boxMin, boxMax;
+  Eigen::Vector3d origin, spacing, boxMin, boxMax; // the whole volume's
+  // A piece of a volume: its owned cells [lo, hi) of the whole's n points, and its first point's
+  // whole index (off); rays and ownership in the whole's index space, the march in the piece's.
+  bool piece = false;
+  int lo[3] = { 0, 0, 0 }, hi[3] = { 0, 0, 0 }, n[3] = { 0, 0, 0 };
+  double off[3] = { 0, 0, 0 };
 
   // The gradient's cells of one worker: a direct-mapped table of the last cells seen, shared
   // by the rays it marches (neighbouring rays cross the same cells).
@@ -415,6 +483,14 @@ struct March
     if (!raySegment(o, dir, boxMin, boxMax, origin, spacing, d, j, seg))
     {
       return;
+    }
+    if (piece)
+    {
+      if (!ownedSamples(seg, j, lo, hi, n))
+        return;
+      out[4] = static_cast<float>(seg.kFirst); // the sort-last order of the pieces on this ray
+      for (int a = 0; a < 3; ++a)
+        seg.e[a] -= off[a];
     }
     const double* e = seg.e;
     const double* s = seg.s;
@@ -474,7 +550,7 @@ struct March
     };
     std::int64_t nextK = -1, nextEnd = 0; // a block classified ahead of time
     bool nextEmpty = false;
-    std::int64_t k = 0;
+    std::int64_t k = seg.kFirst;
     while (k <= kLast)
     {
       std::int64_t kEnd = kLast + 1;
@@ -590,8 +666,10 @@ struct March
     out[3] = ca;
   }
 
-  void setup(const Volume& vol, const FieldT& fieldIn, double defaultD, const View& view,
-    const RenderOptions& opt)
+  // `origin`, `spacing`, `bounds`: the whole volume's; `brick`: the piece the field holds, if any.
+  void setup(const std::array<double, 3>& originIn, const std::array<double, 3>& spacingIn,
+    const std::array<double, 6>& b, const VolumeBrick* brick, const FieldT& fieldIn,
+    double defaultD, const RenderOptions& opt)
   {
     field = &fieldIn;
     d = opt.sampleDistance > 0 ? opt.sampleDistance : defaultD;
@@ -607,15 +685,22 @@ struct March
       throw Error("sample offset must lie in [0, 1]");
     }
     skip = opt.emptySpaceSkipping;
-    const auto b = vol.bounds();
     for (int a = 0; a < 3; ++a)
     {
-      origin[a] = vol.origin()[a];
-      spacing[a] = vol.spacing()[a];
+      origin[a] = originIn[a];
+      spacing[a] = spacingIn[a];
       boxMin[a] = b[2 * a];
       boxMax[a] = b[2 * a + 1];
     }
-    (void)view;
+    piece = brick != nullptr;
+    if (piece)
+      for (int a = 0; a < 3; ++a)
+      {
+        lo[a] = brick->ownedMin[a];
+        hi[a] = brick->ownedMax[a];
+        n[a] = brick->wholeDims[a];
+        off[a] = brick->offset[a];
+      }
   }
 
   // Superblock emptiness from blockEmpty (call after filling blockEmpty).
@@ -639,7 +724,10 @@ struct March
     const View& view, int threads, const ProgressCallback& progress, RenderStats* stats) const
   {
     const RayGenerator rays(view);
-    Image img(view.width, view.height, 4, 0.0f);
+    Image img(view.width, view.height, piece ? 5 : 4, 0.0f);
+    if (piece) // no sample of this piece on the ray until castRay says where its first one is
+      for (size_t p = 4; p < img.pixels.size(); p += 5)
+        img.pixels[p] = std::numeric_limits<float>::infinity();
     const int tilesX = (view.width + kTile - 1) / kTile;
     const int tilesY = (view.height + kTile - 1) / kTile;
     const std::int64_t tiles = static_cast<std::int64_t>(tilesX) * tilesY;
@@ -702,6 +790,17 @@ struct March
 
 } // namespace
 
+void RayCaster::checkGradientPoints() const
+{
+  if (In->Brick)
+    In->Brick->validate(In->Vol, true);
+}
+
+LightingFrame RayCaster::lightingFrame(const View& view) const
+{
+  return LightingFrame::of(In->WholeDims, In->WholeOrigin, In->Vol.spacing(), view);
+}
+
 Image RayCaster::render(const TransferTable1D& table, const View& view,
   const RenderOptions& options, const ProgressCallback& progress, RenderStats* stats) const
 {
@@ -710,7 +809,8 @@ Image RayCaster::render(const TransferTable1D& table, const View& view,
     [&](const auto& field)
     {
       March<std::decay_t<decltype(field)>> m;
-      m.setup(In->Vol, field, defaultSampleDistance(), view, options);
+      m.setup(In->WholeOrigin, In->Vol.spacing(), wholeBounds(), brick(), field,
+        defaultSampleDistance(), options);
       const double unit = opacityUnitDistance(view);
       Classify1D c;
       c.prepare(table, In->TextureScale, m.d / unit);
@@ -724,7 +824,8 @@ Image RayCaster::render(const TransferTable1D& table, const View& view,
       SampleLighting lighting;
       if (view.lighting.shade)
       {
-        lighting.setup(In->Vol, view);
+        checkGradientPoints();
+        lighting.setup(lightingFrame(view), view, m.off);
         m.light = &lighting;
         m.stencil = &In->Stencil;
       }
@@ -737,6 +838,7 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
 {
   view.validate();
   table.validate();
+  checkGradientPoints();
   std::call_once(In->GradientOnce,
     [&]
     {
@@ -762,7 +864,8 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
     [&](const auto& field)
     {
       March<std::decay_t<decltype(field)>> m;
-      m.setup(In->Vol, field, defaultSampleDistance(), view, options);
+      m.setup(In->WholeOrigin, In->Vol.spacing(), wholeBounds(), brick(), field,
+        defaultSampleDistance(), options);
       const double unit = opacityUnitDistance(view);
       Classify2D c;
       c.prepare(table, In->TextureScale, m.d / unit);
@@ -778,7 +881,7 @@ Image RayCaster::render(const TransferTable2D& table, const View& view,
       SampleLighting lighting;
       if (view.lighting.shade)
       {
-        lighting.setup(In->Vol, view);
+        lighting.setup(lightingFrame(view), view, m.off);
         m.light = &lighting;
       }
       return m.template run<true>(view, options.threads, progress, stats);

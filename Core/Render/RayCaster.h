@@ -9,6 +9,7 @@
 #include "TransferFunction/TransferFunction2D.h"
 #include "TransferFunction/TransferFunctionIO.h"
 #include "Volume/Volume.h"
+#include "Volume/VolumeBrick.h"
 
 #include <cstdint>
 #include <functional>
@@ -16,6 +17,8 @@
 
 namespace ddg
 {
+
+struct LightingFrame;
 
 /// Thrown when a progress callback asks to stop.
 class Cancelled : public Error
@@ -83,11 +86,24 @@ class RayCaster
 public:
   /// Throws ddg::Error when the volume has fewer than 2 points along an axis or is constant.
   explicit RayCaster(const Volume& volume);
+  /// A renderer of one piece of a larger volume (VolumeBrick; ParaView's pieces under MPI): rays,
+  /// samples, tables (the whole's data range), default distances, gradient scaling and lighting
+  /// are the whole volume's, and it renders the samples it owns only. Its images have five
+  /// channels: premultiplied (C, A) of its own samples along each ray, then the index k of its
+  /// first sample on the ray (+inf where it has none); compositeBricks (Render/SortLast.h) puts
+  /// the pieces' images together into the whole's image. Throws ddg::Error when the piece owns
+  /// no cell, does not hold the points its cells need (VolumeBrick::validate; the ghost points
+  /// the gradient needs are checked at render time) or the whole volume is constant.
+  RayCaster(const Volume& piece, const VolumeBrick& brick);
   ~RayCaster();
   RayCaster(const RayCaster&) = delete;
   RayCaster& operator=(const RayCaster&) = delete;
 
   const Volume& volume() const;
+  /// The piece this caster renders, or nullptr for a whole volume.
+  const VolumeBrick* brick() const;
+  /// The data range transfer functions are mapped over: the volume's, or the whole's for a piece.
+  const std::array<double, 2>& dataRange() const;
 
   /// ParaView's sample distance: mean spacing / 2, times 0.01 + 0.99 n / 100 when
   /// n = ((nx-1)(ny-1)(nz-1))^0.333 < 100.
@@ -133,6 +149,11 @@ public:
   static double textureScale(ScalarType type);
 
 private:
+  RayCaster(const Volume& volume, const VolumeBrick* brick);
+  std::array<double, 6> wholeBounds() const;
+  // Shade and 2D tables on a piece: throws unless it holds the ghost points gradients need.
+  void checkGradientPoints() const;
+  LightingFrame lightingFrame(const View& view) const;
   struct Internals;
   std::unique_ptr<Internals> In;
 };

@@ -42,6 +42,21 @@ void requestWholeInputExtent(vtkInformationVector** inputVector)
     inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()), 6);
 }
 
+void requestInputPiece(
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int ghostLevels)
+{
+  vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+  vtkInformation* outInfo = outputVector->GetInformationObject(0);
+  if (!inInfo || !outInfo || !inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+    return;
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  inInfo->Set(SDDP::UPDATE_PIECE_NUMBER(), outInfo->Get(SDDP::UPDATE_PIECE_NUMBER()));
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), outInfo->Get(SDDP::UPDATE_NUMBER_OF_PIECES()));
+  inInfo->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), ghostLevels);
+  // the producer splits the whole extent by the piece request (as vtkFlyingEdges3D asks)
+  inInfo->Set(SDDP::UPDATE_EXTENT(), inInfo->Get(SDDP::WHOLE_EXTENT()), 6);
+}
+
 bool skipPiece(vtkInformationVector* outputVector)
 {
   if (updatePiece(outputVector->GetInformationObject(0)) == 0)

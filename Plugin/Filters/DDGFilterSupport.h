@@ -20,6 +20,12 @@ namespace ddg
 /// data (see skipPiece), so the result exists once, on the first rank.
 DDGFILTERS_EXPORT void requestWholeInputExtent(vtkInformationVector** inputVector);
 
+/// Asks for this rank's piece of the input (the piece and number of pieces asked of the output)
+/// with `ghostLevels` ghost levels more than asked downstream, over the whole extent: for the
+/// filters that work on pieces under MPI (vtkDDGAlgorithm::PieceGhostLevels).
+DDGFILTERS_EXPORT void requestInputPiece(
+  vtkInformationVector** inputVector, vtkInformationVector* outputVector, int ghostLevels);
+
 /// True for the pieces that do not compute (update piece > 0 of a distributed run); their
 /// outputs are then initialized empty. Call first in RequestData and return 1 when true.
 DDGFILTERS_EXPORT bool skipPiece(vtkInformationVector* outputVector);

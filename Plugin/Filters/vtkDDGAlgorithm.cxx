@@ -2,6 +2,7 @@
 #include "vtkDDGAlgorithm.h"
 
 #include "DDGFilterSupport.h"
+#include "DDGRanks.h"
 
 #include "Common/Error.h"
 #include "Render/RayCaster.h" // ddg::Cancelled
@@ -18,6 +19,8 @@
 struct vtkDDGAlgorithm::Internals
 {
   ddg::ErrorOnce Errors;
+  std::unique_ptr<ddg::RankGroup> Ranks; // the current request's, when distributed
+  int WholeExtent[6] = { 0, -1, 0, -1, 0, -1 };
 };
 
 vtkDDGAlgorithm::vtkDDGAlgorithm()
@@ -40,6 +43,21 @@ void vtkDDGAlgorithm::PrintSelf(ostream& os, vtkIndent indent)
 void vtkDDGAlgorithm::PreviewSize(int& width, int& height)
 {
   width = height = 0;
+}
+
+int vtkDDGAlgorithm::PieceGhostLevels()
+{
+  return -1;
+}
+
+const ddg::RankGroup* vtkDDGAlgorithm::Ranks() const
+{
+  return this->Internal->Ranks.get();
+}
+
+const int* vtkDDGAlgorithm::InputWholeExtent() const
+{
+  return this->Internal->WholeExtent;
 }
 
 int vtkDDGAlgorithm::FillInputPortInformation(int, vtkInformation* info)
@@ -96,15 +114,24 @@ vtkTypeBool vtkDDGAlgorithm::ProcessRequest(
     }
     return 1;
   }
+  const int ghosts = this->PieceGhostLevels();
   if (request->Has(vtkStreamingDemandDrivenPipeline::REQUEST_UPDATE_EXTENT()))
   {
-    ddg::requestWholeInputExtent(inputVector);
+    if (ghosts >= 0 && ddg::RankGroup::forRequest(outputVector->GetInformationObject(0)))
+      ddg::requestInputPiece(inputVector, outputVector, ghosts);
+    else
+      ddg::requestWholeInputExtent(inputVector);
     return 1;
   }
   if (request->Has(vtkDemandDrivenPipeline::REQUEST_DATA()))
   {
-    if (ddg::skipPiece(outputVector)) // distributed: the first piece computes
+    this->Internal->Ranks =
+      ghosts >= 0 ? ddg::RankGroup::forRequest(outputVector->GetInformationObject(0)) : nullptr;
+    if (!this->Internal->Ranks && ddg::skipPiece(outputVector)) // the first piece computes
       return 1;
+    vtkInformation* inInfo = inputVector[0]->GetInformationObject(0);
+    if (inInfo && inInfo->Has(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT()))
+      inInfo->Get(vtkStreamingDemandDrivenPipeline::WHOLE_EXTENT(), this->Internal->WholeExtent);
     this->ResetOutputs(outputVector);
     // VTK 9.2's pipeline does not clear AbortExecute: a run cancelled before must not cancel
     // this one
@@ -120,6 +147,11 @@ vtkTypeBool vtkDDGAlgorithm::ProcessRequest(
     {
       this->ResetOutputs(outputVector);
       this->LastError = "cancelled";
+    }
+    catch (const ddg::RankFailed& e) // another rank than the first: the first one reports
+    {
+      this->ResetOutputs(outputVector);
+      this->LastError = e.what();
     }
     catch (const std::exception& e)
     {

@@ -11,6 +11,10 @@
 
 class vtkDataArray;
 class vtkImageData;
+namespace ddg
+{
+class RankGroup;
+}
 
 /**
  * @class vtkDDGAlgorithm
@@ -23,7 +27,10 @@ class vtkImageData;
  * - reporting each failure once (the pipeline may re-run a failed request: the same message
  *   for the same state is not repeated, see ddg::ErrorOnce);
  * - the request of the input's whole extent (the filters need the whole volume);
- * - piece skipping under MPI: piece 0 computes, the other pieces output empty data;
+ * - under MPI: piece 0 computes on the whole volume and the other pieces output empty data,
+ *   unless the filter works on pieces (PieceGhostLevels >= 0: every rank gets its own piece
+ *   with that many ghost levels, Execute runs on every rank with Ranks() set; the other
+ *   ranks' failures reach the first rank, which reports them);
  * - the output reset before a run and after a failure or a cancellation (ddg::Cancelled:
  *   LastError "cancelled", no error message); AbortExecute cleared before each run (VTK 9.2
  *   keeps it set after an abort);
@@ -58,6 +65,15 @@ protected:
   /// The (width, height) of output port 0 when it is an image, from the filter's properties
   /// ((0, 0) when they do not say yet: the error comes from Execute). Default: (0, 0).
   virtual void PreviewSize(int& width, int& height);
+
+  /// Ghost levels the filter needs on its own piece when it works distributed under MPI; -1
+  /// (default): it needs the whole volume, on the first rank.
+  virtual int PieceGhostLevels();
+  /// The ranks computing the current request together (during Execute), or nullptr when it is
+  /// computed by one process on the whole volume.
+  const ddg::RankGroup* Ranks() const;
+  /// The input's whole extent (during Execute).
+  const int* InputWholeExtent() const;
 
   int FillInputPortInformation(int port, vtkInformation* info) override;
 

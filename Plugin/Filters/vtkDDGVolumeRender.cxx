@@ -3,8 +3,10 @@
 
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
+#include "DDGPieces.h"
 #include "DDGVolumeAdaptor.h"
 
+#include "Common/FileUtil.h"
 #include "Gallery/Export.h"
 #include "Render/RayCaster.h"
 #include "TransferFunction/TransferFunctionIO.h"
@@ -28,9 +30,39 @@ vtkStandardNewMacro(vtkDDGVolumeRender);
 struct vtkDDGVolumeRender::Internals
 {
   std::unique_ptr<ddg::RayCaster> Caster;
+  std::unique_ptr<ddg::RankVolume> Pieces; // distributed: this rank's piece, agreed with the others
   vtkMTimeType InputTime = 0;
   vtkDataArray* Array = nullptr;
 };
+
+namespace
+{
+ddg::RenderOptions optionsOf(vtkDDGVolumeRender* filter)
+{
+  ddg::RenderOptions options;
+  options.jitter = filter->GetJitter();
+  options.sampleDistance = filter->GetSampleDistance();
+  options.threads = filter->GetNumberOfThreads();
+  return options;
+}
+
+// The image and, for 2D TFs, ParaView's 2D boxes as field data.
+void writeOutput(const ddg::Image& image, const ddg::RayCaster& caster,
+  const ddg::TransferFunctionFile& file, const ddg::TransferFunctionFile& tf, const ddg::View& view,
+  vtkImageData* output)
+{
+  ddg::toVTKImage(image, view.background, output);
+  if (tf.is2D) // what ParaView's TransferFunction2D needs to render the same (ddg.apply)
+  {
+    auto boxes = vtkSmartPointer<vtkStringArray>::New();
+    boxes->SetName("ParaViewTransferFunction2D");
+    boxes->InsertNextValue(file.isParaView2D
+        ? file.paraview2D.toJson() // ParaView's own boxes, as given
+        : ddg::paraViewTransferFunction2DJson(caster, tf.tf2D, view));
+    output->GetFieldData()->AddArray(boxes);
+  }
+}
+} // namespace
 
 vtkDDGVolumeRender::vtkDDGVolumeRender()
   : Internal(new Internals)
@@ -62,10 +94,22 @@ void vtkDDGVolumeRender::PreviewSize(int& width, int& height)
   ddg::filterViewSize(this->ViewJSON, this->ViewFile, width, height);
 }
 
+int vtkDDGVolumeRender::PieceGhostLevels()
+{
+  return 1;
+}
+
 void vtkDDGVolumeRender::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   vtkImageData* output = vtkImageData::GetData(outputVector);
+  const vtkMTimeType inputTime =
+    std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
+  if (const ddg::RankGroup* ranks = this->Ranks())
+  {
+    this->ExecuteOnRanks(*ranks, input, array, inputTime, output);
+    return;
+  }
   if (this->TransferFunctionFile.empty() && this->TransferFunctionJSON.empty())
   {
     throw ddg::Error("no TransferFunctionFile or TransferFunctionJSON set");
@@ -74,13 +118,11 @@ void vtkDDGVolumeRender::Execute(
   const ddg::TransferFunctionFile file = this->TransferFunctionJSON.empty()
     ? ddg::readTransferFunctionFile(this->TransferFunctionFile)
     : ddg::parseTransferFunctionFile(this->TransferFunctionJSON, "TransferFunctionJSON");
-
-  const vtkMTimeType inputTime =
-    std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
   if (!this->Internal->Caster || this->Internal->InputTime != inputTime ||
     this->Internal->Array != array)
   {
     this->Internal->Caster.reset();
+    this->Internal->Pieces.reset();
     const ddg::Volume volume = ddg::toCoreVolume(input, array);
     if (volume.nonFiniteCount() > 0)
     {
@@ -94,25 +136,82 @@ void vtkDDGVolumeRender::Execute(
   }
   const ddg::RayCaster& caster = *this->Internal->Caster;
 
-  ddg::RenderOptions options;
-  options.jitter = this->Jitter;
-  options.sampleDistance = this->SampleDistance;
-  options.threads = this->NumberOfThreads;
   auto progress = [this](double f)
   {
     this->UpdateProgress(f);
     return !this->GetAbortExecute();
   };
   const ddg::TransferFunctionFile tf = caster.resolve(file, view);
-  const ddg::Image image = caster.render(tf, view, options, progress);
-  ddg::toVTKImage(image, view.background, output);
-  if (tf.is2D) // what ParaView's TransferFunction2D needs to render the same (ddg.apply)
+  const ddg::Image image = caster.render(tf, view, optionsOf(this), progress);
+  writeOutput(image, caster, file, tf, view, output);
+}
+
+void vtkDDGVolumeRender::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input,
+  vtkDataArray* array, vtkMTimeType inputTime, vtkImageData* output)
+{
+  // the files as the first rank sees them (the others may not see its paths)
+  std::string viewText = this->ViewJSON, tfText = this->TransferFunctionJSON;
+  ranks.step(
+    [&]
+    {
+      if (ranks.rank() != 0)
+        return;
+      if (tfText.empty() && this->TransferFunctionFile.empty())
+        throw ddg::Error("no TransferFunctionFile or TransferFunctionJSON set");
+      if (viewText.empty() && this->ViewFile.empty())
+        throw ddg::Error("no ViewFile or ViewJSON set");
+      if (tfText.empty())
+        tfText = ddg::readTextFile(this->TransferFunctionFile, "transfer function");
+      if (viewText.empty())
+        viewText = ddg::readTextFile(this->ViewFile, "view");
+    });
+  viewText = ranks.broadcast(viewText);
+  tfText = ranks.broadcast(tfText);
+  ddg::View view;
+  ddg::TransferFunctionFile file;
+  ranks.step(
+    [&]
+    {
+      view = ddg::parseView(viewText,
+        this->ViewJSON.empty() ? "view '" + this->ViewFile + "'" : std::string("ViewJSON"));
+      file = ddg::parseTransferFunctionFile(tfText,
+        this->TransferFunctionJSON.empty()
+          ? "transfer function '" + this->TransferFunctionFile + "'"
+          : std::string("TransferFunctionJSON"));
+    });
+  // the pieces, agreed again when any rank's input changed
+  double stale = !this->Internal->Pieces || this->Internal->InputTime != inputTime ||
+      this->Internal->Array != array
+    ? 1.0
+    : 0.0;
+  ranks.allMax(&stale, 1);
+  if (stale > 0)
   {
-    auto boxes = vtkSmartPointer<vtkStringArray>::New();
-    boxes->SetName("ParaViewTransferFunction2D");
-    boxes->InsertNextValue(file.isParaView2D
-        ? file.paraview2D.toJson() // ParaView's own boxes, as given
-        : ddg::paraViewTransferFunction2DJson(caster, tf.tf2D, view));
-    output->GetFieldData()->AddArray(boxes);
+    this->Internal->Caster.reset();
+    this->Internal->Pieces.reset();
+    auto pieces = std::make_unique<ddg::RankVolume>(
+      ddg::RankVolume::gather(ranks, input, array, this->InputWholeExtent()));
+    if (ranks.rank() == 0 && pieces->nonFiniteCount > 0)
+      vtkWarningMacro(<< pieces->nonFiniteCount
+                      << " NaN/infinite voxels are rendered as their piece's minimum value");
+    this->Internal->Pieces = std::move(pieces);
+    this->Internal->InputTime = inputTime;
+    this->Internal->Array = array;
   }
+  const ddg::RankVolume& pieces = *this->Internal->Pieces;
+  auto progress = [this](double f)
+  {
+    this->UpdateProgress(f);
+    return !this->GetAbortExecute();
+  };
+  const ddg::Image image = ddg::renderOnRanks(ranks, pieces, file, view, optionsOf(this), progress);
+  if (ranks.rank() != 0)
+    return; // the first rank's output is the image
+  if (!pieces.caster && (file.is2D || file.isParaView2D))
+    throw ddg::Error("the first rank holds no cell of the volume: it cannot describe the 2D "
+                     "transfer function for ParaView");
+  if (pieces.caster)
+    writeOutput(image, *pieces.caster, file, pieces.caster->resolve(file, view), view, output);
+  else
+    ddg::toVTKImage(image, view.background, output);
 }

@@ -23,6 +23,13 @@
  *
  * Bad input (missing files, malformed JSON, degenerate camera, constant volume, ...) gives one
  * error message and an empty output.
+ *
+ * Under `mpiexec -np N pvserver` it works on pieces: every rank renders its own piece of the
+ * volume (with one ghost level, what Shade's and 2D tables' gradients need) and the first rank
+ * composites the images sort-last (ddg::renderOnRanks): no rank holds the whole volume. The
+ * image equals the one-process render up to float rounding and each piece's own early ray
+ * termination (at most 1/255 per channel). The first rank outputs the image, the others empty
+ * data (what the client fetches is the first rank's).
  */
 class DDGFILTERS_EXPORT vtkDDGVolumeRender : public vtkDDGAlgorithm
 {
@@ -77,6 +84,11 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   void PreviewSize(int& width, int& height) override;
+  int PieceGhostLevels() override;
+  // Distributed: the ranks' pieces agreed (cached while the input stays), rendered sort-last.
+  void ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array,
+    vtkMTimeType inputTime, vtkImageData* output);
+
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 

@@ -11,6 +11,7 @@
 #include "Common/Error.h"
 #include "Render/Lighting.h"
 #include "Render/RayCaster.h"
+#include "Render/SortLast.h"
 #include "TransferFunction/GaussianPrimitive.h"
 
 #include <gtest/gtest.h>
@@ -470,4 +471,162 @@ TEST(RayCaster, OpacityCorrectionFollowsUnitDistance)
   view.opacityUnitDistance = 2 * opt.sampleDistance;
   const Image b = caster.render(caster.paraviewTable(tf), view, opt);
   EXPECT_NEAR(b.at(1, 1, 3), 1.0 - std::pow(0.8, 2), 1e-5);
+}
+
+namespace
+{
+// Owned point ranges [lo, hi] per axis of `pieces` pieces, split as vtkExtentTranslator does:
+// bisection of the axis with the most cells (z first on ties), neighbours sharing a point plane.
+using Box = std::array<int, 6>;
+void bisect(const Box& box, int pieces, std::vector<Box>& out)
+{
+  if (pieces == 1)
+  {
+    out.push_back(box);
+    return;
+  }
+  int axis = 2;
+  for (int a : { 1, 0 })
+    if (box[2 * a + 1] - box[2 * a] > box[2 * axis + 1] - box[2 * axis])
+      axis = a;
+  const int cells = box[2 * axis + 1] - box[2 * axis];
+  Box low = box, high = box;
+  low[2 * axis + 1] = high[2 * axis] = box[2 * axis] + cells * (pieces / 2) / pieces;
+  bisect(low, pieces / 2, out);
+  bisect(high, pieces - pieces / 2, out);
+}
+
+// The piece of `whole` owning `owned`, with `ghosts` points more on each side inside the whole.
+std::pair<Volume, VolumeBrick> pieceOf(const Volume& whole, const Box& owned, int ghosts)
+{
+  const auto& d = whole.dims();
+  VolumeBrick b;
+  b.wholeDims = d;
+  b.wholeOrigin = whole.origin();
+  b.wholeRange = whole.range();
+  std::array<int, 3> n{}, o{};
+  for (int a = 0; a < 3; ++a)
+  {
+    b.ownedMin[a] = owned[2 * a];
+    b.ownedMax[a] = owned[2 * a + 1];
+    b.offset[a] = std::max(0, owned[2 * a] - ghosts);
+    n[a] = std::min(d[a] - 1, owned[2 * a + 1] + ghosts) - b.offset[a] + 1;
+    o[a] = b.offset[a];
+  }
+  const std::vector<float> all = whole.floatValues();
+  std::vector<float> v;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        v.push_back(all[(i + o[0]) + d[0] * ((j + o[1]) + static_cast<size_t>(d[1]) * (k + o[2]))]);
+  std::array<double, 3> origin{};
+  for (int a = 0; a < 3; ++a)
+    origin[a] = whole.origin()[a] + o[a] * whole.spacing()[a];
+  return { Volume(n, origin, whole.spacing(), v, whole.originalType()), b };
+}
+
+// The largest difference between the whole's image and its pieces' images composited.
+template <typename Table>
+double pieceDifference(const Volume& whole, const std::vector<Box>& boxes, const Table& table,
+  const View& view, const RenderOptions& opt)
+{
+  const Image ref = RayCaster(whole).render(table, view, opt);
+  std::vector<Image> parts;
+  for (const Box& box : boxes)
+  {
+    const auto [piece, brick] = pieceOf(whole, box, 1);
+    if (brick.ownsNothing())
+      continue;
+    parts.push_back(RayCaster(piece, brick).render(table, view, opt));
+    EXPECT_EQ(parts.back().channels, 5);
+  }
+  const Image got = compositeBricks(parts);
+  double worst = 0;
+  for (size_t i = 0; i < ref.pixels.size(); ++i)
+    worst = std::max(worst, static_cast<double>(std::abs(got.pixels[i] - ref.pixels[i])));
+  return worst;
+}
+} // namespace
+
+// The pieces of a volume (ParaView's pieces under MPI, one ghost level) rendered each on its own
+// and composited sort-last give the whole's image: 1D, Shade (with specular), 2D with Shade;
+// perspective, parallel, camera inside the volume, jitter; bisection into 2, 3 and 4 pieces and
+// an uneven split; float rounding only (1e-5) without early termination, within ParaView's
+// termination threshold (1/255) with it.
+TEST(RayCaster, PiecesCompositeToTheWholeImage)
+{
+  for (ScalarType type : { ScalarType::UInt8, ScalarType::Float32 })
+  {
+    const Volume vol = blobVolume(type);
+    const auto& d = vol.dims();
+    const Box whole{ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 };
+    std::vector<std::vector<Box>> splits;
+    for (int n : { 2, 3, 4 })
+    {
+      splits.emplace_back();
+      bisect(whole, n, splits.back());
+    }
+    splits.push_back({ { 0, 5, 0, d[1] - 1, 0, 20 }, { 5, d[0] - 1, 0, d[1] - 1, 0, 20 },
+      { 0, d[0] - 1, 0, 3, 20, d[2] - 1 }, { 0, d[0] - 1, 3, d[1] - 1, 20, d[2] - 1 } });
+    std::vector<View> views{ orbitView(vol, 30, false), orbitView(vol, 200, true) };
+    View inside = orbitView(vol, 75, false);
+    inside.camera.position = inside.camera.focalPoint +
+      0.2 * (inside.camera.position - inside.camera.focalPoint); // in the volume's box
+    views.push_back(inside);
+    const TransferTable1D table1 = RayCaster(vol).paraviewTable(testTF());
+    const TransferTable2D table2 = twoPrimitiveTable({ 0.9, 0.5, 0.2 }, 0.6);
+    for (size_t s = 0; s < splits.size(); ++s)
+      for (size_t v = 0; v < views.size(); ++v)
+      {
+        View lit = views[v];
+        lit.lighting.shade = true;
+        lit.lighting.specular = 0.5;
+        lit.lighting.specularPower = 30;
+        RenderOptions exact;
+        exact.terminationOpacity = 1.0;
+        exact.jitter = v == 1;
+        const std::string where = "split " + std::to_string(s) + " view " + std::to_string(v);
+        EXPECT_LE(pieceDifference(vol, splits[s], table1, views[v], exact), 1e-5) << where;
+        EXPECT_LE(pieceDifference(vol, splits[s], table1, lit, exact), 1e-5) << where << " lit";
+        EXPECT_LE(pieceDifference(vol, splits[s], table2, lit, exact), 1e-5) << where << " 2D";
+        EXPECT_LE(pieceDifference(vol, splits[s], table1, lit, RenderOptions{}), 1.0 / 255 + 1e-5)
+          << where << " early termination";
+      }
+  }
+}
+
+// A piece that lacks the ghost points gradients need, owns nothing or lies outside its whole is
+// refused with the reason; a decomposition with overlaps or holes is refused by checkBricksTile.
+TEST(RayCaster, PiecesThatCannotRenderTheirPartAreRefused)
+{
+  const Volume vol = blobVolume(ScalarType::UInt8);
+  const auto& d = vol.dims();
+  const Box low{ 0, d[0] - 1, 0, d[1] - 1, 0, 10 }, high{ 0, d[0] - 1, 0, d[1] - 1, 10, d[2] - 1 };
+  const auto [bare, bareBrick] = pieceOf(vol, high, 0);
+  const RayCaster caster(bare, bareBrick); // enough for 1D tables without Shade
+  View lit = orbitView(vol, 30, false);
+  EXPECT_EQ(caster.render(caster.paraviewTable(testTF()), lit).channels, 5);
+  lit.lighting.shade = true;
+  try
+  {
+    caster.render(caster.paraviewTable(testTF()), lit);
+    ADD_FAILURE() << "Shade without ghost points rendered";
+  }
+  catch (const Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("ghost"), std::string::npos) << e.what();
+  }
+  auto [thin, thinBrick] = pieceOf(vol, { 0, d[0] - 1, 0, d[1] - 1, 10, 10 }, 0);
+  EXPECT_THROW(RayCaster(thin, thinBrick), Error); // one plane: owns no cell
+  auto [moved, movedBrick] = pieceOf(vol, high, 1);
+  movedBrick.offset[2] += 1; // says it starts a plane later than its points do
+  EXPECT_THROW(RayCaster(moved, movedBrick), Error);
+
+  const VolumeBrick a = pieceOf(vol, low, 1).second, b = pieceOf(vol, high, 1).second;
+  EXPECT_NO_THROW(checkBricksTile({ a, b }));
+  EXPECT_NO_THROW(checkBricksTile({ a, thinBrick, b })); // a piece that owns nothing is harmless
+  EXPECT_THROW(checkBricksTile({ a }), Error);           // a hole
+  VolumeBrick over = b;
+  over.ownedMin[2] = 9; // overlaps `a` by one cell
+  EXPECT_THROW(checkBricksTile({ a, over }), Error);
 }

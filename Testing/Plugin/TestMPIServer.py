@@ -1,22 +1,35 @@
-"""The filters on ParaView's MPI engine: `mpiexec -np 2 pvserver` on a free loopback port.
+"""The filters on ParaView's MPI engine: `mpiexec -np N pvserver` on a free loopback port.
 
-The filters need the whole volume: piece 0 (rank 0) asks for the whole extent and computes, the
-other rank asks for nothing and outputs empty data (DDGFilterSupport.h). What is compared with
-what: the client fetches (servermanager.Fetch, which gathers the ranks' pieces) the outputs of DDG
-Volume Render, DDG Query (shipped Tooth bundle and screenshot) and DDG Reconstruct Transfer
-Function (20 iterations) from the 2-rank server, then computes the same in a builtin session:
-- render and query: identical (every array of the images and of the designs table, every field
+DDG Volume Render works on pieces: every rank reads and renders its own piece of the volume (one
+ghost level) and the first rank composites the images sort-last (DDGPieces.h). The other filters
+need the whole volume: piece 0 (rank 0) asks for the whole extent and computes, the other ranks
+ask for nothing and output empty data (DDGFilterSupport.h). What is compared with what: the
+client fetches (servermanager.Fetch, which keeps the first rank's output) the outputs of DDG
+Volume Render (1D; Shade with specular; a 2D TF), DDG Query (shipped Tooth bundle and
+screenshot) and DDG Reconstruct Transfer Function (20 iterations) from the server, then computes
+the same in a builtin session:
+- render: the same arrays, values within RENDER_TOL (1/255 + 1e-6 on the premultiplied RGBA, 1
+  level on the 8-bit image; 2/255 and 2 levels for the lit 2D TF, whose lit colour is not
+  clamped): each piece stops its rays at ParaView's opacity threshold (1 - 1/255) on its own,
+  and compositing adds in another order;
+- the reader's points over the ranks after the renders are the pieces' (the volume split as
+  vtkExtentTranslator splits it, one ghost level): no rank read the whole volume;
+- query: identical (every array of the images and of the designs table, every field
   data array, the Preset string);
 - reconstruction: same columns, rows and field data names, values within RECONSTRUCT_TOL
   (1e-6): its gradient is summed over per-thread buffers filled in a dynamic order, so even two
   builtin runs differ in the last float bit (measured: 6e-8);
-- rank 1 read nothing (the reader's points over both ranks are the volume's, once), and neither
-  rank logged an error.
+- no rank logged an error.
 Then the query's preset is applied to the distributed volume and rendered by both ranks. The
 server must exit by itself (status 0) when the client leaves; on any failure its ranks are killed
 (they run in their own process groups). A crash in the server log fails the test.
 
-Usage: pvpython TestMPIServer.py PLUGIN DATA
+With RANKS 4 (the distributed render's own test): the renders only, plus a volume with fewer
+cells than ranks (two ranks get empty pieces) and a pipeline whose piece on rank 1 has no scalars
+(rank 1 fails: the client reads the error from the first rank, no rank hangs, the server logs that
+one error and exits).
+
+Usage: pvpython TestMPIServer.py PLUGIN DATA [RANKS]
 """
 import json
 import os
@@ -35,6 +48,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ddgtest import apply_and_render  # noqa: E402
 
 RECONSTRUCT_TOL = 1e-6
+RENDER_TOL = 1 / 255 + 1e-6
+# 2D tables with Shade: the lit colour is not clamped to 1 (as in ParaView), so what one piece's
+# early termination leaves out (transmittance < 1/255) can weigh up to the brightest lit colour
+RENDER_TOL_UNCLAMPED = 2 / 255 + 1e-6
 CRASH_MARKERS = (
     "SIGSEGV",
     "SIGABRT",
@@ -45,6 +62,7 @@ CRASH_MARKERS = (
 )
 
 plugin, data = sys.argv[1:3]
+ranks = int(sys.argv[3]) if len(sys.argv) > 3 else 2
 tooth_file = os.path.join(data, "Volumes", "tooth.vti")
 shot = os.path.join(data, "Screenshots", "tooth_dentin_enamel_oblique.png")
 view_file = os.path.join(data, "Views", "tooth_oblique.json")
@@ -83,15 +101,75 @@ def snapshot(obj):
     return snap
 
 
+def split_points(extent, pieces, ghosts):
+    """Points of the pieces vtkExtentTranslator splits `extent` into (bisection of the axis with
+    the most cells, z first on ties; neighbours share a point plane), each widened by `ghosts`
+    inside the extent, summed."""
+    whole = extent
+
+    def split(box, n):
+        if n == 1:
+            return [box]
+        axis = max((2, 1, 0), key=lambda a: box[2 * a + 1] - box[2 * a])
+        mid = box[2 * axis] + (box[2 * axis + 1] - box[2 * axis]) * (n // 2) // n
+        low, high = list(box), list(box)
+        low[2 * axis + 1] = high[2 * axis] = mid
+        return split(low, n // 2) + split(high, n - n // 2)
+
+    total = 0
+    for box in split(list(extent), pieces):
+        size = 1
+        for a in range(3):
+            lo = max(whole[2 * a], box[2 * a] - ghosts)
+            hi = min(whole[2 * a + 1], box[2 * a + 1] + ghosts)
+            size *= hi - lo + 1
+        total += size
+    return total
+
+
+def lit_view():
+    """The Tooth view with Shade on and a specular highlight, as view JSON text."""
+    with open(view_file) as f:
+        view = json.load(f)
+    view["lighting"] = {"shade": True, "specular": 0.5, "specular_power": 30}
+    return json.dumps(view)
+
+
+def run_renders(remote, tooth, out):
+    """DDG Volume Render of Tooth: 1D, Shade with specular, a 2D TF (Shade on)."""
+    tfs = os.path.join(data, "TransferFunctions")
+    cases = (
+        ("render", dict(ViewFile=view_file), "tooth_dentin_enamel.json"),
+        ("render lit", dict(ViewJSON=lit_view()), "tooth_dentin_enamel.json"),
+        ("render 2d", dict(ViewJSON=lit_view()), "tooth_2d_boundaries.json"),
+    )
+    seconds = {}
+    for name, view, tf in cases:
+        render = simple.DDGVolumeRender(
+            Input=tooth, TransferFunctionFile=os.path.join(tfs, tf), **view
+        )
+        start = time.time()
+        render.UpdatePipeline()
+        seconds[name] = time.time() - start
+        out[name + ":0"] = snapshot(servermanager.Fetch(render))
+    # summed over the ranks: the pieces with their ghost planes (before Show, whose
+    # representation asks for pieces without ghosts)
+    whole = tooth.GetDataInformation().DataInformation.GetExtent()
+    out["reader points"] = (
+        tooth.GetDataInformation().GetNumberOfPoints(),
+        split_points(whole, ranks if remote else 1, 1 if remote else 0),
+    )
+    return seconds
+
+
 def run_filters(remote):
     simple.LoadPlugin(plugin, remote=remote)
-    out, seconds = {}, {}
+    out = {}
     tooth = simple.XMLImageDataReader(FileName=[tooth_file])
-    render = simple.DDGVolumeRender(
-        Input=tooth,
-        ViewFile=view_file,
-        TransferFunctionFile=os.path.join(data, "TransferFunctions", "tooth_dentin_enamel.json"),
-    )
+    seconds = run_renders(remote, tooth, out)
+    if ranks != 2:
+        print(report_line(remote, seconds))
+        return tooth, out
     query = simple.DDGQuery(
         Input=tooth,
         ModelDirectory=os.path.join(data, "Models", "tooth"),
@@ -102,7 +180,6 @@ def run_filters(remote):
         Input=tooth, TargetImageFile=shot, ViewFile=view_file, Iterations=20
     )
     for name, proxy, ports in (
-        ("render", render, [0]),
         ("query", query, [0, 1]),
         ("reconstruct", rec, [0]),
     ):
@@ -111,19 +188,16 @@ def run_filters(remote):
         seconds[name] = time.time() - start
         for port in ports:
             out[f"{name}:{port}"] = snapshot(servermanager.Fetch(proxy, idx=port))
-    # summed over the ranks: the volume once means rank 1 read nothing (before Show, whose
-    # representation asks for pieces of the volume)
-    whole = tooth.GetDataInformation().DataInformation.GetExtent()
-    out["reader points"] = (
-        tooth.GetDataInformation().GetNumberOfPoints(),
-        (whole[1] - whole[0] + 1) * (whole[3] - whole[2] + 1) * (whole[5] - whole[4] + 1),
-    )
-    print(
-        ("2 ranks" if remote else "builtin")
+    print(report_line(remote, seconds))
+    return tooth, out
+
+
+def report_line(remote, seconds):
+    return (
+        (f"{ranks} ranks" if remote else "builtin")
         + ": "
         + ", ".join(f"{k} {v:.2f} s" for k, v in seconds.items())
     )
-    return tooth, out
 
 
 def same(a, b):
@@ -135,8 +209,42 @@ def same(a, b):
     return a == b
 
 
+def render_difference(a, b):
+    """The largest difference between two render snapshots' RGBA (and their 8-bit images', in
+    levels); their arrays, field data and size must match."""
+    assert a["class"] == b["class"] == "vtkImageData" and a["dims"] == b["dims"], (
+        a["dims"],
+        b["dims"],
+    )
+    assert a["points"].keys() == b["points"].keys() and a["field"].keys() == b["field"].keys()
+    assert "Image" in a["points"], "render: no image"
+    rgba = float(abs(a["points"]["RGBA"] - b["points"]["RGBA"]).max())
+    levels = int(abs(a["points"]["Image"].astype(int) - b["points"]["Image"].astype(int)).max())
+    return rgba, levels
+
+
+def compare_renders(mpi, builtin):
+    for key, tol in (
+        ("render:0", RENDER_TOL),
+        ("render lit:0", RENDER_TOL),
+        ("render 2d:0", RENDER_TOL_UNCLAMPED),
+    ):
+        rgba, levels = render_difference(mpi[key], builtin[key])
+        assert rgba <= tol and levels <= round(
+            255 * tol
+        ), f"{key}: {rgba} ({levels} levels) from builtin"
+        print(
+            f"{key[:-2]}: {ranks} ranks vs builtin, RGBA max difference {rgba:.2e}, {levels} level(s)"
+        )
+    points, expected = mpi["reader points"]
+    assert (
+        points == expected
+    ), f"the ranks read {points} points; their pieces with one ghost level hold {expected}"
+
+
 def compare(mpi, builtin):
-    for key in ("render:0", "query:0", "query:1"):
+    compare_renders(mpi, builtin)
+    for key in ("query:0", "query:1"):
         assert mpi[key]["class"] == builtin[key]["class"], (
             key,
             mpi[key]["class"],
@@ -146,7 +254,6 @@ def compare(mpi, builtin):
     assert (
         mpi["query:1"]["rows"] > 0 and "Preset" in mpi["query:1"]["field"]
     ), "query: no designs or preset"
-    assert "Image" in mpi["render:0"]["points"], "render: no image"
     m, b = mpi["reconstruct:0"], builtin["reconstruct:0"]
     assert m["class"] == b["class"] == "vtkTable" and m["rows"] == b["rows"] > 0, (
         m["class"],
@@ -171,7 +278,7 @@ def compare(mpi, builtin):
 
 
 def mpiexec_command(port):
-    """mpiexec for 2 ranks. Open MPI: --oversubscribe (fewer cores than ranks is fine),
+    """mpiexec for RANKS ranks. Open MPI: --oversubscribe (fewer cores than ranks is fine),
     --bind-to none (rank 0's threads may use every core; Open MPI binds each rank to one core by
     default), idle ranks yield the CPU instead of spinning; root is allowed by the environment."""
     version = subprocess.run(["mpiexec", "--version"], capture_output=True, text=True)
@@ -188,11 +295,11 @@ def mpiexec_command(port):
             "mpi_yield_when_idle",
             "1",
             "-np",
-            "2",
+            str(ranks),
             "pvserver",
             f"--server-port={port}",
         ]
-    return ["mpiexec", "-n", "2", "pvserver", f"--server-port={port}"]
+    return ["mpiexec", "-n", str(ranks), "pvserver", f"--server-port={port}"]
 
 
 class Server:
@@ -256,6 +363,66 @@ def crashed(log):
 
 
 # ---------------------------------------------------------------------------------------------
+# pieces that own nothing, and a rank that fails (RANKS 4)
+
+FAIL_ON_RANK_1 = """
+from vtkmodules.vtkParallelCore import vtkMultiProcessController
+out = self.GetOutputDataObject(0)
+out.ShallowCopy(self.GetInputDataObject(0, 0))
+if vtkMultiProcessController.GetGlobalController().GetLocalProcessId() == 1:
+    out.GetPointData().Initialize()  # this rank's piece has no point data
+"""
+FAILED = "rank 1: the volume has cell data only"  # tooth.vti has cell data too
+
+
+def tiny_render():
+    """A 2 x 2 x 3-point volume (two cells: two of four ranks get no cell) rendered (the plugin
+    is loaded)."""
+    tiny = simple.Wavelet(WholeExtent=[0, 1, 0, 1, 0, 2])
+    view = {
+        "camera": {
+            "position": [4.0, 3.0, 6.0],
+            "focal_point": [0.5, 0.5, 1.0],
+            "view_up": [0.0, 1.0, 0.0],
+            "view_angle": 30.0,
+        },
+        "size": [64, 48],
+        "background": [0.0, 0.0, 0.0],
+    }
+    render = simple.DDGVolumeRender(
+        Input=tiny,
+        ViewJSON=json.dumps(view),
+        TransferFunctionFile=os.path.join(data, "TransferFunctions", "tooth_cool_warm.json"),
+    )
+    render.UpdatePipeline()
+    snap = snapshot(servermanager.Fetch(render))
+    assert snap["points"]["RGBA"][:, 3].max() > 0.05, "the tiny volume's image is empty"
+    return snap
+
+
+def failing_rank(tooth):
+    """A pipeline whose piece on rank 1 has no scalars: every rank stops, the client reads the
+    error from the first rank."""
+    broken = simple.ProgrammableFilter(Input=tooth, Script=FAIL_ON_RANK_1)
+    render = simple.DDGVolumeRender(
+        Input=broken,
+        ViewFile=view_file,
+        TransferFunctionFile=os.path.join(data, "TransferFunctions", "tooth_dentin_enamel.json"),
+    )
+    start = time.time()
+    render.UpdatePipeline()
+    render.UpdatePropertyInformation()
+    error = render.GetProperty("LastError").GetElement(0)
+    assert error.startswith(FAILED), f"LastError {error!r}, expected {FAILED!r}..."
+    image = servermanager.Fetch(render)
+    assert image.GetNumberOfPoints() == 0, "a failed render gave an image"
+    print(
+        f"{ranks} ranks: rank 1 failed, every rank stopped in {time.time() - start:.1f} s, "
+        f"the client read: {error}"
+    )
+
+
+# ---------------------------------------------------------------------------------------------
 # the test
 
 signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # ctest's timeout: still stop the server
@@ -264,19 +431,19 @@ try:
     server.wait_ready()
     simple.Connect("localhost", server.port)
     partitions = servermanager.ActiveConnection.GetNumberOfDataPartitions()
-    assert partitions == 2, f"the server runs {partitions} processes, expected 2"
+    assert partitions == ranks, f"the server runs {partitions} processes, expected {ranks}"
     tooth, mpi = run_filters(remote=True)
-    points, volume = mpi["reader points"]
-    assert (
-        points == volume
-    ), f"the ranks read {points} points of a {volume}-point volume (rank 1 should read none)"
-    preset = json.loads(mpi["query:1"]["field"]["Preset"][0])[0]
-    out = os.path.join(tempfile.gettempdir(), f"ddg_mpi_apply_{os.getpid()}.png")
-    size = apply_and_render(tooth, preset, view_file, out)
-    assert size > 5000, size
-    print(
-        f"2 ranks: the query's preset applied to the distributed volume and rendered ({size} bytes PNG)"
-    )
+    if ranks == 2:
+        preset = json.loads(mpi["query:1"]["field"]["Preset"][0])[0]
+        out = os.path.join(tempfile.gettempdir(), f"ddg_mpi_apply_{os.getpid()}.png")
+        size = apply_and_render(tooth, preset, view_file, out)
+        assert size > 5000, size
+        print(
+            f"2 ranks: the query's preset applied to the distributed volume and rendered ({size} bytes PNG)"
+        )
+    else:
+        failing_rank(tooth)
+        mpi["tiny"] = tiny_render()
     del tooth
     # simple.Disconnect() alone keeps the session (servermanager's proxy namespaces refer to it)
     # and so the server; a builtin session replaces it, and the server then exits by itself
@@ -291,9 +458,21 @@ try:
     assert server.process.returncode == 0, (
         f"mpiexec exit status {server.process.returncode}:\n" + log
     )
-    assert log.count("Exiting...") == 2, "both ranks should exit:\n" + log
-    assert "ERR|" not in log and "Error" not in log, "the server logged errors:\n" + log
-    print("2 ranks: mpiexec exited with status 0 after the client left, no error logged")
+    assert log.count("Exiting...") == ranks, "every rank should exit:\n" + log
+    errors = [line for line in log.splitlines() if "ERR|" in line or "Error" in line]
+    expected = [line for line in errors if FAILED in line]
+    if ranks == 2:
+        assert not errors, "the server logged errors:\n" + log
+    else:  # the failing rank's error, reported once by the first rank
+        # the error as vtkErrorMacro prints it: a header line ("ERR| ERROR: In ...") and the message
+        others = [line for line in errors if FAILED not in line and "ERR| ERROR: In" not in line]
+        assert len(expected) == 1 and not others, (
+            "the server should log rank 1's error once:\n" + log
+        )
+    print(
+        f"{ranks} ranks: mpiexec exited with status 0 after the client left, "
+        f"{len(expected)} error logged (expected {0 if ranks == 2 else 1})"
+    )
 finally:
     server.stop()
     log = server.output()
@@ -302,9 +481,17 @@ finally:
         raise SystemExit("pvserver crashed")
 
 _, builtin = run_filters(remote=False)
+if ranks != 2:
+    compare_renders(mpi, builtin)
+    rgba, levels = render_difference(mpi["tiny"], tiny_render())
+    assert rgba <= RENDER_TOL and levels <= 1, f"tiny volume: {rgba} ({levels} levels) from builtin"
+    print(
+        f"tiny volume (ranks without cells): {ranks} ranks vs builtin, RGBA max difference {rgba:.2e}"
+    )
+    sys.exit(0)
 diff = compare(mpi, builtin)
 print(
-    f"identical to the builtin session: render {mpi['render:0']['dims'][:2]}, query preview and "
+    f"as the builtin session: renders within tolerance, query preview and "
     f"{mpi['query:1']['rows']} designs with preset; reconstruct ({mpi['reconstruct:0']['rows']} bins) "
     f"max difference {diff:.1e} (tolerance {RECONSTRUCT_TOL:g})"
 )

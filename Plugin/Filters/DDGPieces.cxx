@@ -1,0 +1,173 @@
+// DDGPieces.cxx: pieces of a volume over the ranks, agreed and rendered sort-last.
+#include "DDGPieces.h"
+
+#include "DDGVolumeAdaptor.h"
+
+#include "Render/SortLast.h"
+
+#include <vtkDataSetAttributes.h>
+#include <vtkImageData.h>
+#include <vtkUnsignedCharArray.h>
+
+#include <cmath>
+#include <limits>
+
+namespace ddg
+{
+
+VolumeBrick brickOf(vtkImageData* image, const int wholeExtent[6])
+{
+  VolumeBrick b;
+  double origin[3] = { 0, 0, 0 }, spacing[3] = { 1, 1, 1 };
+  int extent[6] = { 0, -1, 0, -1, 0, -1 };
+  if (image)
+  {
+    image->GetOrigin(origin);
+    image->GetSpacing(spacing);
+    image->GetExtent(extent);
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    b.wholeDims[a] = wholeExtent[2 * a + 1] - wholeExtent[2 * a] + 1;
+    b.wholeOrigin[a] = origin[a] + wholeExtent[2 * a] * spacing[a];
+    b.offset[a] = extent[2 * a] - wholeExtent[2 * a];
+  }
+  const bool empty = !image || image->GetNumberOfPoints() == 0 || extent[1] < extent[0] ||
+    extent[3] < extent[2] || extent[5] < extent[4];
+  if (empty)
+    return b; // owns nothing (ownedMin = ownedMax = 0)
+  // The owned points: a box (ghosts come as slabs on the sides); found from one owned point
+  // along the three axes through it.
+  int owned[6];
+  std::copy(extent, extent + 6, owned);
+  if (vtkUnsignedCharArray* ghosts = image->GetPointGhostArray())
+  {
+    int dims[3];
+    image->GetDimensions(dims);
+    auto ghost = [&](int i, int j, int k)
+    {
+      const vtkIdType id =
+        i + static_cast<vtkIdType>(dims[0]) * (j + static_cast<vtkIdType>(dims[1]) * k);
+      return (ghosts->GetValue(id) & vtkDataSetAttributes::DUPLICATEPOINT) != 0;
+    };
+    int p[3] = { dims[0] / 2, dims[1] / 2, dims[2] / 2 };
+    bool found = !ghost(p[0], p[1], p[2]);
+    for (int k = 0; k < dims[2] && !found; ++k)
+      for (int j = 0; j < dims[1] && !found; ++j)
+        for (int i = 0; i < dims[0] && !found; ++i)
+          if (!ghost(i, j, k))
+          {
+            p[0] = i;
+            p[1] = j;
+            p[2] = k;
+            found = true;
+          }
+    if (!found)
+      return b; // all ghosts: owns nothing
+    for (int a = 0; a < 3; ++a)
+    {
+      int q[3] = { p[0], p[1], p[2] };
+      int lo = p[a], hi = p[a];
+      for (q[a] = p[a]; q[a] >= 0 && !ghost(q[0], q[1], q[2]); --q[a])
+        lo = q[a];
+      for (q[a] = p[a]; q[a] < dims[a] && !ghost(q[0], q[1], q[2]); ++q[a])
+        hi = q[a];
+      owned[2 * a] = extent[2 * a] + lo;
+      owned[2 * a + 1] = extent[2 * a] + hi;
+    }
+  }
+  for (int a = 0; a < 3; ++a)
+  {
+    b.ownedMin[a] = owned[2 * a] - wholeExtent[2 * a];
+    b.ownedMax[a] = owned[2 * a + 1] - wholeExtent[2 * a];
+  }
+  return b;
+}
+
+RankVolume RankVolume::gather(
+  const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6])
+{
+  RankVolume out;
+  std::unique_ptr<Volume> local;
+  double range[2] = { std::numeric_limits<double>::infinity(),
+    -std::numeric_limits<double>::infinity() };
+  double nonFinite = 0;
+  ranks.step(
+    [&]
+    {
+      out.brick = brickOf(piece, wholeExtent);
+      if (out.brick.ownsNothing())
+        return; // an empty piece, or one plane thick: contributes nothing
+      local = std::make_unique<Volume>(toCoreVolume(piece, array));
+      range[0] = local->range()[0];
+      range[1] = local->range()[1];
+      nonFinite = static_cast<double>(local->nonFiniteCount());
+    });
+  ranks.allMin(&range[0], 1);
+  ranks.allMax(&range[1], 1);
+  ranks.allSum(&nonFinite, 1);
+  // every rank's piece, to check that they partition the whole
+  int mine[15];
+  for (int a = 0; a < 3; ++a)
+  {
+    mine[a] = out.brick.wholeDims[a];
+    mine[3 + a] = out.brick.offset[a];
+    mine[6 + a] = out.brick.ownedMin[a];
+    mine[9 + a] = out.brick.ownedMax[a];
+  }
+  mine[12] = mine[13] = mine[14] = 0;
+  const std::vector<int> all = ranks.allGather(mine, 15);
+  ranks.step(
+    [&]
+    {
+      out.brick.wholeRange = { range[0], range[1] };
+      for (int r = 0; r < ranks.size(); ++r)
+      {
+        VolumeBrick b = out.brick;
+        const int* m = all.data() + 15 * r;
+        for (int a = 0; a < 3; ++a)
+        {
+          b.wholeDims[a] = m[a];
+          b.offset[a] = m[3 + a];
+          b.ownedMin[a] = m[6 + a];
+          b.ownedMax[a] = m[9 + a];
+        }
+        out.all.push_back(b);
+      }
+      checkBricksTile(out.all);
+      out.nonFiniteCount = static_cast<std::int64_t>(nonFinite);
+      out.wholeMinimum = range[0];
+      if (local)
+        out.caster = std::make_unique<RayCaster>(*local, out.brick);
+    });
+  return out;
+}
+
+Image renderOnRanks(const RankGroup& ranks, const RankVolume& volume,
+  const TransferFunctionFile& tf, const View& view, const RenderOptions& options,
+  const ProgressCallback& progress)
+{
+  Image part;
+  ranks.step(
+    [&]
+    {
+      if (volume.caster)
+        part = volume.caster->render(volume.caster->resolve(tf, view), view, options, progress);
+      else // owns nothing: transparent, behind every piece
+      {
+        part = Image(view.width, view.height, 5, 0.0f);
+        for (size_t p = 4; p < part.pixels.size(); p += 5)
+          part.pixels[p] = std::numeric_limits<float>::infinity();
+      }
+    });
+  const long long size = static_cast<long long>(view.width) * view.height * 5;
+  const std::vector<float> parts = ranks.gatherToFirst(part.pixels.data(), size);
+  if (ranks.rank() != 0)
+    return Image();
+  std::vector<const float*> each;
+  for (int r = 0; r < ranks.size(); ++r)
+    each.push_back(parts.data() + static_cast<size_t>(size) * r);
+  return compositeBricks(each, view.width, view.height);
+}
+
+} // namespace ddg

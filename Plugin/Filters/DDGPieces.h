@@ -1,0 +1,51 @@
+// DDGPieces.h: a filter's volume as pieces over the ranks of `mpiexec -np N pvserver` — each rank
+// converts its own piece (with the ghost points the gradient needs), the ranks agree on the
+// whole volume (extent, data range, a partition of its cells), and render it sort-last.
+#pragma once
+
+#include "DDGFiltersModule.h" // export macro
+#include "DDGRanks.h"
+
+#include "Render/RayCaster.h"
+#include "Volume/VolumeBrick.h"
+
+#include <memory>
+#include <vector>
+
+class vtkDataArray;
+class vtkImageData;
+
+namespace ddg
+{
+
+/// Where `image` (this rank's piece, ghost points included) sits in the whole extent
+/// `wholeExtent`: its points, the owned ones (the points not marked as ghosts by VTK's
+/// vtkGhostType array: the piece's extent without ghosts), origin and dims of the whole. The
+/// range is left for the ranks to agree on. An empty piece owns nothing.
+DDGFILTERS_EXPORT VolumeBrick brickOf(vtkImageData* image, const int wholeExtent[6]);
+
+/// A volume split over the ranks: this rank's piece and the caster of its owned cells (none when
+/// it owns no cell).
+struct DDGFILTERS_EXPORT RankVolume
+{
+  VolumeBrick brick;                 ///< this rank's (whole range agreed)
+  std::vector<VolumeBrick> all;      ///< every rank's, rank by rank
+  std::unique_ptr<RayCaster> caster; ///< null when this rank owns no cell
+  std::int64_t nonFiniteCount = 0;   ///< over the whole volume
+  double wholeMinimum = 0;           ///< what non-finite voxels are rendered as (the whole's min)
+
+  /// Collective: converts every rank's piece and agrees on the whole (data range over the ranks;
+  /// the owned cells must partition the whole's, else every rank throws with the reason).
+  static RankVolume gather(
+    const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6]);
+};
+
+/// Collective: renders `tf` at `view` over the ranks' pieces (each rank its owned cells; ranks
+/// without cells contribute nothing) and composites the images on the first rank, front to back
+/// per pixel (compositeBricks). Returns the whole's premultiplied RGBA on the first rank, an
+/// empty image elsewhere. Every rank throws together when one fails or is cancelled.
+DDGFILTERS_EXPORT Image renderOnRanks(const RankGroup& ranks, const RankVolume& volume,
+  const TransferFunctionFile& tf, const View& view, const RenderOptions& options,
+  const ProgressCallback& progress);
+
+} // namespace ddg

@@ -1,0 +1,140 @@
+// DDGRanks.cxx: collective steps over VTK's multiprocess controller.
+#include "DDGRanks.h"
+
+#include "Render/RayCaster.h" // ddg::Cancelled
+
+#include <vtkCommunicator.h>
+#include <vtkInformation.h>
+#include <vtkMultiProcessController.h>
+#include <vtkMultiProcessStream.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
+
+#include <algorithm>
+#include <memory>
+
+namespace ddg
+{
+
+RankGroup::RankGroup(vtkMultiProcessController* controller)
+  : Controller(controller)
+  , Rank(controller->GetLocalProcessId())
+  , Size(controller->GetNumberOfProcesses())
+{
+}
+
+std::unique_ptr<RankGroup> RankGroup::forRequest(vtkInformation* outInfo)
+{
+  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
+  if (!c || c->GetNumberOfProcesses() < 2 || !outInfo ||
+    !outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) ||
+    !outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
+    return nullptr;
+  if (outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) !=
+      c->GetNumberOfProcesses() ||
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) != c->GetLocalProcessId())
+    return nullptr;
+  return std::unique_ptr<RankGroup>(new RankGroup(c));
+}
+
+void RankGroup::step(const std::function<void()>& work) const
+{
+  enum
+  {
+    Done = 0,
+    Stopped = 1, // cancelled
+    Failed = 2
+  };
+  int status = Done;
+  std::string message;
+  try
+  {
+    work();
+  }
+  catch (const Cancelled&)
+  {
+    status = Stopped;
+  }
+  catch (const RankFailed& e)
+  {
+    status = Failed;
+    message = e.what();
+  }
+  catch (const std::exception& e)
+  {
+    status = Failed;
+    message = e.what();
+  }
+  const std::vector<int> all = allGather(&status, 1);
+  int failed = -1, worst = Done;
+  for (int r = 0; r < Size; ++r)
+  {
+    worst = std::max(worst, all[static_cast<size_t>(r)]);
+    if (failed < 0 && all[static_cast<size_t>(r)] == Failed)
+      failed = r;
+  }
+  if (worst == Done)
+    return;
+  if (failed < 0) // only cancellations
+  {
+    if (Rank == 0)
+      throw Cancelled();
+    throw RankFailed("cancelled");
+  }
+  // the failing rank's message to the first rank
+  vtkMultiProcessStream stream;
+  if (Rank == failed)
+    stream << message;
+  Controller->Broadcast(stream, failed);
+  std::string text;
+  stream >> text;
+  if (failed != 0)
+    text = "rank " + std::to_string(failed) + ": " + text;
+  if (Rank == 0)
+    throw Error(text);
+  throw RankFailed(text);
+}
+
+void RankGroup::allMin(double* values, int count) const
+{
+  std::vector<double> in(values, values + count);
+  Controller->AllReduce(in.data(), values, count, vtkCommunicator::MIN_OP);
+}
+
+void RankGroup::allMax(double* values, int count) const
+{
+  std::vector<double> in(values, values + count);
+  Controller->AllReduce(in.data(), values, count, vtkCommunicator::MAX_OP);
+}
+
+void RankGroup::allSum(double* values, int count) const
+{
+  std::vector<double> in(values, values + count);
+  Controller->AllReduce(in.data(), values, count, vtkCommunicator::SUM_OP);
+}
+
+std::vector<int> RankGroup::allGather(const int* values, int count) const
+{
+  std::vector<int> out(static_cast<size_t>(count) * Size);
+  Controller->AllGather(values, out.data(), count);
+  return out;
+}
+
+std::vector<float> RankGroup::gatherToFirst(const float* values, long long count) const
+{
+  std::vector<float> out(Rank == 0 ? static_cast<size_t>(count) * Size : 0);
+  Controller->Gather(values, Rank == 0 ? out.data() : nullptr, count, 0);
+  return out;
+}
+
+std::string RankGroup::broadcast(const std::string& text) const
+{
+  vtkMultiProcessStream stream;
+  if (Rank == 0)
+    stream << text;
+  Controller->Broadcast(stream, 0);
+  std::string out;
+  stream >> out;
+  return out;
+}
+
+} // namespace ddg
