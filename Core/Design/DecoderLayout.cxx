@@ -95,7 +95,7 @@ double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, cons
   if (pixels.empty())
     throw Error("the image loss needs at least one pixel");
   const int n = static_cast<int>(regions.size()), m = outputs();
-  const auto range = renderer.caster().volume().range();
+  const auto range = renderer.caster().dataRange();
   constexpr int kWidth = 256, kHeight = 64; // as renderDesign
   const int height = twoD() ? kHeight : 1;
   std::vector<GaussianPrimitive> prims;

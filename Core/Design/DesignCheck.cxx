@@ -13,8 +13,8 @@ Image boxFootprint(const RayCaster& caster, const View& view)
 {
   // A table of full opacity: every ray that enters the box is opaque at its first sample.
   TransferTable1D opaque;
-  opaque.min = caster.volume().range()[0];
-  opaque.max = caster.volume().range()[1];
+  opaque.min = caster.dataRange()[0];
+  opaque.max = caster.dataRange()[1];
   opaque.width = 2;
   opaque.rgba.assign(8, 1.0f);
   RenderOptions options;

@@ -312,7 +312,7 @@ Image renderDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>
   int dimensions, const std::array<double, 2>& gradientRange, const View& view,
   const RenderOptions& options)
 {
-  const auto range = caster.volume().range();
+  const auto range = caster.dataRange();
   if (tf.empty())
     return Image(view.width, view.height, 4, 0.0f);
   if (dimensions == 2)

@@ -157,8 +157,7 @@ std::string exportTransferFunction(const TransferFunctionFile& tf, const std::st
 {
   if (format != "paraview-2d")
   {
-    exportTransferFunction(
-      tf, path, format, caster.volume().range(), caster.opacityUnitDistance(view));
+    exportTransferFunction(tf, path, format, caster.dataRange(), caster.opacityUnitDistance(view));
     return format;
   }
   if (!tf.is2D)

@@ -419,7 +419,7 @@ TransferFunctionFile replayMatch(const DesignGallery& gallery, const std::vector
   opt.reconstruction.twoD = step.twoD;
   opt.reconstruction.bins = step.bins;
   opt.reconstruction.iterations = step.iterations;
-  const auto range = gallery.caster().volume().range();
+  const auto range = gallery.caster().dataRange();
   const TransferFunctionFile design = gallery.explicitTransferFunction(latent, view);
   if (!design.is2D && !step.twoD)
     opt.reconstruction.initial1D = bakeTable(design.tf1D, range[0], range[1], 1024);

@@ -52,7 +52,7 @@ Eigen::MatrixXd EmissionScreen::histograms(const View& view) const
   View v = view;
   v.width = Difference.width;
   v.height = Difference.height;
-  const auto& range = Renderer.caster().volume().range();
+  const auto& range = Renderer.caster().dataRange();
   // a transparent table: every ray is marched to its end, all its samples kept
   const int tableWidth = 2;
   const std::vector<float> table(4 * tableWidth, 0.0f);

@@ -107,7 +107,7 @@ RankVolume RankVolume::gather(
   ranks.allMax(&range[1], 1);
   ranks.allSum(&nonFinite, 1);
   // every rank's piece, to check that they partition the whole
-  int mine[15];
+  int mine[12];
   for (int a = 0; a < 3; ++a)
   {
     mine[a] = out.brick.wholeDims[a];
@@ -115,8 +115,7 @@ RankVolume RankVolume::gather(
     mine[6 + a] = out.brick.ownedMin[a];
     mine[9 + a] = out.brick.ownedMax[a];
   }
-  mine[12] = mine[13] = mine[14] = 0;
-  const std::vector<int> all = ranks.allGather(mine, 15);
+  const std::vector<int> all = ranks.allGather(mine, 12);
   ranks.step(
     [&]
     {
@@ -124,7 +123,7 @@ RankVolume RankVolume::gather(
       for (int r = 0; r < ranks.size(); ++r)
       {
         VolumeBrick b = out.brick;
-        const int* m = all.data() + 15 * r;
+        const int* m = all.data() + 12 * r;
         for (int a = 0; a < 3; ++a)
         {
           b.wholeDims[a] = m[a];
@@ -136,7 +135,6 @@ RankVolume RankVolume::gather(
       }
       checkBricksTile(out.all);
       out.nonFiniteCount = static_cast<std::int64_t>(nonFinite);
-      out.wholeMinimum = range[0];
       if (local)
         out.caster = std::make_unique<RayCaster>(*local, out.brick);
     });

@@ -32,7 +32,6 @@ struct DDGFILTERS_EXPORT RankVolume
   std::vector<VolumeBrick> all;      ///< every rank's, rank by rank
   std::unique_ptr<RayCaster> caster; ///< null when this rank owns no cell
   std::int64_t nonFiniteCount = 0;   ///< over the whole volume
-  double wholeMinimum = 0;           ///< what non-finite voxels are rendered as (the whole's min)
 
   /// Collective: converts every rank's piece and agrees on the whole (data range over the ranks;
   /// the owned cells must partition the whole's, else every rank throws with the reason).

@@ -46,6 +46,16 @@ ddg::RenderOptions optionsOf(vtkDDGVolumeRender* filter)
   return options;
 }
 
+// Progress reported by the filter; false once ParaView asks it to abort.
+ddg::ProgressCallback progressOf(vtkDDGVolumeRender* filter)
+{
+  return [filter](double f)
+  {
+    filter->UpdateProgress(f);
+    return !filter->GetAbortExecute();
+  };
+}
+
 // The image and, for 2D TFs, ParaView's 2D boxes as field data.
 void writeOutput(const ddg::Image& image, const ddg::RayCaster& caster,
   const ddg::TransferFunctionFile& file, const ddg::TransferFunctionFile& tf, const ddg::View& view,
@@ -136,13 +146,8 @@ void vtkDDGVolumeRender::Execute(
   }
   const ddg::RayCaster& caster = *this->Internal->Caster;
 
-  auto progress = [this](double f)
-  {
-    this->UpdateProgress(f);
-    return !this->GetAbortExecute();
-  };
   const ddg::TransferFunctionFile tf = caster.resolve(file, view);
-  const ddg::Image image = caster.render(tf, view, optionsOf(this), progress);
+  const ddg::Image image = caster.render(tf, view, optionsOf(this), progressOf(this));
   writeOutput(image, caster, file, tf, view, output);
 }
 
@@ -199,12 +204,8 @@ void vtkDDGVolumeRender::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageDat
     this->Internal->Array = array;
   }
   const ddg::RankVolume& pieces = *this->Internal->Pieces;
-  auto progress = [this](double f)
-  {
-    this->UpdateProgress(f);
-    return !this->GetAbortExecute();
-  };
-  const ddg::Image image = ddg::renderOnRanks(ranks, pieces, file, view, optionsOf(this), progress);
+  const ddg::Image image =
+    ddg::renderOnRanks(ranks, pieces, file, view, optionsOf(this), progressOf(this));
   if (ranks.rank() != 0)
     return; // the first rank's output is the image
   if (!pieces.caster && (file.is2D || file.isParaView2D))
