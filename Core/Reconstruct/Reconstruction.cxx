@@ -725,12 +725,11 @@ ReconstructionResult fit(const DifferentiableRenderer& renderer, DataTerm& data,
     throw Error("the parametric fit was given " + std::to_string(opt.initialPrimitives.size()) +
       " starting primitives for " + std::to_string(opt.primitives));
 
-  const Volume& vol = renderer.caster().volume();
-  const auto range = vol.range();
+  const auto range = renderer.dataRange(); // the whole's, for a piece of a volume
   ResultLayout layout;
   layout.twoD = opt.twoD;
   layout.range = { range[0], range[1] };
-  layout.gradientRange = opt.twoD ? vol.gradientMagnitudeRange() : std::array<double, 2>{ 0, 1 };
+  layout.gradientRange = opt.twoD ? renderer.gradientRange() : std::array<double, 2>{ 0, 1 };
   layout.bins = opt.bins;
   layout.gradientBins = opt.twoD ? opt.gradientBins : 1;
 

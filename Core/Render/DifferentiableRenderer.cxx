@@ -4,14 +4,20 @@
 #include "Common/Parallel.h"
 #include "Render/Adjoint.h"
 #include "Render/Lighting.h"
+#include "Render/PieceExchange.h"
 #include "Render/RaySegment.h"
+#include "Render/SortLast.h"
+#include "Volume/VolumeBrick.h"
 
 #include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <exception>
+#include <limits>
 #include <mutex>
+#include <optional>
 #include <type_traits>
 
 namespace ddg
@@ -298,15 +304,31 @@ struct Classifier
 template <typename S>
 struct DifferentiableRendererT<S>::Internals
 {
-  RayCaster Caster;
-  GradientStencil Stencil; // Shade and 2D: the gradient at a sample, from the scalars
+  std::optional<RayCaster> Caster; // none for a piece that owns no cell
+  GradientStencil Stencil;         // Shade and 2D: the gradient at a sample, from the scalars
   double TextureScale = 1;
+  std::optional<VolumeBrick> Brick;               // a piece of a whole volume
+  std::shared_ptr<const PieceExchange> Exchange; // pieces: how they exchange their parts
 
   explicit Internals(const Volume& v)
-    : Caster(v)
-    , Stencil(GradientStencil::of(v))
+    : Stencil(GradientStencil::of(v))
     , TextureScale(RayCaster::textureScale(v.originalType()))
   {
+    Caster.emplace(v);
+  }
+
+  Internals(const Volume& piece, const VolumeBrick& brick, std::shared_ptr<const PieceExchange> x)
+    : TextureScale(RayCaster::textureScale(piece.originalType()))
+    , Brick(brick)
+    , Exchange(std::move(x))
+  {
+    if (!Exchange)
+      throw Error("a volume piece renders with the other pieces: it needs their exchange");
+    if (!brick.ownsNothing())
+    {
+      Caster.emplace(piece, brick);
+      Stencil = GradientStencil::of(piece, brick.wholeDims);
+    }
   }
 
   // Calls f(sampler) with a FieldSampler over the volume's scalars in their own type (shared
@@ -314,8 +336,8 @@ struct DifferentiableRendererT<S>::Internals
   template <typename F>
   void withValues(F&& f) const
   {
-    const auto& d = Caster.volume().dims();
-    Caster.volume().visit(
+    const auto& d = Caster->volume().dims();
+    Caster->volume().visit(
       [&](const auto* data)
       {
         using T = std::remove_const_t<std::remove_pointer_t<decltype(data)>>;
@@ -351,23 +373,39 @@ struct DifferentiableRendererT<S>::Internals
     double d = 1, unit = 1, offset = 0.5;
     S termination = S(1) - S(1) / S(255);
     bool jitter = false;
+    bool piece = false; // owned samples only: cells lo .. hi of a whole of n points, at `off`
+    int lo[3] = { 0, 0, 0 }, hi[3] = { 0, 0, 0 }, n[3] = { 0, 0, 0 };
+    double off[3] = { 0, 0, 0 };
   };
 
   Setup setup(const View& view, const RenderOptions& opt, bool twoD) const
   {
     view.validate();
     Setup s;
-    const Volume& vol = Caster.volume();
-    const auto b = vol.bounds();
+    const Volume& vol = Caster->volume();
+    const auto b = Brick ? Brick->wholeBounds(vol.spacing()) : vol.bounds();
     for (int a = 0; a < 3; ++a)
     {
       s.boxMin[a] = b[2 * a];
       s.boxMax[a] = b[2 * a + 1];
-      s.origin[a] = vol.origin()[a];
+      s.origin[a] = b[2 * a];
       s.spacing[a] = vol.spacing()[a];
     }
-    s.d = opt.sampleDistance > 0 ? opt.sampleDistance : Caster.defaultSampleDistance();
-    s.unit = Caster.opacityUnitDistance(view);
+    if (Brick)
+    {
+      s.piece = true;
+      for (int a = 0; a < 3; ++a)
+      {
+        s.lo[a] = Brick->ownedMin[a];
+        s.hi[a] = Brick->ownedMax[a];
+        s.n[a] = Brick->wholeDims[a];
+        s.off[a] = Brick->offset[a];
+      }
+      if (twoD || view.lighting.shade)
+        Brick->validate(vol, true); // the ghost points the gradient needs
+    }
+    s.d = opt.sampleDistance > 0 ? opt.sampleDistance : Caster->defaultSampleDistance();
+    s.unit = Caster->opacityUnitDistance(view);
     s.offset = opt.sampleOffset;
     s.jitter = opt.jitter;
     s.termination = static_cast<S>(opt.terminationOpacity);
@@ -375,7 +413,16 @@ struct DifferentiableRendererT<S>::Internals
     {
       s.lit = true;
       s.kit = LightKit::paraview(view.lighting);
-      s.frame = LightingFrame::of(vol, view);
+      if (Brick)
+      {
+        // the whole's frame, for index coordinates `off` points into the whole
+        s.frame = LightingFrame::of(Brick->wholeDims, Brick->wholeOrigin, vol.spacing(), view);
+        for (int r = 0; r < 3; ++r)
+          for (int a = 0; a < 3; ++a)
+            s.frame.positionOffset[r] += s.frame.positionMap[r][a] * s.off[a];
+      }
+      else
+        s.frame = LightingFrame::of(vol, view);
     }
     s.clampLit = !twoD;
     if (!(s.offset >= 0 && s.offset <= 1) || !(s.d > 0) || !std::isfinite(s.d))
@@ -477,12 +524,21 @@ struct DifferentiableRendererT<S>::Internals
             {
               return;
             }
+            if (s.piece)
+            {
+              if (!ownedSamples(seg, j, s.lo, s.hi, s.n))
+                return;
+              for (int a = 0; a < 3; ++a)
+                seg.e[a] -= s.off[a]; // into the piece's index space
+            }
             RayRecord& rec = records[static_cast<size_t>(q)];
-            float* store = nullptr; // this ray's sample values (float renderer)
+            rec.firstSample = static_cast<std::int32_t>(seg.kFirst);
+            float* store = nullptr; // samples kFirst .. of this ray (float renderer)
             if constexpr (std::is_same_v<S, float>)
             {
               auto& buffer = scratch[static_cast<size_t>(threadId)];
-              buffer.resize(std::max(buffer.size(), static_cast<size_t>(seg.kLast + 1) * channels));
+              buffer.resize(std::max(
+                buffer.size(), static_cast<size_t>(seg.kLast - seg.kFirst + 1) * channels));
               store = buffer.data();
             }
             const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]),
@@ -494,7 +550,10 @@ struct DifferentiableRendererT<S>::Internals
             bool done = false;
             S value[FieldSampler<S>::kBatch], gradient[FieldSampler<S>::kBatch];
             GradientStencil::Cell<S> cell; // the ray's last cell (2D gradients)
-            for (std::int64_t k0 = 0; k0 <= seg.kLast && !done; k0 += FieldSampler<S>::kBatch)
+            // batches at multiples of kBatch from sample 0 (the same positions, bit for bit, in
+            // every pass and every piece), lanes before kFirst left out
+            constexpr int kB = FieldSampler<S>::kBatch;
+            for (std::int64_t k0 = seg.kFirst - seg.kFirst % kB; k0 <= seg.kLast && !done; k0 += kB)
             {
               const S kk0 = static_cast<S>(j) + static_cast<S>(k0);
               Values.sampleBatch(e, st, kk0, value);
@@ -502,20 +561,20 @@ struct DifferentiableRendererT<S>::Internals
               {
                 sampleTransferGradients(Values.v, e, st, kk0, cell, gradient);
               }
-              const int n = static_cast<int>(
-                std::min<std::int64_t>(FieldSampler<S>::kBatch, seg.kLast + 1 - k0));
+              const int l0 = static_cast<int>(std::max<std::int64_t>(0, seg.kFirst - k0));
+              const int n = static_cast<int>(std::min<std::int64_t>(kB, seg.kLast + 1 - k0));
               if (store)
               {
-                for (int l = 0; l < n; ++l)
+                for (int l = l0; l < n; ++l)
                 {
-                  store[channels * (k0 + l)] = static_cast<float>(value[l]);
+                  store[channels * (k0 + l - seg.kFirst)] = static_cast<float>(value[l]);
                   if constexpr (TwoD)
                   {
-                    store[channels * (k0 + l) + 1] = static_cast<float>(gradient[l]);
+                    store[channels * (k0 + l - seg.kFirst) + 1] = static_cast<float>(gradient[l]);
                   }
                 }
               }
-              for (int l = 0; l < n; ++l)
+              for (int l = l0; l < n; ++l)
               {
                 k = k0 + l;
                 S c[4];
@@ -545,7 +604,7 @@ struct DifferentiableRendererT<S>::Internals
             rec.alpha = A;
             if (store)
             {
-              const std::int64_t used = (k + 1) * channels;
+              const std::int64_t used = (k - seg.kFirst + 1) * channels;
               if (budget.fetch_add(used, std::memory_order_relaxed) + used <= kRecordBudget)
               {
                 rec.samples.assign(store, store + used);
@@ -588,6 +647,10 @@ struct DifferentiableRendererT<S>::Internals
             {
               return;
             }
+            seg.kFirst = rec.firstSample; // a piece's first owned sample (forward's ownedSamples)
+            if (s.piece)
+              for (int a = 0; a < 3; ++a)
+                seg.e[a] -= s.off[a];
             const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]),
               static_cast<S>(seg.e[2]) };
             const S st[3] = { static_cast<S>(seg.s[0]), static_cast<S>(seg.s[1]),
@@ -623,15 +686,16 @@ struct DifferentiableRendererT<S>::Internals
               cls.classifyAdjoint(coord, dL_drgba, dTable);
             };
             const std::int64_t kStop = std::min<std::int64_t>(rec.lastSample, seg.kLast);
+            const std::int64_t kFirst = seg.kFirst;
             constexpr int channels = TwoD ? 2 : 1;
-            if (rec.samples.size() == static_cast<size_t>(kStop + 1) * channels)
+            if (rec.samples.size() == static_cast<size_t>(kStop - kFirst + 1) * channels)
             {
               // The values the forward pass kept.
-              const float* v = rec.samples.data();
-              for (std::int64_t k = kStop; k >= 0; --k)
+              const float* v = rec.samples.data(); // from sample kFirst
+              for (std::int64_t k = kStop; k >= kFirst; --k)
               {
-                replay(static_cast<S>(v[channels * k]),
-                  TwoD ? static_cast<S>(v[channels * k + channels - 1]) : S(0), k);
+                const float* w = v + channels * (k - kFirst);
+                replay(static_cast<S>(w[0]), TwoD ? static_cast<S>(w[channels - 1]) : S(0), k);
               }
               return;
             }
@@ -639,7 +703,7 @@ struct DifferentiableRendererT<S>::Internals
             constexpr int kB = FieldSampler<S>::kBatch;
             S value[kB], gradient[kB];
             GradientStencil::Cell<S> cell; // the ray's last cell (2D gradients)
-            for (std::int64_t k0 = kStop - kStop % kB; k0 >= 0; k0 -= kB)
+            for (std::int64_t k0 = kStop - kStop % kB; k0 + kB > kFirst; k0 -= kB)
             {
               const S kk0 = static_cast<S>(j) + static_cast<S>(k0);
               Values.sampleBatch(e, st, kk0, value);
@@ -647,7 +711,8 @@ struct DifferentiableRendererT<S>::Internals
               {
                 sampleTransferGradients(Values.v, e, st, kk0, cell, gradient);
               }
-              for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= 0;
+              const int l0 = static_cast<int>(std::max<std::int64_t>(0, kFirst - k0));
+              for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= l0;
                    --l)
               {
                 replay(value[l], TwoD ? gradient[l] : S(0), k0 + l);
@@ -665,6 +730,129 @@ struct DifferentiableRendererT<S>::Internals
     }
     cls.table.chain(dPrepared, dL_dTable);
   }
+
+  // --- pieces: the local passes wrapped in the exchange -----------------------------------
+
+  // After an exchange whose blocks of `stride` floats end in a status (1: that piece failed):
+  // this piece's own failure rethrown, PieceFailed when another's failed.
+  static void settle(const std::vector<float>& all, int pieces, std::int64_t stride,
+    const std::exception_ptr& failure)
+  {
+    if (failure)
+      std::rethrow_exception(failure);
+    for (int p = 0; p < pieces; ++p)
+      if (all[static_cast<size_t>((p + 1) * stride - 1)] != 0.0f)
+        throw PieceFailed();
+  }
+
+  // local() runs this piece's forward pass into rgba and records; then every piece's partial
+  // RGBA and first-sample index are gathered and composited: rgba becomes the whole's, the
+  // records get this piece's front and back.
+  template <typename Local>
+  void forwardPieces(Local&& local, const View& view, const std::vector<int>& pixels,
+    std::vector<S>& rgba, std::vector<RayRecord>& records) const
+  {
+    const std::int64_t n = pixels.empty() ? static_cast<std::int64_t>(view.width) * view.height
+                                          : static_cast<std::int64_t>(pixels.size());
+    const std::int64_t stride = 5 * n + 1;
+    std::vector<float> mine(static_cast<size_t>(stride), 0.0f);
+    std::exception_ptr failure;
+    try
+    {
+      if (Caster)
+        local();
+      else // owns no cell: transparent, behind every piece
+      {
+        view.validate();
+        rgba.assign(static_cast<size_t>(4 * n), S(0));
+        records.assign(static_cast<size_t>(n), RayRecord());
+      }
+      for (std::int64_t q = 0; q < n; ++q)
+      {
+        for (int c = 0; c < 4; ++c)
+          mine[4 * q + c] = static_cast<float>(rgba[4 * q + c]);
+        const RayRecord& r = records[static_cast<size_t>(q)];
+        mine[4 * n + q] = r.lastSample >= 0 ? static_cast<float>(r.firstSample)
+                                            : std::numeric_limits<float>::infinity();
+      }
+    }
+    catch (...)
+    {
+      failure = std::current_exception();
+      mine.back() = 1.0f;
+    }
+    const int pieces = Exchange->pieces();
+    std::vector<float> all(static_cast<size_t>(stride) * pieces);
+    Exchange->allGather(mine.data(), stride, all.data());
+    settle(all, pieces, stride, failure);
+    std::vector<const float*> colours, keys;
+    for (int p = 0; p < pieces; ++p)
+    {
+      colours.push_back(all.data() + p * stride);
+      keys.push_back(all.data() + p * stride + 4 * n);
+    }
+    std::vector<float> out(static_cast<size_t>(4 * n)), front(static_cast<size_t>(n)),
+      back(static_cast<size_t>(4 * n));
+    compositePixels(colours, keys, n, Exchange->piece(), out.data(), front.data(), back.data());
+    rgba.assign(out.begin(), out.end());
+    for (std::int64_t q = 0; q < n; ++q)
+    {
+      RayRecord& r = records[static_cast<size_t>(q)];
+      r.front = front[static_cast<size_t>(q)];
+      std::copy(&back[4 * q], &back[4 * q] + 4, r.back);
+    }
+  }
+
+  // local(dPiece, dTable) runs this piece's backward pass from its share of dL/d(image) into a
+  // zeroed table gradient; the pieces' table gradients are gathered and added to dL_dTable
+  // piece by piece (the same sums on every piece).
+  template <typename Local>
+  void backwardPieces(Local&& local, size_t tableSize, const View& view,
+    const std::vector<int>& pixels, const std::vector<RayRecord>& records,
+    const std::vector<S>& dL_dRGBA, std::vector<S>& dL_dTable) const
+  {
+    const std::int64_t n = pixels.empty() ? static_cast<std::int64_t>(view.width) * view.height
+                                          : static_cast<std::int64_t>(pixels.size());
+    const std::int64_t stride = 4 * static_cast<std::int64_t>(tableSize) + 1;
+    std::vector<float> mine(static_cast<size_t>(stride), 0.0f);
+    std::exception_ptr failure;
+    try
+    {
+      if (records.size() != static_cast<size_t>(n) || dL_dRGBA.size() != 4 * records.size() ||
+        dL_dTable.size() != 4 * tableSize)
+        throw Error(
+          "backward: sizes of records, dL_dRGBA or dL_dTable do not match the forward pass");
+      if (Caster)
+      {
+        std::vector<float> g(dL_dRGBA.begin(), dL_dRGBA.end()), front(static_cast<size_t>(n)),
+          back(static_cast<size_t>(4 * n)), d(static_cast<size_t>(4 * n));
+        for (std::int64_t q = 0; q < n; ++q)
+        {
+          const RayRecord& r = records[static_cast<size_t>(q)];
+          front[static_cast<size_t>(q)] = r.front;
+          std::copy(r.back, r.back + 4, &back[4 * q]);
+        }
+        compositePixelsAdjoint(g.data(), front.data(), back.data(), n, d.data());
+        const std::vector<S> dPiece(d.begin(), d.end());
+        std::vector<S> dTable(4 * tableSize, S(0));
+        local(dPiece, dTable);
+        for (size_t i = 0; i < dTable.size(); ++i)
+          mine[i] = static_cast<float>(dTable[i]);
+      }
+    }
+    catch (...)
+    {
+      failure = std::current_exception();
+      mine.back() = 1.0f;
+    }
+    const int pieces = Exchange->pieces();
+    std::vector<float> all(static_cast<size_t>(stride) * pieces);
+    Exchange->allGather(mine.data(), stride, all.data());
+    settle(all, pieces, stride, failure);
+    for (int p = 0; p < pieces; ++p)
+      for (size_t i = 0; i < 4 * tableSize; ++i)
+        dL_dTable[i] += static_cast<S>(all[static_cast<size_t>(p * stride) + i]);
+  }
 };
 
 template <typename S>
@@ -674,12 +862,38 @@ DifferentiableRendererT<S>::DifferentiableRendererT(const Volume& volume)
 }
 
 template <typename S>
+DifferentiableRendererT<S>::DifferentiableRendererT(
+  const Volume& piece, const VolumeBrick& brick, std::shared_ptr<const PieceExchange> exchange)
+  : In(std::make_unique<Internals>(piece, brick, std::move(exchange)))
+{
+}
+
+template <typename S>
 DifferentiableRendererT<S>::~DifferentiableRendererT() = default;
 
 template <typename S>
 const RayCaster& DifferentiableRendererT<S>::caster() const
 {
-  return In->Caster;
+  if (!In->Caster)
+    throw Error("this volume piece owns no cell: it has no ray caster");
+  return *In->Caster;
+}
+
+template <typename S>
+std::array<double, 2> DifferentiableRendererT<S>::dataRange() const
+{
+  return In->Brick ? In->Brick->wholeRange : In->Caster->dataRange();
+}
+
+template <typename S>
+std::array<double, 2> DifferentiableRendererT<S>::gradientRange() const
+{
+  if (!In->Brick)
+    return In->Caster->volume().gradientMagnitudeRange();
+  if (!(In->Brick->wholeGradientRange[1] > 0))
+    throw Error("the volume pieces have not agreed on the whole's gradient-magnitude range (2D "
+                "tables need it)");
+  return In->Brick->wholeGradientRange;
 }
 
 namespace
@@ -727,9 +941,16 @@ void DifferentiableRendererT<S>::forward(const S* table, int width, double min, 
   const View& view, const RenderOptions& options, const std::vector<int>& pixels,
   std::vector<S>& rgba, std::vector<RayRecord>& records) const
 {
-  const auto s = In->setup(view, options, false);
-  In->forward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), s, view, options,
-    pixels, rgba, records);
+  auto local = [&]
+  {
+    const auto s = In->setup(view, options, false);
+    In->forward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), s, view, options,
+      pixels, rgba, records);
+  };
+  if (In->Exchange)
+    In->forwardPieces(local, view, pixels, rgba, records);
+  else
+    local();
 }
 
 template <typename S>
@@ -738,9 +959,16 @@ void DifferentiableRendererT<S>::backward(const S* table, int width, double min,
   const std::vector<RayRecord>& records, const std::vector<S>& dL_dRGBA,
   std::vector<S>& dL_dTable) const
 {
-  const auto s = In->setup(view, options, false);
-  In->backward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), s,
-    static_cast<size_t>(width), view, options, pixels, records, dL_dRGBA, dL_dTable);
+  auto local = [&](const std::vector<S>& dRGBA, std::vector<S>& dTable)
+  {
+    const auto s = In->setup(view, options, false);
+    In->backward(make1D(table, width, min, max, In->TextureScale, s.d / s.unit), s,
+      static_cast<size_t>(width), view, options, pixels, records, dRGBA, dTable);
+  };
+  if (In->Exchange)
+    In->backwardPieces(local, static_cast<size_t>(width), view, pixels, records, dL_dRGBA, dL_dTable);
+  else
+    local(dL_dRGBA, dL_dTable);
 }
 
 template <typename S>
@@ -749,10 +977,17 @@ void DifferentiableRendererT<S>::forward2D(const S* table, int width, int height
   const RenderOptions& options, const std::vector<int>& pixels, std::vector<S>& rgba,
   std::vector<RayRecord>& records) const
 {
-  const auto s = In->setup(view, options, true);
-  In->forward(
-    make2D(table, width, height, valueRange, gradientRange, In->TextureScale, s.d / s.unit), s,
-    view, options, pixels, rgba, records);
+  auto local = [&]
+  {
+    const auto s = In->setup(view, options, true);
+    In->forward(
+      make2D(table, width, height, valueRange, gradientRange, In->TextureScale, s.d / s.unit), s,
+      view, options, pixels, rgba, records);
+  };
+  if (In->Exchange)
+    In->forwardPieces(local, view, pixels, rgba, records);
+  else
+    local();
 }
 
 template <typename S>
@@ -762,10 +997,18 @@ void DifferentiableRendererT<S>::backward2D(const S* table, int width, int heigh
   const std::vector<RayRecord>& records, const std::vector<S>& dL_dRGBA,
   std::vector<S>& dL_dTable) const
 {
-  const auto s = In->setup(view, options, true);
-  In->backward(
-    make2D(table, width, height, valueRange, gradientRange, In->TextureScale, s.d / s.unit), s,
-    static_cast<size_t>(width) * height, view, options, pixels, records, dL_dRGBA, dL_dTable);
+  const size_t entries = static_cast<size_t>(width) * height;
+  auto local = [&](const std::vector<S>& dRGBA, std::vector<S>& dTable)
+  {
+    const auto s = In->setup(view, options, true);
+    In->backward(
+      make2D(table, width, height, valueRange, gradientRange, In->TextureScale, s.d / s.unit), s,
+      entries, view, options, pixels, records, dRGBA, dTable);
+  };
+  if (In->Exchange)
+    In->backwardPieces(local, entries, view, pixels, records, dL_dRGBA, dL_dTable);
+  else
+    local(dL_dRGBA, dL_dTable);
 }
 
 template class DifferentiableRendererT<float>;

@@ -54,15 +54,36 @@ namespace ddg
 /// respect to these entries. 2D tables: value x gradient magnitude, as TransferTable2D, the
 /// gradient axis per sample as RayCaster computes it (transferGradient, Render/Lighting.h).
 ///
+/// Pieces (the constructor with a VolumeBrick and a PieceExchange; ParaView's ranks under MPI):
+/// each piece marches the samples it owns (ownedSamples, Render/RaySegment.h) of the whole's
+/// rays; the forward pass gathers every piece's partial RGBA and first-sample index, composites
+/// them front to back per pixel (compositePixels, Render/SortLast.h) and returns the whole's
+/// image on every piece; the backward pass hands each piece its share of dL/d(image)
+/// (compositePixelsAdjoint: scaled by the transmittance in front of it) and sums the pieces'
+/// table gradients, piece by piece in order (the same numbers on every piece). Every piece makes
+/// the same calls with the same pixels; a piece whose local pass fails throws its error and the
+/// others PieceFailed, after the exchange (none waits forever). Pieces exchange floats. Each
+/// piece stops its rays at the early-termination threshold on its own opacity, so images and
+/// gradients agree with one process's within that threshold (exactly, up to float rounding,
+/// with termination off).
+///
 /// What the forward pass keeps per ray for the backward pass (constant size).
 struct RayRecord
 {
   std::int32_t lastSample = -1; ///< index of the last sample marched (-1: the ray misses)
+  std::int32_t firstSample = 0; ///< index of the first (0; a piece's first owned sample)
   double alpha = 0;             ///< final accumulated opacity, in double for the inversion
-  /// Interpolated value of samples 0 .. lastSample (2D: value, gradient magnitude per sample),
-  /// or empty: the backward pass then re-interpolates. Kept by the float renderer only.
+  /// Interpolated value of samples firstSample .. lastSample (2D: value, gradient magnitude per
+  /// sample), or empty: the backward pass then re-interpolates. Kept by the float renderer only.
   std::vector<float> samples;
+  /// Pieces: the opacity of the pieces in front of this one on the ray and the composite
+  /// (C, A) of those behind it (compositePixels).
+  float front = 0;
+  float back[4] = { 0, 0, 0, 0 };
 };
+
+class PieceExchange;
+struct VolumeBrick;
 
 /// Most sample values (floats) one forward call keeps in its records (32 MB).
 constexpr std::int64_t kRecordBudget = std::int64_t(1) << 23;
@@ -74,9 +95,22 @@ class DifferentiableRendererT
 public:
   /// Same requirements on the volume as RayCaster (throws ddg::Error otherwise).
   explicit DifferentiableRendererT(const Volume& volume);
+  /// A piece of a whole volume rendering with the other pieces through `exchange` (above): the
+  /// whole's rays, default distances, lighting and table ranges (brick.wholeRange; 2D:
+  /// brick.wholeGradientRange, which must be agreed first). A piece that owns no cell takes part
+  /// in every exchange with nothing of its own. Throws ddg::Error as RayCaster(piece, brick).
+  DifferentiableRendererT(const Volume& piece, const VolumeBrick& brick,
+    std::shared_ptr<const PieceExchange> exchange);
   ~DifferentiableRendererT();
 
+  /// The ray caster of the volume (of the piece: RayCaster(piece, brick)). Throws ddg::Error for
+  /// a piece that owns no cell.
   const RayCaster& caster() const;
+  /// The data range tables are laid over (the whole's for a piece).
+  std::array<double, 2> dataRange() const;
+  /// The gradient-magnitude range of 2D tables (Volume::gradientMagnitudeRange; a piece's
+  /// brick.wholeGradientRange, ddg::Error when it was not agreed).
+  std::array<double, 2> gradientRange() const;
 
   /// Renders the listed pixels (index y * width + x, row 0 at the top; all pixels of the view
   /// when `pixels` is empty): OVERWRITES rgba (4 values per listed pixel: premultiplied

@@ -5,6 +5,7 @@
 
 #include "Image/Image.h"
 
+#include <cstdint>
 #include <vector>
 
 namespace ddg
@@ -21,5 +22,20 @@ namespace ddg
 Image compositeBricks(const std::vector<const float*>& parts, int width, int height);
 /// The same from images.
 Image compositeBricks(const std::vector<Image>& parts);
+
+/// Sort-last compositing of a list of pixels and what its adjoint needs, for the differentiable
+/// renderer over pieces (DifferentiableRendererT with a PieceExchange). rgba[p] points at piece
+/// p's n x 4 floats (premultiplied C, A of its own samples), keys[p] at its n first-sample
+/// indices (+inf where it has none). Per pixel, as compositeBricks (in double): out gets the
+/// composite (n x 4); for piece `mine`, front gets the opacity A_F of the pieces in front of it
+/// (n) and back the composite (C_B, A_B) of the pieces behind it (n x 4).
+void compositePixels(const std::vector<const float*>& rgba, const std::vector<const float*>& keys,
+  std::int64_t n, int mine, float* out, float* front, float* back);
+
+/// The adjoint for piece `mine`: from g = dL/d(composite) (n x 4) and that piece's front and back
+/// (compositePixels), dL/d(its C) = (1 - A_F) g_C and dL/d(its A) = (1 - A_F) (g_A (1 - A_B) -
+/// g_C . C_B), into dPiece (n x 4): out = F over (piece over B).
+void compositePixelsAdjoint(
+  const float* g, const float* front, const float* back, std::int64_t n, float* dPiece);
 
 } // namespace ddg

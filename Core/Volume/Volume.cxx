@@ -443,29 +443,36 @@ double Volume::sampleWorld(double x, double y, double z) const
 namespace
 {
 
-// Calls f(index, |g|) for every point of k-slices [k0, k1): ParaView's gradient magnitude
-// (Volume::gradientMagnitude) from the scalars p.
+// Calls f(index, |g|) for every point of k-slices [k0, k1) (rows j and columns i in
+// [lo, hi] when given): ParaView's gradient magnitude (Volume::gradientMagnitude) from the
+// scalars p, with the N/(N-1) offset of a whole of scaleDims points (the volume's own, or the
+// whole's for a piece).
 template <typename T, typename F>
 void forGradientMagnitudes(const T* p, const std::array<int, 3>& dims,
-  const std::array<double, 3>& spacing, int k0, int k1, F&& f)
+  const std::array<double, 3>& spacing, int k0, int k1, F&& f,
+  const std::array<int, 3>* scaleDims = nullptr, const std::array<int, 3>* lo = nullptr,
+  const std::array<int, 3>* hi = nullptr)
 {
   const int nx = dims[0], ny = dims[1], nz = dims[2];
+  const std::array<int, 3>& sd = scaleDims ? *scaleDims : dims;
   double scale[3];
   for (int a = 0; a < 3; ++a)
   {
     // ParaView's: the texture clamps at the faces, its offset is N/(N-1) voxels, and it divides
     // by twice the spacing whatever the offset; 0 along an axis of extent 1
-    scale[a] = dims[a] > 1 ? dims[a] / ((dims[a] - 1) * 2.0 * spacing[a]) : 0.0;
+    scale[a] = sd[a] > 1 ? sd[a] / ((sd[a] - 1) * 2.0 * spacing[a]) : 0.0;
   }
+  const int j0 = lo ? (*lo)[1] : 0, j1 = hi ? (*hi)[1] : ny - 1;
+  const int i0 = lo ? (*lo)[0] : 0, i1 = hi ? (*hi)[0] : nx - 1;
   const size_t sy = static_cast<size_t>(nx), sz = static_cast<size_t>(nx) * ny;
   for (int k = k0; k < k1; ++k)
   {
     const int kl = std::max(k - 1, 0), kh = std::min(k + 1, nz - 1);
-    for (int j = 0; j < ny; ++j)
+    for (int j = j0; j <= j1; ++j)
     {
       const int jl = std::max(j - 1, 0), jh = std::min(j + 1, ny - 1);
       const size_t row = sy * j + sz * k;
-      for (int i = 0; i < nx; ++i)
+      for (int i = i0; i <= i1; ++i)
       {
         const int il = std::max(i - 1, 0), ih = std::min(i + 1, nx - 1);
         const double gx = (static_cast<double>(p[row + ih]) - p[row + il]) * scale[0];
@@ -506,23 +513,34 @@ std::array<double, 2> Volume::gradientMagnitudeRange() const
   std::call_once(Cached->GradientOnce,
     [this]
     {
-      std::vector<double> maxima(static_cast<size_t>(resolveThreadCount(0, Dims[2])), 0.0);
-      visit(
-        [&](const auto* p)
-        {
-          parallelFor(Dims[2], 0,
-            [&](std::int64_t k, int t)
-            {
-              double& m = maxima[static_cast<size_t>(t)];
-              forGradientMagnitudes(p, Dims, Spacing, static_cast<int>(k), static_cast<int>(k) + 1,
-                [&](size_t, double g) { m = std::max(m, g); });
-            });
-        });
       // the maximum of the float magnitudes, as gradientMagnitude() stores them
-      const double top = static_cast<float>(*std::max_element(maxima.begin(), maxima.end()));
+      const double top = gradientMagnitudeMax({ 0, 0, 0 }, { Dims[0] - 1, Dims[1] - 1, Dims[2] - 1 }, Dims);
       Cached->GradientRange = { 0.0, std::max(1e-6, top) };
     });
   return Cached->GradientRange;
+}
+
+double Volume::gradientMagnitudeMax(const std::array<int, 3>& lo, const std::array<int, 3>& hi,
+  const std::array<int, 3>& wholeDims) const
+{
+  for (int a = 0; a < 3; ++a)
+    if (lo[a] < 0 || hi[a] >= Dims[a] || lo[a] > hi[a])
+      throw Error("gradient magnitude: the points asked for lie outside the volume");
+  std::vector<double> maxima(static_cast<size_t>(resolveThreadCount(0, hi[2] - lo[2] + 1)), 0.0);
+  visit(
+    [&](const auto* p)
+    {
+      parallelFor(hi[2] - lo[2] + 1, 0,
+        [&](std::int64_t k, int t)
+        {
+          double& m = maxima[static_cast<size_t>(t)];
+          const int kk = lo[2] + static_cast<int>(k);
+          forGradientMagnitudes(
+            p, Dims, Spacing, kk, kk + 1, [&](size_t, double g) { m = std::max(m, g); },
+            &wholeDims, &lo, &hi);
+        });
+    });
+  return static_cast<float>(*std::max_element(maxima.begin(), maxima.end()));
 }
 
 } // namespace ddg

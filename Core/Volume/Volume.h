@@ -126,6 +126,12 @@ public:
   /// [0, max gradientMagnitude()] (the max at least 1e-6): the gradient axis of 2D TFs. Computed
   /// without a per-voxel buffer on first use and kept with the scalars (shared by copies).
   std::array<double, 2> gradientMagnitudeRange() const;
+  /// The largest gradientMagnitude() (as a float) over the points lo .. hi (inclusive), the
+  /// N/(N-1) offset taken for a whole of `wholeDims` points: a piece's part of its whole's
+  /// gradientMagnitudeRange when lo .. hi are the points it owns and it holds one ghost point
+  /// beside them (VolumeBrick). Throws ddg::Error when lo .. hi leave the volume.
+  double gradientMagnitudeMax(const std::array<int, 3>& lo, const std::array<int, 3>& hi,
+    const std::array<int, 3>& wholeDims) const;
 
 private:
   template <typename T>

@@ -39,6 +39,20 @@ std::array<double, 6> VolumeBrick::wholeBounds(const std::array<double, 3>& spac
   return b;
 }
 
+double VolumeBrick::gradientMagnitudeMax(const Volume& piece) const
+{
+  if (ownsNothing())
+    return 0.0;
+  validate(piece, true);
+  std::array<int, 3> lo{}, hi{};
+  for (int a = 0; a < 3; ++a)
+  {
+    lo[a] = ownedMin[a] - offset[a];
+    hi[a] = ownedMax[a] - offset[a];
+  }
+  return piece.gradientMagnitudeMax(lo, hi, wholeDims);
+}
+
 void VolumeBrick::validate(const Volume& piece, bool gradients) const
 {
   const auto& d = piece.dims();

@@ -30,6 +30,9 @@ struct VolumeBrick
   std::array<int, 3> ownedMin{ 0, 0, 0 };       ///< first owned point plane per axis
   std::array<int, 3> ownedMax{ 0, 0, 0 };       ///< last owned point plane per axis
   std::array<double, 2> wholeRange{ 0, 0 };     ///< data range of the whole volume
+  /// The whole's Volume::gradientMagnitudeRange, the axis of 2D tables (the largest of the
+  /// pieces' gradientMagnitudeMax); [0, 0] until the pieces agree on it (2D reconstruction).
+  std::array<double, 2> wholeGradientRange{ 0, 0 };
 
   /// True when the piece owns no cell (an empty piece, or one point plane thick).
   bool ownsNothing() const;
@@ -41,6 +44,10 @@ struct VolumeBrick
   void validate(const Volume& piece, bool gradients) const;
   /// The whole's bounds (xmin, xmax, ymin, ...), from wholeOrigin, spacing and wholeDims.
   std::array<double, 6> wholeBounds(const std::array<double, 3>& spacing) const;
+  /// The largest gradient magnitude over the points this piece owns (Volume::gradientMagnitudeMax
+  /// with the whole's scaling; the piece must hold its ghost points): the whole's is the largest
+  /// over its pieces. 0 for a piece that owns nothing.
+  double gradientMagnitudeMax(const Volume& piece) const;
 };
 
 /// Checks that the owned cells of `bricks` (all of one whole volume) are disjoint and cover the

@@ -7,6 +7,7 @@
 // pixels, and kOutlierTol = 2e-3 for the rest (float vs double sample positions can move one
 // sample across the exit face of the box).
 #include "ReferenceRayCaster.h"
+#include "VolumePieces.h"
 
 #include "Common/Error.h"
 #include "Render/Lighting.h"
@@ -25,36 +26,8 @@ namespace
 constexpr double kValueTol = 1e-5;
 constexpr double kOutlierTol = 2e-3;
 
-Volume blobVolume(ScalarType type, std::array<double, 3> spacing = { 1.0, 1.3, 0.8 },
-  std::array<double, 3> origin = { -3.0, 2.0, 5.0 })
-{
-  const std::array<int, 3> dims{ 24, 20, 28 };
-  std::vector<float> v(static_cast<size_t>(dims[0]) * dims[1] * dims[2]);
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i)
-      {
-        const double x = (i - 11.5) / 8.0, y = (j - 9.5) / 7.0, z = (k - 13.5) / 9.0;
-        const double r2 = x * x + y * y + z * z;
-        double val = 255.0 * std::exp(-1.5 * r2) * (0.75 + 0.25 * std::sin(3 * x + 2 * y));
-        if (type == ScalarType::UInt8)
-          val = std::round(std::clamp(val, 0.0, 255.0));
-        v[i + dims[0] * (j + static_cast<size_t>(dims[1]) * k)] = static_cast<float>(val);
-      }
-  return Volume(dims, origin, spacing, v, type);
-}
-
-View orbitView(const Volume& vol, double azimuthDeg, bool parallel, int w = 48, int h = 40)
-{
-  View v = defaultView(vol, w, h);
-  const Eigen::Vector3d f = v.camera.focalPoint;
-  const double dist = (v.camera.position - f).norm() * 0.8;
-  const double a = azimuthDeg * M_PI / 180.0;
-  v.camera.position = f + dist * Eigen::Vector3d(std::sin(a), 0.3, std::cos(a)).normalized();
-  v.camera.parallelProjection = parallel;
-  v.camera.parallelScale *= 0.7;
-  return v;
-}
+using ddg::testing::blobVolume;
+using ddg::testing::orbitView;
 
 TransferFunction1D testTF()
 {
@@ -475,55 +448,9 @@ TEST(RayCaster, OpacityCorrectionFollowsUnitDistance)
 
 namespace
 {
-// Owned point ranges [lo, hi] per axis of `pieces` pieces, split as vtkExtentTranslator does:
-// bisection of the axis with the most cells (z first on ties), neighbours sharing a point plane.
-using Box = std::array<int, 6>;
-void bisect(const Box& box, int pieces, std::vector<Box>& out)
-{
-  if (pieces == 1)
-  {
-    out.push_back(box);
-    return;
-  }
-  int axis = 2;
-  for (int a : { 1, 0 })
-    if (box[2 * a + 1] - box[2 * a] > box[2 * axis + 1] - box[2 * axis])
-      axis = a;
-  const int cells = box[2 * axis + 1] - box[2 * axis];
-  Box low = box, high = box;
-  low[2 * axis + 1] = high[2 * axis] = box[2 * axis] + cells * (pieces / 2) / pieces;
-  bisect(low, pieces / 2, out);
-  bisect(high, pieces - pieces / 2, out);
-}
-
-// The piece of `whole` owning `owned`, with `ghosts` points more on each side inside the whole.
-std::pair<Volume, VolumeBrick> pieceOf(const Volume& whole, const Box& owned, int ghosts)
-{
-  const auto& d = whole.dims();
-  VolumeBrick b;
-  b.wholeDims = d;
-  b.wholeOrigin = whole.origin();
-  b.wholeRange = whole.range();
-  std::array<int, 3> n{}, o{};
-  for (int a = 0; a < 3; ++a)
-  {
-    b.ownedMin[a] = owned[2 * a];
-    b.ownedMax[a] = owned[2 * a + 1];
-    b.offset[a] = std::max(0, owned[2 * a] - ghosts);
-    n[a] = std::min(d[a] - 1, owned[2 * a + 1] + ghosts) - b.offset[a] + 1;
-    o[a] = b.offset[a];
-  }
-  const std::vector<float> all = whole.floatValues();
-  std::vector<float> v;
-  for (int k = 0; k < n[2]; ++k)
-    for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i)
-        v.push_back(all[(i + o[0]) + d[0] * ((j + o[1]) + static_cast<size_t>(d[1]) * (k + o[2]))]);
-  std::array<double, 3> origin{};
-  for (int a = 0; a < 3; ++a)
-    origin[a] = whole.origin()[a] + o[a] * whole.spacing()[a];
-  return { Volume(n, origin, whole.spacing(), v, whole.originalType()), b };
-}
+using ddg::testing::bisect;
+using ddg::testing::Box;
+using ddg::testing::pieceOf;
 
 // The largest difference between the whole's image and its pieces' images composited.
 template <typename Table>
