@@ -3,12 +3,14 @@
 
 #include "DDGVolumeAdaptor.h"
 
+#include "Render/PieceExchange.h"
 #include "Render/SortLast.h"
 
 #include <vtkDataSetAttributes.h>
 #include <vtkImageData.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -84,14 +86,14 @@ VolumeBrick brickOf(vtkImageData* image, const int wholeExtent[6])
   return b;
 }
 
-RankVolume RankVolume::gather(
-  const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6])
+RankVolume RankVolume::gather(const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array,
+  const int wholeExtent[6], bool caster, bool gradientRange)
 {
   RankVolume out;
   std::unique_ptr<Volume> local;
   double range[2] = { std::numeric_limits<double>::infinity(),
     -std::numeric_limits<double>::infinity() };
-  double nonFinite = 0;
+  double nonFinite = 0, gradientMax = 0;
   ranks.step(
     [&]
     {
@@ -102,9 +104,13 @@ RankVolume RankVolume::gather(
       range[0] = local->range()[0];
       range[1] = local->range()[1];
       nonFinite = static_cast<double>(local->nonFiniteCount());
+      if (gradientRange)
+        gradientMax = out.brick.gradientMagnitudeMax(*local);
     });
   ranks.allMin(&range[0], 1);
   ranks.allMax(&range[1], 1);
+  if (gradientRange)
+    ranks.allMax(&gradientMax, 1);
   ranks.allSum(&nonFinite, 1);
   // every rank's piece, to check that they partition the whole
   int mine[12];
@@ -120,6 +126,8 @@ RankVolume RankVolume::gather(
     [&]
     {
       out.brick.wholeRange = { range[0], range[1] };
+      if (gradientRange) // as Volume::gradientMagnitudeRange
+        out.brick.wholeGradientRange = { 0.0, std::max(1e-6, gradientMax) };
       for (int r = 0; r < ranks.size(); ++r)
       {
         VolumeBrick b = out.brick;
@@ -136,7 +144,46 @@ RankVolume RankVolume::gather(
       checkBricksTile(out.all);
       out.nonFiniteCount = static_cast<std::int64_t>(nonFinite);
       if (local)
-        out.caster = std::make_unique<RayCaster>(*local, out.brick);
+      {
+        out.piece = *local;
+        if (caster)
+          out.caster = std::make_unique<RayCaster>(*local, out.brick);
+      }
+    });
+  return out;
+}
+
+namespace
+{
+// The pieces' exchange over the ranks (VTK's controller).
+class RankExchange : public PieceExchange
+{
+public:
+  explicit RankExchange(const RankGroup& ranks)
+    : Ranks(ranks)
+  {
+  }
+  int piece() const override { return Ranks.rank(); }
+  int pieces() const override { return Ranks.size(); }
+  void allGather(const float* local, std::int64_t count, float* all) const override
+  {
+    Ranks.allGather(local, count, all);
+  }
+
+private:
+  const RankGroup& Ranks;
+};
+} // namespace
+
+std::unique_ptr<DifferentiableRenderer> differentiableOnRanks(
+  const RankGroup& ranks, const RankVolume& volume)
+{
+  std::unique_ptr<DifferentiableRenderer> out;
+  ranks.step(
+    [&]
+    {
+      out = std::make_unique<DifferentiableRenderer>(volume.piece ? *volume.piece : Volume(),
+        volume.brick, std::make_shared<RankExchange>(ranks));
     });
   return out;
 }

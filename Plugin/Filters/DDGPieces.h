@@ -6,10 +6,12 @@
 #include "DDGFiltersModule.h" // export macro
 #include "DDGRanks.h"
 
+#include "Render/DifferentiableRenderer.h"
 #include "Render/RayCaster.h"
 #include "Volume/VolumeBrick.h"
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 class vtkDataArray;
@@ -30,14 +32,24 @@ struct DDGFILTERS_EXPORT RankVolume
 {
   VolumeBrick brick;                 ///< this rank's (whole range agreed)
   std::vector<VolumeBrick> all;      ///< every rank's, rank by rank
-  std::unique_ptr<RayCaster> caster; ///< null when this rank owns no cell
+  std::optional<Volume> piece;       ///< this rank's piece; none when it owns no cell
+  std::unique_ptr<RayCaster> caster; ///< null when this rank owns no cell (or was not asked for)
   std::int64_t nonFiniteCount = 0;   ///< over the whole volume
 
-  /// Collective: converts every rank's piece and agrees on the whole (data range over the ranks;
-  /// the owned cells must partition the whole's, else every rank throws with the reason).
-  static RankVolume gather(
-    const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6]);
+  /// Collective: converts every rank's piece and agrees on the whole (data range over the ranks,
+  /// with `gradientRange` also the gradient-magnitude range of 2D tables; the owned cells must
+  /// partition the whole's, else every rank throws with the reason). With `caster`, builds the
+  /// ray caster of the piece.
+  static RankVolume gather(const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array,
+    const int wholeExtent[6], bool caster = true, bool gradientRange = false);
 };
+
+/// Collective: the differentiable renderer of this rank's piece, rendering with the other ranks'
+/// pieces (sort-last forward and adjoint over VTK's controller; DifferentiableRenderer.h). Every
+/// rank must then make the same passes: reconstructTransferFunction with the same targets and
+/// options runs in step on all of them.
+DDGFILTERS_EXPORT std::unique_ptr<DifferentiableRenderer> differentiableOnRanks(
+  const RankGroup& ranks, const RankVolume& volume);
 
 /// Collective: renders `tf` at `view` over the ranks' pieces (each rank its owned cells; ranks
 /// without cells contribute nothing) and composites the images on the first rank, front to back

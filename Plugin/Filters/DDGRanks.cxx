@@ -1,7 +1,8 @@
 // DDGRanks.cxx: collective steps over VTK's multiprocess controller.
 #include "DDGRanks.h"
 
-#include "Render/RayCaster.h" // ddg::Cancelled
+#include "Render/PieceExchange.h" // ddg::PieceFailed
+#include "Render/RayCaster.h"     // ddg::Cancelled
 
 #include <vtkCommunicator.h>
 #include <vtkInformation.h>
@@ -41,8 +42,9 @@ void RankGroup::step(const std::function<void()>& work) const
   enum
   {
     Done = 0,
-    Stopped = 1, // cancelled
-    Failed = 2
+    Stopped = 1,  // cancelled
+    Followed = 2, // stopped because another piece failed (PieceFailed): that one reports
+    Failed = 3
   };
   int status = Done;
   std::string message;
@@ -53,6 +55,10 @@ void RankGroup::step(const std::function<void()>& work) const
   catch (const Cancelled&)
   {
     status = Stopped;
+  }
+  catch (const PieceFailed&)
+  {
+    status = Followed;
   }
   catch (const RankFailed& e)
   {
@@ -71,6 +77,12 @@ void RankGroup::step(const std::function<void()>& work) const
     worst = std::max(worst, all[static_cast<size_t>(r)]);
     if (failed < 0 && all[static_cast<size_t>(r)] == Failed)
       failed = r;
+  }
+  if (failed < 0 && worst == Followed) // cannot happen: some piece failed first
+  {
+    if (Rank == 0)
+      throw Error("a volume piece failed without saying why");
+    throw RankFailed("a volume piece failed");
   }
   if (worst == Done)
     return;
@@ -117,6 +129,20 @@ std::vector<int> RankGroup::allGather(const int* values, int count) const
   std::vector<int> out(static_cast<size_t>(count) * Size);
   Controller->AllGather(values, out.data(), count);
   return out;
+}
+
+void RankGroup::allGather(const float* values, long long count, float* all) const
+{
+  Controller->AllGather(values, all, static_cast<vtkIdType>(count));
+}
+
+void RankGroup::broadcast(std::vector<float>& values) const
+{
+  vtkIdType count = static_cast<vtkIdType>(values.size());
+  Controller->Broadcast(&count, 1, 0);
+  values.resize(static_cast<size_t>(count));
+  if (count > 0)
+    Controller->Broadcast(values.data(), count, 0);
 }
 
 std::vector<float> RankGroup::gatherToFirst(const float* values, long long count) const

@@ -47,8 +47,9 @@ public:
 
   /// Runs `work` on this rank, then agrees with the others. When any rank failed, every rank
   /// throws: the first rank a ddg::Error with the first failing rank's message ("rank r: ..."
-  /// for another rank), ddg::Cancelled when the failure was a cancellation, the other ranks
-  /// RankFailed.
+  /// for another rank; a rank that stopped with ddg::PieceFailed, because another piece failed
+  /// inside a collective pass, is not the one reported), ddg::Cancelled when the failure was a
+  /// cancellation, the other ranks RankFailed.
   void step(const std::function<void()>& work) const;
 
   /// Element-wise minimum / maximum / sum over the ranks, in place.
@@ -57,10 +58,14 @@ public:
   void allSum(double* values, int count) const;
   /// Every rank's `count` values, rank by rank, on every rank.
   std::vector<int> allGather(const int* values, int count) const;
+  /// Every rank's `count` floats, rank by rank, into `all` (size() x count) on every rank.
+  void allGather(const float* values, long long count, float* all) const;
   /// Every rank's `count` floats, rank by rank, on the first rank (empty elsewhere).
   std::vector<float> gatherToFirst(const float* values, long long count) const;
   /// The first rank's text on every rank.
   std::string broadcast(const std::string& text) const;
+  /// The first rank's floats on every rank (resized there).
+  void broadcast(std::vector<float>& values) const;
 
 private:
   RankGroup(vtkMultiProcessController* controller);

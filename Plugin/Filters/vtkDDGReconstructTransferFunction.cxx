@@ -5,6 +5,7 @@
 
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
+#include "DDGPieces.h"
 #include "DDGVolumeAdaptor.h"
 #include "Gallery/Export.h"
 #include "Render/RayCaster.h"
@@ -135,9 +136,9 @@ std::string presetName(
 }
 
 /// Fills `output` with the TF of `result` (rows per bin, its preset or 2D JSON in field data) and
-/// returns that JSON.
+/// returns that JSON; a 2D TF is also described as ParaView's boxes for `caster`'s volume.
 std::string writeTable(vtkTable* output, const ddg::ReconstructionResult& result,
-  const ddg::Volume& volume, const ddg::View& view, const std::string& name)
+  const ddg::RayCaster* caster, const ddg::View& view, const std::string& name)
 {
   auto value = column(output, "Value");
   vtkSmartPointer<vtkDoubleArray> gradient;
@@ -167,8 +168,11 @@ std::string writeTable(vtkTable* output, const ddg::ReconstructionResult& result
     tf.table = t;
     json = ddg::transferFunction2DToJson(tf);
     addString(output->GetFieldData(), "TransferFunction2D", json);
+    if (!caster)
+      throw ddg::Error("the first rank holds no cell of the volume: it cannot describe the 2D "
+                       "transfer function for ParaView");
     addString(output->GetFieldData(), "ParaViewTransferFunction2D",
-      ddg::paraViewTransferFunction2DJson(ddg::RayCaster(volume), tf, view));
+      ddg::paraViewTransferFunction2DJson(*caster, tf, view));
   }
   else
   {
@@ -194,6 +198,42 @@ int vtkDDGReconstructTransferFunction::FillOutputPortInformation(int port, vtkIn
   return 1;
 }
 
+int vtkDDGReconstructTransferFunction::PieceGhostLevels()
+{
+  return this->MatchPicture || this->CarryLook ? -1 : 1;
+}
+
+namespace
+{
+/// The filter's target: the picture (base64 data or a file) at the view, over the background
+/// estimated from its border (the view's when they agree) or given.
+ddg::ReconstructionTarget targetOf(const std::string& data, const std::string& file,
+  const std::string& viewJSON, const std::string& viewFile, bool estimateBackground,
+  const double background[3], vtkObject* warnTo)
+{
+  ddg::ReconstructionTarget target;
+  target.image = ddg::filterImage(data, file, "TargetImage");
+  target.view = ddg::filterView(viewJSON, viewFile);
+  if (target.image.width != target.view.width || target.image.height != target.view.height)
+    throw ddg::Error("the target image is " + std::to_string(target.image.width) + " x " +
+      std::to_string(target.image.height) + ", the view " + std::to_string(target.view.width) +
+      " x " + std::to_string(target.view.height) + ": save the screenshot at the view's size");
+  if (target.image.channels == 1 || target.image.channels == 2)
+    target.image = ddg::toChannels(target.image, target.image.channels == 2 ? 4 : 3);
+  if (target.image.channels == 3)
+  {
+    std::optional<std::array<double, 3>> given;
+    if (!estimateBackground)
+      given = std::array<double, 3>{ background[0], background[1], background[2] };
+    const auto bg = ddg::targetBackground(target.image, target.view, given);
+    bg.background.applyTo(target.view);
+    if (!bg.warning.empty())
+      vtkWarningWithObjectMacro(warnTo, << "Background: " << bg.warning << ".");
+  }
+  return target;
+}
+} // namespace
+
 void vtkDDGReconstructTransferFunction::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
@@ -207,44 +247,98 @@ void vtkDDGReconstructTransferFunction::Execute(
     this->ExecuteMatch(input, array, outputVector);
     return;
   }
-  vtkTable* output = vtkTable::GetData(outputVector, 0);
-  ddg::ReconstructionTarget target;
-  target.image = ddg::filterImage(this->TargetImageData, this->TargetImageFile, "TargetImage");
-  target.view = ddg::filterView(this->ViewJSON, this->ViewFile);
-  if (target.image.width != target.view.width || target.image.height != target.view.height)
-    throw ddg::Error("the target image is " + std::to_string(target.image.width) + " x " +
-      std::to_string(target.image.height) + ", the view " + std::to_string(target.view.width) +
-      " x " + std::to_string(target.view.height) + ": save the screenshot at the view's size");
-  if (target.image.channels == 1 || target.image.channels == 2)
-    target.image = ddg::toChannels(target.image, target.image.channels == 2 ? 4 : 3);
-  if (target.image.channels == 3)
+  if (const ddg::RankGroup* ranks = this->Ranks())
   {
-    // the picture's background: estimated from its border (the view's when they agree), or given
-    std::optional<std::array<double, 3>> given;
-    if (!this->EstimateBackground)
-      given =
-        std::array<double, 3>{ this->Background[0], this->Background[1], this->Background[2] };
-    const auto bg = ddg::targetBackground(target.image, target.view, given);
-    bg.background.applyTo(target.view);
-    if (!bg.warning.empty())
-      vtkWarningMacro(<< "Background: " << bg.warning << ".");
+    this->ExecuteOnRanks(*ranks, input, array, outputVector);
+    return;
   }
+  vtkTable* output = vtkTable::GetData(outputVector, 0);
+  const ddg::ReconstructionTarget target = targetOf(this->TargetImageData, this->TargetImageFile,
+    this->ViewJSON, this->ViewFile, this->EstimateBackground, this->Background, this);
   const ddg::Volume volume = ddg::toCoreVolume(input, array);
   const ddg::DifferentiableRenderer renderer(volume);
-  ddg::ReconstructionOptions opt;
-  opt.twoD = this->TwoD;
-  opt.bins = this->Bins;
-  opt.iterations = this->Iterations;
-  opt.smoothness = this->Smoothness;
-  opt.learningRate = this->LearningRate;
-  const auto result = ddg::reconstructTransferFunction(renderer, { target }, opt,
+  const auto result = ddg::reconstructTransferFunction(renderer, { target }, this->Options(),
     [this](int step, double, const ddg::ReconstructionResult*)
     {
       this->UpdateProgress(static_cast<double>(step) / this->Iterations);
       return !this->GetAbortExecute();
     });
 
-  const std::string json = writeTable(output, result, volume, target.view,
+  const std::string json = writeTable(output, result, &renderer.caster(), target.view,
+    presetName(input, array, "reconstruction", this->OutputFile));
+  addBackground(output->GetFieldData(), target.view);
+  addFitFigures(output->GetFieldData(), result);
+  if (!this->OutputFile.empty())
+    ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
+}
+
+ddg::ReconstructionOptions vtkDDGReconstructTransferFunction::Options() const
+{
+  ddg::ReconstructionOptions opt;
+  opt.twoD = this->TwoD;
+  opt.bins = this->Bins;
+  opt.iterations = this->Iterations;
+  opt.smoothness = this->Smoothness;
+  opt.learningRate = this->LearningRate;
+  return opt;
+}
+
+void vtkDDGReconstructTransferFunction::ExecuteOnRanks(const ddg::RankGroup& ranks,
+  vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
+{
+  // the target as the first rank reads it (the others may not see its paths), on every rank
+  ddg::ReconstructionTarget target;
+  std::string viewText;
+  std::vector<float> size(3, 0.0f);
+  ranks.step(
+    [&]
+    {
+      if (ranks.rank() != 0)
+        return;
+      target = targetOf(this->TargetImageData, this->TargetImageFile, this->ViewJSON,
+        this->ViewFile, this->EstimateBackground, this->Background, this);
+      viewText = ddg::viewToJson(target.view);
+      size = { static_cast<float>(target.image.width), static_cast<float>(target.image.height),
+        static_cast<float>(target.image.channels) };
+    });
+  viewText = ranks.broadcast(viewText);
+  ranks.broadcast(size);
+  ranks.broadcast(target.image.pixels);
+  ranks.step(
+    [&]
+    {
+      target.view = ddg::parseView(viewText, "the first rank's view"); // the same on every rank
+      target.image.width = static_cast<int>(size[0]);
+      target.image.height = static_cast<int>(size[1]);
+      target.image.channels = static_cast<int>(size[2]);
+    });
+
+  // this rank's piece, rendering with the others'
+  const ddg::RankVolume pieces = ddg::RankVolume::gather(
+    ranks, input, array, this->InputWholeExtent(), false, this->TwoD);
+  if (ranks.rank() == 0 && pieces.nonFiniteCount > 0)
+    vtkWarningMacro(<< pieces.nonFiniteCount
+                    << " NaN/infinite voxels are rendered as their piece's minimum value");
+  const auto renderer = ddg::differentiableOnRanks(ranks, pieces);
+  // every rank takes the same steps; cancelled when any rank is asked to stop
+  ddg::ReconstructionResult result;
+  ranks.step(
+    [&]
+    {
+      result = ddg::reconstructTransferFunction(*renderer, { target }, this->Options(),
+        [&](int step, double, const ddg::ReconstructionResult*)
+        {
+          this->UpdateProgress(static_cast<double>(step) / this->Iterations);
+          double stop = this->GetAbortExecute() ? 1.0 : 0.0;
+          ranks.allMax(&stop, 1);
+          return stop == 0.0;
+        });
+    });
+  if (ranks.rank() != 0)
+    return; // the first rank's output is the TF
+  vtkTable* output = vtkTable::GetData(outputVector, 0);
+  const std::string json = writeTable(output, result,
+    pieces.piece ? &renderer->caster() : nullptr, target.view,
     presetName(input, array, "reconstruction", this->OutputFile));
   addBackground(output->GetFieldData(), target.view);
   addFitFigures(output->GetFieldData(), result);
@@ -392,8 +486,8 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
 
   // port 0: the TF, the camera, the background, the figures
   vtkTable* output = vtkTable::GetData(outputVector, 0);
-  const std::string json = writeTable(
-    output, result.tf, volume, result.view, presetName(input, array, "match", this->OutputFile));
+  const std::string json = writeTable(output, result.tf, &renderer.caster(), result.view,
+    presetName(input, array, "match", this->OutputFile));
   vtkFieldData* fd = output->GetFieldData();
   addString(fd, "View", ddg::viewToJson(result.view));
   addNumbers(fd, "CameraEstimated", { result.cameraEstimated ? 1.0 : 0.0 });
@@ -481,8 +575,8 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
 
   vtkTable* output = vtkTable::GetData(outputVector, 0);
   const ddg::View view = ddg::carriedLookView(volume, result, opt, 256);
-  const std::string json = writeTable(
-    output, result.fit, volume, view, presetName(input, array, "carried look", this->OutputFile));
+  const std::string json = writeTable(output, result.fit, &renderer.caster(), view,
+    presetName(input, array, "carried look", this->OutputFile));
   vtkFieldData* fd = output->GetFieldData();
   addString(fd, "View", ddg::viewToJson(view));
   addBackground(fd, view);

@@ -11,6 +11,10 @@
 #include <string>
 
 class vtkImageData;
+namespace ddg
+{
+struct ReconstructionOptions;
+}
 
 /**
  * @class vtkDDGReconstructTransferFunction
@@ -241,14 +245,22 @@ protected:
   ~vtkDDGReconstructTransferFunction() override;
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
+  /// Under `mpiexec -np N pvserver` the reconstruction runs on pieces (one ghost level: each
+  /// rank renders its own, ExecuteOnRanks); MatchPicture and CarryLook gather the volume on the
+  /// first rank.
+  int PieceGhostLevels() override;
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
+  void ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array,
+    vtkInformationVector* outputVector);
   void ExecuteMatch(vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector);
   void ExecuteCarryLook(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector);
 
 private:
   vtkDDGReconstructTransferFunction(const vtkDDGReconstructTransferFunction&) = delete;
+  /// The fit's options from the properties.
+  ddg::ReconstructionOptions Options() const;
   void operator=(const vtkDDGReconstructTransferFunction&) = delete;
 
   std::string TargetImageFile;
