@@ -307,7 +307,7 @@ struct DifferentiableRendererT<S>::Internals
   std::optional<RayCaster> Caster; // none for a piece that owns no cell
   GradientStencil Stencil;         // Shade and 2D: the gradient at a sample, from the scalars
   double TextureScale = 1;
-  std::optional<VolumeBrick> Brick;               // a piece of a whole volume
+  std::optional<VolumeBrick> Brick;              // a piece of a whole volume
   std::shared_ptr<const PieceExchange> Exchange; // pieces: how they exchange their parts
 
   explicit Internals(const Volume& v)
@@ -966,7 +966,8 @@ void DifferentiableRendererT<S>::backward(const S* table, int width, double min,
       static_cast<size_t>(width), view, options, pixels, records, dRGBA, dTable);
   };
   if (In->Exchange)
-    In->backwardPieces(local, static_cast<size_t>(width), view, pixels, records, dL_dRGBA, dL_dTable);
+    In->backwardPieces(
+      local, static_cast<size_t>(width), view, pixels, records, dL_dRGBA, dL_dTable);
   else
     local(dL_dRGBA, dL_dTable);
 }

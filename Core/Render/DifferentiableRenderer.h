@@ -99,8 +99,8 @@ public:
   /// whole's rays, default distances, lighting and table ranges (brick.wholeRange; 2D:
   /// brick.wholeGradientRange, which must be agreed first). A piece that owns no cell takes part
   /// in every exchange with nothing of its own. Throws ddg::Error as RayCaster(piece, brick).
-  DifferentiableRendererT(const Volume& piece, const VolumeBrick& brick,
-    std::shared_ptr<const PieceExchange> exchange);
+  DifferentiableRendererT(
+    const Volume& piece, const VolumeBrick& brick, std::shared_ptr<const PieceExchange> exchange);
   ~DifferentiableRendererT();
 
   /// The ray caster of the volume (of the piece: RayCaster(piece, brick)). Throws ddg::Error for

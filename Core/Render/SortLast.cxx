@@ -70,8 +70,8 @@ void compositePixels(const std::vector<const float*>& rgba, const std::vector<co
       for (std::int64_t q = chunk * 256; q < std::min(n, (chunk + 1) * 256); ++q)
       {
         std::iota(order.begin(), order.end(), 0);
-        std::stable_sort(order.begin(), order.end(),
-          [&](int a, int b) { return keys[a][q] < keys[b][q]; });
+        std::stable_sort(
+          order.begin(), order.end(), [&](int a, int b) { return keys[a][q] < keys[b][q]; });
         double c[4] = { 0, 0, 0, 0 }, b[4] = { 0, 0, 0, 0 };
         bool behind = false;
         for (int i : order)

@@ -514,7 +514,8 @@ std::array<double, 2> Volume::gradientMagnitudeRange() const
     [this]
     {
       // the maximum of the float magnitudes, as gradientMagnitude() stores them
-      const double top = gradientMagnitudeMax({ 0, 0, 0 }, { Dims[0] - 1, Dims[1] - 1, Dims[2] - 1 }, Dims);
+      const double top =
+        gradientMagnitudeMax({ 0, 0, 0 }, { Dims[0] - 1, Dims[1] - 1, Dims[2] - 1 }, Dims);
       Cached->GradientRange = { 0.0, std::max(1e-6, top) };
     });
   return Cached->GradientRange;
@@ -536,8 +537,8 @@ double Volume::gradientMagnitudeMax(const std::array<int, 3>& lo, const std::arr
           double& m = maxima[static_cast<size_t>(t)];
           const int kk = lo[2] + static_cast<int>(k);
           forGradientMagnitudes(
-            p, Dims, Spacing, kk, kk + 1, [&](size_t, double g) { m = std::max(m, g); },
-            &wholeDims, &lo, &hi);
+            p, Dims, Spacing, kk, kk + 1, [&](size_t, double g) { m = std::max(m, g); }, &wholeDims,
+            &lo, &hi);
         });
     });
   return static_cast<float>(*std::max_element(maxima.begin(), maxima.end()));

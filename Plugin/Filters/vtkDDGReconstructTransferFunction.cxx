@@ -314,8 +314,8 @@ void vtkDDGReconstructTransferFunction::ExecuteOnRanks(const ddg::RankGroup& ran
     });
 
   // this rank's piece, rendering with the others'
-  const ddg::RankVolume pieces = ddg::RankVolume::gather(
-    ranks, input, array, this->InputWholeExtent(), false, this->TwoD);
+  const ddg::RankVolume pieces =
+    ddg::RankVolume::gather(ranks, input, array, this->InputWholeExtent(), false, this->TwoD);
   if (ranks.rank() == 0 && pieces.nonFiniteCount > 0)
     vtkWarningMacro(<< pieces.nonFiniteCount
                     << " NaN/infinite voxels are rendered as their piece's minimum value");
@@ -337,9 +337,8 @@ void vtkDDGReconstructTransferFunction::ExecuteOnRanks(const ddg::RankGroup& ran
   if (ranks.rank() != 0)
     return; // the first rank's output is the TF
   vtkTable* output = vtkTable::GetData(outputVector, 0);
-  const std::string json = writeTable(output, result,
-    pieces.piece ? &renderer->caster() : nullptr, target.view,
-    presetName(input, array, "reconstruction", this->OutputFile));
+  const std::string json = writeTable(output, result, pieces.piece ? &renderer->caster() : nullptr,
+    target.view, presetName(input, array, "reconstruction", this->OutputFile));
   addBackground(output->GetFieldData(), target.view);
   addFitFigures(output->GetFieldData(), result);
   if (!this->OutputFile.empty())

@@ -46,8 +46,14 @@ DATA = os.path.join(ROOT, "Data")
 
 
 def make_volume(work, factor):
-    """Bonsai upsampled `factor` times per axis (trilinear), written as raw + JSON; its path."""
-    name = f"bonsai_x{factor}"
+    """Bonsai upsampled `factor` times per axis (trilinear; one factor, or one per axis x, y, z),
+    written as raw + JSON; its path."""
+    factors = tuple(factor) if isinstance(factor, (tuple, list)) else (factor,) * 3
+    name = (
+        "bonsai_x" + "x".join(str(f) for f in factors)
+        if len(set(factors)) > 1
+        else f"bonsai_x{factors[0]}"
+    )
     json_path = os.path.join(work, name + ".json")
     if os.path.exists(json_path):
         return json_path
@@ -58,9 +64,11 @@ def make_volume(work, factor):
     nx, ny, nz = image.GetDimensions()
     a = numpy_support.vtk_to_numpy(image.GetPointData().GetScalars()).reshape(nz, ny, nx)
     a = a.astype(np.float32)
-    for axis in range(3):
-        n = a.shape[axis]
-        x = np.linspace(0, n - 1, factor * n)
+    for axis in range(3):  # numpy axes z, y, x
+        n, factor_axis = a.shape[axis], factors[2 - axis]
+        if factor_axis == 1:
+            continue
+        x = np.linspace(0, n - 1, factor_axis * n)
         i0 = np.floor(x).astype(int)
         i1 = np.minimum(i0 + 1, n - 1)
         shape = [1, 1, 1]
@@ -70,7 +78,7 @@ def make_volume(work, factor):
     a = np.clip(np.rint(a), 0, 255).astype(np.uint8)
     raw = os.path.join(work, name + ".raw")
     a.tofile(raw)
-    spacing = [s / factor for s in image.GetSpacing()]
+    spacing = [s / f for s, f in zip(image.GetSpacing(), factors)]
     origin = list(image.GetOrigin())
     with open(json_path, "w") as f:
         json.dump(

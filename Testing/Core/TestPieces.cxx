@@ -67,10 +67,10 @@ Pass runPass(const Volume& whole, const std::vector<Box>& boxes, bool twoD, cons
     out.dTable.assign(table.size(), 0.0f);
     if (twoD)
     {
-      r.forward2D(table.data(), width, height, range, gradientRange, view, opt, pixels, out.rgba,
-        records);
-      r.backward2D(table.data(), width, height, range, gradientRange, view, opt, pixels, records,
-        g, out.dTable);
+      r.forward2D(
+        table.data(), width, height, range, gradientRange, view, opt, pixels, out.rgba, records);
+      r.backward2D(table.data(), width, height, range, gradientRange, view, opt, pixels, records, g,
+        out.dTable);
     }
     else
     {
@@ -91,8 +91,7 @@ Pass runPass(const Volume& whole, const std::vector<Box>& boxes, bool twoD, cons
     [&](int p)
     {
       auto [piece, brick] = pieceOf(whole, boxes[static_cast<size_t>(p)], 1);
-      const DifferentiableRenderer r(
-        piece, brick, std::make_shared<ThreadExchange>(board, p));
+      const DifferentiableRenderer r(piece, brick, std::make_shared<ThreadExchange>(board, p));
       pass(r, each[static_cast<size_t>(p)]);
     });
   for (const auto& e : errors)
@@ -233,16 +232,15 @@ TEST(DifferentiableRenderer, PiecesGiveTheWholeImageAndGradient)
       lit.lighting.shade = true;
       lit.lighting.specular = 0.5;
       lit.lighting.specularPower = 30;
-      const std::string where =
-        std::to_string(boxes.size()) + " pieces, view " + std::to_string(v);
+      const std::string where = std::to_string(boxes.size()) + " pieces, view " + std::to_string(v);
       struct Case
       {
         const char* name;
         bool twoD;
         const View* view;
       };
-      for (const Case& c : { Case{ "1D", false, &view }, Case{ "lit", false, &lit },
-             Case{ "2D lit", true, &lit } })
+      for (const Case& c :
+        { Case{ "1D", false, &view }, Case{ "lit", false, &lit }, Case{ "2D lit", true, &lit } })
       {
         const std::vector<float>& table = c.twoD ? t2.rgba : t1.rgba;
         const int w = c.twoD ? t2.width : t1.width, h = c.twoD ? t2.height : 1;
@@ -250,8 +248,8 @@ TEST(DifferentiableRenderer, PiecesGiveTheWholeImageAndGradient)
         const Pass parts = runPass(vol, boxes, c.twoD, *c.view, pixels, table, w, h, grange);
         EXPECT_GT(largestMagnitude(whole.rgba), 0.1) << where << " " << c.name;
         EXPECT_LE(largestDifference(parts.rgba, whole.rgba), 1e-5) << where << " " << c.name;
-        EXPECT_LE(largestDifference(parts.dTable, whole.dTable),
-          1e-4 * largestMagnitude(whole.dTable))
+        EXPECT_LE(
+          largestDifference(parts.dTable, whole.dTable), 1e-4 * largestMagnitude(whole.dTable))
           << where << " " << c.name;
       }
     }

@@ -37,7 +37,6 @@ Usage: pvpython TestMPIServer.py PLUGIN DATA [RANKS]
 import json
 import os
 import signal
-import socket
 import subprocess
 import sys
 import tempfile
@@ -49,6 +48,7 @@ from vtkmodules.util.numpy_support import vtk_to_numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ddgtest import apply_and_render  # noqa: E402
+from mpiserver import Server, split_points  # noqa: E402
 
 RECONSTRUCT_TOL = 1e-3
 RENDER_TOL = 1 / 255 + 1e-6
@@ -102,32 +102,6 @@ def snapshot(obj):
     else:
         snap.update(rows=obj.GetNumberOfRows(), columns=arrays(obj.GetRowData()))
     return snap
-
-
-def split_points(extent, pieces, ghosts):
-    """Points of the pieces vtkExtentTranslator splits `extent` into (bisection of the axis with
-    the most cells, z first on ties; neighbours share a point plane), each widened by `ghosts`
-    inside the extent, summed."""
-    whole = extent
-
-    def split(box, n):
-        if n == 1:
-            return [box]
-        axis = max((2, 1, 0), key=lambda a: box[2 * a + 1] - box[2 * a])
-        mid = box[2 * axis] + (box[2 * axis + 1] - box[2 * axis]) * (n // 2) // n
-        low, high = list(box), list(box)
-        low[2 * axis + 1] = high[2 * axis] = mid
-        return split(low, n // 2) + split(high, n - n // 2)
-
-    total = 0
-    for box in split(list(extent), pieces):
-        size = 1
-        for a in range(3):
-            lo = max(whole[2 * a], box[2 * a] - ghosts)
-            hi = min(whole[2 * a + 1], box[2 * a + 1] + ghosts)
-            size *= hi - lo + 1
-        total += size
-    return total
 
 
 def lit_view():
@@ -298,91 +272,6 @@ def compare_reconstructions(mpi, builtin):
     return diffs
 
 
-# ---------------------------------------------------------------------------------------------
-# the server
-
-
-def mpiexec_command(port):
-    """mpiexec for RANKS ranks. Open MPI: --oversubscribe (fewer cores than ranks is fine),
-    --bind-to none (rank 0's threads may use every core; Open MPI binds each rank to one core by
-    default), idle ranks yield the CPU instead of spinning; root is allowed by the environment."""
-    version = subprocess.run(["mpiexec", "--version"], capture_output=True, text=True)
-    if (
-        "Open MPI" in version.stdout + version.stderr
-        or "OpenRTE" in version.stdout + version.stderr
-    ):
-        return [
-            "mpiexec",
-            "--oversubscribe",
-            "--bind-to",
-            "none",
-            "--mca",
-            "mpi_yield_when_idle",
-            "1",
-            "-np",
-            str(ranks),
-            "pvserver",
-            f"--server-port={port}",
-        ]
-    return ["mpiexec", "-n", str(ranks), "pvserver", f"--server-port={port}"]
-
-
-class Server:
-    """`mpiexec -np 2 pvserver` with its output in a log file (a pipe nobody reads could fill
-    and block the server)."""
-
-    def __init__(self):
-        with socket.socket() as s:
-            s.bind(("localhost", 0))
-            self.port = s.getsockname()[1]
-        # pvpython initialised MPI as a singleton: its OMPI_/PMIX_ variables would make mpiexec
-        # think it runs inside a job. Open MPI refuses root (CI may run as root) without the
-        # last two.
-        env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_"))}
-        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-        self.log = tempfile.NamedTemporaryFile("w+", prefix="ddg_mpi_server_", suffix=".log")
-        self.process = subprocess.Popen(
-            mpiexec_command(self.port),
-            stdout=self.log,
-            stderr=subprocess.STDOUT,
-            env=env,
-            start_new_session=True,
-        )
-        self.ranks = []
-
-    def output(self):
-        with open(self.log.name) as f:
-            return f.read()
-
-    def wait_ready(self, timeout=90):
-        deadline = time.time() + timeout
-        while "Accepting connection" not in self.output():
-            if self.process.poll() is not None or time.time() > deadline:
-                raise RuntimeError("mpiexec pvserver did not start:\n" + self.output())
-            time.sleep(0.2)
-        # Open MPI starts each rank in its own process group: remember them to stop them
-        for task in os.listdir(f"/proc/{self.process.pid}/task"):
-            with open(f"/proc/{self.process.pid}/task/{task}/children") as f:
-                self.ranks += [int(p) for p in f.read().split()]
-
-    def stop(self):
-        """Stops mpiexec (SIGTERM: it forwards the signal to the ranks) and then kills whatever
-        is left of it and of its ranks."""
-        if self.process.poll() is None:
-            os.killpg(self.process.pid, signal.SIGTERM)
-            try:
-                self.process.wait(timeout=15)
-            except subprocess.TimeoutExpired:
-                os.killpg(self.process.pid, signal.SIGKILL)
-                self.process.wait()
-        for pid in self.ranks:
-            try:
-                if b"pvserver" in open(f"/proc/{pid}/cmdline", "rb").read():
-                    os.killpg(pid, signal.SIGKILL)
-            except (OSError, ProcessLookupError):
-                pass  # already gone
-
-
 def crashed(log):
     return any(marker in log for marker in CRASH_MARKERS)
 
@@ -451,7 +340,7 @@ def failing_rank(tooth):
 # the test
 
 signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))  # ctest's timeout: still stop the server
-server = Server()
+server = Server(ranks)
 try:
     server.wait_ready()
     simple.Connect("localhost", server.port)
