@@ -42,8 +42,17 @@ def _plugin_file():
 _loaded = set()
 
 
+def _server_has_plugin():
+    """True when the connected server defines the plugin's filters already (a pvserver started
+    with the plugin's folder in ``PV_PLUGIN_PATH``, or loaded before)."""
+    definitions = servermanager.ProxyManager().SMProxyManager.GetProxyDefinitionManager()
+    return bool(definitions.HasDefinition("filters", "DDGVolumeRender"))
+
+
 def _ensure_plugin():
-    """Loads the plugin on the client and, when connected to a server, on the server."""
+    """Loads the plugin on the client and, when connected to a server that does not have it yet,
+    on the server: from ``DDG_SERVER_PLUGIN`` (the plugin's path on the server's nodes), else the
+    client's path."""
     connection = servermanager.ActiveConnection
     if connection is None:
         simple.Connect()
@@ -52,8 +61,18 @@ def _ensure_plugin():
     if key in _loaded:
         return
     path = _plugin_file()
-    if connection.IsRemote():
-        simple.LoadPlugin(path, remote=True)
+    if connection.IsRemote() and not _server_has_plugin():
+        server_path = os.environ.get("DDG_SERVER_PLUGIN") or path
+        try:
+            simple.LoadPlugin(server_path, remote=True)
+        except RuntimeError:  # "Problem loading plugin": said below, with what to do
+            pass
+        if not _server_has_plugin():
+            raise ImportError(
+                "ddg: the server could not load the DesignGallery plugin from %s: set "
+                "DDG_SERVER_PLUGIN to its path on the server's nodes, or start pvserver with the "
+                "plugin's folder in PV_PLUGIN_PATH" % server_path
+            )
     simple.LoadPlugin(path, remote=False)
     _loaded.add(key)
 

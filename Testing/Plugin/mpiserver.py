@@ -41,7 +41,7 @@ def split_points(extent, pieces, ghosts):
     return sum(piece_points(extent, box, ghosts) for box in split_boxes(extent, pieces))
 
 
-def mpiexec_command(port, ranks):
+def mpiexec_command(port, ranks, extra=()):
     """mpiexec for RANKS ranks. Open MPI: --oversubscribe (fewer cores than ranks is fine),
     --bind-to none (rank 0's threads may use every core; Open MPI binds each rank to one core by
     default), idle ranks yield the CPU instead of spinning; root is allowed by the environment."""
@@ -62,15 +62,15 @@ def mpiexec_command(port, ranks):
             str(ranks),
             "pvserver",
             f"--server-port={port}",
-        ]
-    return ["mpiexec", "-n", str(ranks), "pvserver", f"--server-port={port}"]
+        ] + list(extra)
+    return ["mpiexec", "-n", str(ranks), "pvserver", f"--server-port={port}"] + list(extra)
 
 
 class Server:
     """`mpiexec -np RANKS pvserver` on a free loopback port, with its output in a log file (a
     pipe nobody reads could fill and block the server)."""
 
-    def __init__(self, ranks):
+    def __init__(self, ranks, extra=(), environment=None):
         with socket.socket() as s:
             s.bind(("localhost", 0))
             self.port = s.getsockname()[1]
@@ -79,9 +79,10 @@ class Server:
         # last two.
         env = {k: v for k, v in os.environ.items() if not k.startswith(("OMPI_", "PMIX_", "OPAL_"))}
         env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+        env.update(environment or {})
         self.log = tempfile.NamedTemporaryFile("w+", prefix="ddg_mpi_server_", suffix=".log")
         self.process = subprocess.Popen(
-            mpiexec_command(self.port, ranks),
+            mpiexec_command(self.port, ranks, extra),
             stdout=self.log,
             stderr=subprocess.STDOUT,
             env=env,
