@@ -49,9 +49,21 @@ def _server_has_plugin():
     return bool(definitions.HasDefinition("filters", "DDGVolumeRender"))
 
 
+def _client_has_plugin():
+    """True when this process has loaded the plugin already (ParaView's GUI started with it:
+    loading it again would add a second Design Gallery panel)."""
+    info = (
+        servermanager.vtkSMProxyManager.GetProxyManager().GetPluginManager().GetLocalInformation()
+    )
+    return any(
+        info.GetPluginName(i) == "DesignGallery" and info.GetPluginLoaded(i)
+        for i in range(info.GetNumberOfPlugins())
+    )
+
+
 def _ensure_plugin():
-    """Loads the plugin on the client and, when connected to a server that does not have it yet,
-    on the server: from ``DDG_SERVER_PLUGIN`` (the plugin's path on the server's nodes), else the
+    """Loads the plugin on the client unless it has it and, when connected to a server that does
+    not have it yet, on the server: from ``DDG_SERVER_PLUGIN`` (the plugin's path on the server's nodes), else the
     client's path."""
     connection = servermanager.ActiveConnection
     if connection is None:
@@ -73,7 +85,8 @@ def _ensure_plugin():
                 "DDG_SERVER_PLUGIN to its path on the server's nodes, or start pvserver with the "
                 "plugin's folder in PV_PLUGIN_PATH" % server_path
             )
-    simple.LoadPlugin(path, remote=False)
+    if not _client_has_plugin():
+        simple.LoadPlugin(path, remote=False)
     _loaded.add(key)
 
 
