@@ -457,16 +457,32 @@ struct DifferentiableRendererT<S>::Internals
 
   // --- pieces: the local passes wrapped in the exchange -----------------------------------
 
-  // After an exchange whose blocks of `stride` floats end in a status (1: that piece failed):
-  // this piece's own failure rethrown, PieceFailed when another's failed.
-  static void settle(const std::vector<float>& all, int pieces, std::int64_t stride,
-    const std::exception_ptr& failure)
+  // One collective step: fill(mine) writes this piece's `stride` - 1 floats (its status, the
+  // last float, is 1 when fill throws); every piece's block is gathered. Then this piece's own
+  // failure is rethrown, or PieceFailed when another's failed; else every block is returned.
+  template <typename Fill>
+  std::vector<float> exchange(std::int64_t stride, Fill&& fill) const
   {
+    std::vector<float> mine(static_cast<size_t>(stride), 0.0f);
+    std::exception_ptr failure;
+    try
+    {
+      fill(mine);
+    }
+    catch (...)
+    {
+      failure = std::current_exception();
+      mine.back() = 1.0f;
+    }
+    const int pieces = Exchange->pieces();
+    std::vector<float> all(static_cast<size_t>(stride) * pieces);
+    Exchange->allGather(mine.data(), stride, all.data());
     if (failure)
       std::rethrow_exception(failure);
     for (int p = 0; p < pieces; ++p)
       if (all[static_cast<size_t>((p + 1) * stride - 1)] != 0.0f)
         throw PieceFailed();
+    return all;
   }
 
   // local() runs this piece's forward pass into rgba and records; then every piece's partial
@@ -479,36 +495,27 @@ struct DifferentiableRendererT<S>::Internals
     const std::int64_t n = pixels.empty() ? static_cast<std::int64_t>(view.width) * view.height
                                           : static_cast<std::int64_t>(pixels.size());
     const std::int64_t stride = 5 * n + 1;
-    std::vector<float> mine(static_cast<size_t>(stride), 0.0f);
-    std::exception_ptr failure;
-    try
-    {
-      if (Caster)
-        local();
-      else // owns no cell: transparent, behind every piece
+    const std::vector<float> all = exchange(stride,
+      [&](std::vector<float>& mine)
       {
-        view.validate();
-        rgba.assign(static_cast<size_t>(4 * n), S(0));
-        records.assign(static_cast<size_t>(n), RayRecord());
-      }
-      for (std::int64_t q = 0; q < n; ++q)
-      {
-        for (int c = 0; c < 4; ++c)
-          mine[4 * q + c] = static_cast<float>(rgba[4 * q + c]);
-        const RayRecord& r = records[static_cast<size_t>(q)];
-        mine[4 * n + q] = r.lastSample >= 0 ? static_cast<float>(r.firstSample)
-                                            : std::numeric_limits<float>::infinity();
-      }
-    }
-    catch (...)
-    {
-      failure = std::current_exception();
-      mine.back() = 1.0f;
-    }
+        if (Caster)
+          local();
+        else // owns no cell: transparent, behind every piece
+        {
+          view.validate();
+          rgba.assign(static_cast<size_t>(4 * n), S(0));
+          records.assign(static_cast<size_t>(n), RayRecord());
+        }
+        for (std::int64_t q = 0; q < n; ++q)
+        {
+          for (int c = 0; c < 4; ++c)
+            mine[4 * q + c] = static_cast<float>(rgba[4 * q + c]);
+          const RayRecord& r = records[static_cast<size_t>(q)];
+          mine[4 * n + q] = r.lastSample >= 0 ? static_cast<float>(r.firstSample)
+                                              : std::numeric_limits<float>::infinity();
+        }
+      });
     const int pieces = Exchange->pieces();
-    std::vector<float> all(static_cast<size_t>(stride) * pieces);
-    Exchange->allGather(mine.data(), stride, all.data());
-    settle(all, pieces, stride, failure);
     std::vector<const float*> colours, keys;
     for (int p = 0; p < pieces; ++p)
     {
@@ -538,42 +545,32 @@ struct DifferentiableRendererT<S>::Internals
     const std::int64_t n = pixels.empty() ? static_cast<std::int64_t>(view.width) * view.height
                                           : static_cast<std::int64_t>(pixels.size());
     const std::int64_t stride = 4 * static_cast<std::int64_t>(tableSize) + 1;
-    std::vector<float> mine(static_cast<size_t>(stride), 0.0f);
-    std::exception_ptr failure;
-    try
-    {
-      if (records.size() != static_cast<size_t>(n) || dL_dRGBA.size() != 4 * records.size() ||
-        dL_dTable.size() != 4 * tableSize)
-        throw Error(
-          "backward: sizes of records, dL_dRGBA or dL_dTable do not match the forward pass");
-      if (Caster)
+    const std::vector<float> all = exchange(stride,
+      [&](std::vector<float>& mine)
       {
-        std::vector<float> g(dL_dRGBA.begin(), dL_dRGBA.end()), front(static_cast<size_t>(n)),
-          back(static_cast<size_t>(4 * n)), d(static_cast<size_t>(4 * n));
-        for (std::int64_t q = 0; q < n; ++q)
+        if (records.size() != static_cast<size_t>(n) || dL_dRGBA.size() != 4 * records.size() ||
+          dL_dTable.size() != 4 * tableSize)
+          throw Error(
+            "backward: sizes of records, dL_dRGBA or dL_dTable do not match the forward pass");
+        if (Caster)
         {
-          const RayRecord& r = records[static_cast<size_t>(q)];
-          front[static_cast<size_t>(q)] = r.front;
-          std::copy(r.back, r.back + 4, &back[4 * q]);
+          std::vector<float> g(dL_dRGBA.begin(), dL_dRGBA.end()), front(static_cast<size_t>(n)),
+            back(static_cast<size_t>(4 * n)), d(static_cast<size_t>(4 * n));
+          for (std::int64_t q = 0; q < n; ++q)
+          {
+            const RayRecord& r = records[static_cast<size_t>(q)];
+            front[static_cast<size_t>(q)] = r.front;
+            std::copy(r.back, r.back + 4, &back[4 * q]);
+          }
+          compositePixelsAdjoint(g.data(), front.data(), back.data(), n, d.data());
+          const std::vector<S> dPiece(d.begin(), d.end());
+          std::vector<S> dTable(4 * tableSize, S(0));
+          local(dPiece, dTable);
+          for (size_t i = 0; i < dTable.size(); ++i)
+            mine[i] = static_cast<float>(dTable[i]);
         }
-        compositePixelsAdjoint(g.data(), front.data(), back.data(), n, d.data());
-        const std::vector<S> dPiece(d.begin(), d.end());
-        std::vector<S> dTable(4 * tableSize, S(0));
-        local(dPiece, dTable);
-        for (size_t i = 0; i < dTable.size(); ++i)
-          mine[i] = static_cast<float>(dTable[i]);
-      }
-    }
-    catch (...)
-    {
-      failure = std::current_exception();
-      mine.back() = 1.0f;
-    }
-    const int pieces = Exchange->pieces();
-    std::vector<float> all(static_cast<size_t>(stride) * pieces);
-    Exchange->allGather(mine.data(), stride, all.data());
-    settle(all, pieces, stride, failure);
-    for (int p = 0; p < pieces; ++p)
+      });
+    for (int p = 0; p < Exchange->pieces(); ++p)
       for (size_t i = 0; i < 4 * tableSize; ++i)
         dL_dTable[i] += static_cast<S>(all[static_cast<size_t>(p * stride) + i]);
   }

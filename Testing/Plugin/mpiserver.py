@@ -139,22 +139,22 @@ class Server:
         return out
 
 
-def peak_rss_mb(pid):
-    """The process's peak resident set size (VmHWM), MB."""
+def _status_mb(pid, key):
     with open(f"/proc/{pid}/status") as f:
         for line in f:
-            if line.startswith("VmHWM:"):
+            if line.startswith(key + ":"):
                 return int(line.split()[1]) / 1024.0
-    raise RuntimeError(f"no VmHWM for process {pid}")
+    raise RuntimeError(f"no {key} for process {pid}")
+
+
+def peak_rss_mb(pid):
+    """The process's peak resident set size (VmHWM), MB."""
+    return _status_mb(pid, "VmHWM")
 
 
 def current_rss_mb(pid):
     """The process's resident set size now (VmRSS), MB."""
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024.0
-    raise RuntimeError(f"no VmRSS for process {pid}")
+    return _status_mb(pid, "VmRSS")
 
 
 def reset_peak_rss(pid):
