@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <type_traits>
 
 namespace ddg::adjoint
 {
@@ -32,6 +34,40 @@ DDG_ADJOINT_INLINE S trilinear(const S c[8], S fx, S fy, S fz)
   const S c0 = c00 + fy * (c10 - c00);
   const S c1 = c01 + fy * (c11 - c01);
   return c0 + fz * (c1 - c0);
+}
+
+/// trilinear() of K cells of the scalars v (x fastest; strides sy, sz): cell l's first corner at
+/// flat index idx[l], its fractions fx[l], fy[l], fz[l]. The corners of every lane are read first
+/// (integer scalars widened exactly), then interpolated lane by lane in arrays the compiler
+/// vectorises (SSE2: 4 lanes) with trilinear()'s operations in its order: bit for bit its
+/// result. The ray caster's and the differentiable renderer's batches of samples.
+template <typename S, typename T, int K>
+DDG_ADJOINT_INLINE void trilinearBatch(const T* v, const std::int64_t (&idx)[K], std::int64_t sy,
+  std::int64_t sz, const S* fx, const S* fy, const S* fz, S* out)
+{
+  using Wide = std::conditional_t<std::is_integral_v<T>, std::int32_t, S>;
+  const std::int64_t offset[8] = { 0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1 };
+  Wide w[8][K];
+  for (int l = 0; l < K; ++l)
+  {
+    const T* q = v + idx[l];
+    for (int c = 0; c < 8; ++c)
+      w[c][l] = static_cast<Wide>(q[offset[c]]);
+  }
+  S c[8][K];
+  for (int k = 0; k < 8; ++k)
+    for (int l = 0; l < K; ++l)
+      c[k][l] = static_cast<S>(w[k][l]);
+  for (int l = 0; l < K; ++l)
+  {
+    const S c00 = c[0][l] + fx[l] * (c[1][l] - c[0][l]);
+    const S c10 = c[2][l] + fx[l] * (c[3][l] - c[2][l]);
+    const S c01 = c[4][l] + fx[l] * (c[5][l] - c[4][l]);
+    const S c11 = c[6][l] + fx[l] * (c[7][l] - c[6][l]);
+    const S c0 = c00 + fy[l] * (c10 - c00);
+    const S c1 = c01 + fy[l] * (c11 - c01);
+    out[l] = c0 + fz[l] * (c1 - c0);
+  }
 }
 
 /// Accumulates dL/dc[8] and dL/d(fx, fy, fz) from dL/dv.

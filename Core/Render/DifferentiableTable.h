@@ -73,39 +73,8 @@ struct FieldSampler
       }
       idx[l] = i[0] + static_cast<std::int64_t>(nx) * (i[1] + static_cast<std::int64_t>(ny) * i[2]);
     }
-    // The corners of every lane first (integer scalars widened exactly), then the
-    // interpolation lane by lane in arrays the compiler vectorises (SSE2: 4 lanes), with the
-    // operations of adjoint::trilinear in the same order (bit for bit its result).
-    using Wide = std::conditional_t<std::is_integral_v<T>, std::int32_t, S>;
-    const std::int64_t sy = nx, sz = static_cast<std::int64_t>(nx) * ny;
-    const std::int64_t offset[8] = { 0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1 };
-    Wide w[8][kBatch];
-    for (int l = 0; l < kBatch; ++l)
-    {
-      const T* q = v + idx[l];
-      for (int c = 0; c < 8; ++c)
-      {
-        w[c][l] = static_cast<Wide>(q[offset[c]]);
-      }
-    }
-    S c[8][kBatch];
-    for (int k = 0; k < 8; ++k)
-    {
-      for (int l = 0; l < kBatch; ++l)
-      {
-        c[k][l] = static_cast<S>(w[k][l]);
-      }
-    }
-    for (int l = 0; l < kBatch; ++l)
-    {
-      const S c00 = c[0][l] + f[0][l] * (c[1][l] - c[0][l]);
-      const S c10 = c[2][l] + f[0][l] * (c[3][l] - c[2][l]);
-      const S c01 = c[4][l] + f[0][l] * (c[5][l] - c[4][l]);
-      const S c11 = c[6][l] + f[0][l] * (c[7][l] - c[6][l]);
-      const S c0 = c00 + f[1][l] * (c10 - c00);
-      const S c1 = c01 + f[1][l] * (c11 - c01);
-      out[l] = c0 + f[2][l] * (c1 - c0);
-    }
+    adjoint::trilinearBatch(v, idx, static_cast<std::int64_t>(nx),
+      static_cast<std::int64_t>(nx) * ny, f[0], f[1], f[2], out);
   }
 };
 

@@ -3,6 +3,7 @@
 // Core/Render/RayCaster.cxx.
 #pragma once
 
+#include "Render/Adjoint.h"
 #include "Render/Lighting.h"
 #include "Render/RayCasterClassify.h"
 #include "Render/RayCasterField.h"
@@ -120,39 +121,9 @@ inline void sampleBatch(const Field<T>& f, float k0, float ex, float ey, float e
     lanes.j[l] = jj;
     lanes.k[l] = kz;
   }
-  // The corners of every lane first (integers widened exactly), then the interpolation lane by
-  // lane in arrays the compiler vectorises: the same operations per lane, the same values.
-  using Wide = std::conditional_t<std::is_integral_v<T>, std::int32_t, float>;
-  const std::int64_t sy1 = f.nx, sz1 = static_cast<std::int64_t>(f.nx) * f.ny;
-  const std::int64_t offset[8] = { 0, 1, sy1, sy1 + 1, sz1, sz1 + 1, sz1 + sy1, sz1 + sy1 + 1 };
-  const T* p = f.w;
-  Wide w[8][kBatch];
-  for (int l = 0; l < kBatch; ++l)
-  {
-    const T* q = p + idx[l];
-    for (int c = 0; c < 8; ++c)
-    {
-      w[c][l] = static_cast<Wide>(q[offset[c]]);
-    }
-  }
-  float v[8][kBatch];
-  for (int c = 0; c < 8; ++c)
-  {
-    for (int l = 0; l < kBatch; ++l)
-    {
-      v[c][l] = static_cast<float>(w[c][l]);
-    }
-  }
-  for (int l = 0; l < kBatch; ++l)
-  {
-    const float c00 = v[0][l] + fx[l] * (v[1][l] - v[0][l]);
-    const float c10 = v[2][l] + fx[l] * (v[3][l] - v[2][l]);
-    const float c01 = v[4][l] + fx[l] * (v[5][l] - v[4][l]);
-    const float c11 = v[6][l] + fx[l] * (v[7][l] - v[6][l]);
-    const float c0 = c00 + fy[l] * (c10 - c00);
-    const float c1 = c01 + fy[l] * (c11 - c01);
-    out[l] = c0 + fz[l] * (c1 - c0);
-  }
+  // the same operations per lane as one sample's, the same values
+  adjoint::trilinearBatch(f.w, lanes.idx, static_cast<std::int64_t>(f.nx),
+    static_cast<std::int64_t>(f.nx) * f.ny, fx, fy, fz, out);
 }
 
 } // namespace ddg::raycast
