@@ -23,6 +23,28 @@ Image compositeBricks(const std::vector<const float*>& parts, int width, int hei
 /// The same from images.
 Image compositeBricks(const std::vector<Image>& parts);
 
+/// A rectangle of an image's pixels: columns x .. x + width - 1, rows y .. y + height - 1.
+struct PixelRect
+{
+  int x = 0, y = 0, width = 0, height = 0;
+  bool empty() const { return width <= 0 || height <= 0; }
+  std::int64_t pixels() const { return empty() ? 0 : static_cast<std::int64_t>(width) * height; }
+};
+
+/// Where a piece's image (five channels, as compositeBricks reads them) adds anything to the
+/// composite: the smallest rectangle holding its pixels with opacity A > 0 (their premultiplied
+/// colour is 0 where A is 0, and "over" with nothing leaves the composite as it is). Empty when
+/// the piece shows nowhere.
+PixelRect footprint(const Image& part);
+/// The pixels of `part` in `rect`, row by row (rect.pixels() x channels floats).
+std::vector<float> cropPixels(const Image& part, const PixelRect& rect);
+/// compositeBricks of cropped parts: parts[p] holds the five-channel pixels of rects[p] of a
+/// width x height image (cropPixels); a pixel outside a part's rectangle gets nothing from that
+/// part. The same image as compositing the uncropped parts when each rectangle holds its part's
+/// footprint.
+Image compositeBricks(const std::vector<const float*>& parts, const std::vector<PixelRect>& rects,
+  int width, int height);
+
 /// Sort-last compositing of a list of pixels and what its adjoint needs, for the differentiable
 /// renderer over pieces (DifferentiableRendererT with a PieceExchange). rgba[p] points at piece
 /// p's n x 4 floats (premultiplied C, A of its own samples), keys[p] at its n first-sample

@@ -205,14 +205,28 @@ Image renderOnRanks(const RankGroup& ranks, const RankVolume& volume,
           part.pixels[p] = std::numeric_limits<float>::infinity();
       }
     });
-  const long long size = static_cast<long long>(view.width) * view.height * 5;
-  const std::vector<float> parts = ranks.gatherToFirst(part.pixels.data(), size);
+  // each rank sends only its footprint: the rectangle of pixels where its piece shows
+  const PixelRect rect = footprint(part);
+  const int mine[4] = { rect.x, rect.y, rect.width, rect.height };
+  const std::vector<int> rects = ranks.allGather(mine, 4);
+  std::vector<long long> counts;
+  const std::vector<float> parts = ranks.gatherToFirst(cropPixels(part, rect), counts);
   if (ranks.rank() != 0)
     return Image();
+  part = Image();
   std::vector<const float*> each;
+  std::vector<PixelRect> where;
+  size_t offset = 0;
   for (int r = 0; r < ranks.size(); ++r)
-    each.push_back(parts.data() + static_cast<size_t>(size) * r);
-  return compositeBricks(each, view.width, view.height);
+  {
+    const int* q = rects.data() + 4 * r;
+    where.push_back(PixelRect{ q[0], q[1], q[2], q[3] });
+    if (counts[static_cast<size_t>(r)] != where.back().pixels() * 5)
+      throw Error("rank " + std::to_string(r) + " sent an image of the wrong size");
+    each.push_back(parts.data() + offset);
+    offset += static_cast<size_t>(counts[static_cast<size_t>(r)]);
+  }
+  return compositeBricks(each, where, view.width, view.height);
 }
 
 } // namespace ddg

@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 using namespace ddg;
 
@@ -468,6 +469,18 @@ double pieceDifference(const Volume& whole, const std::vector<Box>& boxes, const
     EXPECT_EQ(parts.back().channels, 5);
   }
   const Image got = compositeBricks(parts);
+  // each part cut to its footprint (what a rank sends) composites to the same image, bit for bit
+  std::vector<std::vector<float>> cropped;
+  std::vector<ddg::PixelRect> rects;
+  std::vector<const float*> data;
+  for (const Image& part : parts)
+  {
+    rects.push_back(ddg::footprint(part));
+    cropped.push_back(ddg::cropPixels(part, rects.back()));
+  }
+  for (const auto& c : cropped)
+    data.push_back(c.data());
+  EXPECT_EQ(compositeBricks(data, rects, view.width, view.height).pixels, got.pixels);
   double worst = 0;
   for (size_t i = 0; i < ref.pixels.size(); ++i)
     worst = std::max(worst, static_cast<double>(std::abs(got.pixels[i] - ref.pixels[i])));
@@ -524,6 +537,46 @@ TEST(RayCaster, PiecesCompositeToTheWholeImage)
 
 // A piece that lacks the ghost points gradients need, owns nothing or lies outside its whole is
 // refused with the reason; a decomposition with overlaps or holes is refused by checkBricksTile.
+// A piece's footprint is the smallest rectangle of its pixels with opacity; a piece that shows
+// nowhere has an empty one and adds nothing; a rectangle outside the image is refused.
+TEST(SortLast, FootprintsCropWhatAPieceShows)
+{
+  Image part(6, 4, 5, 0.0f);
+  for (size_t p = 4; p < part.pixels.size(); p += 5)
+    part.pixels[p] = std::numeric_limits<float>::infinity();
+  EXPECT_TRUE(ddg::footprint(part).empty());
+  // a sample on the ray but no opacity (the key set, A = 0) is nothing to send
+  part.at(0, 0, 4) = 3;
+  EXPECT_TRUE(ddg::footprint(part).empty());
+  part.at(1, 2, 3) = 0.5f;
+  part.at(1, 2, 0) = 0.25f;
+  part.at(1, 2, 4) = 7;
+  part.at(4, 1, 3) = 0.125f;
+  part.at(4, 1, 4) = 2;
+  const ddg::PixelRect r = ddg::footprint(part);
+  EXPECT_EQ(r.x, 1);
+  EXPECT_EQ(r.y, 1);
+  EXPECT_EQ(r.width, 4);
+  EXPECT_EQ(r.height, 2);
+  const std::vector<float> crop = ddg::cropPixels(part, r);
+  ASSERT_EQ(crop.size(), 8u * 5u);
+  EXPECT_EQ(crop[5 * (1 * 4 + 0) + 3], 0.5f); // (1, 2) is (0, 1) in the crop
+  EXPECT_EQ(crop[5 * (0 * 4 + 3) + 3], 0.125f);
+  // with a piece that shows nowhere (empty rectangle, no pixels): the one piece's image
+  Image other(6, 4, 5, 0.0f);
+  const std::vector<float> none;
+  const Image got = compositeBricks(
+    { crop.data(), none.data() }, { r, ddg::footprint(other) }, part.width, part.height);
+  EXPECT_FLOAT_EQ(got.at(1, 2, 0), 0.25f);
+  EXPECT_FLOAT_EQ(got.at(1, 2, 3), 0.5f);
+  EXPECT_FLOAT_EQ(got.at(4, 1, 3), 0.125f);
+  EXPECT_EQ(got.at(0, 0, 3), 0.0f);
+  EXPECT_THROW(
+    compositeBricks({ crop.data() }, { ddg::PixelRect{ 3, 1, 4, 2 } }, 6, 4), ddg::Error);
+  EXPECT_THROW(ddg::cropPixels(part, ddg::PixelRect{ 0, 3, 2, 2 }), ddg::Error);
+  EXPECT_THROW(compositeBricks({ crop.data() }, {}, 6, 4), ddg::Error);
+}
+
 TEST(RayCaster, PiecesThatCannotRenderTheirPartAreRefused)
 {
   const Volume vol = blobVolume(ScalarType::UInt8);
