@@ -120,6 +120,8 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
   checkBuildVolume(original);
   // 0. the volume the design space is built on, and the plan
   int factor = 1;
+  if (o.maxDesignVoxels < 1)
+    throw Error("the design space's voxel cap (maxDesignVoxels) must be positive");
   const Volume small = original.voxelCount() > o.maxDesignVoxels
     ? designSpaceVolume(original, o.maxDesignVoxels, &factor)
     : Volume();

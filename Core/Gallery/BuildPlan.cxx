@@ -198,15 +198,15 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
   return p;
 }
 
-BuildPlan planBuild(
-  const Volume& volume, double budgetMinutes, int size, int threads, const BuildRates& measured)
+BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size, int threads,
+  const BuildRates& measured, std::int64_t maxDesignVoxels)
 {
   if (!(budgetMinutes >= 1))
     throw Error(
       "a build needs a budget of at least 1 minute (got " + std::to_string(budgetMinutes) + ")");
   int factor = 1;
-  const Volume small = volume.voxelCount() > kMaxDesignSpaceVoxels
-    ? designSpaceVolume(volume, kMaxDesignSpaceVoxels, &factor)
+  const Volume small = volume.voxelCount() > maxDesignVoxels
+    ? designSpaceVolume(volume, maxDesignVoxels, &factor)
     : Volume();
   const Volume& design = factor > 1 ? small : volume;
   const BuildRates rates =
@@ -265,6 +265,10 @@ Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* fact
     return volume;
   const std::array<int, 3> nd{ (d[0] + f - 1) / f, (d[1] + f - 1) / f, (d[2] + f - 1) / f };
   std::vector<float> values(static_cast<size_t>(nd[0]) * nd[1] * nd[2]);
+  // an integer volume keeps its type (and so ParaView's normalisation of it): its averages are
+  // rounded to the nearest value of the type (half a step of the data at most)
+  const bool integral =
+    volume.originalType() != ScalarType::Float32 && volume.originalType() != ScalarType::Float64;
   parallelFor(nd[2], 0,
     [&](std::int64_t k, int)
     {
@@ -285,8 +289,9 @@ Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* fact
                   ++n;
                 }
               }
+          const double mean = integral ? std::round(sum / n) : sum / n;
           values[(static_cast<size_t>(k) * nd[1] + j) * nd[0] + i] =
-            n ? static_cast<float>(sum / n) : std::nanf("");
+            n ? static_cast<float>(mean) : std::nanf("");
         }
     });
   const auto& s = volume.spacing();

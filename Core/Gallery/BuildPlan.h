@@ -68,10 +68,11 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
 /// `budgetMinutes` (>= 1): outline 10 % (1 000 - 10 000 designs), exemplars ~25 % (256 - 30 000),
 /// held-out a tenth of them (50 - 200), training the rest (at least 35 % of the budget; the
 /// exemplars and outline shrink to leave it). `volume` is the user's volume (downsampled here
-/// for the probe when above kMaxDesignSpaceVoxels). Throws ddg::Error for a budget under 1
-/// minute. `rates`: measured before (the plan shown to the user is the plan built), else probed.
+/// for the probe when above maxDesignVoxels, as the build does). Throws ddg::Error for a budget
+/// under 1 minute. `rates`: measured before (the plan shown to the user is the plan built), else
+/// probed.
 BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size = 64, int threads = 0,
-  const BuildRates& rates = {});
+  const BuildRates& rates = {}, std::int64_t maxDesignVoxels = kMaxDesignSpaceVoxels);
 
 /// The volume the design space is built on: `volume` itself when it has at most `maxVoxels`
 /// voxels, else its box-filtered average over f x f x f blocks (f the smallest integer that

@@ -49,7 +49,8 @@ int runBuild(BuildArgs a)
     if (!(a.o.budgetMinutes > 0))
       throw ddg::Error("--plan needs --budget MINUTES");
     ddg::checkBuildVolume(volume);
-    const ddg::BuildPlan plan = ddg::planBuild(volume, a.o.budgetMinutes, a.o.size, a.o.threads);
+    const ddg::BuildPlan plan =
+      ddg::planBuild(volume, a.o.budgetMinutes, a.o.size, a.o.threads, {}, a.o.maxDesignVoxels);
     std::printf("plan for %g min:\n%s%s\n", a.o.budgetMinutes, plan.describe().c_str(),
       plan.toJson().c_str());
     ddg::checkBuildOutput(a.out, plan.diskBytes, a.o.overwrite);
@@ -107,8 +108,9 @@ ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
     "--plan shows what it would cost and writes nothing. Refused before anything is written: a "
     "volume with one value or under 4 voxels along an axis, a folder that already holds a "
     "bundle (unless --overwrite), a folder you cannot write to or without the free space. "
-    "Volumes over 16 Mi voxels are downsampled (box average) for the design space; the bundle "
-    "still belongs to the original volume. Ctrl+C or a failure leaves the folder as it was.");
+    "Volumes over 16 Mi voxels (--design-voxels) are downsampled (box average) for the design "
+    "space; the bundle still belongs to the original volume. Ctrl+C or a failure leaves the "
+    "folder as it was.");
   build->add_option("--volume", ba->volume, "Volume file")->required();
   build->add_option("--out", ba->out, "Bundle directory to write")->required();
   build->add_option(
@@ -135,6 +137,12 @@ ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
       "Minutes for the whole build, outline included (>= 1; sizes exemplars, training and "
       "outline from a short timed probe; default 0: the sizes given)")
     ->check(CLI::Range(1.0, 100000.0));
+  build
+    ->add_option("--design-voxels", ba->o.maxDesignVoxels,
+      "Volumes above this many voxels are downsampled (box average) for the design space: "
+      "cheaper exemplars and training steps, a coarser volume (default 16 Mi = 16777216; e.g. "
+      "2097152 = 128^3; see Documentation/DesignSpaces.md)")
+    ->check(CLI::Range(std::int64_t(4096), std::int64_t(1) << 40));
   build->add_flag("--plan", ba->planOnly,
     "With --budget: print the plan (stages, estimated minutes, disk use) and stop");
   build->add_flag("--overwrite", ba->o.overwrite, "Replace a bundle already in --out");

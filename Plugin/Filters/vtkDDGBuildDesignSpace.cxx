@@ -93,6 +93,7 @@ void vtkDDGBuildDesignSpace::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "BudgetMinutes: " << this->BudgetMinutes << "\n";
   os << indent << "Overwrite: " << this->Overwrite << "\n";
+  os << indent << "DesignVoxels: " << this->DesignVoxels << "\n";
 }
 
 namespace
@@ -118,6 +119,7 @@ ddg::BuildOptions vtkDDGBuildDesignSpace::Options() const
   o.seed = static_cast<std::uint64_t>(this->Seed);
   o.budgetMinutes = this->BudgetMinutes;
   o.overwrite = this->Overwrite;
+  o.maxDesignVoxels = static_cast<std::int64_t>(this->DesignVoxels);
   return o;
 }
 
@@ -290,8 +292,8 @@ void vtkDDGBuildDesignSpace::PlanBuild()
     Background& w = *this->Worker;
     const bool again =
       w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size;
-    const ddg::BuildPlan plan = ddg::planBuild(
-      volume, this->BudgetMinutes, this->Size, 0, again ? w.PlanRates : ddg::BuildRates());
+    const ddg::BuildPlan plan = ddg::planBuild(volume, this->BudgetMinutes, this->Size, 0,
+      again ? w.PlanRates : ddg::BuildRates(), static_cast<std::int64_t>(this->DesignVoxels));
     w.PlanRates = plan.rates;
     w.PlanInputTime = w.InputTime;
     w.PlanSize = this->Size;

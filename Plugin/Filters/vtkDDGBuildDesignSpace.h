@@ -88,6 +88,13 @@ public:
   ///@}
 
   ///@{
+  /// Volumes above this many voxels are downsampled (box average) for the design space
+  /// (ddg::BuildOptions::maxDesignVoxels). (default: 16 Mi)
+  vtkSetClampMacro(DesignVoxels, vtkIdType, 4096, vtkIdType(1) << 40);
+  vtkGetMacro(DesignVoxels, vtkIdType);
+  ///@}
+
+  ///@{
   /// Replace a bundle already in OutputDirectory (else the build refuses). (default: false)
   vtkSetMacro(Overwrite, bool);
   vtkGetMacro(Overwrite, bool);
@@ -151,6 +158,7 @@ private:
   double Minutes = 5;
   int Iterations = 0;
   int OutlineCount = 10000;
+  vtkIdType DesignVoxels = 16 * 1024 * 1024;
   int Seed = 1;
   double BudgetMinutes = 0;
   bool Overwrite = false;

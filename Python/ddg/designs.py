@@ -57,6 +57,7 @@ def build_design_space(
     outline=None,
     budget_minutes=None,
     overwrite=False,
+    design_voxels=None,
 ):
     """Builds a design space for a volume (DDG Build Design Space; progress in ParaView):
     ``count`` exemplars of ``size``^2 pixels, a decoder trained for ``minutes`` (or exactly
@@ -64,7 +65,8 @@ def build_design_space(
     filter's), written to ``directory`` (where the filters run). With ``budget_minutes`` (>= 1)
     the whole build is sized to take about that long (``count``, ``minutes`` and ``outline`` are
     then ignored; ``build_plan`` shows the plan first). A directory that already holds a bundle
-    is refused unless ``overwrite``. Returns the Model."""
+    is refused unless ``overwrite``. ``design_voxels``: volumes above this many voxels are
+    downsampled for the design space (default: the filter's, 16 Mi). Returns the Model."""
     source = _source(source)
     directory = os.path.abspath(directory)
     build = _proxy(
@@ -81,6 +83,8 @@ def build_design_space(
         build.SetPropertyWithName("Iterations", int(iterations))
     if outline is not None:
         build.SetPropertyWithName("OutlineCount", int(outline))
+    if design_voxels is not None:
+        build.SetPropertyWithName("DesignVoxels", int(design_voxels))
     build.UpdatePipeline()
     table = servermanager.Fetch(build, idx=0)
     if table.GetNumberOfRows() != 1:
@@ -90,12 +94,13 @@ def build_design_space(
     return Model(directory, source)
 
 
-def build_plan(budget_minutes, source=None, directory=None, size=64):
+def build_plan(budget_minutes, source=None, directory=None, size=64, design_voxels=None):
     """What a ``budget_minutes`` build of a volume would cost (DDG Build Design Space's
     PlanBuild, a short timed probe where the filters run): a dict with ``count``, ``heldout``,
     ``outline_count``, ``training_minutes``, the stages' estimated seconds, ``total_seconds``,
     ``disk_bytes``, ``downsample`` and ``describe`` (text); ``output_error`` when ``directory``
-    would be refused. Raises DDGError for a volume no design space can be built on."""
+    would be refused; ``design_voxels`` as in build_design_space. Raises DDGError for a volume
+    no design space can be built on."""
     source = _source(source)
     build = _proxy(
         "DDGBuildDesignSpace",
@@ -104,6 +109,8 @@ def build_plan(budget_minutes, source=None, directory=None, size=64):
         BudgetMinutes=float(budget_minutes),
         Size=int(size),
     )
+    if design_voxels is not None:
+        build.SetPropertyWithName("DesignVoxels", int(design_voxels))
     build.SMProxy.InvokeCommand("PlanBuild")
     build.UpdatePropertyInformation()
     plan = json.loads(build.GetPropertyValue("BuildPlan"))

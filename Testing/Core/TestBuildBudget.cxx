@@ -134,6 +134,20 @@ TEST(BuildBudget, DownsamplesLargeVolumesByBlockAverage)
       }
   EXPECT_EQ(designSpaceVolume(v, 1 << 20, &factor).voxelCount(), v.voxelCount());
   EXPECT_EQ(factor, 1);
+  // an 8-bit volume stays 8-bit: its averages rounded to the nearest level (a 512^3 uint8
+  // volume could not be built before: "value 40.125 is not a uint8")
+  std::vector<std::uint8_t> bytes(static_cast<size_t>(v.voxelCount()));
+  for (size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = static_cast<std::uint8_t>(v.value(static_cast<std::int64_t>(i)));
+  const Volume u8 =
+    Volume::fromVector({ 21, 21, 21 }, { 0, 0, 0 }, { 1, 1, 1 }, bytes, ScalarType::UInt8);
+  const Volume d8 = designSpaceVolume(u8, 1000, &factor);
+  EXPECT_EQ(factor, 3);
+  EXPECT_EQ(d8.originalType(), ScalarType::UInt8);
+  for (int k = 0; k < 7; ++k)
+    for (int j = 0; j < 7; ++j)
+      for (int i = 0; i < 7; ++i)
+        EXPECT_NEAR(d8.at(i, j, k), d.at(i, j, k), 0.5 + 1e-4);
 }
 
 TEST(BuildBudget, RefusesVolumesWithoutADesignSpace)

@@ -414,6 +414,13 @@ if not remote:  # the build writes where the filter runs; here the same machine
         and "already holds" in plan["output_error"],
         plan["describe"].replace("\n", "; "),
     )
+    # a design-voxel cap below the volume's: planned (and built) on its block average
+    plan = ddg.build_plan(2, tooth, design_voxels=200000)
+    check(
+        "build_plan(design_voxels=200000) on Tooth",
+        plan["downsample"] == 2 and plan["design_dims"] == [52, 47, 81],
+        plan["describe"].replace("\n", "; "),
+    )
 
 try:
     ddg.query(os.path.join(testdata, "garbage.png"), source=tooth, view=view_file)
