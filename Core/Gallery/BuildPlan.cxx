@@ -289,9 +289,8 @@ Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* fact
                   ++n;
                 }
               }
-          const double mean = integral ? std::round(sum / n) : sum / n;
           values[(static_cast<size_t>(k) * nd[1] + j) * nd[0] + i] =
-            n ? static_cast<float>(mean) : std::nanf("");
+            n ? static_cast<float>(integral ? std::round(sum / n) : sum / n) : std::nanf("");
         }
     });
   const auto& s = volume.spacing();

@@ -209,22 +209,24 @@ Image renderOnRanks(const RankGroup& ranks, const RankVolume& volume,
   const PixelRect rect = footprint(part);
   const int mine[4] = { rect.x, rect.y, rect.width, rect.height };
   const std::vector<int> rects = ranks.allGather(mine, 4);
+  std::vector<PixelRect> where;
   std::vector<long long> counts;
+  for (int r = 0; r < ranks.size(); ++r)
+  {
+    const int* q = rects.data() + 4 * r;
+    where.push_back(PixelRect{ q[0], q[1], q[2], q[3] });
+    counts.push_back(where.back().pixels() * 5);
+  }
   const std::vector<float> parts = ranks.gatherToFirst(cropPixels(part, rect), counts);
   if (ranks.rank() != 0)
     return Image();
   part = Image();
   std::vector<const float*> each;
-  std::vector<PixelRect> where;
   size_t offset = 0;
-  for (int r = 0; r < ranks.size(); ++r)
+  for (long long n : counts)
   {
-    const int* q = rects.data() + 4 * r;
-    where.push_back(PixelRect{ q[0], q[1], q[2], q[3] });
-    if (counts[static_cast<size_t>(r)] != where.back().pixels() * 5)
-      throw Error("rank " + std::to_string(r) + " sent an image of the wrong size");
     each.push_back(parts.data() + offset);
-    offset += static_cast<size_t>(counts[static_cast<size_t>(r)]);
+    offset += static_cast<size_t>(n);
   }
   return compositeBricks(each, where, view.width, view.height);
 }

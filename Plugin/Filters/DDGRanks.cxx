@@ -146,28 +146,20 @@ void RankGroup::broadcast(std::vector<float>& values) const
 }
 
 std::vector<float> RankGroup::gatherToFirst(
-  const std::vector<float>& values, std::vector<long long>& counts) const
+  const std::vector<float>& values, const std::vector<long long>& counts) const
 {
-  const vtkIdType mine = static_cast<vtkIdType>(values.size());
-  std::vector<vtkIdType> lengths(static_cast<size_t>(Rank == 0 ? Size : 0)), offsets;
-  Controller->Gather(&mine, Rank == 0 ? lengths.data() : nullptr, 1, 0);
-  std::vector<float> out;
-  counts.clear();
-  if (Rank == 0)
+  std::vector<vtkIdType> lengths(counts.begin(), counts.end()), offsets;
+  vtkIdType total = 0;
+  for (vtkIdType n : lengths)
   {
-    vtkIdType total = 0;
-    for (vtkIdType n : lengths)
-    {
-      offsets.push_back(total);
-      counts.push_back(static_cast<long long>(n));
-      total += n;
-    }
-    out.resize(static_cast<size_t>(total));
+    offsets.push_back(total);
+    total += n;
   }
+  std::vector<float> out(Rank == 0 ? static_cast<size_t>(total) : 0);
   // (GatherV reads the send buffer even when empty: give it a valid pointer)
   const float none = 0;
   Controller->GatherV(values.empty() ? &none : values.data(), Rank == 0 ? out.data() : nullptr,
-    mine, Rank == 0 ? lengths.data() : nullptr, Rank == 0 ? offsets.data() : nullptr, 0);
+    static_cast<vtkIdType>(values.size()), lengths.data(), offsets.data(), 0);
   return out;
 }
 

@@ -60,10 +60,10 @@ public:
   std::vector<int> allGather(const int* values, int count) const;
   /// Every rank's `count` floats, rank by rank, into `all` (size() x count) on every rank.
   void allGather(const float* values, long long count, float* all) const;
-  /// Every rank's floats (any number each), rank by rank, on the first rank, with how many
-  /// came from each rank in `counts` (both empty elsewhere).
+  /// Every rank's floats, rank by rank, on the first rank (empty elsewhere); rank r sends
+  /// counts[r] of them (the same counts on every rank, size() of them).
   std::vector<float> gatherToFirst(
-    const std::vector<float>& values, std::vector<long long>& counts) const;
+    const std::vector<float>& values, const std::vector<long long>& counts) const;
   /// The first rank's text on every rank.
   std::string broadcast(const std::string& text) const;
   /// The first rank's floats on every rank (resized there).

@@ -158,7 +158,7 @@ private:
   double Minutes = 5;
   int Iterations = 0;
   int OutlineCount = 10000;
-  vtkIdType DesignVoxels = 16 * 1024 * 1024;
+  vtkIdType DesignVoxels = ddg::kMaxDesignSpaceVoxels;
   int Seed = 1;
   double BudgetMinutes = 0;
   bool Overwrite = false;
