@@ -144,7 +144,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   const int W = pic.rgb.width, H = pic.rgb.height;
 
   // background and foreground
-  View view = opt.view ? *opt.view : defaultView(renderer.caster().volume(), W, H);
+  View view = opt.view ? *opt.view : defaultView(renderer.bounds(), W, H);
   view.width = W;
   view.height = H;
   if (opt.lighting)
@@ -193,9 +193,10 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     tLap = Clock::now();
     return s;
   };
-  const RayCaster& caster = renderer.caster();
-  const Volume& volume = caster.volume();
-  const SilhouetteModel model(volume);
+  // a piece of a volume (ParaView's ranks): every piece runs the match in step, each rendering
+  // its part of the whole's rays (collective renders: no renders side by side in threads)
+  const bool pieces = renderer.exchange() != nullptr;
+  const SilhouetteModel model(renderer);
   if (model.levels() == 0)
   {
     throw Error("the volume has no structure to match a picture with");
@@ -223,7 +224,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   base.height = sh;
   const View resetView = [&]
   {
-    View r = defaultView(volume, sw, sh);
+    View r = defaultView(renderer.bounds(), sw, sh);
     r.background = base.background;
     r.background2 = base.background2;
     r.opacityUnitDistance = base.opacityUnitDistance;
@@ -350,13 +351,14 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     if (opt.colourCandidates > 0)
     {
       const Image difference = pictureDifference(pic.alpha ? pic.rgba : pic.rgb, view, sw, sh);
-      // one thread a ray cast: the directions, then the candidates, run side by side
+      // one thread a ray cast: the directions, then the candidates, run side by side (pieces:
+      // one after the other, each ray cast on every thread)
       RenderOptions how = opt.reconstruction.render;
-      how.sampleDistance = 3.0 * caster.defaultSampleDistance();
-      how.threads = 1;
+      how.sampleDistance = 3.0 * renderer.defaultSampleDistance();
+      how.threads = pieces ? threads : 1;
       screen = std::make_unique<EmissionScreen>(renderer, how, difference, care);
-      auto refined =
-        screenByColours(*screen, start, directions, aligned, opt.colourCandidates, threads);
+      auto refined = screenByColours(
+        *screen, start, directions, aligned, opt.colourCandidates, pieces ? 1 : threads);
       for (auto& r : refined)
       {
         Mask local;
@@ -371,8 +373,8 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     // the block silhouette and a ray cast of the same level (opaque above its threshold)
     {
       RenderOptions coarse = opt.reconstruction.render;
-      coarse.sampleDistance = 2.0 * caster.defaultSampleDistance();
-      const auto range = volume.range();
+      coarse.sampleDistance = 2.0 * renderer.defaultSampleDistance();
+      const auto range = renderer.dataRange();
       for (auto& f : finalists)
       {
         if (f.fromColours)
@@ -382,8 +384,8 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
         occupancy.color = { { range[0], 1, 1, 1 } };
         occupancy.opacity = { { range[0], 0 }, { std::max(range[0], t - eps), 0 }, { t, 1 },
           { range[1], 1 } };
-        const Image cast =
-          caster.render(bakeTable(occupancy, range[0], range[1], 1024), f.view(start), coarse);
+        const Image cast = renderTable(
+          renderer, bakeTable(occupancy, range[0], range[1], 1024), f.view(start), coarse);
         model.render(f.view(start), f.level, sw, sh, scratch);
         double castArea = 0, modelArea = 0;
         for (size_t i = 0; i < scratch.m.size(); ++i)
@@ -523,7 +525,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     sopt.patience = 40;
     sopt.raysPerIteration = 512;
     // coarser samples: the camera stage needs the picture's look, not its last digit
-    sopt.render.sampleDistance = 3.0 * caster.defaultSampleDistance();
+    sopt.render.sampleDistance = 3.0 * renderer.defaultSampleDistance();
     sopt.seed = 7;
     sopt.bins = 64;
     sopt.snapshotEvery = 0;
@@ -702,7 +704,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     {
       Image shot;
       if (snapshot)
-        shot = renderResult(caster, *snapshot, preview, ropt.render);
+        shot = renderResult(renderer, *snapshot, preview, ropt.render);
       report(
         "fit", 0.5 + 0.4 * std::min(1.0, (step + 1.0) / iterations), snapshot ? &shot : nullptr);
       return true;
@@ -719,7 +721,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   Mask edge; // the render's silhouette edge (opacity across 0.5), 2 preview pixels either side
   auto assess = [&](const ReconstructionResult& tf)
   {
-    const Image render = renderResult(caster, tf, preview, ropt.render);
+    const Image render = renderResult(renderer, tf, preview, ropt.render);
     Mask inside(preview.width, preview.height), outside(preview.width, preview.height);
     for (size_t i = 0; i < inside.m.size(); ++i)
       (render.pixels[4 * i + 3] > 0.5f ? inside : outside).m[i] = 1;

@@ -182,6 +182,10 @@ using MatchProgress =
 /// picture's object by `minimumOverlap` or whose fit reaches `minimumFitPSNR` ("no camera
 /// explains the picture": another volume, a crop into the object). A camera given as the
 /// picture's is trusted: its fit's figures say how well it explains the picture.
+/// A renderer of a piece of a volume (ParaView's ranks; DifferentiableRenderer.h): collective,
+/// every piece calls it with the same picture and options and gets the same result (the block
+/// silhouettes and the colours' sample counts are combined over the pieces, every render and fit
+/// runs over them; Documentation/Rendering.md, "Matching a picture over pieces").
 MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& picture,
   const MatchOptions& options = {}, const MatchProgress& progress = {});
 

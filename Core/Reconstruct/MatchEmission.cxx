@@ -4,6 +4,7 @@
 
 #include "Common/Error.h"
 #include "Common/Parallel.h"
+#include "Render/PieceExchange.h"
 
 #include <Eigen/Cholesky>
 
@@ -52,7 +53,7 @@ Eigen::MatrixXd EmissionScreen::histograms(const View& view) const
   View v = view;
   v.width = Difference.width;
   v.height = Difference.height;
-  const auto& range = Renderer.caster().dataRange();
+  const auto range = Renderer.dataRange();
   // a transparent table: every ray is marched to its end, all its samples kept
   const int tableWidth = 2;
   const std::vector<float> table(4 * tableWidth, 0.0f);
@@ -67,6 +68,19 @@ Eigen::MatrixXd EmissionScreen::histograms(const View& view) const
       const int b = std::clamp(static_cast<int>((x - range[0]) * scale), 0, Bins - 1);
       n(static_cast<Eigen::Index>(q), b) += 1;
     }
+  if (const PieceExchange* exchange = Renderer.exchange())
+  {
+    // a piece counts the samples it owns: the whole's counts are the pieces' sum (whole numbers,
+    // exact in float; summed in piece order, the same on every piece)
+    const Eigen::MatrixXf mine = n.cast<float>();
+    std::vector<float> all(static_cast<size_t>(mine.size()) * exchange->pieces());
+    exchange->allGather(mine.data(), mine.size(), all.data());
+    n.setZero();
+    for (int p = 0; p < exchange->pieces(); ++p)
+      n += Eigen::Map<const Eigen::MatrixXf>(
+        all.data() + static_cast<size_t>(p) * mine.size(), n.rows(), n.cols())
+             .cast<double>();
+  }
   return n;
 }
 

@@ -86,6 +86,9 @@ class SilhouetteModel
 {
 public:
   explicit SilhouetteModel(const Volume& vol);
+  /// The renderer's volume; for a piece of one (collective), the whole's: each piece takes the
+  /// blocks over the points it owns, the pieces exchange them.
+  explicit SilhouetteModel(const DifferentiableRenderer& renderer);
 
   int levels() const { return static_cast<int>(Points.size()); }
   /// The value threshold of a level (opaque at and above it).
@@ -95,6 +98,11 @@ public:
   void render(const View& view, int level, int w, int h, Mask& out) const;
 
 private:
+  // the levels from the largest value per block (Blocks in MatchSilhouette.cxx) of a volume of
+  // `dims` points from `origin` at `spacing`
+  void build(const std::array<int, 3>& dims, const std::array<double, 3>& origin,
+    const std::array<double, 3>& spacing, const std::vector<float>& blockMax);
+
   std::vector<std::vector<Eigen::Vector3f>> Points;
   std::vector<float> Thresholds;
   double Radius = 0;

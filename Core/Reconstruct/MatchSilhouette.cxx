@@ -1,7 +1,9 @@
 // MatchSilhouette.cxx: the volume's block silhouettes (MatchParts.h's SilhouetteModel).
 #include "Reconstruct/MatchParts.h"
 
+#include "Render/PieceExchange.h"
 #include "Volume/Volume.h"
+#include "Volume/VolumeBrick.h"
 
 #include <Eigen/Geometry>
 
@@ -13,43 +15,97 @@ namespace ddg
 namespace matchparts
 {
 
-SilhouetteModel::SilhouetteModel(const Volume& vol)
+namespace
 {
-  const auto& d = vol.dims();
-  const int longest = std::max({ d[0], d[1], d[2] });
-  const int bs = std::max(1, (longest + 63) / 64); // at most ~64 blocks a side
-  int nb[3];
-  for (int k = 0; k < 3; ++k)
-    nb[k] = std::max(1, (d[k] - 1 + bs - 1) / bs);
-  std::vector<float> blockMax(static_cast<size_t>(nb[0]) * nb[1] * nb[2], -1e30f);
-  // a block covers the points b bs .. (b + 1) bs (inclusive): a point on a block's lower face
+// The blocks of a volume of `d` points: about 64 a side, bs points each (a block covers the
+// points b bs .. (b + 1) bs inclusive).
+struct Blocks
+{
+  int bs = 1;
+  int nb[3] = { 1, 1, 1 };
+  explicit Blocks(const std::array<int, 3>& d)
+  {
+    const int longest = std::max({ d[0], d[1], d[2] });
+    bs = std::max(1, (longest + 63) / 64); // at most ~64 blocks a side
+    for (int k = 0; k < 3; ++k)
+      nb[k] = std::max(1, (d[k] - 1 + bs - 1) / bs);
+  }
+  size_t count() const { return static_cast<size_t>(nb[0]) * nb[1] * nb[2]; }
+  // the blocks point i belongs to along an axis of n blocks: a point on a block's lower face
   // belongs to the block below as well
-  auto blocksOf = [&](int i, int n)
+  std::pair<int, int> of(int i, int n) const
   {
     const int hi = std::min(n - 1, i / bs);
     const int lo = (i % bs == 0 && i > 0) ? std::min(hi, i / bs - 1) : hi;
-    return std::pair<int, int>(lo, hi);
-  };
-  for (int k = 0; k < d[2]; ++k)
+    return { lo, hi };
+  }
+  // the largest value per block over the points lo .. hi (whole indices) of `vol`, whose point 0
+  // is the whole's point `offset`
+  void maxima(const Volume& vol, const std::array<int, 3>& lo, const std::array<int, 3>& hi,
+    const std::array<int, 3>& offset, std::vector<float>& blockMax) const
   {
-    const auto [bk0, bk1] = blocksOf(k, nb[2]);
-    for (int j = 0; j < d[1]; ++j)
+    for (int k = lo[2]; k <= hi[2]; ++k)
     {
-      const auto [bj0, bj1] = blocksOf(j, nb[1]);
-      for (int i = 0; i < d[0]; ++i)
+      const auto [bk0, bk1] = of(k, nb[2]);
+      for (int j = lo[1]; j <= hi[1]; ++j)
       {
-        const float v = vol.at(i, j, k);
-        const auto [bi0, bi1] = blocksOf(i, nb[0]);
-        for (int bk = bk0; bk <= bk1; ++bk)
-          for (int bj = bj0; bj <= bj1; ++bj)
-            for (int bi = bi0; bi <= bi1; ++bi)
-            {
-              float& m = blockMax[(static_cast<size_t>(bk) * nb[1] + bj) * nb[0] + bi];
-              m = std::max(m, v);
-            }
+        const auto [bj0, bj1] = of(j, nb[1]);
+        for (int i = lo[0]; i <= hi[0]; ++i)
+        {
+          const float v = vol.at(i - offset[0], j - offset[1], k - offset[2]);
+          const auto [bi0, bi1] = of(i, nb[0]);
+          for (int bk = bk0; bk <= bk1; ++bk)
+            for (int bj = bj0; bj <= bj1; ++bj)
+              for (int bi = bi0; bi <= bi1; ++bi)
+              {
+                float& m = blockMax[(static_cast<size_t>(bk) * nb[1] + bj) * nb[0] + bi];
+                m = std::max(m, v);
+              }
+        }
       }
     }
   }
+};
+} // namespace
+
+SilhouetteModel::SilhouetteModel(const Volume& vol)
+{
+  const Blocks blocks(vol.dims());
+  std::vector<float> blockMax(blocks.count(), -1e30f);
+  const auto& d = vol.dims();
+  blocks.maxima(vol, { 0, 0, 0 }, { d[0] - 1, d[1] - 1, d[2] - 1 }, { 0, 0, 0 }, blockMax);
+  build(d, vol.origin(), vol.spacing(), blockMax);
+}
+
+SilhouetteModel::SilhouetteModel(const DifferentiableRenderer& renderer)
+{
+  const VolumeBrick* brick = renderer.brick();
+  if (!brick)
+  {
+    *this = SilhouetteModel(renderer.caster().volume());
+    return;
+  }
+  // each piece the blocks over the points it owns; the largest over the pieces
+  const Blocks blocks(brick->wholeDims);
+  std::vector<float> blockMax(blocks.count(), -1e30f);
+  if (!brick->ownsNothing())
+    blocks.maxima(
+      renderer.caster().volume(), brick->ownedMin, brick->ownedMax, brick->offset, blockMax);
+  const PieceExchange& exchange = *renderer.exchange();
+  std::vector<float> all(blockMax.size() * static_cast<size_t>(exchange.pieces()));
+  exchange.allGather(blockMax.data(), static_cast<std::int64_t>(blockMax.size()), all.data());
+  for (int p = 0; p < exchange.pieces(); ++p)
+    for (size_t b = 0; b < blockMax.size(); ++b)
+      blockMax[b] = std::max(blockMax[b], all[static_cast<size_t>(p) * blockMax.size() + b]);
+  build(brick->wholeDims, brick->wholeOrigin, brick->spacing, blockMax);
+}
+
+void SilhouetteModel::build(const std::array<int, 3>& d, const std::array<double, 3>& o,
+  const std::array<double, 3>& s, const std::vector<float>& blockMax)
+{
+  const Blocks blocks(d);
+  const int bs = blocks.bs;
+  const int* nb = blocks.nb;
   // levels: thresholds at which these fractions of the blocks are occupied
   std::vector<float> sorted = blockMax;
   std::sort(sorted.begin(), sorted.end());
@@ -62,8 +118,6 @@ SilhouetteModel::SilhouetteModel(const Volume& vol)
     if (t > sorted.front() && (thresholds.empty() || t > thresholds.back()))
       thresholds.push_back(t);
   }
-  const auto& o = vol.origin();
-  const auto& s = vol.spacing();
   Eigen::Vector3d half;
   for (int k = 0; k < 3; ++k)
     half[k] = 0.5 * bs * std::abs(s[k]);

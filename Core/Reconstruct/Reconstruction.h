@@ -163,4 +163,14 @@ TransferFunctionFile resultTransferFunction(
 Image renderResult(const RayCaster& caster, const ReconstructionResult& result, const View& view,
   const RenderOptions& options = {});
 
+/// renderResult over a differentiable renderer: its ray caster's render for a whole volume; for
+/// a piece of one, the pieces' forward pass composited (collective: every piece calls it with
+/// the same arguments and gets the whole's image; no empty-space skipping, the same image
+/// within ~1e-6).
+Image renderResult(const DifferentiableRenderer& renderer, const ReconstructionResult& result,
+  const View& view, const RenderOptions& options = {});
+/// The same for a 1D table as it is (RayCaster::render of the table).
+Image renderTable(const DifferentiableRenderer& renderer, const TransferTable1D& table,
+  const View& view, const RenderOptions& options = {});
+
 } // namespace ddg

@@ -607,6 +607,31 @@ std::array<double, 2> DifferentiableRendererT<S>::dataRange() const
 }
 
 template <typename S>
+std::array<double, 6> DifferentiableRendererT<S>::bounds() const
+{
+  return In->Brick ? In->Brick->wholeBounds(In->Brick->spacing) : In->Caster->volume().bounds();
+}
+
+template <typename S>
+double DifferentiableRendererT<S>::defaultSampleDistance() const
+{
+  return In->Brick ? ddg::defaultSampleDistance(In->Brick->spacing, In->Brick->wholeDims)
+                   : In->Caster->defaultSampleDistance();
+}
+
+template <typename S>
+const VolumeBrick* DifferentiableRendererT<S>::brick() const
+{
+  return In->Brick ? &*In->Brick : nullptr;
+}
+
+template <typename S>
+const PieceExchange* DifferentiableRendererT<S>::exchange() const
+{
+  return In->Exchange.get();
+}
+
+template <typename S>
 std::array<double, 2> DifferentiableRendererT<S>::gradientRange() const
 {
   if (!In->Brick)

@@ -108,6 +108,13 @@ public:
   const RayCaster& caster() const;
   /// The data range tables are laid over (the whole's for a piece).
   std::array<double, 2> dataRange() const;
+  /// The (whole) volume's bounds (xmin, xmax, ymin, ...) and ParaView's sample distance for it.
+  std::array<double, 6> bounds() const;
+  double defaultSampleDistance() const;
+  /// The piece this renderer renders (null for a whole volume) and how it exchanges with the
+  /// other pieces (null for a whole volume).
+  const VolumeBrick* brick() const;
+  const PieceExchange* exchange() const;
   /// The gradient-magnitude range of 2D tables (Volume::gradientMagnitudeRange; a piece's
   /// brick.wholeGradientRange, ddg::Error when it was not agreed).
   std::array<double, 2> gradientRange() const;

@@ -235,15 +235,7 @@ double RayCaster::textureScale(ScalarType type)
 
 double RayCaster::defaultSampleDistance() const
 {
-  const auto& s = In->Vol.spacing();
-  const auto& d = In->WholeDims;
-  double dist = (s[0] + s[1] + s[2]) / 6.0;
-  const double n = std::pow(static_cast<double>(d[0] - 1) * (d[1] - 1) * (d[2] - 1), 0.333);
-  if (n < 100.0)
-  {
-    dist *= 0.01 + 0.99 * n / 100.0;
-  }
-  return dist;
+  return ddg::defaultSampleDistance(In->Vol.spacing(), In->WholeDims);
 }
 
 double RayCaster::defaultOpacityUnitDistance() const

@@ -105,8 +105,7 @@ public:
   /// The data range transfer functions are mapped over: the volume's, or the whole's for a piece.
   const std::array<double, 2>& dataRange() const;
 
-  /// ParaView's sample distance: mean spacing / 2, times 0.01 + 0.99 n / 100 when
-  /// n = ((nx-1)(ny-1)(nz-1))^0.333 < 100.
+  /// ParaView's sample distance for the (whole) volume (ddg::defaultSampleDistance, View.h).
   double defaultSampleDistance() const;
   /// ParaView's default Scalar Opacity Unit Distance: |bounds diagonal| / cbrt(cell count).
   double defaultOpacityUnitDistance() const;

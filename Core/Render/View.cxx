@@ -304,10 +304,25 @@ std::array<double, 3> View::backgroundAt(int row) const
 
 View defaultView(const Volume& volume, int width, int height)
 {
+  return defaultView(volume.bounds(), width, height);
+}
+
+double defaultSampleDistance(const std::array<double, 3>& s, const std::array<int, 3>& d)
+{
+  double dist = (s[0] + s[1] + s[2]) / 6.0;
+  const double n = std::pow(static_cast<double>(d[0] - 1) * (d[1] - 1) * (d[2] - 1), 0.333);
+  if (n < 100.0)
+  {
+    dist *= 0.01 + 0.99 * n / 100.0;
+  }
+  return dist;
+}
+
+View defaultView(const std::array<double, 6>& b, int width, int height)
+{
   View v;
   v.width = width;
   v.height = height;
-  const auto b = volume.bounds();
   const Eigen::Vector3d center(0.5 * (b[0] + b[1]), 0.5 * (b[2] + b[3]), 0.5 * (b[4] + b[5]));
   const Eigen::Vector3d extent(b[1] - b[0], b[3] - b[2], b[5] - b[4]);
   double radius = 0.5 * extent.norm();

@@ -97,6 +97,12 @@ void writeView(const View& view, const std::string& path);
 /// The camera ParaView's "Reset Camera" gives when looking down -z with +y up at a volume
 /// (vtkRenderer::ResetCamera: distance = radius / sin(view_angle / 2), radius = half diagonal).
 View defaultView(const Volume& volume, int width = 512, int height = 512);
+/// The same for a volume's bounds (xmin, xmax, ymin, ...): a whole volume split into pieces.
+View defaultView(const std::array<double, 6>& bounds, int width, int height);
+
+/// ParaView's sample distance for a volume of `dims` points at `spacing`: mean spacing / 2, times
+/// 0.01 + 0.99 n / 100 when n = ((nx-1)(ny-1)(nz-1))^0.333 < 100.
+double defaultSampleDistance(const std::array<double, 3>& spacing, const std::array<int, 3>& dims);
 
 /// Orthonormal camera frame and projection of a View, to generate one ray per pixel centre.
 /// Pixel (x, y) has x to the right and y DOWN from the top row (image order); ParaView's

@@ -76,6 +76,8 @@ void VolumeBrick::validate(const Volume& piece, bool gradients) const
         << "gradients (Shade, 2D transfer functions) need one ghost point beside the owned points "
         << ownedMin[a] << ".." << ownedMax[a] << " but the piece holds " << offset[a] << ".."
         << offset[a] + d[a] - 1 << " (mismatched ghost levels)";
+    else if (std::abs(piece.spacing()[a] - spacing[a]) > 1e-9 * std::abs(spacing[a]))
+      msg << "its spacing is " << piece.spacing()[a] << ", the whole volume's " << spacing[a];
     else
     {
       const double expected = wholeOrigin[a] + offset[a] * piece.spacing()[a];

@@ -26,6 +26,7 @@ struct VolumeBrick
 {
   std::array<int, 3> wholeDims{ 0, 0, 0 };      ///< points of the whole volume per axis
   std::array<double, 3> wholeOrigin{ 0, 0, 0 }; ///< world position of the whole's point 0
+  std::array<double, 3> spacing{ 1, 1, 1 };     ///< the whole's spacing (every piece's)
   std::array<int, 3> offset{ 0, 0, 0 };         ///< whole index of the piece's point 0
   std::array<int, 3> ownedMin{ 0, 0, 0 };       ///< first owned point plane per axis
   std::array<int, 3> ownedMax{ 0, 0, 0 };       ///< last owned point plane per axis
@@ -40,7 +41,7 @@ struct VolumeBrick
   std::int64_t ownedCells() const;
   /// The piece's points cover its owned cells, and with `gradients` the ghost points beside them
   /// (one level, except at the whole's faces); the piece lies inside the whole and shares its
-  /// spacing and origin. Throws ddg::Error saying which axis and what is missing.
+  /// spacing (`spacing`) and origin. Throws ddg::Error saying which axis and what is missing.
   void validate(const Volume& piece, bool gradients) const;
   /// The whole's bounds (xmin, xmax, ymin, ...), from wholeOrigin, spacing and wholeDims.
   std::array<double, 6> wholeBounds(const std::array<double, 3>& spacing) const;

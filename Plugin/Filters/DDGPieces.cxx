@@ -33,6 +33,7 @@ VolumeBrick brickOf(vtkImageData* image, const int wholeExtent[6])
     b.wholeDims[a] = wholeExtent[2 * a + 1] - wholeExtent[2 * a] + 1;
     b.wholeOrigin[a] = origin[a] + wholeExtent[2 * a] * spacing[a];
     b.offset[a] = extent[2 * a] - wholeExtent[2 * a];
+    b.spacing[a] = spacing[a];
   }
   const bool empty = !image || image->GetNumberOfPoints() == 0 || extent[1] < extent[0] ||
     extent[3] < extent[2] || extent[5] < extent[4];
@@ -109,6 +110,22 @@ RankVolume RankVolume::gather(const RankGroup& ranks, vtkImageData* piece, vtkDa
     });
   ranks.allMin(&range[0], 1);
   ranks.allMax(&range[1], 1);
+  // the whole's origin and spacing as the ranks with cells have them (an empty piece's image
+  // may not say)
+  double geometry[6];
+  for (int a = 0; a < 3; ++a)
+  {
+    const bool owns = !out.brick.ownsNothing();
+    geometry[a] = owns ? out.brick.wholeOrigin[a] : -std::numeric_limits<double>::infinity();
+    geometry[3 + a] = owns ? out.brick.spacing[a] : -std::numeric_limits<double>::infinity();
+  }
+  ranks.allMax(geometry, 6);
+  for (int a = 0; a < 3; ++a)
+    if (std::isfinite(geometry[a]) && std::isfinite(geometry[3 + a]))
+    {
+      out.brick.wholeOrigin[a] = geometry[a];
+      out.brick.spacing[a] = geometry[3 + a];
+    }
   if (gradientRange)
     ranks.allMax(&gradientMax, 1);
   ranks.allSum(&nonFinite, 1);

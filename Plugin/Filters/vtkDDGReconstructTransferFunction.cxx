@@ -35,6 +35,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <optional>
 
 vtkStandardNewMacro(vtkDDGReconstructTransferFunction);
 
@@ -200,7 +202,7 @@ int vtkDDGReconstructTransferFunction::FillOutputPortInformation(int port, vtkIn
 
 int vtkDDGReconstructTransferFunction::PieceGhostLevels()
 {
-  return this->MatchPicture || this->CarryLook ? -1 : 1;
+  return this->CarryLook ? -1 : 1;
 }
 
 namespace
@@ -413,13 +415,64 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   this->Preview = nullptr;
-  const ddg::Image picture = pictureOf(this->TargetImageData, this->TargetImageFile);
-  const ddg::Volume volume = ddg::toCoreVolume(input, array);
-  const ddg::DifferentiableRenderer renderer(volume);
+  // under MPI every rank matches in step over its own piece (Core's match over pieces); the
+  // first rank reads the picture and the view (the others may not see its paths) and writes
+  const ddg::RankGroup* ranks = this->Ranks();
+  const bool first = !ranks || ranks->rank() == 0;
+  ddg::Image picture;
+  std::optional<ddg::View> givenView;
+  const bool viewGiven = !this->ViewJSON.empty() || !this->ViewFile.empty();
+  auto read = [&]
+  {
+    picture = pictureOf(this->TargetImageData, this->TargetImageFile);
+    if (viewGiven)
+      givenView = ddg::filterView(this->ViewJSON, this->ViewFile);
+  };
+  std::optional<ddg::RankVolume> pieces;
+  std::optional<ddg::Volume> volume;
+  std::unique_ptr<ddg::DifferentiableRenderer> renderer;
+  if (ranks)
+  {
+    std::string viewText;
+    std::vector<float> size(3, 0.0f);
+    ranks->step(
+      [&]
+      {
+        if (!first)
+          return;
+        read();
+        viewText = givenView ? ddg::viewToJson(*givenView) : std::string();
+        size = { static_cast<float>(picture.width), static_cast<float>(picture.height),
+          static_cast<float>(picture.channels) };
+      });
+    viewText = ranks->broadcast(viewText);
+    ranks->broadcast(size);
+    ranks->broadcast(picture.pixels);
+    ranks->step(
+      [&]
+      {
+        picture.width = static_cast<int>(size[0]);
+        picture.height = static_cast<int>(size[1]);
+        picture.channels = static_cast<int>(size[2]);
+        if (viewGiven)
+          givenView = ddg::parseView(viewText, "the first rank's view");
+      });
+    pieces.emplace(
+      ddg::RankVolume::gather(*ranks, input, array, this->InputWholeExtent(), true, this->TwoD));
+    if (first && pieces->nonFiniteCount > 0)
+      vtkWarningMacro(<< pieces->nonFiniteCount
+                      << " NaN/infinite voxels are rendered as their piece's minimum value");
+    renderer = ddg::differentiableOnRanks(*ranks, *pieces);
+  }
+  else
+  {
+    read();
+    volume.emplace(ddg::toCoreVolume(input, array));
+    renderer = std::make_unique<ddg::DifferentiableRenderer>(*volume);
+  }
 
   ddg::MatchOptions opt;
-  if (!this->ViewJSON.empty() || !this->ViewFile.empty())
-    opt.view = ddg::filterView(this->ViewJSON, this->ViewFile);
+  opt.view = givenView;
   opt.refineGivenView = this->EstimateCamera;
   if (this->OpacityUnitDistance > 0)
     opt.opacityUnitDistance = this->OpacityUnitDistance;
@@ -431,7 +484,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   {
     opt.background =
       std::array<double, 3>{ this->Background[0], this->Background[1], this->Background[2] };
-    if (picture.channels == 3)
+    if (picture.channels == 3 && first)
     {
       const auto bg = ddg::targetBackground(picture, ddg::View(), opt.background);
       if (!bg.warning.empty())
@@ -451,7 +504,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
     if (this->TwoD)
       throw ddg::Error("InitialTransferFunction is a 1D preset: it cannot start a 2D match");
     initialTF = ddg::parsePreset(this->InitialTransferFunction, "InitialTransferFunction");
-    const auto range = volume.range();
+    const auto range = renderer->dataRange();
     rec.initial1D = ddg::bakeTable(*initialTF, range[0], range[1], this->Bins);
   }
 
@@ -468,59 +521,101 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   catch (const ddg::Error&)
   {
   }
-  const auto result = ddg::matchPicture(renderer, picture, opt,
-    [this, &previewView](const std::string& stage, double fraction, const ddg::Image* preview)
-    {
-      if (preview && !preview->empty())
+  ddg::MatchResult result;
+  auto match = [&]
+  {
+    result = ddg::matchPicture(*renderer, picture, opt,
+      [&](const std::string& stage, double fraction, const ddg::Image* preview)
       {
-        auto image = vtkSmartPointer<vtkImageData>::New();
-        addImageArray(image, overBackground(*preview, previewView), "Image", 3);
-        this->Preview = image;
-      }
-      this->SetProgressText(stage.c_str());
-      this->UpdateProgress(std::clamp(fraction, 0.0, 1.0));
-      return !this->GetAbortExecute();
-    });
+        if (preview && !preview->empty() && first)
+        {
+          auto image = vtkSmartPointer<vtkImageData>::New();
+          addImageArray(image, overBackground(*preview, previewView), "Image", 3);
+          this->Preview = image;
+        }
+        this->SetProgressText(stage.c_str());
+        this->UpdateProgress(std::clamp(fraction, 0.0, 1.0));
+        // cancelled when any rank is asked to stop
+        double stop = this->GetAbortExecute() ? 1.0 : 0.0;
+        if (ranks)
+          ranks->allMax(&stop, 1);
+        return stop == 0.0;
+      });
+  };
+  if (ranks)
+    ranks->step(match);
+  else
+    match();
   this->SetProgressText(nullptr);
 
-  // port 0: the TF, the camera, the background, the figures
+  // port 0 (the first rank's): the TF, the camera, the background, the figures
   vtkTable* output = vtkTable::GetData(outputVector, 0);
-  const std::string json = writeTable(output, result.tf, &renderer.caster(), result.view,
-    presetName(input, array, "match", this->OutputFile));
-  vtkFieldData* fd = output->GetFieldData();
-  addString(fd, "View", ddg::viewToJson(result.view));
-  addNumbers(fd, "CameraEstimated", { result.cameraEstimated ? 1.0 : 0.0 });
-  addNumbers(fd, "LightingEstimated", { result.lightingEstimated ? 1.0 : 0.0 }); // View's lighting
-  addNumbers(fd, "Overlap", { result.overlap });
-  addNumbers(fd, "FitPSNR", { result.fitPSNR });
-  const auto& bg = result.background;
-  addNumbers(fd, "Background",
-    { bg.bottom[0], bg.bottom[1], bg.bottom[2], bg.top[0], bg.top[1], bg.top[2] });
-  addNumbers(fd, "GradientBackground", { bg.gradient ? 1.0 : 0.0 });
-  addNumbers(fd, "Orbit", { result.orbit[0], result.orbit[1], result.orbit[2] });
-  addNumbers(fd, "Zoom", { result.zoom });
-  addNumbers(fd, "Pan", { result.pan[0], result.pan[1] });
-  addNumbers(fd, "Timings",
-    { result.backgroundSeconds, result.cameraSeconds, result.fitSeconds, result.seconds });
-  addFitFigures(fd, result.tf);
+  std::string json;
+  auto describe = [&]
+  {
+    if (!first)
+      return;
+    json = writeTable(output, result.tf, !ranks || pieces->piece ? &renderer->caster() : nullptr,
+      result.view, presetName(input, array, "match", this->OutputFile));
+    vtkFieldData* fd = output->GetFieldData();
+    addString(fd, "View", ddg::viewToJson(result.view));
+    addNumbers(fd, "CameraEstimated", { result.cameraEstimated ? 1.0 : 0.0 });
+    addNumbers(fd, "LightingEstimated", { result.lightingEstimated ? 1.0 : 0.0 });
+    addNumbers(fd, "Overlap", { result.overlap });
+    addNumbers(fd, "FitPSNR", { result.fitPSNR });
+    const auto& bg = result.background;
+    addNumbers(fd, "Background",
+      { bg.bottom[0], bg.bottom[1], bg.bottom[2], bg.top[0], bg.top[1], bg.top[2] });
+    addNumbers(fd, "GradientBackground", { bg.gradient ? 1.0 : 0.0 });
+    addNumbers(fd, "Orbit", { result.orbit[0], result.orbit[1], result.orbit[2] });
+    addNumbers(fd, "Zoom", { result.zoom });
+    addNumbers(fd, "Pan", { result.pan[0], result.pan[1] });
+    addNumbers(fd, "Timings",
+      { result.backgroundSeconds, result.cameraSeconds, result.fitSeconds, result.seconds });
+    addFitFigures(fd, result.tf);
+  };
+  if (ranks)
+  {
+    ranks->step(describe);
+    json = ranks->broadcast(json);
+  }
+  else
+    describe();
 
-  // before / after at the found view, and port 1: the render and the masks
+  // before / after at the found view, and port 1: the render and the masks. The TFs as they are
+  // applied: the presets (ParaView's table of their nodes); 2D: the table. Under MPI the ranks
+  // render their pieces, the first composites.
+  auto render = [&](const ddg::TransferFunctionFile& tf)
+  {
+    return ranks ? ddg::renderOnRanks(*ranks, *pieces, tf, result.view, {}, {})
+                 : renderer->caster().render(tf, result.view);
+  };
+  ddg::TransferFunctionFile applied;
+  applied.is2D = result.tf.twoD;
+  if (applied.is2D)
+    applied.tf2D.table = result.tf.table2D;
+  else
+    applied.tf1D = ddg::parsePreset(json);
+  const ddg::Image afterRGBA = render(applied);
+  ddg::Image beforeRGBA;
+  if (initialTF && !result.tf.twoD)
+  {
+    ddg::TransferFunctionFile initial;
+    initial.tf1D = *initialTF;
+    beforeRGBA = render(initial);
+  }
+  if (!first)
+    return;
   // the part of the picture matched (inside a letterbox): the view and the masks are its size
   const ddg::Image rgbPicture = cropped(ddg::toChannels(picture, 3), result.crop);
+  vtkFieldData* fd = output->GetFieldData();
   addNumbers(fd, "Crop",
     { static_cast<double>(result.crop[0]), static_cast<double>(result.crop[1]),
       static_cast<double>(result.crop[2]), static_cast<double>(result.crop[3]) });
-  const ddg::RayCaster& caster = renderer.caster();
-  // the TFs as they are applied: the presets (ParaView's table of their nodes); 2D: the table
-  const ddg::Image after = overBackground(result.tf.twoD
-      ? caster.render(result.tf.table2D, result.view)
-      : caster.render(caster.paraviewTable(ddg::parsePreset(json)), result.view),
-    result.view);
+  const ddg::Image after = overBackground(afterRGBA, result.view);
   double before = std::numeric_limits<double>::quiet_NaN();
-  if (initialTF && !result.tf.twoD)
-    before = ddg::psnr(
-      overBackground(caster.render(caster.paraviewTable(*initialTF), result.view), result.view),
-      rgbPicture, result.masks.overlay);
+  if (!beforeRGBA.empty())
+    before = ddg::psnr(overBackground(beforeRGBA, result.view), rgbPicture, result.masks.overlay);
   addNumbers(fd, "PicturePSNR", { before, ddg::psnr(after, rgbPicture, result.masks.overlay) });
   vtkImageData* masks = vtkImageData::GetData(outputVector, 1);
   addImageArray(masks, after, "Image", 3);

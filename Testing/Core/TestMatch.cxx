@@ -5,7 +5,9 @@
 #include "Reconstruct/Match.h"
 
 #include "Common/Error.h"
+#include "Image/ImageMetrics.h"
 #include "Render/RayCaster.h"
+#include "VolumePieces.h"
 
 #include <gtest/gtest.h>
 
@@ -221,6 +223,89 @@ TEST(Match, FindsTheCameraAndKeepsEmptySpaceClear)
   EXPECT_NEAR(m.background.bottom[0], 82 / 255.0, kLevel);
   // no haze: the air (value 0) is transparent in the found TF
   EXPECT_LT(m.tf.table1D.rgba[3], 1e-3);
+}
+
+// The match over pieces of the volume (ParaView's ranks; here threads exchanging through a
+// ThreadBoard) takes the whole's steps: every piece finds the whole's camera and TF (rays run to
+// their end, so that the pieces' composite equals the whole's up to float rounding), and all
+// pieces the same numbers.
+TEST(Match, PiecesMatchAsTheWholeVolume)
+{
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "three matches are too slow under the sanitizers (the pieces' parts of the "
+                  "match: MatchEmission.PiecesSeeTheWholeVolume)";
+#endif
+  const Volume vol = blobVolume();
+  const DifferentiableRenderer renderer(vol);
+  TransferFunction1D tf;
+  tf.color = { { 0, 0.2, 0.4, 0.9 }, { 120, 0.9, 0.5, 0.2 }, { 255, 1, 1, 0.8 } };
+  tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.3 }, { 200, 0.9 }, { 255, 0.9 } };
+  View truth = cameraMove(defaultView(vol, 120, 96), -50, 25, -8, 1.1, { -0.02, 0.03 });
+  truth.background = { 0.1, 0.1, 0.15 };
+  const Image picture = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(tf), truth), truth.background);
+  MatchOptions opt;
+  opt.reconstruction.iterations = 120;
+  opt.reconstruction.render.terminationOpacity = 1.0;
+  opt.reconstruction.render.threads = 1;
+  opt.reconstruction.snapshotEvery = 40; // previews rendered over the pieces too
+  opt.lighting = Lighting{};
+  int previews = 0;
+  const auto whole = matchPicture(renderer, picture, opt,
+    [&](const std::string&, double, const Image* preview)
+    {
+      previews += preview != nullptr;
+      return true;
+    });
+  EXPECT_GT(previews, 0);
+  const auto& d = vol.dims();
+  for (int n : { 2, 3 })
+  {
+    std::vector<ddg::testing::Box> boxes;
+    ddg::testing::bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, n, boxes);
+    ddg::testing::ThreadBoard board(n);
+    std::vector<MatchResult> each(static_cast<size_t>(n));
+    std::vector<Image> lastPreview(static_cast<size_t>(n));
+    const auto errors = ddg::testing::runPieces(n,
+      [&](int p)
+      {
+        auto [piece, brick] = ddg::testing::pieceOf(vol, boxes[static_cast<size_t>(p)], 1);
+        const DifferentiableRenderer r(
+          piece, brick, std::make_shared<ddg::testing::ThreadExchange>(board, p));
+        each[static_cast<size_t>(p)] = matchPicture(r, picture, opt,
+          [&](const std::string&, double, const Image* preview)
+          {
+            if (preview)
+              lastPreview[static_cast<size_t>(p)] = *preview;
+            return true;
+          });
+      });
+    for (const auto& e : errors)
+      if (e)
+        std::rethrow_exception(e);
+    for (int p = 0; p < n; ++p)
+    {
+      const MatchResult& m = each[static_cast<size_t>(p)];
+      for (int a = 0; a < 3; ++a)
+        EXPECT_NEAR(m.orbit[a], whole.orbit[a], 0.5) << n << " pieces, piece " << p;
+      EXPECT_NEAR(m.zoom, whole.zoom, 0.01 * whole.zoom);
+      EXPECT_NEAR(m.fitPSNR, whole.fitPSNR, 0.3);
+      EXPECT_NEAR(m.overlap, whole.overlap, 0.02);
+      // the found TF looks as the whole's: rendered at the whole's camera and from the side
+      for (double azimuth : { 0.0, 120.0 })
+      {
+        View v = cameraMove(whole.view, azimuth, 0, 0, 1, { 0, 0 });
+        const double agree = psnr(
+          renderResult(renderer.caster(), m.tf, v), renderResult(renderer.caster(), whole.tf, v));
+        std::printf("%d pieces, azimuth %.0f: %.2f dB\n", n, azimuth, agree);
+        EXPECT_GT(agree, 30.0) << n << " pieces, azimuth " << azimuth;
+      }
+      // the same numbers on every piece (the whole's composite and gradients on each)
+      EXPECT_EQ(m.tf.table1D.rgba, each[0].tf.table1D.rgba);
+      EXPECT_EQ(m.orbit, each[0].orbit);
+      EXPECT_FALSE(lastPreview[static_cast<size_t>(p)].empty());
+    }
+  }
 }
 
 TEST(Match, EstimatesWhetherThePictureIsLit)

@@ -5,7 +5,9 @@
 // Testing/Reconstruction/TestMatch.cxx.
 #include "Reconstruct/MatchCamera.h"
 
+#include "Reconstruct/MatchParts.h"
 #include "Render/RayCaster.h"
+#include "VolumePieces.h"
 
 #include <gtest/gtest.h>
 
@@ -84,6 +86,72 @@ TEST(MatchEmission, ResidualIsLeastAtThePicturesCamera)
          cameraMove(base, 40, 15, 100, 1.1, { 0.02, -0.01 }),
          cameraMove(base, -140, -15, 190, 1.1, { 0.02, -0.01 }) })
     EXPECT_LT(atTruth, 0.6 * screen.residual(other));
+}
+
+// Over pieces of the volume (ParaView's ranks; here threads exchanging through a ThreadBoard),
+// the camera search's two views of the volume are the whole's: the block silhouettes (the
+// pieces' block maxima combined) pixel for pixel, the colours' residual (the pieces' sample
+// counts summed) to rounding; on 2, 3 and 4 pieces.
+TEST(MatchEmission, PiecesSeeTheWholeVolume)
+{
+  const Volume vol = ballVolume();
+  const DifferentiableRenderer renderer(vol);
+  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
+  const View base = defaultView(vol, 64, 48);
+  const View truth = cameraMove(base, 40, 15, 10, 1.1, { 0.02, -0.01 });
+  const View other = cameraMove(base, -70, 30, 0, 0.9, { 0, 0 });
+  const Image picture = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg);
+  const Image diff = difference(picture, bg, 64, 48);
+  const SilhouetteModel wholeModel(renderer);
+  ASSERT_GT(wholeModel.levels(), 2);
+  const EmissionScreen wholeScreen(renderer, RenderOptions{}, diff, all(64, 48));
+  const double wholeResidual[2] = { wholeScreen.residual(truth), wholeScreen.residual(other) };
+  const auto& d = vol.dims();
+  for (int n : { 2, 3, 4 })
+  {
+    std::vector<ddg::testing::Box> boxes;
+    ddg::testing::bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, n, boxes);
+    ddg::testing::ThreadBoard board(n);
+    std::vector<std::vector<Mask>> masks(static_cast<size_t>(n));
+    std::vector<std::array<double, 2>> residuals(static_cast<size_t>(n));
+    const auto errors = ddg::testing::runPieces(n,
+      [&](int p)
+      {
+        auto [piece, brick] = ddg::testing::pieceOf(vol, boxes[static_cast<size_t>(p)], 1);
+        const DifferentiableRenderer r(
+          piece, brick, std::make_shared<ddg::testing::ThreadExchange>(board, p));
+        EXPECT_EQ(r.bounds(), renderer.bounds());
+        EXPECT_EQ(r.defaultSampleDistance(), renderer.defaultSampleDistance());
+        const SilhouetteModel model(r);
+        ASSERT_EQ(model.levels(), wholeModel.levels());
+        for (int level = 0; level < model.levels(); ++level)
+        {
+          EXPECT_EQ(model.threshold(level), wholeModel.threshold(level));
+          masks[static_cast<size_t>(p)].emplace_back();
+          model.render(truth, level, 64, 48, masks[static_cast<size_t>(p)].back());
+        }
+        const EmissionScreen screen(r, RenderOptions{}, diff, all(64, 48));
+        residuals[static_cast<size_t>(p)] = { screen.residual(truth), screen.residual(other) };
+      });
+    for (const auto& e : errors)
+      if (e)
+        std::rethrow_exception(e);
+    for (int p = 0; p < n; ++p)
+    {
+      for (int level = 0; level < wholeModel.levels(); ++level)
+      {
+        Mask want;
+        wholeModel.render(truth, level, 64, 48, want);
+        EXPECT_EQ(masks[static_cast<size_t>(p)][static_cast<size_t>(level)].m, want.m)
+          << n << " pieces, level " << level;
+      }
+      for (int v = 0; v < 2; ++v)
+        EXPECT_NEAR(residuals[static_cast<size_t>(p)][static_cast<size_t>(v)], wholeResidual[v],
+          1e-6 * wholeResidual[v])
+          << n << " pieces, view " << v;
+    }
+  }
 }
 
 TEST(MatchEmission, AlignmentsAgreeWithRendersAtTheMovedCameras)

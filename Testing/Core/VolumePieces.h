@@ -82,6 +82,7 @@ inline std::pair<Volume, VolumeBrick> pieceOf(const Volume& whole, const Box& ow
   VolumeBrick b;
   b.wholeDims = d;
   b.wholeOrigin = whole.origin();
+  b.spacing = whole.spacing();
   b.wholeRange = whole.range();
   std::array<int, 3> n{}, o{};
   for (int a = 0; a < 3; ++a)

@@ -1,9 +1,10 @@
 """The filters on ParaView's MPI engine: `mpiexec -np N pvserver` on a free loopback port.
 
-DDG Volume Render and DDG Reconstruct Transfer Function work on pieces: every rank reads and
-renders its own piece of the volume (one ghost level); the render's images are composited
-sort-last on the first rank, the reconstruction composites every step's rays on every rank and
-sums the ranks' TF gradients (DDGPieces.h). The other filters need the whole volume: piece 0
+DDG Volume Render and DDG Reconstruct Transfer Function (with Match Picture too) work on pieces:
+every rank reads and renders its own piece of the volume (one ghost level); the render's images
+are composited sort-last on the first rank, the reconstruction composites every step's rays on
+every rank and sums the ranks' TF gradients (DDGPieces.h), the match runs in step on every rank
+(Core's match over pieces). The other filters need the whole volume: piece 0
 (rank 0) asks for the whole extent and computes, the other ranks ask for nothing and output empty
 data (DDGFilterSupport.h). What is compared with what: the client fetches (servermanager.Fetch,
 which keeps the first rank's output) the outputs of DDG Volume Render (1D; Shade with specular; a
@@ -22,6 +23,10 @@ which keeps the first rank's output) the outputs of DDG Volume Render (1D; Shade
   rays at ParaView's opacity threshold on its own (the images of a step differ by up to 1/255
   where a ray crosses pieces), and gradients are summed in another order; after the
   reconstruction, the reader's points are still the pieces' (no rank read the whole volume);
+- match (Match Picture, the camera searched near the given view, 150 steps): the camera within
+  0.5 degree and 1 % in distance of the builtin's, the found TF's render (port 1) >= 30 dB from
+  the builtin's and within 1 dB of its PSNR against the picture (each piece stops its rays on its
+  own: the fits' steps differ a little, and the search follows them);
 - no rank logged an error.
 Then the query's preset is applied to the distributed volume and rendered by both ranks. The
 server must exit by itself (status 0) when the client leaves; on any failure its ranks are killed
@@ -35,6 +40,7 @@ one error and exits).
 Usage: pvpython TestMPIServer.py PLUGIN DATA [RANKS]
 """
 import json
+import math
 import os
 import signal
 import subprocess
@@ -163,6 +169,18 @@ def run_filters(remote):
             ViewFile=view_file,
         )
         filters.insert(0, ("query", query, [0, 1]))
+        # Match Picture over pieces: the camera searched near the given view (silhouettes,
+        # colours, short fits, polish), the fit, previews and the before/after renders
+        match = simple.DDGReconstructTransferFunction(
+            Input=tooth,
+            TargetImageFile=shot,
+            ViewFile=view_file,
+            MatchPicture=1,
+            EstimateCamera=1,
+            Iterations=150,
+            PreviewEvery=50,
+        )
+        filters.append(("match", match, [0, 1]))
     for name, proxy, ports in filters:
         start = time.time()
         proxy.UpdatePipeline()
@@ -240,7 +258,36 @@ def compare(mpi, builtin):
     assert (
         mpi["query:1"]["rows"] > 0 and "Preset" in mpi["query:1"]["field"]
     ), "query: no designs or preset"
+    compare_match(mpi, builtin)
     return compare_reconstructions(mpi, builtin)
+
+
+def image_psnr(a, b):
+    """PSNR (dB) between two 8-bit images."""
+    mse = float(((a.astype(float) - b.astype(float)) ** 2).mean()) / 255.0**2
+    return 100.0 if mse == 0 else 10.0 * math.log10(1.0 / mse)
+
+
+def compare_match(mpi, builtin):
+    """The match over pieces finds the builtin session's camera and look (MATCH_TOL): the camera
+    within half a degree and 1 % in distance, the found TF's render at the found view as the
+    builtin's (>= 30 dB between the two) and as close to the picture (within 1 dB)."""
+    m, b = mpi["match:0"]["field"], builtin["match:0"]["field"]
+    orbit = max(abs(x - y) for x, y in zip(m["Orbit"], b["Orbit"]))
+    zoom = abs(m["Zoom"][0] / b["Zoom"][0] - 1)
+    assert (
+        orbit <= 0.5 and zoom <= 0.01
+    ), f"match camera: orbit {orbit} deg, zoom {zoom} from builtin"
+    agree = image_psnr(mpi["match:1"]["points"]["Image"], builtin["match:1"]["points"]["Image"])
+    picture = abs(m["PicturePSNR"][1] - b["PicturePSNR"][1])
+    assert (
+        agree >= 30 and picture <= 1
+    ), f"match look: renders at {agree:.1f} dB PSNR of each other, {picture:.2f} dB"
+    print(
+        f"match: {ranks} ranks vs builtin, camera {orbit:.3f} deg / zoom {100 * zoom:.2f} % apart, "
+        f"renders at {agree:.1f} dB PSNR of each other, against the picture {m['PicturePSNR'][1]:.2f} vs "
+        f"{b['PicturePSNR'][1]:.2f} dB, fit {m['FitPSNR'][0]:.2f} vs {b['FitPSNR'][0]:.2f} dB"
+    )
 
 
 def compare_reconstructions(mpi, builtin):
