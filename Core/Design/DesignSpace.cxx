@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <numeric>
 #include <random>
 #include <sstream>
 
@@ -29,29 +30,27 @@ struct ValueHistogram
   double width = 0; // bin width in data values
 };
 
-ValueHistogram valueHistogram(const Volume& volume)
+double binWidth(const std::array<double, 2>& range)
 {
-  const auto range = volume.range();
   if (!(range[1] > range[0]))
   {
     throw Error("feature regions: the volume is constant");
   }
+  return (range[1] - range[0]) / kBins;
+}
+
+// From the counts per bin (valueCounts).
+ValueHistogram valueHistogram(const std::vector<double>& counts, const std::array<double, 2>& range)
+{
+  if (counts.size() != static_cast<size_t>(kBins))
+    throw Error("feature regions: a value histogram has " + std::to_string(kBins) + " bins");
   ValueHistogram vh;
-  vh.width = (range[1] - range[0]) / kBins;
+  vh.width = binWidth(range);
   auto& hist = vh.hist;
   auto& smooth = vh.smooth;
-  hist.assign(kBins, 0.0);
+  hist = counts;
   smooth.assign(kBins, 0.0);
-  volume.visit(
-    [&](const auto* p)
-    {
-      for (std::int64_t i = 0; i < volume.voxelCount(); ++i)
-      {
-        const float v = static_cast<float>(p[i]);
-        hist[std::clamp(static_cast<int>((v - range[0]) / vh.width), 0, kBins - 1)] += 1.0;
-      }
-    });
-  const double total = static_cast<double>(volume.voxelCount());
+  const double total = std::max(1.0, std::accumulate(hist.begin(), hist.end(), 0.0));
   // log scale (small features matter), noise floor, smoothing
   std::vector<double> h(kBins);
   for (int i = 0; i < kBins; ++i)
@@ -88,13 +87,53 @@ ValueHistogram valueHistogram(const Volume& volume)
   vh.start = start;
   return vh;
 }
+
+ValueHistogram valueHistogram(const Volume& volume)
+{
+  const auto& d = volume.dims();
+  return valueHistogram(
+    valueCounts(volume, volume.range(), { 0, 0, 0 }, { d[0] - 1, d[1] - 1, d[2] - 1 }),
+    volume.range());
+}
 } // namespace
+
+std::vector<double> valueCounts(const Volume& volume, const std::array<double, 2>& range,
+  const std::array<int, 3>& lo, const std::array<int, 3>& hi)
+{
+  const double width = binWidth(range);
+  std::vector<double> hist(kBins, 0.0);
+  const auto& d = volume.dims();
+  volume.visit(
+    [&](const auto* p)
+    {
+      for (int k = lo[2]; k <= hi[2]; ++k)
+        for (int j = lo[1]; j <= hi[1]; ++j)
+        {
+          const auto* row = p + (static_cast<std::int64_t>(k) * d[1] + j) * d[0];
+          for (int i = lo[0]; i <= hi[0]; ++i)
+          {
+            const float v = static_cast<float>(row[i]);
+            hist[std::clamp(static_cast<int>((v - range[0]) / width), 0, kBins - 1)] += 1.0;
+          }
+        }
+    });
+  return hist;
+}
 
 std::vector<FeatureRegion> findFeatureRegions(
   const Volume& volume, int maxRegions, const std::function<bool(FeatureRegion&)>& keep)
 {
-  const auto range = volume.range();
-  const ValueHistogram vh = valueHistogram(volume);
+  const auto& d = volume.dims();
+  return findFeatureRegions(
+    valueCounts(volume, volume.range(), { 0, 0, 0 }, { d[0] - 1, d[1] - 1, d[2] - 1 }),
+    volume.range(), maxRegions, keep);
+}
+
+std::vector<FeatureRegion> findFeatureRegions(const std::vector<double>& counts,
+  const std::array<double, 2>& range, int maxRegions,
+  const std::function<bool(FeatureRegion&)>& keep)
+{
+  const ValueHistogram vh = valueHistogram(counts, range);
   const auto& hist = vh.hist;
   const auto& smooth = vh.smooth;
   const int start = vh.start;
@@ -533,7 +572,13 @@ std::array<double, 3> hslToRgb(double h, double s, double l)
 
 View orbitView(const Volume& volume, int size, double azimuthDeg, double elevationDeg, double zoom)
 {
-  View v = defaultView(volume, size, size);
+  return orbitView(volume.bounds(), size, azimuthDeg, elevationDeg, zoom);
+}
+
+View orbitView(const std::array<double, 6>& bounds, int size, double azimuthDeg,
+  double elevationDeg, double zoom)
+{
+  View v = defaultView(bounds, size, size);
   const Eigen::Vector3d f = v.camera.focalPoint;
   const double dist = (v.camera.position - f).norm() / zoom;
   const double az = azimuthDeg * M_PI / 180, el = elevationDeg * M_PI / 180;

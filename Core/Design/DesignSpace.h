@@ -37,6 +37,16 @@ struct FeatureRegion
 /// region it keeps (see DesignCheck.h).
 std::vector<FeatureRegion> findFeatureRegions(
   const Volume& volume, int maxRegions = 4, const std::function<bool(FeatureRegion&)>& keep = {});
+/// The same from the 256-bin value histogram of a volume's points over its data range
+/// (valueCounts): a volume split into pieces sums its pieces' counts (each point counted once).
+std::vector<FeatureRegion> findFeatureRegions(const std::vector<double>& counts,
+  const std::array<double, 2>& range, int maxRegions = 4,
+  const std::function<bool(FeatureRegion&)>& keep = {});
+/// The points lo .. hi (inclusive, per axis) of `volume` counted in 256 bins over `range` (a
+/// whole volume's data range): findFeatureRegions' histogram. Throws ddg::Error for an empty
+/// range (a constant volume).
+std::vector<double> valueCounts(const Volume& volume, const std::array<double, 2>& range,
+  const std::array<int, 3>& lo, const std::array<int, 3>& hi);
 
 /// Finds up to maxRegions 2D feature regions in the value x gradient-magnitude histogram
 /// (128 x 64 bins over the value range x [0, 99.5th percentile of the gradient magnitude]),
@@ -116,6 +126,9 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
 /// The view the exemplars use: ParaView's reset camera (defaultView, size x size) orbited by
 /// azimuth (about +y) and elevation, +y up, zoomed (distance and parallel scale / zoom).
 View orbitView(const Volume& volume, int size, double azimuthDeg, double elevationDeg, double zoom);
+/// The same for a volume's bounds (a whole volume split into pieces).
+View orbitView(const std::array<double, 6>& bounds, int size, double azimuthDeg,
+  double elevationDeg, double zoom);
 
 /// The view a design space's designs are shown at when none is given: ParaView's reset camera
 /// (defaultView, size x size), lit as the design space's exemplars (spec.lighting with Shade on).

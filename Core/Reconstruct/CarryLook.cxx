@@ -4,7 +4,9 @@
 #include "Common/Error.h"
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/MatchParts.h"
+#include "Render/PieceExchange.h"
 #include "TransferFunction/ColorSpace.h"
+#include "Volume/VolumeBrick.h"
 
 #include <algorithm>
 #include <chrono>
@@ -113,14 +115,57 @@ RGB unmixed(const std::vector<std::array<double, 6>>& pixels)
   return m;
 }
 
+// The volume's feature regions (findFeatureRegions); over pieces of a volume, from the whole's
+// histogram: each piece counts the points it owns once (the shared planes of neighbours go to
+// the piece above, the whole's last plane to the piece that reaches it), the counts are summed.
+std::vector<FeatureRegion> featureRegionsOf(const DifferentiableRenderer& renderer, int maxRegions)
+{
+  const VolumeBrick* brick = renderer.brick();
+  if (!brick)
+    return findFeatureRegions(renderer.caster().volume(), maxRegions);
+  const auto range = renderer.dataRange();
+  std::vector<double> counts(256, 0.0);
+  if (!brick->ownsNothing())
+  {
+    std::array<int, 3> lo{}, hi{};
+    for (int a = 0; a < 3; ++a)
+    {
+      lo[a] = brick->ownedMin[a] - brick->offset[a];
+      hi[a] = (brick->ownedMax[a] == brick->wholeDims[a] - 1 ? brick->ownedMax[a]
+                                                             : brick->ownedMax[a] - 1) -
+        brick->offset[a];
+    }
+    counts = valueCounts(renderer.caster().volume(), range, lo, hi);
+  }
+  const PieceExchange& exchange = *renderer.exchange();
+  // counts exact in float up to 2^24 per bin: larger pieces send the high and low parts
+  std::vector<float> mine(2 * counts.size());
+  for (size_t b = 0; b < counts.size(); ++b)
+  {
+    const double high = std::floor(counts[b] / 16777216.0);
+    mine[2 * b] = static_cast<float>(high);
+    mine[2 * b + 1] = static_cast<float>(counts[b] - high * 16777216.0);
+  }
+  std::vector<float> all(mine.size() * static_cast<size_t>(exchange.pieces()));
+  exchange.allGather(mine.data(), static_cast<std::int64_t>(mine.size()), all.data());
+  std::fill(counts.begin(), counts.end(), 0.0);
+  for (int p = 0; p < exchange.pieces(); ++p)
+    for (size_t b = 0; b < counts.size(); ++b)
+    {
+      const float* q = all.data() + static_cast<size_t>(p) * mine.size() + 2 * b;
+      counts[b] += static_cast<double>(q[0]) * 16777216.0 + static_cast<double>(q[1]);
+    }
+  return findFeatureRegions(counts, range, maxRegions);
+}
+
 // How well the volume's silhouettes take the shape of the picture's object (its filled
 // silhouette): the best IoU over directions (elevation -60..60 by 30 x azimuth by 30, and the
 // poles) and occupancy levels, each silhouette aligned with the object by moments (centroid,
 // area, principal axis; 12 turns for round shapes): the camera search's first stage (Match.cxx).
-double shapeAgreementOf(const Volume& volume, const matchparts::Mask& object)
+double shapeAgreementOf(const DifferentiableRenderer& renderer, const matchparts::Mask& object)
 {
   using namespace matchparts;
-  const SilhouetteModel model(volume);
+  const SilhouetteModel model(renderer);
   if (model.levels() == 0)
     return 0;
   const double sf = 128.0 / std::max(object.w, object.h);
@@ -132,7 +177,7 @@ double shapeAgreementOf(const Volume& volume, const matchparts::Mask& object)
   const Moments mt = moments(target, &care);
   if (mt.area < 4)
     return 0;
-  const View start = defaultView(volume, sw, sh);
+  const View start = defaultView(renderer.bounds(), sw, sh);
   std::vector<std::pair<double, double>> directions{ { 0, 89 }, { 0, -89 } };
   for (double el = -60; el <= 60; el += 30)
     for (double az = -180; az < 180; az += 30)
@@ -256,8 +301,7 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   // 2. the picture's colours
   const auto colours = framedColours(picture, pv, overlay);
   // 3. regions by value, matched with colour clusters by lightness
-  const Volume& vol = renderer.caster().volume();
-  std::vector<FeatureRegion> regions = findFeatureRegions(vol, opt.maxRegions);
+  std::vector<FeatureRegion> regions = featureRegionsOf(renderer, opt.maxRegions);
   if (regions.empty())
     throw Error("the volume has no feature regions to carry a look onto");
   std::sort(regions.begin(), regions.end(),
@@ -288,7 +332,7 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   for (const auto& [azimuth, elevation] : opt.views)
   {
     ColourTarget t;
-    t.view = orbitView(vol, opt.size, azimuth, elevation, 1.0);
+    t.view = orbitView(renderer.bounds(), opt.size, azimuth, elevation, 1.0);
     result.background.applyTo(t.view);
     t.view.lighting = opt.lighting;
     t.colours = colours;
@@ -311,7 +355,7 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
     fit.primitives = static_cast<int>(start.size());
     fit.initialPrimitives = start;
   }
-  result.shapeAgreement = shapeAgreementOf(vol, objectMask);
+  result.shapeAgreement = shapeAgreementOf(renderer, objectMask);
   result.shapesAgree = result.shapeAgreement >= opt.minimumShapeAgreement;
   result.fit = reconstructFromColours(renderer, targets, fit, progress);
   result.distanceStart = distanceOf(renderer, targets, fit);
@@ -325,12 +369,12 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   return result;
 }
 
-View carriedLookView(
-  const Volume& volume, const CarryLookResult& result, const CarryLookOptions& options, int size)
+View carriedLookView(const std::array<double, 6>& bounds, const CarryLookResult& result,
+  const CarryLookOptions& options, int size)
 {
   if (options.views.empty())
     throw Error("carrying a look needs a view");
-  View view = orbitView(volume, size, options.views[0][0], options.views[0][1], 1.0);
+  View view = orbitView(bounds, size, options.views[0][0], options.views[0][1], 1.0);
   result.background.applyTo(view);
   view.lighting = options.lighting;
   return view;

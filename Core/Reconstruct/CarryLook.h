@@ -98,12 +98,15 @@ struct CarryLookResult
 /// (shapesAgree false) may show a volume of another kind; measured, volumes of other kinds with
 /// blob-like outlines (a tooth, a brain, an engine block, a head) agree at 0.82-0.90, so this
 /// flags a gross mismatch only.
+/// A renderer of a piece of a volume (ParaView's ranks): collective, every piece calls it with the
+/// same picture and options and gets the same result (the feature regions from the whole's
+/// histogram, the silhouettes and every fit over the pieces).
 CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& picture,
   const CarryLookOptions& options = {}, const ReconstructionProgress& progress = {});
 
 /// The view a carried look is shown at: the options' first view of the volume, `size` pixels
 /// square, over the picture's background (as estimated), lit as the options say.
-View carriedLookView(
-  const Volume& volume, const CarryLookResult& result, const CarryLookOptions& options, int size);
+View carriedLookView(const std::array<double, 6>& bounds, const CarryLookResult& result,
+  const CarryLookOptions& options, int size);
 
 } // namespace ddg

@@ -185,7 +185,8 @@ using MatchProgress =
 /// A renderer of a piece of a volume (ParaView's ranks; DifferentiableRenderer.h): collective,
 /// every piece calls it with the same picture and options and gets the same result (the block
 /// silhouettes and the colours' sample counts are combined over the pieces, every render and fit
-/// runs over them; Documentation/Rendering.md, "Matching a picture over pieces").
+/// runs over them; Documentation/Rendering.md, "Matching a picture and carrying a look over
+/// pieces").
 MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& picture,
   const MatchOptions& options = {}, const MatchProgress& progress = {});
 

@@ -255,7 +255,7 @@ int runCarry(const ReconstructArgs& a)
       }
       return true;
     });
-  const ddg::View view = ddg::carriedLookView(volume, r, opt, 512);
+  const ddg::View view = ddg::carriedLookView(volume.bounds(), r, opt, 512);
   writeResult(r.fit, a, "carried look", renderer.caster(), view);
   std::printf("background: (%.3f %.3f %.3f); overlays left out: %.1f %% of the foreground\n",
     r.background.bottom[0], r.background.bottom[1], r.background.bottom[2], 100 * r.overlayShare);

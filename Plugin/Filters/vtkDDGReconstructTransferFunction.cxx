@@ -202,7 +202,7 @@ int vtkDDGReconstructTransferFunction::FillOutputPortInformation(int port, vtkIn
 
 int vtkDDGReconstructTransferFunction::PieceGhostLevels()
 {
-  return this->CarryLook ? -1 : 1;
+  return 1; // every mode works on pieces
 }
 
 namespace
@@ -409,6 +409,71 @@ ddg::Image cropped(const ddg::Image& image, const std::array<int, 4>& crop)
   return out;
 }
 
+/// The volume a match or a carried look renders: the whole (builtin), or under MPI this rank's
+/// piece rendering with the other ranks' (DDGPieces.h).
+struct PictureVolume
+{
+  std::optional<ddg::RankVolume> pieces;
+  std::optional<ddg::Volume> volume;
+  std::unique_ptr<ddg::DifferentiableRenderer> renderer;
+
+  PictureVolume(const ddg::RankGroup* ranks, vtkImageData* input, vtkDataArray* array,
+    const int wholeExtent[6], bool twoD, vtkObject* warnTo)
+  {
+    if (!ranks)
+    {
+      volume.emplace(ddg::toCoreVolume(input, array));
+      renderer = std::make_unique<ddg::DifferentiableRenderer>(*volume);
+      return;
+    }
+    pieces.emplace(ddg::RankVolume::gather(*ranks, input, array, wholeExtent, true, twoD));
+    if (ranks->rank() == 0 && pieces->nonFiniteCount > 0)
+      vtkWarningWithObjectMacro(warnTo, << pieces->nonFiniteCount
+                                        << " NaN/infinite voxels are rendered as their piece's "
+                                           "minimum value");
+    renderer = ddg::differentiableOnRanks(*ranks, *pieces);
+  }
+
+  /// The caster that describes a 2D TF for ParaView: none on a first rank without cells.
+  const ddg::RayCaster* caster() const
+  {
+    return !pieces || pieces->piece ? &renderer->caster() : nullptr;
+  }
+
+  /// `tf` rendered at `view` as ParaView applies it (collective under MPI: the image on the
+  /// first rank, empty elsewhere).
+  ddg::Image render(
+    const ddg::RankGroup* ranks, const ddg::TransferFunctionFile& tf, const ddg::View& view) const
+  {
+    return ranks ? ddg::renderOnRanks(*ranks, *pieces, tf, view, {}, {})
+                 : renderer->caster().render(tf, view);
+  }
+};
+
+/// The first rank's image on every rank.
+void broadcastImage(const ddg::RankGroup& ranks, ddg::Image& image)
+{
+  std::vector<float> size = { static_cast<float>(image.width), static_cast<float>(image.height),
+    static_cast<float>(image.channels) };
+  ranks.broadcast(size);
+  ranks.broadcast(image.pixels);
+  image.width = static_cast<int>(size[0]);
+  image.height = static_cast<int>(size[1]);
+  image.channels = static_cast<int>(size[2]);
+}
+
+/// A match's or carried look's progress: cancelled when any rank is asked to stop.
+bool keepGoing(vtkAlgorithm* filter, const ddg::RankGroup* ranks)
+{
+  double stop = filter->GetAbortExecute() ? 1.0 : 0.0;
+  if (ranks)
+    ranks->allMax(&stop, 1);
+  return stop == 0.0;
+}
+
+void describeCarriedLook(
+  vtkFieldData* fd, const ddg::CarryLookResult& result, const ddg::View& view);
+
 } // namespace
 
 void vtkDDGReconstructTransferFunction::ExecuteMatch(
@@ -428,13 +493,9 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
     if (viewGiven)
       givenView = ddg::filterView(this->ViewJSON, this->ViewFile);
   };
-  std::optional<ddg::RankVolume> pieces;
-  std::optional<ddg::Volume> volume;
-  std::unique_ptr<ddg::DifferentiableRenderer> renderer;
   if (ranks)
   {
     std::string viewText;
-    std::vector<float> size(3, 0.0f);
     ranks->step(
       [&]
       {
@@ -442,34 +503,20 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
           return;
         read();
         viewText = givenView ? ddg::viewToJson(*givenView) : std::string();
-        size = { static_cast<float>(picture.width), static_cast<float>(picture.height),
-          static_cast<float>(picture.channels) };
       });
     viewText = ranks->broadcast(viewText);
-    ranks->broadcast(size);
-    ranks->broadcast(picture.pixels);
+    broadcastImage(*ranks, picture);
     ranks->step(
       [&]
       {
-        picture.width = static_cast<int>(size[0]);
-        picture.height = static_cast<int>(size[1]);
-        picture.channels = static_cast<int>(size[2]);
         if (viewGiven)
           givenView = ddg::parseView(viewText, "the first rank's view");
       });
-    pieces.emplace(
-      ddg::RankVolume::gather(*ranks, input, array, this->InputWholeExtent(), true, this->TwoD));
-    if (first && pieces->nonFiniteCount > 0)
-      vtkWarningMacro(<< pieces->nonFiniteCount
-                      << " NaN/infinite voxels are rendered as their piece's minimum value");
-    renderer = ddg::differentiableOnRanks(*ranks, *pieces);
   }
   else
-  {
     read();
-    volume.emplace(ddg::toCoreVolume(input, array));
-    renderer = std::make_unique<ddg::DifferentiableRenderer>(*volume);
-  }
+  const PictureVolume volume(ranks, input, array, this->InputWholeExtent(), this->TwoD, this);
+  const auto& renderer = volume.renderer;
 
   ddg::MatchOptions opt;
   opt.view = givenView;
@@ -535,11 +582,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
         }
         this->SetProgressText(stage.c_str());
         this->UpdateProgress(std::clamp(fraction, 0.0, 1.0));
-        // cancelled when any rank is asked to stop
-        double stop = this->GetAbortExecute() ? 1.0 : 0.0;
-        if (ranks)
-          ranks->allMax(&stop, 1);
-        return stop == 0.0;
+        return keepGoing(this, ranks);
       });
   };
   if (ranks)
@@ -555,8 +598,8 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   {
     if (!first)
       return;
-    json = writeTable(output, result.tf, !ranks || pieces->piece ? &renderer->caster() : nullptr,
-      result.view, presetName(input, array, "match", this->OutputFile));
+    json = writeTable(output, result.tf, volume.caster(), result.view,
+      presetName(input, array, "match", this->OutputFile));
     vtkFieldData* fd = output->GetFieldData();
     addString(fd, "View", ddg::viewToJson(result.view));
     addNumbers(fd, "CameraEstimated", { result.cameraEstimated ? 1.0 : 0.0 });
@@ -586,10 +629,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   // applied: the presets (ParaView's table of their nodes); 2D: the table. Under MPI the ranks
   // render their pieces, the first composites.
   auto render = [&](const ddg::TransferFunctionFile& tf)
-  {
-    return ranks ? ddg::renderOnRanks(*ranks, *pieces, tf, result.view, {}, {})
-                 : renderer->caster().render(tf, result.view);
-  };
+  { return volume.render(ranks, tf, result.view); };
   ddg::TransferFunctionFile applied;
   applied.is2D = result.tf.twoD;
   if (applied.is2D)
@@ -633,9 +673,25 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   this->Preview = nullptr;
-  const ddg::Image picture = pictureOf(this->TargetImageData, this->TargetImageFile);
-  const ddg::Volume volume = ddg::toCoreVolume(input, array);
-  const ddg::DifferentiableRenderer renderer(volume);
+  // under MPI every rank carries the look in step over its own piece; the first rank reads the
+  // picture (the others may not see its path) and writes
+  const ddg::RankGroup* ranks = this->Ranks();
+  const bool first = !ranks || ranks->rank() == 0;
+  ddg::Image picture;
+  if (ranks)
+  {
+    ranks->step(
+      [&]
+      {
+        if (first)
+          picture = pictureOf(this->TargetImageData, this->TargetImageFile);
+      });
+    broadcastImage(*ranks, picture);
+  }
+  else
+    picture = pictureOf(this->TargetImageData, this->TargetImageFile);
+  const PictureVolume volume(ranks, input, array, this->InputWholeExtent(), false, this);
+  const ddg::DifferentiableRenderer& renderer = *volume.renderer;
   ddg::CarryLookOptions opt;
   opt.fit.snapshotEvery = this->PreviewEvery;
   // the preview: the fit's TF at the first view, over the picture's background when it has one
@@ -647,31 +703,69 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   catch (const ddg::Error&)
   {
   }
-  const ddg::View previewView = ddg::carriedLookView(volume, previewOf, opt, 128);
-  const ddg::RayCaster& caster = renderer.caster();
+  const ddg::View previewView = ddg::carriedLookView(renderer.bounds(), previewOf, opt, 128);
   const int steps = opt.fit.iterations;
   this->SetProgressText("carry");
-  const auto result = ddg::carryLook(renderer, picture, opt,
-    [&](int step, double, const ddg::ReconstructionResult* snapshot)
-    {
-      if (snapshot)
+  ddg::CarryLookResult result;
+  auto carry = [&]
+  {
+    result = ddg::carryLook(renderer, picture, opt,
+      [&](int step, double, const ddg::ReconstructionResult* snapshot)
       {
-        auto image = vtkSmartPointer<vtkImageData>::New();
-        addImageArray(image,
-          overBackground(ddg::renderResult(caster, *snapshot, previewView, {}), previewView),
-          "Image", 3);
-        this->Preview = image;
-      }
-      this->UpdateProgress(std::clamp(static_cast<double>(step) / steps, 0.0, 1.0));
-      return !this->GetAbortExecute();
-    });
+        if (snapshot) // collective under MPI: every rank renders its part
+        {
+          const ddg::Image shot = ddg::renderResult(renderer, *snapshot, previewView, {});
+          if (first)
+          {
+            auto image = vtkSmartPointer<vtkImageData>::New();
+            addImageArray(image, overBackground(shot, previewView), "Image", 3);
+            this->Preview = image;
+          }
+        }
+        this->UpdateProgress(std::clamp(static_cast<double>(step) / steps, 0.0, 1.0));
+        return keepGoing(this, ranks);
+      });
+  };
+  if (ranks)
+    ranks->step(carry);
+  else
+    carry();
   this->SetProgressText(nullptr);
 
   vtkTable* output = vtkTable::GetData(outputVector, 0);
-  const ddg::View view = ddg::carriedLookView(volume, result, opt, 256);
-  const std::string json = writeTable(output, result.fit, &renderer.caster(), view,
-    presetName(input, array, "carried look", this->OutputFile));
-  vtkFieldData* fd = output->GetFieldData();
+  const ddg::View view = ddg::carriedLookView(renderer.bounds(), result, opt, 256);
+  std::string json;
+  auto describe = [&]
+  {
+    if (!first)
+      return;
+    json = writeTable(output, result.fit, volume.caster(), view,
+      presetName(input, array, "carried look", this->OutputFile));
+    describeCarriedLook(output->GetFieldData(), result, view);
+  };
+  if (ranks)
+  {
+    ranks->step(describe);
+    json = ranks->broadcast(json);
+  }
+  else
+    describe();
+  // port 1: the TF as it is applied (ParaView's table of the preset's nodes) at the view
+  ddg::TransferFunctionFile applied;
+  applied.tf1D = ddg::parsePreset(json);
+  const ddg::Image rendered = volume.render(ranks, applied, view);
+  if (!first)
+    return;
+  addImageArray(vtkImageData::GetData(outputVector, 1), overBackground(rendered, view), "Image", 3);
+  if (!this->OutputFile.empty())
+    ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
+}
+
+namespace
+{
+void describeCarriedLook(
+  vtkFieldData* fd, const ddg::CarryLookResult& result, const ddg::View& view)
+{
   addString(fd, "View", ddg::viewToJson(view));
   addBackground(fd, view);
   auto regions = vtkSmartPointer<vtkDoubleArray>::New();
@@ -689,10 +783,5 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   addNumbers(fd, "OverlayShare", { result.overlayShare });
   addNumbers(fd, "Timings", { result.seconds });
   addFitFigures(fd, result.fit);
-  // port 1: the TF as it is applied (ParaView's table of the preset's nodes) at the view
-  addImageArray(vtkImageData::GetData(outputVector, 1),
-    overBackground(caster.render(caster.paraviewTable(ddg::parsePreset(json)), view), view),
-    "Image", 3);
-  if (!this->OutputFile.empty())
-    ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
 }
+} // namespace

@@ -5,10 +5,12 @@
 #include "Reconstruct/CarryLook.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/ColorSpace.h"
+#include "VolumePieces.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 
 using namespace ddg;
@@ -157,33 +159,40 @@ TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
   EXPECT_THROW(reconstructFromColours(renderer, { target }, opt), Error);
 }
 
+namespace
+{
+// A core in a shell in air (n^3 points).
+Volume sphere(int n, float shell, float core, double coreRadius, ScalarType type)
+{
+  std::vector<float> v;
+  const double c = 0.5 * (n - 1);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const double r = std::hypot(i - c, j - c, k - c) / c;
+        v.push_back(r < coreRadius ? core : (r < 0.85 ? shell : 0.0f));
+      }
+  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, type);
+}
+
+// A faint orange shell, a white core, at the given values.
+TransferFunction1D look(double shell, double core)
+{
+  TransferFunction1D tf;
+  tf.color = { { 0, 0, 0, 0 }, { shell, 0.9, 0.5, 0.2 }, { core, 1, 1, 0.95 } };
+  tf.opacity = { { 0, 0 }, { 0.8 * shell, 0 }, { shell, 0.03 }, { 1.2 * shell, 0 },
+    { 0.9 * core, 0 }, { core, 0.9 } };
+  return tf;
+}
+} // namespace
+
 TEST(ColourDistribution, CarriesALookToAnotherVolume)
 {
   // A and B of the same kind: a core in a shell in air, at other values, sizes and proportions
-  auto sphere = [](int n, float shell, float core, double coreRadius, ScalarType type)
-  {
-    std::vector<float> v;
-    const double c = 0.5 * (n - 1);
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i)
-        {
-          const double r = std::hypot(i - c, j - c, k - c) / c;
-          v.push_back(r < coreRadius ? core : (r < 0.85 ? shell : 0.0f));
-        }
-    return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, type);
-  };
   const Volume a = sphere(24, 100, 200, 0.45, ScalarType::UInt8);
   const Volume b = sphere(28, 1000, 3000, 0.55, ScalarType::UInt16);
-  // A's look: a faint orange shell, a white core; B's reference: the same TF at B's values
-  auto look = [](double shell, double core)
-  {
-    TransferFunction1D tf;
-    tf.color = { { 0, 0, 0, 0 }, { shell, 0.9, 0.5, 0.2 }, { core, 1, 1, 0.95 } };
-    tf.opacity = { { 0, 0 }, { 0.8 * shell, 0 }, { shell, 0.03 }, { 1.2 * shell, 0 },
-      { 0.9 * core, 0 }, { core, 0.9 } };
-    return tf;
-  };
+  // A's look; B's reference: the same TF at B's values
   const DifferentiableRenderer ra(a), rb(b);
   View shotView = orbitView(a, 64, 200, -10, 1.1);
   shotView.width = 80; // a landscape picture, another camera than the fit's views
@@ -266,4 +275,59 @@ TEST(ColourDistribution, CarriesALookToAnotherVolume)
   const auto other = carryLook(rb, rodShot, opt);
   EXPECT_LT(other.shapeAgreement, 0.6) << "a rod's picture agrees with a sphere";
   EXPECT_FALSE(other.shapesAgree);
+}
+
+// Carrying a look over pieces of the volume (ParaView's ranks; here threads exchanging through a
+// ThreadBoard): the pieces find the whole's feature regions (the histogram's counts summed, each
+// point counted once) and shape agreement exactly, and a look that renders as the whole's.
+TEST(ColourDistribution, CarriesALookOverPieces)
+{
+  const Volume a = sphere(24, 100, 200, 0.45, ScalarType::UInt8);
+  const Volume b = sphere(28, 1000, 3000, 0.55, ScalarType::UInt16);
+  const DifferentiableRenderer ra(a), rb(b);
+  View shotView = orbitView(a, 64, 200, -10, 1.1);
+  shotView.background = { 0.32, 0.34, 0.43 };
+  const Image shot = compositeOverBackground(
+    ra.caster().render(ra.caster().paraviewTable(look(100, 200)), shotView), shotView.background);
+  CarryLookOptions opt;
+  opt.size = 40;
+  opt.fit.iterations = 60;
+  opt.fit.render.terminationOpacity = 1.0; // the pieces' composite is the whole's
+  const auto whole = carryLook(rb, shot, opt);
+  const auto& d = b.dims();
+  for (int n : { 2, 3 })
+  {
+    std::vector<ddg::testing::Box> boxes;
+    ddg::testing::bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, n, boxes);
+    ddg::testing::ThreadBoard board(n);
+    std::vector<CarryLookResult> each(static_cast<size_t>(n));
+    const auto errors = ddg::testing::runPieces(n,
+      [&](int p)
+      {
+        auto [piece, brick] = ddg::testing::pieceOf(b, boxes[static_cast<size_t>(p)], 1);
+        const DifferentiableRenderer r(
+          piece, brick, std::make_shared<ddg::testing::ThreadExchange>(board, p));
+        each[static_cast<size_t>(p)] = carryLook(r, shot, opt);
+      });
+    for (const auto& e : errors)
+      if (e)
+        std::rethrow_exception(e);
+    View check = orbitView(b, 64, 90, 40, 1.0);
+    for (const auto& r : each)
+    {
+      ASSERT_EQ(r.regions.size(), whole.regions.size());
+      for (size_t k = 0; k < r.regions.size(); ++k)
+      {
+        EXPECT_EQ(r.regions[k].region.lo, whole.regions[k].region.lo);
+        EXPECT_EQ(r.regions[k].region.hi, whole.regions[k].region.hi);
+        EXPECT_EQ(r.regions[k].region.mass, whole.regions[k].region.mass);
+      }
+      EXPECT_EQ(r.shapeAgreement, whole.shapeAgreement);
+      const double db =
+        psnr(renderResult(rb.caster(), r.fit, check), renderResult(rb.caster(), whole.fit, check));
+      std::printf("%d pieces: the carried look at PSNR %.1f dB against one process's\n", n, db);
+      EXPECT_GT(db, 30.0) << n << " pieces";
+      EXPECT_EQ(r.fit.table1D.rgba, each[0].fit.table1D.rgba); // the same on every piece
+    }
+  }
 }

@@ -269,9 +269,10 @@ def image_psnr(a, b):
 
 
 def compare_match(mpi, builtin):
-    """The match over pieces finds the builtin session's camera and look (MATCH_TOL): the camera
-    within half a degree and 1 % in distance, the found TF's render at the found view as the
-    builtin's (>= 30 dB between the two) and as close to the picture (within 1 dB)."""
+    """The match over pieces finds the builtin session's camera and look: the camera within half a
+    degree and 1 % in distance, the found TF's render at the found view as the builtin's (>= 30 dB
+    between the two) and as close to the picture (within 1 dB). (Carry Look over pieces, 70 s
+    here, is checked over threads: Core.ColourDistribution.CarriesALookOverPieces.)"""
     m, b = mpi["match:0"]["field"], builtin["match:0"]["field"]
     orbit = max(abs(x - y) for x, y in zip(m["Orbit"], b["Orbit"]))
     zoom = abs(m["Zoom"][0] / b["Zoom"][0] - 1)
