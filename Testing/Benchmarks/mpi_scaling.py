@@ -12,7 +12,9 @@ the plugin loaded on the server, then on the volume read by XMLImageDataReader:
                 first update (the reader reads the pieces, the ranks agree on them, render);
   render        the same filter at another camera (the pieces kept: the render alone);
   reconstruct   DDG Reconstruct Transfer Function from a `ddg render` of the volume at the view
-                (target), --iterations steps of 2048 rays.
+                (target), --iterations steps of 2048 rays;
+  match         DDG Reconstruct Transfer Function with Match Picture on the same target, the camera
+                searched near its view (EstimateCamera), --match-iterations steps.
 With one rank the filters compute as one process (no pieces: ParaView's pipeline asks for the
 whole volume); with more, every rank renders its own piece (one ghost level) and the images or
 the reconstruction's rays are composited sort-last (Documentation/Rendering.md).
@@ -143,6 +145,15 @@ def run(ranks, args, vti, tf, view_text, moved_text, target_png):
             ViewJSON=view_text,
             Iterations=args.iterations,
         )
+        # Match Picture over the pieces: the camera searched near the view (EstimateCamera)
+        match = simple.DDGReconstructTransferFunction(
+            Input=reader,
+            TargetImageFile=target_png,
+            ViewJSON=view_text,
+            MatchPicture=1,
+            EstimateCamera=1,
+            Iterations=args.match_iterations,
+        )
 
         def stage(name, proxy, change=None):
             before = {}
@@ -168,10 +179,11 @@ def run(ranks, args, vti, tf, view_text, moved_text, target_png):
         stage("read+render", render)
         stage("render", render, lambda: setattr(render, "ViewJSON", moved_text))
         stage("reconstruct", rec)
+        stage("match", match)
         extent = reader.GetDataInformation().DataInformation.GetExtent()
         boxes = split_boxes(extent, ranks)
         result["piece_points"] = [piece_points(extent, box, 1 if ranks > 1 else 0) for box in boxes]
-        del reader, render, rec
+        del reader, render, rec, match
         simple.Disconnect()
         simple.Connect()
         server.process.wait(timeout=60)
@@ -189,15 +201,21 @@ def markdown(results, cores, voxels):
         f"{voxels / 2**20:.0f} MB), 800 x 640 render, reconstruction {results[0]['iterations']} "
         f"steps of 2048 rays; {cores} cores. Written by Testing/Benchmarks/mpi_scaling.py.",
         "",
-        "| ranks | read+render s | render s | reconstruct s | speed-up (render, reconstruct) |",
-        "|---|---|---|---|---|",
+        f"Match Picture: the render as the picture, the camera searched near its view, "
+        f"{results[0]['match_iterations']} steps.",
+        "",
+        "| ranks | read+render s | render s | reconstruct s | match s | speed-up (render, "
+        "reconstruct, match) |",
+        "|---|---|---|---|---|---|",
     ]
     for r in results:
         st = r["stages"]
         lines.append(
             f"| {r['ranks']} | {st['read+render']['seconds']:.2f} | {st['render']['seconds']:.2f} "
-            f"| {st['reconstruct']['seconds']:.2f} | {base['render'] / st['render']['seconds']:.2f}, "
-            f"{base['reconstruct'] / st['reconstruct']['seconds']:.2f} |"
+            f"| {st['reconstruct']['seconds']:.2f} | {st['match']['seconds']:.1f} "
+            f"| {base['render'] / st['render']['seconds']:.2f}, "
+            f"{base['reconstruct'] / st['reconstruct']['seconds']:.2f}, "
+            f"{base['match'] / st['match']['seconds']:.2f} |"
         )
     lines += [
         "",
@@ -205,18 +223,19 @@ def markdown(results, cores, voxels):
         "and the peak resident set size above the stage's start (MB; bytes per piece point).",
         "",
         "| ranks | rank | piece points | process MB | read+render MB (B/pt) | render MB | "
-        "reconstruct MB (B/pt) |",
-        "|---|---|---|---|---|---|---|",
+        "reconstruct MB (B/pt) | match MB (B/pt) |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         st = r["stages"]
         for k in range(r["ranks"]):
             pts = r["piece_points"][k]
             rr, re_ = st["read+render"]["peak_above_mb"][k], st["reconstruct"]["peak_above_mb"][k]
+            ma = st["match"]["peak_above_mb"][k]
             lines.append(
                 f"| {r['ranks']} | {k} | {pts / 1e6:.1f} M | {r['process_mb'][k]:.0f} | "
                 f"{rr:.0f} ({rr * 2**20 / pts:.2f}) | {st['render']['peak_above_mb'][k]:.0f} | "
-                f"{re_:.0f} ({re_ * 2**20 / pts:.2f}) |"
+                f"{re_:.0f} ({re_ * 2**20 / pts:.2f}) | {ma:.0f} ({ma * 2**20 / pts:.2f}) |"
             )
     return "\n".join(lines) + "\n"
 
@@ -228,6 +247,7 @@ def main():
     parser.add_argument("--out", default=None, help="OUT.json and OUT.md (default: print only)")
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4])
     parser.add_argument("--iterations", type=int, default=30)
+    parser.add_argument("--match-iterations", type=int, default=100)
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     volume_json = make_volume(args.work, FACTORS)
@@ -241,6 +261,7 @@ def main():
     for ranks in args.ranks:
         r = run(ranks, args, vti, tf, view_text, moved_text, target_png)
         r["iterations"] = args.iterations
+        r["match_iterations"] = args.match_iterations
         results.append(r)
     md = markdown(results, os.cpu_count(), voxels)
     print(md)

@@ -294,24 +294,12 @@ TEST(ColourDistribution, CarriesALookOverPieces)
   opt.fit.iterations = 60;
   opt.fit.render.terminationOpacity = 1.0; // the pieces' composite is the whole's
   const auto whole = carryLook(rb, shot, opt);
-  const auto& d = b.dims();
   for (int n : { 2, 3 })
   {
-    std::vector<ddg::testing::Box> boxes;
-    ddg::testing::bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, n, boxes);
-    ddg::testing::ThreadBoard board(n);
     std::vector<CarryLookResult> each(static_cast<size_t>(n));
-    const auto errors = ddg::testing::runPieces(n,
-      [&](int p)
-      {
-        auto [piece, brick] = ddg::testing::pieceOf(b, boxes[static_cast<size_t>(p)], 1);
-        const DifferentiableRenderer r(
-          piece, brick, std::make_shared<ddg::testing::ThreadExchange>(board, p));
-        each[static_cast<size_t>(p)] = carryLook(r, shot, opt);
-      });
-    for (const auto& e : errors)
-      if (e)
-        std::rethrow_exception(e);
+    ddg::testing::onPieces(b, n,
+      [&](int p, const DifferentiableRenderer& r)
+      { each[static_cast<size_t>(p)] = carryLook(r, shot, opt); });
     View check = orbitView(b, 64, 90, 40, 1.0);
     for (const auto& r : each)
     {

@@ -258,20 +258,13 @@ TEST(Match, PiecesMatchAsTheWholeVolume)
       return true;
     });
   EXPECT_GT(previews, 0);
-  const auto& d = vol.dims();
   for (int n : { 2, 3 })
   {
-    std::vector<ddg::testing::Box> boxes;
-    ddg::testing::bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, n, boxes);
-    ddg::testing::ThreadBoard board(n);
     std::vector<MatchResult> each(static_cast<size_t>(n));
     std::vector<Image> lastPreview(static_cast<size_t>(n));
-    const auto errors = ddg::testing::runPieces(n,
-      [&](int p)
+    ddg::testing::onPieces(vol, n,
+      [&](int p, const DifferentiableRenderer& r)
       {
-        auto [piece, brick] = ddg::testing::pieceOf(vol, boxes[static_cast<size_t>(p)], 1);
-        const DifferentiableRenderer r(
-          piece, brick, std::make_shared<ddg::testing::ThreadExchange>(board, p));
         each[static_cast<size_t>(p)] = matchPicture(r, picture, opt,
           [&](const std::string&, double, const Image* preview)
           {
@@ -280,9 +273,6 @@ TEST(Match, PiecesMatchAsTheWholeVolume)
             return true;
           });
       });
-    for (const auto& e : errors)
-      if (e)
-        std::rethrow_exception(e);
     for (int p = 0; p < n; ++p)
     {
       const MatchResult& m = each[static_cast<size_t>(p)];

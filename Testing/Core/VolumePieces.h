@@ -2,6 +2,7 @@
 // pieces' exchange over threads (a PieceExchange without MPI).
 #pragma once
 
+#include "Render/DifferentiableRenderer.h"
 #include "Render/PieceExchange.h"
 #include "Render/View.h"
 #include "Volume/Volume.h"
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <condition_variable>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <utility>
@@ -190,6 +192,28 @@ inline std::vector<std::exception_ptr> runPieces(int n, const std::function<void
   for (auto& t : threads)
     t.join();
   return errors;
+}
+
+// Calls body(p, renderer) for the `n` pieces of `whole` as ParaView splits it (one ghost level),
+// each in its own thread with its DifferentiableRenderer over a ThreadExchange; rethrows a
+// piece's error (the first, in piece order).
+template <typename Body>
+void onPieces(const Volume& whole, int n, Body&& body)
+{
+  const auto& d = whole.dims();
+  std::vector<Box> boxes;
+  bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, n, boxes);
+  ThreadBoard board(n);
+  const auto errors = runPieces(n,
+    [&](int p)
+    {
+      auto [piece, brick] = pieceOf(whole, boxes[static_cast<size_t>(p)], 1);
+      const DifferentiableRenderer r(piece, brick, std::make_shared<ThreadExchange>(board, p));
+      body(p, r);
+    });
+  for (const auto& e : errors)
+    if (e)
+      std::rethrow_exception(e);
 }
 
 } // namespace testing
