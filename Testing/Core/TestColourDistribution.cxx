@@ -279,7 +279,8 @@ TEST(ColourDistribution, CarriesALookToAnotherVolume)
 
 // Carrying a look over pieces of the volume (ParaView's ranks; here threads exchanging through a
 // ThreadBoard): the pieces find the whole's feature regions (the histogram's counts summed, each
-// point counted once) and shape agreement exactly, and a look that renders as the whole's.
+// point counted once) and shape agreement exactly, and a look that renders as the whole's; on 2
+// and 3 pieces and an uneven split with a piece that owns no cell.
 TEST(ColourDistribution, CarriesALookOverPieces)
 {
   const Volume a = sphere(24, 100, 200, 0.45, ScalarType::UInt8);
@@ -294,10 +295,18 @@ TEST(ColourDistribution, CarriesALookOverPieces)
   opt.fit.iterations = 60;
   opt.fit.render.terminationOpacity = 1.0; // the pieces' composite is the whole's
   const auto whole = carryLook(rb, shot, opt);
-  for (int n : { 2, 3 })
+  const auto& d = b.dims();
+  for (int split : { 2, 3, 0 })
   {
+    std::vector<ddg::testing::Box> boxes = ddg::testing::unevenSplit(b); // 0: with an empty piece
+    if (split > 0)
+    {
+      boxes.clear();
+      ddg::testing::bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, split, boxes);
+    }
+    const int n = static_cast<int>(boxes.size());
     std::vector<CarryLookResult> each(static_cast<size_t>(n));
-    ddg::testing::onPieces(b, n,
+    ddg::testing::onPieces(b, boxes,
       [&](int p, const DifferentiableRenderer& r)
       { each[static_cast<size_t>(p)] = carryLook(r, shot, opt); });
     View check = orbitView(b, 64, 90, 40, 1.0);

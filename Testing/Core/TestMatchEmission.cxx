@@ -91,7 +91,8 @@ TEST(MatchEmission, ResidualIsLeastAtThePicturesCamera)
 // Over pieces of the volume (ParaView's ranks; here threads exchanging through a ThreadBoard),
 // the camera search's two views of the volume are the whole's: the block silhouettes (the
 // pieces' block maxima combined) pixel for pixel, the colours' residual (the pieces' sample
-// counts summed) to rounding; on 2, 3 and 4 pieces.
+// counts summed) to rounding; on 2, 3 and 4 pieces and an uneven split with a piece that owns no
+// cell.
 TEST(MatchEmission, PiecesSeeTheWholeVolume)
 {
   const Volume vol = ballVolume();
@@ -107,11 +108,19 @@ TEST(MatchEmission, PiecesSeeTheWholeVolume)
   ASSERT_GT(wholeModel.levels(), 2);
   const EmissionScreen wholeScreen(renderer, RenderOptions{}, diff, all(64, 48));
   const double wholeResidual[2] = { wholeScreen.residual(truth), wholeScreen.residual(other) };
-  for (int n : { 2, 3, 4 })
+  const auto& d = vol.dims();
+  for (const auto& split : { 2, 3, 4, 0 })
   {
+    std::vector<ddg::testing::Box> boxes = ddg::testing::unevenSplit(vol); // 0: with an empty piece
+    if (split > 0)
+    {
+      boxes.clear();
+      ddg::testing::bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, split, boxes);
+    }
+    const int n = static_cast<int>(boxes.size());
     std::vector<std::vector<Mask>> masks(static_cast<size_t>(n));
     std::vector<std::array<double, 2>> residuals(static_cast<size_t>(n));
-    ddg::testing::onPieces(vol, n,
+    ddg::testing::onPieces(vol, boxes,
       [&](int p, const DifferentiableRenderer& r)
       {
         EXPECT_EQ(r.bounds(), renderer.bounds());

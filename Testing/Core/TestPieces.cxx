@@ -30,6 +30,7 @@ using ddg::testing::pieceOf;
 using ddg::testing::runPieces;
 using ddg::testing::ThreadBoard;
 using ddg::testing::ThreadExchange;
+using ddg::testing::unevenSplit;
 
 namespace
 {
@@ -132,9 +133,7 @@ std::vector<std::vector<Box>> splitsOf(const Volume& vol)
     splits.emplace_back();
     bisect(whole, n, splits.back());
   }
-  // uneven, with a piece one plane thick (owns no cell)
-  splits.push_back({ { 0, 5, 0, d[1] - 1, 0, 20 }, { 5, d[0] - 1, 0, d[1] - 1, 0, 20 },
-    { 0, d[0] - 1, 0, d[1] - 1, 20, 20 }, { 0, d[0] - 1, 0, d[1] - 1, 20, d[2] - 1 } });
+  splits.push_back(unevenSplit(vol)); // with a piece one plane thick (owns no cell)
   return splits;
 }
 

@@ -194,15 +194,13 @@ inline std::vector<std::exception_ptr> runPieces(int n, const std::function<void
   return errors;
 }
 
-// Calls body(p, renderer) for the `n` pieces of `whole` as ParaView splits it (one ghost level),
-// each in its own thread with its DifferentiableRenderer over a ThreadExchange; rethrows a
-// piece's error (the first, in piece order).
+// Calls body(p, renderer) for the pieces of `whole` owning `boxes` (one ghost level), each in its
+// own thread with its DifferentiableRenderer over a ThreadExchange; rethrows a piece's error (the
+// first, in piece order).
 template <typename Body>
-void onPieces(const Volume& whole, int n, Body&& body)
+void onPieces(const Volume& whole, const std::vector<Box>& boxes, Body&& body)
 {
-  const auto& d = whole.dims();
-  std::vector<Box> boxes;
-  bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, n, boxes);
+  const int n = static_cast<int>(boxes.size());
   ThreadBoard board(n);
   const auto errors = runPieces(n,
     [&](int p)
@@ -214,6 +212,25 @@ void onPieces(const Volume& whole, int n, Body&& body)
   for (const auto& e : errors)
     if (e)
       std::rethrow_exception(e);
+}
+
+// The same for the `n` pieces ParaView splits `whole` into (bisect).
+template <typename Body>
+void onPieces(const Volume& whole, int n, Body&& body)
+{
+  const auto& d = whole.dims();
+  std::vector<Box> boxes;
+  bisect({ 0, d[0] - 1, 0, d[1] - 1, 0, d[2] - 1 }, n, boxes);
+  onPieces(whole, boxes, body);
+}
+
+// An uneven split of `whole` (at least 21 points along z, 6 along x) with a piece one plane
+// thick, which owns no cell.
+inline std::vector<Box> unevenSplit(const Volume& whole)
+{
+  const auto& d = whole.dims();
+  return { { 0, 5, 0, d[1] - 1, 0, 20 }, { 5, d[0] - 1, 0, d[1] - 1, 0, 20 },
+    { 0, d[0] - 1, 0, d[1] - 1, 20, 20 }, { 0, d[0] - 1, 0, d[1] - 1, 20, d[2] - 1 } };
 }
 
 } // namespace testing
