@@ -531,10 +531,10 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   {
     opt.background =
       std::array<double, 3>{ this->Background[0], this->Background[1], this->Background[2] };
-    if (picture.channels == 3 && first)
+    if (picture.channels == 3) // on every rank (an error stops all alike), said by the first
     {
       const auto bg = ddg::targetBackground(picture, ddg::View(), opt.background);
-      if (!bg.warning.empty())
+      if (!bg.warning.empty() && first)
         vtkWarningMacro(<< "Background: " << bg.warning << ".");
     }
   }
