@@ -207,6 +207,18 @@ int vtkDDGReconstructTransferFunction::PieceGhostLevels()
 
 namespace
 {
+/// The first rank's image on every rank.
+void broadcastImage(const ddg::RankGroup& ranks, ddg::Image& image)
+{
+  std::vector<float> size = { static_cast<float>(image.width), static_cast<float>(image.height),
+    static_cast<float>(image.channels) };
+  ranks.broadcast(size);
+  ranks.broadcast(image.pixels);
+  image.width = static_cast<int>(size[0]);
+  image.height = static_cast<int>(size[1]);
+  image.channels = static_cast<int>(size[2]);
+}
+
 /// The filter's target: the picture (base64 data or a file) at the view, over the background
 /// estimated from its border (the view's when they agree) or given.
 ddg::ReconstructionTarget targetOf(const std::string& data, const std::string& file,
@@ -291,7 +303,6 @@ void vtkDDGReconstructTransferFunction::ExecuteOnRanks(const ddg::RankGroup& ran
   // the target as the first rank reads it (the others may not see its paths), on every rank
   ddg::ReconstructionTarget target;
   std::string viewText;
-  std::vector<float> size(3, 0.0f);
   ranks.step(
     [&]
     {
@@ -300,20 +311,11 @@ void vtkDDGReconstructTransferFunction::ExecuteOnRanks(const ddg::RankGroup& ran
       target = targetOf(this->TargetImageData, this->TargetImageFile, this->ViewJSON,
         this->ViewFile, this->EstimateBackground, this->Background, this);
       viewText = ddg::viewToJson(target.view);
-      size = { static_cast<float>(target.image.width), static_cast<float>(target.image.height),
-        static_cast<float>(target.image.channels) };
     });
   viewText = ranks.broadcast(viewText);
-  ranks.broadcast(size);
-  ranks.broadcast(target.image.pixels);
+  broadcastImage(ranks, target.image);
   ranks.step(
-    [&]
-    {
-      target.view = ddg::parseView(viewText, "the first rank's view"); // the same on every rank
-      target.image.width = static_cast<int>(size[0]);
-      target.image.height = static_cast<int>(size[1]);
-      target.image.channels = static_cast<int>(size[2]);
-    });
+    [&] { target.view = ddg::parseView(viewText, "the first rank's view"); }); // same everywhere
 
   // this rank's piece, rendering with the others'
   const ddg::RankVolume pieces =
@@ -449,18 +451,6 @@ struct PictureVolume
                  : renderer->caster().render(tf, view);
   }
 };
-
-/// The first rank's image on every rank.
-void broadcastImage(const ddg::RankGroup& ranks, ddg::Image& image)
-{
-  std::vector<float> size = { static_cast<float>(image.width), static_cast<float>(image.height),
-    static_cast<float>(image.channels) };
-  ranks.broadcast(size);
-  ranks.broadcast(image.pixels);
-  image.width = static_cast<int>(size[0]);
-  image.height = static_cast<int>(size[1]);
-  image.channels = static_cast<int>(size[2]);
-}
 
 /// A match's or carried look's progress: cancelled when any rank is asked to stop.
 bool keepGoing(vtkAlgorithm* filter, const ddg::RankGroup* ranks)
