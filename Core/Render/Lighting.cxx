@@ -53,9 +53,16 @@ LightKit LightKit::paraview(const Lighting& lighting)
   kit.diffuse = static_cast<float>(lighting.diffuse);
   kit.specular = static_cast<float>(lighting.specular);
   kit.specularPower = static_cast<float>(lighting.specularPower);
+  int first = kPowerSteps + 1; // the first entry at or above kPowerFloor (rho^p grows with rho)
   for (int i = 0; i <= kPowerSteps; ++i)
-    kit.power[static_cast<size_t>(i)] =
-      static_cast<float>(std::pow(static_cast<double>(i) / kPowerSteps, lighting.specularPower));
+  {
+    const double v = std::pow(static_cast<double>(i) / kPowerSteps, lighting.specularPower);
+    if (v >= kPowerFloor && first > kPowerSteps)
+      first = i;
+    kit.power[static_cast<size_t>(i)] = i >= first ? static_cast<float>(v) : 0.0f;
+  }
+  // rho < (first - 1) / steps reads entries first - 2 and first - 1 at most: both 0
+  kit.powerCutoff = static_cast<float>(first - 1) / kPowerSteps;
   return kit;
 }
 

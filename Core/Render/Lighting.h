@@ -42,8 +42,13 @@ struct LightKit
   /// rho^specularPower at rho = i / kPowerSteps, interpolated linearly between entries (error
   /// below 1e-4 for powers up to ParaView's 100; std::pow per light and sample cost more than
   /// the rest of a lit sample).
+  /// Entries below 1e-6 are 0, and lanes with rho < powerCutoff read only such entries: a
+  /// batch whose lanes all lie below it skips the light's specular term (most do: highlights are
+  /// few), the same values.
   static constexpr int kPowerSteps = 4096;
+  static constexpr double kPowerFloor = 1e-6;
   std::array<float, kPowerSteps + 1> power{};
+  float powerCutoff = 0;
 
   /// ParaView's default light kit (vtkLightKit defaults, as the render view sets them).
   static LightKit paraview(const Lighting& lighting);
@@ -296,6 +301,11 @@ void lightSumsBatch(const LightKit& kit, int count, const S (&m)[3][K], const S 
     S sp[K]; // rho^power where light arrives (l > 0, rho > 0), else 0
     if constexpr (std::is_same_v<S, float>)
     {
+      int any = 0; // a lane that can read a non-zero entry
+      for (int l = 0; l < count; ++l)
+        any |= rho[l] >= kit.powerCutoff && la[l] > 0.0f ? 1 : 0;
+      if (!any)
+        continue;
       int entry[K];
       float frac[K], lo[K], hi[K];
       for (int l = 0; l < count; ++l)

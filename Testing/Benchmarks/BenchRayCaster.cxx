@@ -45,6 +45,14 @@ double median(std::vector<double> v)
 }
 
 template <typename F>
+double timeOnce(F&& f)
+{
+  const auto t0 = Clock::now();
+  f();
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+template <typename F>
 std::vector<double> timeRuns(int runs, F&& f)
 {
   f(); // warm-up
@@ -167,6 +175,15 @@ int main(int argc, char** argv)
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     litMs = timeRuns(runs, [&] { oursLit = caster.render(table, litView, opt, {}, &litStats); });
   }
+  // Shade on / off alternated run by run (a slow spell of the machine then hits both alike)
+  std::vector<double> pairRatio;
+  if (shade)
+    for (int r = 0; r < runs; ++r)
+    {
+      const double off = timeOnce([&] { caster.render(table, view, opt); });
+      const double on = timeOnce([&] { caster.render(table, litView, opt); });
+      pairRatio.push_back(on / off);
+    }
 
   // --- VTK fixed-point ray caster ----------------------------------------------------------------
   vtkNew<vtkColorTransferFunction> ctf;
@@ -281,6 +298,9 @@ int main(int argc, char** argv)
       tLit, static_cast<double>(litStats.samples), litStats.samples / (tLit * 1e3) / nThreads,
       firstLitMs);
     std::printf("Shade on / off, ddg, same samples  %.2fx\n", tLit / tOurs);
+    std::printf("Shade on / off, alternated runs    %.2fx  (median of %d pairs; %.2f-%.2fx)\n",
+      median(pairRatio), runs, *std::min_element(pairRatio.begin(), pairRatio.end()),
+      *std::max_element(pairRatio.begin(), pairRatio.end()));
   }
   std::printf(
     "VTK FixedPointVolumeRayCastMapper %8.1f ms  (window Render%s); mapper draw time %.1f ms\n",
