@@ -158,12 +158,12 @@ TEST(RayCaster, ShadeMatchesLitReference)
 }
 
 // The specular power from the light kit's table (float) against std::pow (double), per light sum:
-// within 1e-4 per light (5 lights, colours <= 0.75: 4e-4 in all) for ParaView's whole range of
-// powers, normals all round and positions on either side; where every lane's rho lies below the
-// table's cutoff the term is skipped, and there the table holds 0 (below 1e-6 of the light).
+// within 1e-4 per light (5 lights, colours <= 0.75: 4e-4 in all) over ParaView's range of powers
+// (0 to 100), normals all round and positions in front of the camera; where every lane's rho lies
+// below the table's cutoff the term is skipped, and there the table holds 0 (below 1e-6).
 TEST(RayCaster, SpecularPowerTableMatchesPow)
 {
-  for (double power : { 1.0, 7.5, 30.0, 100.0 })
+  for (double power : { 0.0, 1.0, 7.5, 30.0, 100.0 })
   {
     Lighting lighting;
     lighting.shade = true;
