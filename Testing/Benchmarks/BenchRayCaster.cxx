@@ -58,11 +58,7 @@ std::vector<double> timeRuns(int runs, F&& f)
   f(); // warm-up
   std::vector<double> ms;
   for (int i = 0; i < runs; ++i)
-  {
-    const auto t0 = Clock::now();
-    f();
-    ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-  }
+    ms.push_back(timeOnce(f));
   return ms;
 }
 } // namespace
@@ -159,31 +155,26 @@ int main(int argc, char** argv)
   ddg::RenderStats statsNoSkip;
   const auto oursNoSkipMs =
     timeRuns(runs, [&] { caster.render(table, view, noSkip, {}, &statsNoSkip); });
-  // Shade on: the first render also computes the per-point gradients (kept for the next ones)
+  // Shade on: the first lit render alone, then lit and unlit alternated run by run (a slow spell
+  // of the machine then hits both alike): the lit median, and the ratio of each pair
   ddg::View litView = view;
   litView.lighting = lighting;
   litView.lighting.shade = true;
   double firstLitMs = 0;
-  std::vector<double> litMs;
+  std::vector<double> litMs, pairRatio;
   ddg::RenderStats litStats;
   ddg::Image oursLit;
   if (shade)
   {
-    const auto t0 = std::chrono::steady_clock::now();
-    caster.render(table, litView, opt);
-    firstLitMs =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    litMs = timeRuns(runs, [&] { oursLit = caster.render(table, litView, opt, {}, &litStats); });
-  }
-  // Shade on / off alternated run by run (a slow spell of the machine then hits both alike)
-  std::vector<double> pairRatio;
-  if (shade)
+    firstLitMs = timeOnce([&] { caster.render(table, litView, opt); });
     for (int r = 0; r < runs; ++r)
     {
       const double off = timeOnce([&] { caster.render(table, view, opt); });
-      const double on = timeOnce([&] { caster.render(table, litView, opt); });
-      pairRatio.push_back(on / off);
+      litMs.push_back(
+        timeOnce([&] { oursLit = caster.render(table, litView, opt, {}, &litStats); }));
+      pairRatio.push_back(litMs.back() / off);
     }
+  }
 
   // --- VTK fixed-point ray caster ----------------------------------------------------------------
   vtkNew<vtkColorTransferFunction> ctf;
