@@ -237,6 +237,18 @@ QueryResult DesignGallery::query(const Image& image, const View& view, int neigh
   r.neighbours = Outline.nearest(r.latent.data(), neighbours);
   r.preview = render(r.latent, view);
   r.picturePSNR = framedPSNR(image, r.preview);
+  r.pictureLit = view.lighting.shade;
+  // a lit scene's preview against an unlit picture (or the other way) would score the lighting,
+  // not the design: the other lighting is rendered too and the better figure kept
+  View other = view;
+  other.lighting = Lighting{}; // ParaView's coefficients
+  other.lighting.shade = !view.lighting.shade;
+  const double otherPSNR = framedPSNR(image, render(r.latent, other));
+  if (otherPSNR > r.picturePSNR)
+  {
+    r.picturePSNR = otherPSNR;
+    r.pictureLit = other.lighting.shade;
+  }
   return r;
 }
 

@@ -39,9 +39,12 @@ struct QueryResult
   std::array<double, 2> position{};  ///< on the outline plane
   std::vector<Neighbour> neighbours; ///< nearest outline designs, nearest first
   Image preview;                     ///< neural render at the view (premultiplied RGBA)
-  /// The preview against the picture, both framed on their content (framedPSNR): how close the
-  /// query's design looks to the picture without knowing its camera (dB).
+  /// The design against the picture, both framed on their content (framedPSNR): how close the
+  /// query's design looks to the picture without knowing its camera (dB). Nor is the picture's
+  /// lighting known: the better of the design rendered unlit and lit (the view's coefficients
+  /// when its Shade is on, ParaView's defaults otherwise), the preview being the one at the view.
   double picturePSNR = 0;
+  bool pictureLit = false; ///< whether the figure is of the lit render
 };
 
 /// How often a query finds the design it shows (the retrieval check of the gallery).

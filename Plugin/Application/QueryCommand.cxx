@@ -53,6 +53,9 @@ int runQuery(const QueryArgs& a)
     std::printf("  neighbour %zu: design row %d (index %llu), latent distance %.4f\n", i + 1, n.row,
       static_cast<unsigned long long>(g.outline().latents().indices[n.row]), n.distance);
   }
+  std::printf("against the picture: %.2f dB (both framed on their content; the design %s, the "
+              "better of unlit and lit)\n",
+    r.picturePSNR, r.pictureLit ? "lit" : "unlit");
   if (!a.outInput.empty())
     ddg::writeImage(r.input, a.outInput);
   if (!a.history.empty())
@@ -82,8 +85,9 @@ ddg::cli::Command ddg::cli::addQueryCommand(CLI::App& app)
   auto* query = app.add_subcommand("query",
     "Query the design space with an image (paper 5.2): a screenshot of this volume, another "
     "volume or a figure; any size and aspect, RGB or RGBA, white or black background (framed "
-    "around its content, see README). Prints its outline position and nearest designs, writes "
-    "the model's render at the view and the explicit TF.");
+    "around its content, see README). Prints its outline position, nearest designs and PSNR "
+    "against the picture (both framed on their content; the better of the design unlit and lit), "
+    "writes the model's render at the view and the explicit TF.");
   query->add_option("--model", qa->model, "Model bundle directory (with outline.bin)")->required();
   query->add_option("--volume", qa->volume, "The bundle's volume")->required();
   query->add_option("--image", qa->image, "Query image")->required();

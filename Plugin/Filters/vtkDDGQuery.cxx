@@ -109,6 +109,10 @@ void vtkDDGQuery::Execute(
   picture->SetName("PicturePSNR");
   picture->InsertNextValue(r.picturePSNR);
   designs->GetFieldData()->AddArray(picture);
+  auto pictureLit = vtkSmartPointer<vtkIntArray>::New();
+  pictureLit->SetName("PictureLit");
+  pictureLit->InsertNextValue(r.pictureLit ? 1 : 0);
+  designs->GetFieldData()->AddArray(pictureLit);
   auto text = vtkSmartPointer<vtkStringArray>::New();
   text->SetName(tf.is2D ? "TransferFunction2D" : "Preset");
   text->InsertNextValue(

@@ -21,8 +21,10 @@
  * vtkDDGVolumeRender's output ("Image" RGB over the view's background, "RGBA").
  * Output port 1 ("Designs"): a vtkTable of the nearest outline designs ("Row", "DesignIndex",
  * "Distance"), its field data holding "Latent" (the query's latent), "Position" (its place on
- * the outline plane) and "Preset" (the design's explicit TF as a ParaView preset JSON string;
- * 2D models: "TransferFunction2D").
+ * the outline plane), "PicturePSNR" (the design against the picture, both framed on their
+ * content: the better of unlit and lit, the picture's lighting not being known), "PictureLit" (1
+ * when that figure is of the lit render) and "Preset" (the design's explicit TF as a ParaView
+ * preset JSON string; 2D models: "TransferFunction2D").
  *
  * The bundle and its outline are loaded once per ModelDirectory and input. Bad input (missing
  * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one

@@ -90,8 +90,9 @@ void pqDDGDesignGalleryDock::showDesign()
     steps[0].toObject().value("image").toString() == this->State->queryName() &&
     std::isfinite(this->State->queryPicturePSNR());
   const QString against = queryDesign
-    ? tr("\nAgainst the picture: %1 dB (framed alike; Match finds its camera)")
+    ? tr("\nAgainst the picture: %1 dB (framed alike, the design %2; Match finds its camera)")
         .arg(this->State->queryPicturePSNR(), 0, 'f', 1)
+        .arg(this->State->queryPictureLit() ? tr("lit") : tr("unlit"))
     : QString();
   this->Ui->info->setText(
     tr("Path: %1%2\nPreview vs. ray cast of its TF: %3 dB, SSIM %4")
@@ -101,7 +102,8 @@ void pqDDGDesignGalleryDock::showDesign()
   this->Ui->info->setToolTip(
     tr("Against the picture: the query's design against its picture, each cut to its content and "
        "compared at one size (PSNR; the picture's camera is not known, so a different viewpoint "
-       "lowers it; Match estimates the camera and fits the picture).\nPreview vs. ray cast: the "
+       "lowers it; nor is its lighting: the better of the design unlit and lit is shown; Match "
+       "estimates the camera and fits the picture).\nPreview vs. ray cast: the "
        "network's image of the design against ParaView's way of rendering its TF at this camera."));
   // colour clusters: what edits act on
   const int current = this->Ui->cluster->currentIndex();

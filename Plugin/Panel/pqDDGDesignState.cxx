@@ -340,6 +340,8 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     const QJsonArray against = ddgpanel::fieldNumbers(table, "PicturePSNR");
     this->QueryPSNR =
       against.isEmpty() ? std::numeric_limits<double>::quiet_NaN() : against[0].toDouble();
+    const QJsonArray lit = ddgpanel::fieldNumbers(table, "PictureLit");
+    this->QueryLit = !lit.isEmpty() && lit[0].toDouble() != 0;
     Q_EMIT this->queryDone();
   }
 }

@@ -211,6 +211,9 @@ public:
   /// The query's design against its picture, both framed on their content (Core's framedPSNR;
   /// NaN without a query): how close it looks without knowing the picture's camera.
   double queryPicturePSNR() const { return this->QueryPSNR; }
+  /// Whether that figure is of the design lit (the better of unlit and lit is taken: the
+  /// picture's lighting is not known).
+  bool queryPictureLit() const { return this->QueryLit; }
 
   // --- pins ----------------------------------------------------------------------------------
   /// Pins the current design (pinAdded).
@@ -284,6 +287,7 @@ private:
     QByteArray QueryPicture;
     QString QueryName;
     double QueryPSNR = 0;
+    bool QueryLit = false;
     bool Queried = false;
     QPointF QueryPosition;
     QVector<int> QueryNeighbours;
@@ -327,6 +331,7 @@ private:
   QString QueryName;
   bool Queried = false; ///< the query's position on the outline is known
   double QueryPSNR = std::numeric_limits<double>::quiet_NaN();
+  bool QueryLit = false;
   QPointF QueryPosition;
   QVector<int> QueryNeighbours;
   Match LastMatch;

@@ -80,6 +80,7 @@ void pqDDGDesignState::keepVolumeState()
   k.QueryPicture = this->QueryPicture;
   k.QueryName = this->QueryName;
   k.QueryPSNR = this->QueryPSNR;
+  k.QueryLit = this->QueryLit;
   k.Queried = this->Queried;
   k.QueryPosition = this->QueryPosition;
   k.QueryNeighbours = this->QueryNeighbours;
@@ -112,6 +113,7 @@ void pqDDGDesignState::restoreVolumeState(Kept& kept)
   this->QueryPicture = kept.QueryPicture;
   this->QueryName = kept.QueryName;
   this->QueryPSNR = kept.QueryPSNR;
+  this->QueryLit = kept.QueryLit;
   this->Queried = kept.Queried;
   this->QueryPosition = kept.QueryPosition;
   this->QueryNeighbours = kept.QueryNeighbours;

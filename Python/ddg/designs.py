@@ -143,6 +143,7 @@ class Design:
         self._history = history  # a vtkDDGDesignHistory: its steps are written by Core
         self.neighbours = list(neighbours or [])
         self.picture_psnr = None  # queries: against the picture (query())
+        self.picture_lit = None  # queries: whether that figure is of the design lit
         self._cache = {}
 
     @property
@@ -236,8 +237,10 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     """Queries the model's design space with an image (a file path or a numpy image): the
     analyzer's design, placed on the outline, with its ``neighbours`` nearest outline rows.
     ``view`` is where its preview is rendered and its explicit TF made (default: the active
-    view's camera). Returns a Design; its ``picture_psnr`` is its preview against the picture,
-    both framed on their content (dB: how close it looks without the picture's camera)."""
+    view's camera). Returns a Design; its ``picture_psnr`` is the design against the picture,
+    both framed on their content (dB: how close it looks without the picture's camera; the
+    picture's lighting not known either, the better of the design unlit and lit, which
+    ``picture_lit`` says)."""
     model, source = _model(model, source)
     v = view_json(view, source, 256)
     proxy = _proxy(
@@ -258,6 +261,7 @@ def query(image, source=None, view=None, model=None, neighbours=5):
         raise DDGError(history.GetError())
     design = Design(model, history, rows)
     design.picture_psnr = float(_field_numbers(table, "PicturePSNR")[0])
+    design.picture_lit = bool(_field_numbers(table, "PictureLit")[0])
     return design
 
 

@@ -10,6 +10,8 @@
 //    edit differs). Passes when >= 75 % of the designs move the right way (measured: see the
 //    printed fraction; random moves would give ~50 %).
 //  - Feature lock: a locked region's primitive is the lock's, whatever the latent.
+//  - Query against the picture: the figure is the better of the design unlit and lit, whatever
+//    the view's lighting (designs' own renders as pictures, unlit and lit).
 //  - Fidelity: a design's neural image (the decoder's ray cast) against ParaView's table of its
 //    exported preset: PSNR >= 35 dB (the preset's control points reproduce the design).
 // Usage: TestShippedGallery MODEL_DIR VOLUME
@@ -152,6 +154,48 @@ TEST(ShippedGallery, ExportedPresetReproducesTheDesign)
       f.psnr, f.ssim);
     EXPECT_GE(f.psnr, 35.0);
   }
+}
+
+// The query's figure against the picture does not depend on the lighting of the view it is
+// asked at (a lit scene queried with an unlit picture scored the lighting, not the design): it
+// is the better of the design unlit and lit, and says which. The pictures are designs' own
+// renders, unlit and lit with ParaView's coefficients. (Which lighting scores better is not an
+// estimate of the picture's: the query's design is near the picture's, not the same, and the
+// two figures are often within a decibel.)
+TEST(ShippedGallery, QueryAgainstThePictureTakesTheBetterLighting)
+{
+  auto& s = shipped();
+  const ddg::View unlit = ddg::defaultView(s.volume, 128, 128);
+  ddg::View lit = unlit;
+  lit.lighting.shade = true;
+  int litWins = 0;
+  for (int row : { 5, 12345, 40000 })
+  {
+    for (const bool pictureLit : { false, true })
+    {
+      const ddg::View& shown = pictureLit ? lit : unlit;
+      const ddg::Image picture = ddg::compositeOverBackground(
+        s.gallery.render(s.gallery.latent(row), shown), shown.background);
+      const auto atUnlit = s.gallery.query(picture, unlit, 0);
+      const auto atLit = s.gallery.query(picture, lit, 0);
+      // each preview is at its view's lighting; the figure is the better of the two
+      const double unlitOnly = ddg::framedPSNR(picture, atUnlit.preview);
+      const double litOnly = ddg::framedPSNR(picture, atLit.preview);
+      std::printf("design %d, picture %s: against the picture %.2f dB (design %s) at an unlit "
+                  "view, %.2f dB (design %s) at a lit one; the previews alone: unlit %.2f dB, lit "
+                  "%.2f dB\n",
+        row, pictureLit ? "lit" : "unlit", atUnlit.picturePSNR,
+        atUnlit.pictureLit ? "lit" : "unlit", atLit.picturePSNR, atLit.pictureLit ? "lit" : "unlit",
+        unlitOnly, litOnly);
+      EXPECT_NE(unlitOnly, litOnly); // the lighting shows in the previews
+      EXPECT_DOUBLE_EQ(atUnlit.picturePSNR, std::max(unlitOnly, litOnly));
+      EXPECT_DOUBLE_EQ(atLit.picturePSNR, atUnlit.picturePSNR);
+      EXPECT_EQ(atUnlit.pictureLit, litOnly > unlitOnly);
+      EXPECT_EQ(atLit.pictureLit, atUnlit.pictureLit);
+      litWins += atUnlit.pictureLit ? 1 : 0;
+    }
+  }
+  std::printf("the lit design scored better on %d of 6 pictures\n", litWins);
 }
 
 int main(int argc, char** argv)
