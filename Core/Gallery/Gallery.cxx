@@ -8,6 +8,7 @@
 #include "Design/DesignSpace.h"
 #include "Gallery/Export.h"
 #include "Image/ImageMetrics.h"
+#include "Reconstruct/CarryLook.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/TransferFunction2D.h"
 
@@ -232,6 +233,9 @@ QueryResult DesignGallery::query(const Image& image, const View& view, int neigh
     throw Error("the neighbour count must be >= 0");
   QueryResult r;
   r.input = prepareQueryImage(image, Model.config().imageSize);
+  // a chart is refused; a picture that cannot be read as a rendered volume gets a warning
+  r.warning =
+    checkQueryPicture(image.channels >= 3 ? image : toChannels(image, image.channels == 2 ? 4 : 3));
   r.latent = Model.analyze(r.input);
   r.position = Outline.project(r.latent.data());
   r.neighbours = Outline.nearest(r.latent.data(), neighbours);

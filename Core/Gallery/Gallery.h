@@ -45,6 +45,9 @@ struct QueryResult
   /// when its Shade is on, ParaView's defaults otherwise), the preview being the one at the view.
   double picturePSNR = 0;
   bool pictureLit = false; ///< whether the figure is of the lit render
+  /// Empty, or why the design is a guess: the picture cannot be read as a rendered volume (its
+  /// border has no one colour: a photograph, or the object cut by the frame; checkQueryPicture).
+  std::string warning;
 };
 
 /// How often a query finds the design it shows (the retrieval check of the gallery).
@@ -123,6 +126,9 @@ public:
   std::vector<float> analyzeImage(const Image& image) const;
 
   /// Analyzer -> latent -> place on the outline, nearest designs and a preview at `view`.
+  /// Throws ddg::Error for an unusable image (prepareQueryImage) or a picture of lines or text
+  /// (a chart: checkQueryPicture); a picture that cannot be read as a rendered volume (a
+  /// photograph) is answered with a warning.
   QueryResult query(const Image& image, const View& view, int neighbours = 5) const;
 
   /// The explicit TF of a latent as Gaussian primitives: the decoder's output. (The U-Net

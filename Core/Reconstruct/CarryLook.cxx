@@ -200,7 +200,8 @@ double shapeAgreementOf(const DifferentiableRenderer& renderer, const matchparts
 }
 
 // The share of the object's pixels deeper inside it than 2 % of its box's longer side: a
-// rendered volume is a solid shape (most of it survives), lines and text are not.
+// rendered volume is a solid shape (most of it survives), lines and text are not. An object under
+// 25 pixels on that side (where 2 % is under half a pixel) is too small to tell: 1.
 double solidShareOf(const matchparts::Mask& object)
 {
   using namespace matchparts;
@@ -215,8 +216,9 @@ double solidShareOf(const matchparts::Mask& object)
       }
   if (count == 0)
     return 0;
-  const int r =
-    std::max(1, static_cast<int>(std::lround(0.02 * std::max(x1 - x0 + 1, y1 - y0 + 1))));
+  const int r = static_cast<int>(std::lround(0.02 * std::max(x1 - x0 + 1, y1 - y0 + 1)));
+  if (r < 1)
+    return 1;
   Mask outside(object.w, object.h);
   for (size_t i = 0; i < object.m.size(); ++i)
     outside.m[i] = !object.m[i];
@@ -238,7 +240,78 @@ double distanceOf(const DifferentiableRenderer& renderer, const std::vector<Colo
   start.seed = 1;
   return reconstructFromColours(renderer, targets, start).loss.front();
 }
+std::string linesOrText(double solidShare)
+{
+  return "the picture shows lines or text, not a rendered volume (" +
+    std::to_string(static_cast<int>(std::lround(100 * solidShare))) + " % of its content is solid)";
+}
 } // namespace
+
+PictureObject readPictureObject(const Image& input)
+{
+  using namespace matchparts;
+  if (input.channels < 3 || input.width < 16 || input.height < 16)
+    throw Error("the picture must be RGB or RGBA and at least 16 x 16 pixels");
+  PictureObject r;
+  // RGB over black, inside its letterbox (its bands are not the picture's background); large
+  // pictures at 512 on the longer side (colours, not detail, count)
+  std::array<int, 4> crop{};
+  const Image inside = insideLetterbox(input, crop);
+  r.picture =
+    inside.channels == 4 ? compositeOverBackground(inside, { 0, 0, 0 }) : toChannels(inside, 3);
+  const int longer = std::max(r.picture.width, r.picture.height);
+  if (longer > 512)
+    r.picture = resizeImage(r.picture, std::max(16, r.picture.width * 512 / longer),
+      std::max(16, r.picture.height * 512 / longer));
+  const int W = r.picture.width, H = r.picture.height;
+  r.background = estimateBackground(r.picture);
+  View pv;
+  pv.width = W;
+  pv.height = H;
+  r.background.applyTo(pv);
+  const Mask foreground = foregroundOf(r.picture, pv, r.background.noise);
+  std::vector<int> area;
+  const std::vector<int> label = components(foreground, area);
+  if (area.empty() || *std::max_element(area.begin(), area.end()) < 16)
+    throw Error("the picture shows nothing but its background colour");
+  const std::vector<char> small = smallParts(area, 0.2);
+  r.object.assign(label.size(), 0);
+  r.overlay.assign(label.size(), 0);
+  long left = 0, total = 0;
+  Mask objectMask(W, H);
+  for (size_t i = 0; i < label.size(); ++i)
+  {
+    if (label[i] < 0)
+      continue;
+    ++total;
+    const bool isOverlay = small[static_cast<size_t>(label[i])] != 0;
+    r.overlay[i] = isOverlay ? 1 : 0;
+    r.object[i] = objectMask.m[i] = isOverlay ? 0 : 1;
+    left += isOverlay ? 1 : 0;
+  }
+  r.overlayShare = static_cast<double>(left) / total;
+  r.solidShare = solidShareOf(objectMask);
+  return r;
+}
+
+std::string checkQueryPicture(const Image& picture, double minimumSolidShare)
+{
+  PictureObject seen;
+  try
+  {
+    seen = readPictureObject(picture);
+  }
+  catch (const Error& e)
+  {
+    // no one background colour: a photograph, or an object cut by the frame (a query may be of
+    // a crop); a picture of nothing but its background was refused by the query's framing
+    return std::string("the picture cannot be read as a rendered volume (") + e.what() +
+      "): the design is a guess";
+  }
+  if (seen.solidShare < minimumSolidShare)
+    throw Error(linesOrText(seen.solidShare) + ": there is nothing to query with");
+  return {};
+}
 
 CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& input,
   const CarryLookOptions& opt, const ReconstructionProgress& progress)
@@ -247,57 +320,42 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   const auto t0 = std::chrono::steady_clock::now();
   if (opt.size < 16 || opt.views.empty() || opt.maxRegions < 1)
     throw Error("carrying a look needs renders of at least 16 pixels, a view and a region");
-  if (input.channels < 3 || input.width < 16 || input.height < 16)
-    throw Error("the picture must be RGB or RGBA and at least 16 x 16 pixels");
-  // RGB over black; large pictures at 512 on the longer side (colours, not detail, count)
-  Image picture =
-    input.channels == 4 ? compositeOverBackground(input, { 0, 0, 0 }) : toChannels(input, 3);
-  const int longer = std::max(picture.width, picture.height);
-  if (longer > 512)
-    picture = resizeImage(picture, std::max(16, picture.width * 512 / longer),
-      std::max(16, picture.height * 512 / longer));
-  const int W = picture.width, H = picture.height;
   CarryLookResult result;
   // 1. background, foreground, overlays
-  result.background = estimateBackground(picture);
+  PictureObject seen;
+  try
+  {
+    seen = readPictureObject(input);
+  }
+  catch (const Error& e)
+  {
+    throw Error(std::string(e.what()) + ": there is no look to carry");
+  }
+  const Image& picture = seen.picture;
+  const int W = picture.width, H = picture.height;
+  result.background = seen.background;
+  result.overlayShare = seen.overlayShare;
   View pv;
   pv.width = W;
   pv.height = H;
   result.background.applyTo(pv);
-  const Mask foreground = foregroundOf(picture, pv, result.background.noise);
-  std::vector<int> area;
-  const std::vector<int> label = components(foreground, area);
-  if (area.empty() || *std::max_element(area.begin(), area.end()) < 16)
-    throw Error("the picture shows nothing but its background colour: there is no look to carry");
-  const std::vector<char> small = smallParts(area, 0.2);
+  if (seen.solidShare < opt.minimumSolidShare)
+    throw Error(linesOrText(seen.solidShare) + ": there is no look to carry");
   Image overlay(W, H, 1);
-  long left = 0, total = 0;
+  Mask objectMask(W, H);
   std::vector<Lab> object;
   std::vector<std::array<double, 6>> objectRGB; // colour, background behind it
-  for (size_t i = 0; i < label.size(); ++i)
+  for (size_t i = 0; i < seen.object.size(); ++i)
   {
-    if (label[i] < 0)
+    overlay.pixels[i] = seen.overlay[i];
+    objectMask.m[i] = seen.object[i];
+    if (!seen.object[i])
       continue;
-    ++total;
-    if (small[static_cast<size_t>(label[i])])
-    {
-      overlay.pixels[i] = 1;
-      ++left;
-      continue;
-    }
     const RGB c{ picture.pixels[3 * i], picture.pixels[3 * i + 1], picture.pixels[3 * i + 2] };
     object.push_back(rgbToLab(c));
     const auto bg = pv.backgroundAt(static_cast<int>(i / static_cast<size_t>(W)));
     objectRGB.push_back({ c[0], c[1], c[2], bg[0], bg[1], bg[2] });
   }
-  result.overlayShare = static_cast<double>(left) / total;
-  Mask objectMask(W, H);
-  for (size_t i = 0; i < label.size(); ++i)
-    objectMask.m[i] = label[i] >= 0 && !small[static_cast<size_t>(label[i])];
-  if (const double solid = solidShareOf(objectMask); solid < opt.minimumSolidShare)
-    throw Error("the picture shows lines or text, not a rendered volume (" +
-      std::to_string(static_cast<int>(std::lround(100 * solid))) +
-      " % of its content is solid): there is no look to carry");
   // 2. the picture's colours
   const auto colours = framedColours(picture, pv, overlay);
   // 3. regions by value, matched with colour clusters by lightness

@@ -8,7 +8,9 @@
 #include "Reconstruct/Reconstruction.h"
 
 #include <array>
+#include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace ddg
@@ -51,6 +53,35 @@ struct CarryLookOptions
     return o;
   }();
 };
+
+/// What a picture shows, read before any volume is involved (the carried look's first step and
+/// the query's check): the picture inside its letterbox (when it has one) RGB over black, its
+/// longer side at most 512; its background, estimated from its border (estimateBackground); its
+/// foreground (pixels off the background by more than its noise allows) in connected parts,
+/// those under 20 % of the largest being overlays (axes, text, a scalar bar) and the rest the
+/// object.
+struct PictureObject
+{
+  Image picture;
+  PictureBackground background;
+  std::vector<std::uint8_t> object;  ///< per pixel of `picture`: 1 on the object
+  std::vector<std::uint8_t> overlay; ///< per pixel: 1 on an overlay
+  double overlayShare = 0;           ///< of the foreground
+  /// The share of the object's pixels deeper inside it than 2 % of its box's longer side: a
+  /// rendered volume is a solid shape (most of it survives), lines and text are not. 1 for an
+  /// object under 25 pixels on that side (2 % of it under half a pixel): too small to tell.
+  double solidShare = 0;
+};
+
+/// Throws ddg::Error for a picture that is not RGB(A) of at least 16 x 16, whose border has no one
+/// colour (estimateBackground), or that shows nothing but its background.
+PictureObject readPictureObject(const Image& picture);
+
+/// Whether a picture can be a query's (a picture of a rendered volume): empty when it can be read
+/// as one; a warning to show with the query's design when it cannot be read (its border has no
+/// one colour: a photograph, or the object cut by the frame); throws ddg::Error for a picture of
+/// lines or text (a chart, a diagram: solidShare under `minimumSolidShare`, as carryLook refuses).
+std::string checkQueryPicture(const Image& picture, double minimumSolidShare = 0.25);
 
 /// One feature region of the volume and the picture's colour it was matched with.
 struct CarriedRegion

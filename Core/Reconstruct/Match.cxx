@@ -105,18 +105,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   Picture pic;
   {
     // a letterbox's bands are not the picture's background: matched inside them
-    result.crop = letterbox(input);
-    Image inside = input;
-    if (result.crop[2] != input.width || result.crop[3] != input.height)
-    {
-      inside = Image(result.crop[2], result.crop[3], input.channels);
-      for (int y = 0; y < inside.height; ++y)
-        std::copy_n(
-          &input.pixels[(static_cast<size_t>(y + result.crop[1]) * input.width + result.crop[0]) *
-            input.channels],
-          static_cast<size_t>(inside.width) * input.channels,
-          &inside.pixels[static_cast<size_t>(y) * inside.width * input.channels]);
-    }
+    const Image inside = insideLetterbox(input, result.crop);
     const int longest = std::max(inside.width, inside.height);
     Image work = inside;
     if (longest > 1024)

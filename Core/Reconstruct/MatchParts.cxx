@@ -344,5 +344,19 @@ std::array<int, 4> letterbox(const Image& img)
   return { left, top, w - left - right, h - top - bottom };
 }
 
+Image insideLetterbox(const Image& img, std::array<int, 4>& crop)
+{
+  crop = letterbox(img);
+  if (crop[2] == img.width && crop[3] == img.height)
+    return img;
+  Image inside(crop[2], crop[3], img.channels);
+  for (int y = 0; y < inside.height; ++y)
+    std::copy_n(
+      &img.pixels[(static_cast<size_t>(y + crop[1]) * img.width + crop[0]) * img.channels],
+      static_cast<size_t>(inside.width) * img.channels,
+      &inside.pixels[static_cast<size_t>(y) * inside.width * img.channels]);
+  return inside;
+}
+
 } // namespace matchparts
 } // namespace ddg

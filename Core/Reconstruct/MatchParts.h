@@ -111,6 +111,9 @@ private:
 /// Bands of one colour along the picture's edges, each followed by a line of another colour:
 /// a letterbox (or pillarbox). The part inside {x, y, width, height} (all when there is none).
 std::array<int, 4> letterbox(const Image& img);
+/// The picture inside its letterbox (the whole picture when there is none); `crop` gets the
+/// letterbox's inside.
+Image insideLetterbox(const Image& img, std::array<int, 4>& crop);
 
 } // namespace matchparts
 } // namespace ddg

@@ -53,6 +53,8 @@ int runQuery(const QueryArgs& a)
     std::printf("  neighbour %zu: design row %d (index %llu), latent distance %.4f\n", i + 1, n.row,
       static_cast<unsigned long long>(g.outline().latents().indices[n.row]), n.distance);
   }
+  if (!r.warning.empty())
+    std::fprintf(stderr, "warning: %s\n", r.warning.c_str());
   std::printf("against the picture: %.2f dB (both framed on their content; the design %s, the "
               "better of unlit and lit)\n",
     r.picturePSNR, r.pictureLit ? "lit" : "unlit");

@@ -113,6 +113,14 @@ void vtkDDGQuery::Execute(
   pictureLit->SetName("PictureLit");
   pictureLit->InsertNextValue(r.pictureLit ? 1 : 0);
   designs->GetFieldData()->AddArray(pictureLit);
+  if (!r.warning.empty())
+  {
+    auto warning = vtkSmartPointer<vtkStringArray>::New();
+    warning->SetName("Warning");
+    warning->InsertNextValue(r.warning);
+    designs->GetFieldData()->AddArray(warning);
+    vtkWarningMacro(<< "Query: " << r.warning << ".");
+  }
   auto text = vtkSmartPointer<vtkStringArray>::New();
   text->SetName(tf.is2D ? "TransferFunction2D" : "Preset");
   text->InsertNextValue(

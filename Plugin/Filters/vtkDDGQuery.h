@@ -23,8 +23,10 @@
  * "Distance"), its field data holding "Latent" (the query's latent), "Position" (its place on
  * the outline plane), "PicturePSNR" (the design against the picture, both framed on their
  * content: the better of unlit and lit, the picture's lighting not being known), "PictureLit" (1
- * when that figure is of the lit render) and "Preset" (the design's explicit TF as a ParaView
- * preset JSON string; 2D models: "TransferFunction2D").
+ * when that figure is of the lit render), "Warning" (only when the picture cannot be read as a
+ * rendered volume, e.g. a photograph: the design is a guess; also a VTK warning) and "Preset"
+ * (the design's explicit TF as a ParaView preset JSON string; 2D models: "TransferFunction2D").
+ * A picture of lines or text (a chart) is refused.
  *
  * The bundle and its outline are loaded once per ModelDirectory and input. Bad input (missing
  * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one

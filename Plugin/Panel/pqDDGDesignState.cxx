@@ -342,6 +342,9 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
       against.isEmpty() ? std::numeric_limits<double>::quiet_NaN() : against[0].toDouble();
     const QJsonArray lit = ddgpanel::fieldNumbers(table, "PictureLit");
     this->QueryLit = !lit.isEmpty() && lit[0].toDouble() != 0;
+    const QString warning = ddgpanel::fieldText(table, "Warning");
+    if (!warning.isEmpty()) // the filter's VTK warning is in Output Messages already
+      this->report(tr("Query with '%1': %2.").arg(name, warning));
     Q_EMIT this->queryDone();
   }
 }

@@ -3,6 +3,7 @@ evaluated by DDG Design), queries with pictures, the outline gallery, blends, ed
 """
 import json
 import os
+import warnings
 
 import numpy as np
 from paraview import servermanager
@@ -144,6 +145,7 @@ class Design:
         self.neighbours = list(neighbours or [])
         self.picture_psnr = None  # queries: against the picture (query())
         self.picture_lit = None  # queries: whether that figure is of the design lit
+        self.warning = None  # queries: why the design is a guess (a photograph), else None
         self._cache = {}
 
     @property
@@ -240,7 +242,8 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     view's camera). Returns a Design; its ``picture_psnr`` is the design against the picture,
     both framed on their content (dB: how close it looks without the picture's camera; the
     picture's lighting not known either, the better of the design unlit and lit, which
-    ``picture_lit`` says)."""
+    ``picture_lit`` says). A picture of lines or text (a chart) raises DDGError; one that cannot
+    be read as a rendered volume (a photograph) gives a design with a ``warning`` (also warned)."""
     model, source = _model(model, source)
     v = view_json(view, source, 256)
     proxy = _proxy(
@@ -262,6 +265,9 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     design = Design(model, history, rows)
     design.picture_psnr = float(_field_numbers(table, "PicturePSNR")[0])
     design.picture_lit = bool(_field_numbers(table, "PictureLit")[0])
+    design.warning = _field_string(table, "Warning")
+    if design.warning:
+        warnings.warn("query: " + design.warning)
     return design
 
 

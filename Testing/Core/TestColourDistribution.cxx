@@ -15,6 +15,35 @@
 
 using namespace ddg;
 
+namespace
+{
+// A chart: a frame and a curve, lines 2 pixels wide on white.
+Image lineChart()
+{
+  Image chart(160, 120, 3);
+  std::fill(chart.pixels.begin(), chart.pixels.end(), 1.0f);
+  auto ink = [&](int x, int y, RGB c)
+  {
+    for (int dy = 0; dy < 2; ++dy)
+      for (int dx = 0; dx < 2; ++dx)
+        for (int k = 0; k < 3; ++k)
+          chart.at(std::min(159, x + dx), std::min(119, y + dy), k) = static_cast<float>(c[k]);
+  };
+  for (int x = 20; x < 150; ++x)
+  {
+    ink(x, 100, { 0, 0, 0 });
+    ink(x, 10, { 0, 0, 0 });
+    ink(x, static_cast<int>(55 + 35 * std::sin(x / 12.0)), { 0.1, 0.3, 0.9 });
+  }
+  for (int y = 10; y < 101; ++y)
+  {
+    ink(20, y, { 0, 0, 0 });
+    ink(149, y, { 0, 0, 0 });
+  }
+  return chart;
+}
+} // namespace
+
 TEST(ColourDistribution, LabJacobianMatchesFiniteDifferences)
 {
   // both pieces of sRGB's curve and of Lab's f
@@ -226,26 +255,7 @@ TEST(ColourDistribution, CarriesALookToAnotherVolume)
   std::fill(empty.pixels.begin(), empty.pixels.end(), 0.3f);
   EXPECT_THROW(carryLook(rb, empty, opt), Error);
   // a chart (a frame, a curve, tick marks: lines 2 pixels wide on white) is refused
-  Image chart(160, 120, 3);
-  std::fill(chart.pixels.begin(), chart.pixels.end(), 1.0f);
-  auto ink = [&](int x, int y, RGB c)
-  {
-    for (int dy = 0; dy < 2; ++dy)
-      for (int dx = 0; dx < 2; ++dx)
-        for (int k = 0; k < 3; ++k)
-          chart.at(std::min(159, x + dx), std::min(119, y + dy), k) = static_cast<float>(c[k]);
-  };
-  for (int x = 20; x < 150; ++x)
-  {
-    ink(x, 100, { 0, 0, 0 });
-    ink(x, 10, { 0, 0, 0 });
-    ink(x, static_cast<int>(55 + 35 * std::sin(x / 12.0)), { 0.1, 0.3, 0.9 });
-  }
-  for (int y = 10; y < 101; ++y)
-  {
-    ink(20, y, { 0, 0, 0 });
-    ink(149, y, { 0, 0, 0 });
-  }
+  const Image chart = lineChart();
   try
   {
     carryLook(rb, chart, opt);
@@ -332,4 +342,58 @@ TEST(ColourDistribution, CarriesALookOverPieces)
       EXPECT_EQ(r.fit.table1D.rgba, each[0].fit.table1D.rgba); // the same on every piece
     }
   }
+}
+
+// What a query accepts: a rendered volume as users save it (palette background, orientation axes
+// in a corner, letterboxed, a small object) answers without a warning; a chart is refused as
+// lines or text; a photograph-like picture (no one colour along its border) gets a warning.
+TEST(ColourDistribution, QueryPictureCheck)
+{
+  const Volume v = sphere(24, 100, 200, 0.45, ScalarType::UInt8);
+  const DifferentiableRenderer r(v);
+  View view = orbitView(v, 120, 30, 20, 1.1);
+  view.width = 160;
+  view.background = { 0.32, 0.34, 0.43 };
+  Image shot = compositeOverBackground(
+    r.caster().render(r.caster().paraviewTable(look(100, 200)), view), view.background);
+  for (int k = 0; k < 14; ++k) // orientation axes in the corner: three short lines
+  {
+    shot.at(8 + k, 110, 0) = 1.0f;
+    shot.at(8, 110 - k, 1) = 1.0f;
+    shot.at(8 + k / 2, 110 - k / 2, 2) = 1.0f;
+  }
+  EXPECT_EQ(checkQueryPicture(shot), "");
+  // letterboxed: black bands above and below
+  Image boxed(160, 160, 3);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      for (int c = 0; c < 3; ++c)
+        boxed.at(x, y + 20, c) = shot.at(x, y, c);
+  EXPECT_EQ(checkQueryPicture(boxed), "");
+  // a small picture of a small object: too small to tell lines from a solid, answered
+  View small = view;
+  small.width = 32;
+  small.height = 24;
+  const Image tiny = compositeOverBackground(
+    r.caster().render(r.caster().paraviewTable(look(100, 200)), small), small.background);
+  EXPECT_EQ(checkQueryPicture(tiny), "");
+  // a chart: refused
+  try
+  {
+    checkQueryPicture(lineChart());
+    ADD_FAILURE() << "a chart was taken for a rendered volume";
+  }
+  catch (const Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("lines or text"), std::string::npos) << e.what();
+  }
+  // a photograph-like picture: smooth colours to every edge, no one background colour
+  Image photo(160, 120, 3);
+  for (int y = 0; y < 120; ++y)
+    for (int x = 0; x < 160; ++x)
+      for (int c = 0; c < 3; ++c)
+        photo.at(x, y, c) =
+          static_cast<float>(0.5 + 0.4 * std::sin(0.05 * x * (c + 1) + 0.07 * y * (3 - c)));
+  const std::string warning = checkQueryPicture(photo);
+  EXPECT_NE(warning.find("cannot be read as a rendered volume"), std::string::npos) << warning;
 }
