@@ -345,8 +345,9 @@ TEST(ColourDistribution, CarriesALookOverPieces)
 }
 
 // What a query accepts: a rendered volume as users save it (palette background, orientation axes
-// in a corner, letterboxed, a small object) answers without a warning; a chart is refused as
-// lines or text; a photograph-like picture (no one colour along its border) gets a warning.
+// in a corner, letterboxed) answers without a warning, and so does an object too small to tell
+// lines from a solid; a chart is refused as lines or text; a photograph-like picture (no one
+// colour along its border) gets a warning.
 TEST(ColourDistribution, QueryPictureCheck)
 {
   const Volume v = sphere(24, 100, 200, 0.45, ScalarType::UInt8);
@@ -370,13 +371,23 @@ TEST(ColourDistribution, QueryPictureCheck)
       for (int c = 0; c < 3; ++c)
         boxed.at(x, y + 20, c) = shot.at(x, y, c);
   EXPECT_EQ(checkQueryPicture(boxed), "");
-  // a small picture of a small object: too small to tell lines from a solid, answered
-  View small = view;
-  small.width = 32;
-  small.height = 24;
-  const Image tiny = compositeOverBackground(
-    r.caster().render(r.caster().paraviewTable(look(100, 200)), small), small.background);
-  EXPECT_EQ(checkQueryPicture(tiny), "");
+  // a ring of 2-pixel strokes: 12 pixels across, too small to tell from a solid (answered);
+  // 100 pixels across, lines (refused)
+  auto ring = [](int w, int h, double radius)
+  {
+    Image img(w, h, 3);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+      {
+        const double d = std::hypot(x - w / 2.0, y - h / 2.0);
+        const bool ink = d < radius && d >= radius - 2;
+        for (int c = 0; c < 3; ++c)
+          img.at(x, y, c) = ink ? 0.9f : 0.33f;
+      }
+    return img;
+  };
+  EXPECT_EQ(checkQueryPicture(ring(32, 24, 6)), "");
+  EXPECT_THROW(checkQueryPicture(ring(160, 120, 50)), Error);
   // a chart: refused
   try
   {
