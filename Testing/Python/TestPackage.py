@@ -428,6 +428,35 @@ try:
 except ddg.DDGError as e:
     check("bad input raises DDGError", True, str(e).splitlines()[0][:80])
 
+# a chart (lines on white) is refused; a photograph-like picture (colours to every edge) is
+# answered with a warning
+chart = np.full((120, 160, 3), 255, np.uint8)
+chart[100:102, 20:150] = 0
+chart[10:101, 20:22] = 0
+for x in range(20, 150):
+    y = int(55 + 35 * np.sin(x / 12.0))
+    chart[y : y + 2, x] = (20, 80, 230)
+try:
+    ddg.query(chart, source=tooth, view=view_file)
+    raise AssertionError("a chart should be refused")
+except ddg.DDGError as e:
+    check("a chart is refused", "lines or text" in str(e), str(e).splitlines()[0][:100])
+yy, xx = np.mgrid[0:120, 0:160]
+photo = np.stack(
+    [127 + 100 * np.sin(0.05 * xx * (c + 1) + 0.07 * yy * (3 - c)) for c in range(3)], axis=2
+).astype(np.uint8)
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    guessed = ddg.query(photo, source=tooth, view=view_file)
+check(
+    "a photograph is answered with a warning",
+    guessed.warning is not None
+    and "cannot be read as a rendered volume" in guessed.warning
+    and any("cannot be read" in str(w.message) for w in caught),
+    (guessed.warning or "no warning")[:100],
+)
+check("the shipped screenshot gets no warning", found.warning is None, str(found.warning))
+
 # the query's design against its picture, framed alike: a finite PSNR, the better of the
 # design unlit and lit (the shipped screenshot is unlit)
 check(
