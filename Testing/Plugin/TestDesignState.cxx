@@ -19,7 +19,8 @@
 // the outline (50 000 designs, 32 thumbnails of 64 px), the query's 5 neighbours, the preview
 // (192 px on the longer side), the blend corner u = v = 0 reproducing the first pin's latent
 // (tolerance 1e-5: float latents through JSON; latents in steps are compared as floats), a
-// failing edit dropped with its message, the messages of a state without a model, a failed
+// failing edit dropped with its message, a chart refused as a query (its message, the steps
+// unchanged), the messages of a state without a model, a failed
 // build (constant volume) reported as failed (Plugin.GuiBuildFails checks the LastError text),
 // and a match of the query's picture at the current camera: cancelled from its progress signal
 // ("Match cancelled: ..."), then run (the camera given back as it is, PSNR against the picture
@@ -39,10 +40,12 @@
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
 
+#include <QBuffer>
 #include <QDir>
 #include <QFile>
 #include <QFileInfo>
 #include <QJsonDocument>
+#include <QPainter>
 
 #include <cmath>
 #include <iostream>
@@ -180,6 +183,29 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       .arg(d.Preview.height()));
   check(state.lastMessage().startsWith("Design ready"), "pick message: " + state.lastMessage());
   state.pin();
+
+  // --- a chart is refused: the message says why, the design stays ---
+  {
+    QImage chart(160, 120, QImage::Format_RGB32);
+    chart.fill(Qt::white);
+    QPainter painter(&chart);
+    painter.setPen(QPen(Qt::black, 2));
+    painter.drawRect(20, 10, 130, 90);
+    painter.setPen(QPen(QColor(20, 80, 230), 2));
+    for (int x = 20; x < 149; ++x)
+      painter.drawLine(x, static_cast<int>(55 + 35 * std::sin(x / 12.0)), x + 1,
+        static_cast<int>(55 + 35 * std::sin((x + 1) / 12.0)));
+    painter.end();
+    QByteArray png;
+    QBuffer buffer(&png);
+    buffer.open(QIODevice::WriteOnly);
+    chart.save(&buffer, "PNG");
+    const QJsonArray before = state.steps();
+    state.query(png, "chart.png");
+    check(state.lastMessage().startsWith("The query failed") &&
+        state.lastMessage().contains("lines or text") && state.steps() == before,
+      "chart query: " + state.lastMessage());
+  }
 
   // --- query with the shipped screenshot ---
   const QString shot = "tooth_dentin_enamel_oblique.png";
