@@ -303,8 +303,8 @@ std::string checkQueryPicture(const Image& picture, double minimumSolidShare)
   }
   catch (const Error& e)
   {
-    // no one background colour: a photograph, or an object cut by the frame (a query may be of
-    // a crop); a picture of nothing but its background was refused by the query's framing
+    // no one background colour (a photograph, or an object cut by the frame: a query may be of
+    // a crop), or too little showing to tell: answered, with the reason
     return std::string("the picture cannot be read as a rendered volume (") + e.what() +
       "): the design is a guess";
   }
