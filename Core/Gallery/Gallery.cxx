@@ -234,25 +234,23 @@ QueryResult DesignGallery::query(const Image& image, const View& view, int neigh
   QueryResult r;
   r.input = prepareQueryImage(image, Model.config().imageSize);
   // a chart is refused; a picture that cannot be read as a rendered volume gets a warning
-  r.warning =
-    checkQueryPicture(image.channels >= 3 ? image : toChannels(image, image.channels == 2 ? 4 : 3));
+  const Image colour =
+    image.channels >= 3 ? Image() : toChannels(image, image.channels == 2 ? 4 : 3);
+  r.warning = checkQueryPicture(image.channels >= 3 ? image : colour);
   r.latent = Model.analyze(r.input);
   r.position = Outline.project(r.latent.data());
   r.neighbours = Outline.nearest(r.latent.data(), neighbours);
   r.preview = render(r.latent, view);
-  r.picturePSNR = framedPSNR(image, r.preview);
-  r.pictureLit = view.lighting.shade;
   // a lit scene's preview against an unlit picture (or the other way) would score the lighting,
-  // not the design: the other lighting is rendered too and the better figure kept
+  // not the design: the other lighting is rendered too and the better figure kept (the picture
+  // framed once for both)
   View other = view;
   other.lighting = Lighting{}; // ParaView's coefficients
   other.lighting.shade = !view.lighting.shade;
-  const double otherPSNR = framedPSNR(image, render(r.latent, other));
-  if (otherPSNR > r.picturePSNR)
-  {
-    r.picturePSNR = otherPSNR;
-    r.pictureLit = other.lighting.shade;
-  }
+  const Image otherRender = render(r.latent, other);
+  const std::vector<double> figures = framedPSNR(image, { &r.preview, &otherRender });
+  r.pictureLit = figures[1] > figures[0] ? other.lighting.shade : view.lighting.shade;
+  r.picturePSNR = std::max(figures[0], figures[1]);
   return r;
 }
 

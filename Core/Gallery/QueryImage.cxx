@@ -164,13 +164,19 @@ bool hasQueryContent(const Image& rgb)
 
 double framedPSNR(const Image& picture, const Image& render, int size)
 {
-  if (render.channels != 4)
-    throw Error("framedPSNR: the render must be premultiplied RGBA");
+  return framedPSNR(picture, std::vector<const Image*>{ &render }, size).front();
+}
+
+std::vector<double> framedPSNR(
+  const Image& picture, const std::vector<const Image*>& renders, int size)
+{
+  for (const Image* render : renders)
+    if (render->channels != 4)
+      throw Error("framedPSNR: the render must be premultiplied RGBA");
   // the picture's background under the render too, so that only the content counts
   const Image rgb = rgbOverBlack(picture);
   const Content k = findContent(rgb);
   const std::array<double, 3> bg{ k.bg[0], k.bg[1], k.bg[2] };
-  const Image over = compositeOverBackground(render, bg);
   auto framed = [size, &k](const Image& img, const Content& c)
   {
     if (c.x1 < 0) // nothing shows: a square of the background
@@ -187,8 +193,14 @@ double framedPSNR(const Image& picture, const Image& render, int size)
       squareOf(img, side, (c.x0 + c.x1 + 1 - side) / 2, (c.y0 + c.y1 + 1 - side) / 2, k.bg);
     return sq.width == size ? sq : resizeImage(sq, size, size);
   };
-  const Image a = framed(rgb, k), b = framed(over, findContent(over));
-  return psnr(a, b);
+  const Image a = framed(rgb, k);
+  std::vector<double> out;
+  for (const Image* render : renders)
+  {
+    const Image over = compositeOverBackground(*render, bg);
+    out.push_back(psnr(a, framed(over, findContent(over))));
+  }
+  return out;
 }
 
 } // namespace ddg

@@ -4,6 +4,8 @@
 
 #include "Image/Image.h"
 
+#include <vector>
+
 namespace ddg
 {
 
@@ -37,5 +39,8 @@ bool hasQueryContent(const Image& rgb);
 /// background. So the pictures' sizes, aspects, framing, zoom and background do not count; the
 /// viewpoint still does. A render that shows nothing compares as a square of the background.
 double framedPSNR(const Image& picture, const Image& render, int size = 128);
+/// framedPSNR of each of `renders` against one picture, the picture framed once.
+std::vector<double> framedPSNR(
+  const Image& picture, const std::vector<const Image*>& renders, int size = 128);
 
 } // namespace ddg
