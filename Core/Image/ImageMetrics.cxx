@@ -3,6 +3,7 @@
 #include "Image/ImageMetrics.h"
 
 #include "Common/Error.h"
+#include "Common/Parallel.h"
 #include "TransferFunction/ColorSpace.h"
 
 #include <lemon/network_simplex.h>
@@ -313,56 +314,113 @@ double colorHistogramEMD(const Image& a, const Image& b)
   return total / (static_cast<double>(na / g) * static_cast<double>(nb));
 }
 
-double slicedWasserstein(const std::vector<std::array<float, 3>>& a,
-  const std::vector<std::array<float, 3>>& b, int directions, std::mt19937_64& rng,
-  std::vector<std::array<float, 3>>* gradient)
+namespace
+{
+template <size_t D>
+double slicedWassersteinOf(const std::vector<std::array<float, D>>& a,
+  const std::vector<std::array<float, D>>& b, int directions, std::mt19937_64& rng,
+  std::vector<std::array<float, D>>* gradient, int threads)
 {
   if (a.empty() || b.empty() || directions < 1)
     throw Error("slicedWasserstein needs two non-empty sets and at least one direction");
   const size_t n = a.size(), m = b.size();
-  if (gradient)
-    gradient->assign(n, { 0.0f, 0.0f, 0.0f });
+  // the directions first, in the order they were always drawn (the same for any thread count)
   std::normal_distribution<double> normal(0.0, 1.0);
-  std::vector<double> pa(n), pb(m);
-  std::vector<size_t> order(n);
-  double total = 0;
-  for (int d = 0; d < directions; ++d)
+  std::vector<std::array<double, D>> u(static_cast<size_t>(directions));
+  for (auto& v : u)
   {
-    double u[3], len = 0;
+    double len = 0;
     do
     {
       len = 0;
-      for (double& x : u)
+      for (double& x : v)
       {
         x = normal(rng);
         len += x * x;
       }
     } while (len < 1e-12);
     len = std::sqrt(len);
-    for (double& x : u)
+    for (double& x : v)
       x /= len;
-    for (size_t i = 0; i < n; ++i)
-      pa[i] = u[0] * a[i][0] + u[1] * a[i][1] + u[2] * a[i][2];
-    for (size_t j = 0; j < m; ++j)
-      pb[j] = u[0] * b[j][0] + u[1] * b[j][1] + u[2] * b[j][2];
-    std::sort(pb.begin(), pb.end());
-    std::iota(order.begin(), order.end(), size_t(0));
-    std::sort(order.begin(), order.end(), [&](size_t x, size_t y) { return pa[x] < pa[y]; });
-    for (size_t r = 0; r < n; ++r)
-    {
-      // b's quantile at a's rank r
-      const double q = std::clamp((r + 0.5) / n * m - 0.5, 0.0, static_cast<double>(m - 1));
-      const size_t lo = std::min(static_cast<size_t>(q), m - 1), hi = std::min(lo + 1, m - 1);
-      const double partner = pb[lo] + (q - lo) * (pb[hi] - pb[lo]);
-      const size_t i = order[r];
-      const double diff = pa[i] - partner;
-      total += diff * diff;
-      if (gradient)
-        for (int c = 0; c < 3; ++c)
-          (*gradient)[i][c] += static_cast<float>(2.0 * diff * u[c] / (n * directions));
-    }
   }
+  // each direction's sum and gradient terms apart, added up in direction order after: the
+  // result does not depend on the thread count
+  std::vector<double> sums(static_cast<size_t>(directions), 0.0);
+  std::vector<std::array<float, D>> terms(gradient ? n * static_cast<size_t>(directions) : 0);
+  struct Scratch
+  {
+    std::vector<double> pa, pb;
+    std::vector<size_t> order;
+  };
+  const int workers = resolveThreadCount(threads, directions);
+  std::vector<Scratch> scratch(static_cast<size_t>(workers));
+  parallelFor(directions, workers,
+    [&](std::int64_t d, int t)
+    {
+      Scratch& s = scratch[static_cast<size_t>(t)];
+      s.pa.resize(n);
+      s.pb.resize(m);
+      s.order.resize(n);
+      const auto& v = u[static_cast<size_t>(d)];
+      const auto project = [&v](const std::array<float, D>& p)
+      {
+        double x = 0;
+        for (size_t c = 0; c < D; ++c)
+          x += v[c] * p[c];
+        return x;
+      };
+      for (size_t i = 0; i < n; ++i)
+        s.pa[i] = project(a[i]);
+      for (size_t j = 0; j < m; ++j)
+        s.pb[j] = project(b[j]);
+      std::sort(s.pb.begin(), s.pb.end());
+      std::iota(s.order.begin(), s.order.end(), size_t(0));
+      std::sort(
+        s.order.begin(), s.order.end(), [&](size_t x, size_t y) { return s.pa[x] < s.pa[y]; });
+      double total = 0;
+      for (size_t r = 0; r < n; ++r)
+      {
+        // b's quantile at a's rank r
+        const double q = std::clamp((r + 0.5) / n * m - 0.5, 0.0, static_cast<double>(m - 1));
+        const size_t lo = std::min(static_cast<size_t>(q), m - 1), hi = std::min(lo + 1, m - 1);
+        const double partner = s.pb[lo] + (q - lo) * (s.pb[hi] - s.pb[lo]);
+        const size_t i = s.order[r];
+        const double diff = s.pa[i] - partner;
+        total += diff * diff;
+        if (gradient)
+          for (size_t c = 0; c < D; ++c)
+            terms[static_cast<size_t>(d) * n + i][c] =
+              static_cast<float>(2.0 * diff * v[c] / (n * directions));
+      }
+      sums[static_cast<size_t>(d)] = total;
+    });
+  if (gradient)
+  {
+    gradient->assign(n, std::array<float, D>{});
+    for (int d = 0; d < directions; ++d)
+      for (size_t i = 0; i < n; ++i)
+        for (size_t c = 0; c < D; ++c)
+          (*gradient)[i][c] += terms[static_cast<size_t>(d) * n + i][c];
+  }
+  double total = 0;
+  for (const double x : sums)
+    total += x;
   return total / (static_cast<double>(n) * directions);
+}
+} // namespace
+
+double slicedWasserstein(const std::vector<std::array<float, 3>>& a,
+  const std::vector<std::array<float, 3>>& b, int directions, std::mt19937_64& rng,
+  std::vector<std::array<float, 3>>* gradient, int threads)
+{
+  return slicedWassersteinOf<3>(a, b, directions, rng, gradient, threads);
+}
+
+double slicedWasserstein(const std::vector<std::array<float, 2>>& a,
+  const std::vector<std::array<float, 2>>& b, int directions, std::mt19937_64& rng,
+  std::vector<std::array<float, 2>>* gradient, int threads)
+{
+  return slicedWassersteinOf<2>(a, b, directions, rng, gradient, threads);
 }
 
 } // namespace ddg

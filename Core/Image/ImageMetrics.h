@@ -44,10 +44,16 @@ double colorHistogramEMD(const Image& a, const Image& b);
 /// squared difference between a's projections, sorted, and b's projections at the same ranks
 /// (b's quantile (i + 0.5) / n, linear between its order statistics), so the sets may differ in
 /// size. With `gradient`: OVERWRITES it with the derivative with respect to a's points (each
-/// rank's partner held fixed: exact wherever no two projections of a tie). Throws ddg::Error
-/// for an empty set or directions < 1.
+/// rank's partner held fixed: exact wherever no two projections of a tie). The directions are
+/// shared among `threads` workers (0: all cores); the result does not depend on their number.
+/// Throws ddg::Error for an empty set or directions < 1.
 double slicedWasserstein(const std::vector<std::array<float, 3>>& a,
   const std::vector<std::array<float, 3>>& b, int directions, std::mt19937_64& rng,
-  std::vector<std::array<float, 3>>* gradient = nullptr);
+  std::vector<std::array<float, 3>>* gradient = nullptr, int threads = 1);
+/// The same in 2D (e.g. a colour's lightness and where it lies in the picture): the directions
+/// drawn on the circle.
+double slicedWasserstein(const std::vector<std::array<float, 2>>& a,
+  const std::vector<std::array<float, 2>>& b, int directions, std::mt19937_64& rng,
+  std::vector<std::array<float, 2>>* gradient = nullptr, int threads = 1);
 
 } // namespace ddg

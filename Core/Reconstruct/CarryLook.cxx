@@ -238,6 +238,7 @@ double distanceOf(const DifferentiableRenderer& renderer, const std::vector<Colo
   start.learningRate = 1e-12;
   start.directions = 256;
   start.seed = 1;
+  start.colourPlacement = 0; // the colours alone: comparable with and without placement
   return reconstructFromColours(renderer, targets, start).loss.front();
 }
 std::string linesOrText(double solidShare)
@@ -357,7 +358,8 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
     objectRGB.push_back({ c[0], c[1], c[2], bg[0], bg[1], bg[2] });
   }
   // 2. the picture's colours
-  const auto colours = framedColours(picture, pv, overlay);
+  std::vector<float> radii;
+  const auto colours = framedColours(picture, pv, overlay, &radii);
   // 3. regions by value, matched with colour clusters by lightness
   std::vector<FeatureRegion> regions = featureRegionsOf(renderer, opt.maxRegions);
   if (regions.empty())
@@ -394,6 +396,7 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
     result.background.applyTo(t.view);
     t.view.lighting = opt.lighting;
     t.colours = colours;
+    t.radii = radii;
     targets.push_back(std::move(t));
   }
   ReconstructionOptions fit = opt.fit;

@@ -41,7 +41,8 @@ struct CarryLookOptions
   /// volume of another kind) [0.6, the match's silhouette floor].
   double minimumShapeAgreement = 0.6;
   /// The fit: reconstructFromColours with one Gaussian primitive per region, from the start
-  /// below [150 iterations, learning rate 0.05, 64 directions; primitives and
+  /// below [150 iterations, learning rate 0.05, 64 directions, lightness compared with where it
+  /// lies in the framed picture too (colourPlacement 100 per half-side); primitives and
   /// initialPrimitives are set here]. With `fit.initial1D` (a TF of this volume to start from:
   /// a query's design) the fit is of free bins from it instead; the regions are still matched
   /// and reported.
@@ -50,6 +51,7 @@ struct CarryLookOptions
     ReconstructionOptions o;
     o.iterations = 150;
     o.learningRate = 0.05;
+    o.colourPlacement = 100;
     return o;
   }();
 };
@@ -122,7 +124,9 @@ struct CarryLookResult
 ///     lowest region; each region starts as its base primitive in its cluster's colour at
 ///     opacity 0.2;
 ///  4. reconstructFromColours refines the primitives at the option's views over the picture's
-///     background, the values under the lowest region held transparent (the volume's air).
+///     background by the colours and where their lightness lies in the framed picture
+///     (colourPlacement), the values under the lowest region held transparent (the volume's
+///     air).
 /// Throws ddg::Error for a picture without one background colour or without content, one of
 /// lines or text (minimumSolidShare), a volume without feature regions; Cancelled when progress
 /// returns false. A picture whose object this volume's silhouettes cannot take the shape of

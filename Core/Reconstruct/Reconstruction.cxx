@@ -448,9 +448,10 @@ private:
 
 // The pixels (index y w + x; -1: beyond the image) of the square framedColours describes, for
 // an RGB image (3 floats per pixel) at `view`; those `leaveOut` sets are left out (of the
-// content's box too: an overlay in a corner does not widen the square).
-std::vector<int> framedPixels(
-  const float* rgb, int w, int h, const View& view, const std::vector<std::uint8_t>& leaveOut)
+// content's box too: an overlay in a corner does not widen the square). With `radii`: each
+// pixel's distance from the square's centre in half-sides.
+std::vector<int> framedPixels(const float* rgb, int w, int h, const View& view,
+  const std::vector<std::uint8_t>& leaveOut, std::vector<float>* radii = nullptr)
 {
   int x0 = w, y0 = h, x1 = -1, y1 = -1;
   for (int y = 0; y < h; ++y)
@@ -479,6 +480,8 @@ std::vector<int> framedPixels(
     sy = (y0 + y1 + 1 - sh) / 2;
   }
   std::vector<int> pixels;
+  if (radii)
+    radii->clear();
   for (int y = sy; y < sy + sh; ++y)
     for (int x = sx; x < sx + sw; ++x)
     {
@@ -487,6 +490,9 @@ std::vector<int> framedPixels(
       if (p >= 0 && !leaveOut.empty() && leaveOut[static_cast<size_t>(p)])
         continue;
       pixels.push_back(p);
+      if (radii)
+        radii->push_back(static_cast<float>(
+          std::hypot(x - sx + 0.5 - 0.5 * sw, y - sy + 0.5 - 0.5 * sh) / (0.5 * sw)));
     }
   return pixels;
 }
@@ -498,6 +504,8 @@ std::vector<int> framedPixels(
 class ColourLoss : public DataTerm
 {
 public:
+  static constexpr size_t kMaxTargetColours = 16384;
+
   ColourLoss(const std::vector<ColourTarget>& targets, const ReconstructionOptions& opt)
     : Targets(targets)
     , Opt(opt)
@@ -508,17 +516,32 @@ public:
       t.view.validate();
       if (t.colours.empty())
         throw Error("colour target " + std::to_string(i) + " has no colours");
-      auto& lab = Lab.emplace_back();
       for (const auto& c : t.colours)
-      {
         if (!std::isfinite(c[0]) || !std::isfinite(c[1]) || !std::isfinite(c[2]))
           throw Error("colour target " + std::to_string(i) + " holds non-finite colours");
+      if (opt.colourPlacement > 0 && t.radii.size() != t.colours.size())
+        throw Error("colour target " + std::to_string(i) +
+          " needs a radius per colour to compare where colours lie");
+      // a large picture's colours thinned evenly (every k-th of the framed square, in raster
+      // order) to kMaxTargetColours: sorting the target's projections dominated a step, and
+      // its quantiles do not need more points than a few times the render's
+      const size_t n = t.colours.size(), kept = std::min(n, kMaxTargetColours);
+      auto& lab = Lab.emplace_back();
+      auto& placed = Placed.emplace_back();
+      for (size_t j = 0; j < kept; ++j)
+      {
+        const size_t q = j * n / kept;
+        const auto& c = t.colours[q];
         const RGB l = rgbToLab({ std::clamp<double>(c[0], 0, 1), std::clamp<double>(c[1], 0, 1),
           std::clamp<double>(c[2], 0, 1) });
         lab.push_back(
           { static_cast<float>(l[0]), static_cast<float>(l[1]), static_cast<float>(l[2]) });
+        if (opt.colourPlacement > 0)
+          placed.push_back({ lab.back()[0], static_cast<float>(opt.colourPlacement * t.radii[q]) });
       }
     }
+    if (!std::isfinite(opt.colourPlacement) || opt.colourPlacement < 0)
+      throw Error("colourPlacement must be a finite number >= 0");
   }
 
   double evaluate(TableStage& stage, std::mt19937& rng) override
@@ -545,7 +568,8 @@ public:
       }
       Colours.clear();
       Jacobians.clear();
-      Pixel = framedPixels(Over.data(), w, h, view, {});
+      const bool placed = Opt.colourPlacement > 0;
+      Pixel = framedPixels(Over.data(), w, h, view, {}, placed ? &Radii : nullptr);
       for (const int p : Pixel)
       {
         const RGB c = p >= 0 ? RGB{ Over[3 * static_cast<size_t>(p)],
@@ -557,7 +581,20 @@ public:
       }
       std::mt19937_64 directions(rng());
       const double k = 1.0 / static_cast<double>(Targets.size());
-      loss += k * slicedWasserstein(Colours, Lab[ti], Opt.directions, directions, &Gradient);
+      loss += k *
+        slicedWasserstein(
+          Colours, Lab[ti], Opt.directions, directions, &Gradient, Opt.render.threads);
+      if (placed) // lightness with where it lies (the radius is the frame's: not differentiated)
+      {
+        Points.clear();
+        for (size_t q = 0; q < Colours.size(); ++q)
+          Points.push_back({ Colours[q][0], static_cast<float>(Opt.colourPlacement * Radii[q]) });
+        loss += k *
+          slicedWasserstein(
+            Points, Placed[ti], Opt.directions, directions, &PointGradient, Opt.render.threads);
+        for (size_t q = 0; q < PointGradient.size(); ++q)
+          Gradient[q][0] += PointGradient[q][0];
+      }
       // dL/d(premultiplied RGBA): out = C + (1 - A) background, Lab = f(out)
       DRGBA.assign(RGBA.size(), 0.0f);
       for (size_t q = 0; q < Colours.size(); ++q)
@@ -583,8 +620,11 @@ public:
 private:
   const std::vector<ColourTarget>& Targets;
   const ReconstructionOptions& Opt;
-  std::vector<std::vector<std::array<float, 3>>> Lab; // the targets' colours
+  std::vector<std::vector<std::array<float, 3>>> Lab;    // the targets' colours
+  std::vector<std::vector<std::array<float, 2>>> Placed; // lightness and radius (placement)
   std::vector<std::array<float, 3>> Colours, Gradient;
+  std::vector<std::array<float, 2>> Points, PointGradient;
+  std::vector<float> Radii;
   std::vector<int> Pixel;
   struct Jacobian
   {
@@ -790,7 +830,7 @@ ReconstructionResult reconstructFromColours(const DifferentiableRenderer& render
 }
 
 std::vector<std::array<float, 3>> framedColours(
-  const Image& picture, const View& view, const Image& leaveOut)
+  const Image& picture, const View& view, const Image& leaveOut, std::vector<float>* radii)
 {
   if (picture.channels != 3 || picture.width != view.width || picture.height != view.height)
     throw Error("framedColours needs an RGB picture of its view's size");
@@ -803,7 +843,8 @@ std::vector<std::array<float, 3>> framedColours(
       out.push_back(leaveOut.pixels[i * leaveOut.channels] > 0.5f);
   }
   std::vector<std::array<float, 3>> colours;
-  for (const int p : framedPixels(picture.pixels.data(), picture.width, picture.height, view, out))
+  for (const int p :
+    framedPixels(picture.pixels.data(), picture.width, picture.height, view, out, radii))
   {
     if (p < 0)
       colours.push_back({ static_cast<float>(view.background[0]),

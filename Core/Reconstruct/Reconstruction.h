@@ -95,6 +95,11 @@ struct ReconstructionOptions
   std::optional<double> transparentBelow;
   /// Colour targets: directions of the sliced Wasserstein distance per step [64].
   int directions = 64;
+  /// Colour targets: where lightness lies counts too: the distance gains the sliced
+  /// Wasserstein distance of the points (L, colourPlacement x radius in the framed square,
+  /// ColourTarget::radii), so that a bright core stays a core and a bright rim a rim, still
+  /// without pixel correspondence [0: colours alone]. In CIELAB lightness units per half-side.
+  double colourPlacement = 0;
   /// Seed of the pixel sampling [1].
   unsigned seed = 1;
   /// Sample distance, offset, threads (jitter is ignored).
@@ -136,6 +141,9 @@ struct ColourTarget
 {
   View view;
   std::vector<std::array<float, 3>> colours;
+  /// Each colour's distance from the centre of the picture's framed square, in half-sides
+  /// (framedColours' radii): needed when ReconstructionOptions::colourPlacement is above 0.
+  std::vector<float> radii;
 };
 
 /// The colours of an RGB picture (values in [0, 1]) in the square 10 % larger than the box of
@@ -143,9 +151,11 @@ struct ColourTarget
 /// picture's size) by more than 0.04 in a channel — on the box's centre, the background counted
 /// where the square reaches past the picture; the whole picture when nothing differs. Pixels
 /// where `leaveOut` (1 channel, the picture's size; optional) is above 0.5 are left out (a
-/// picture's overlays), of the content's box too. Throws ddg::Error for sizes that differ.
-std::vector<std::array<float, 3>> framedColours(
-  const Image& picture, const View& view, const Image& leaveOut = {});
+/// picture's overlays), of the content's box too. With `radii`: each colour's distance from the
+/// square's centre, in half-sides (0 at the centre, 1 at the middle of a side). Throws
+/// ddg::Error for sizes that differ.
+std::vector<std::array<float, 3>> framedColours(const Image& picture, const View& view,
+  const Image& leaveOut = {}, std::vector<float>* radii = nullptr);
 
 /// reconstructTransferFunction with colour targets (the mean of their distances; every pixel of
 /// each view rendered per step, options.raysPerIteration and ssimWeight unused). Throws

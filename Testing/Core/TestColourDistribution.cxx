@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -101,9 +102,40 @@ TEST(ColourDistribution, SlicedWassersteinAndItsGradient)
       EXPECT_NEAR(
         g[static_cast<size_t>(i)][static_cast<size_t>(c)], fd, 1e-3 + 1e-3 * std::abs(fd));
     }
+  // the directions shared among threads: the same gradient, the same distance
+  std::vector<std::array<float, 3>> gThreads;
+  std::mt19937_64 r6(7);
+  EXPECT_NEAR(slicedWasserstein(a, b, 8, r6, &gThreads, 3), d0, 1e-12 * d0);
+  for (size_t i = 0; i < g.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_EQ(gThreads[i][static_cast<size_t>(c)], g[i][static_cast<size_t>(c)]);
   std::mt19937_64 r3(1);
   EXPECT_THROW(slicedWasserstein({}, b, 8, r3), Error);
   EXPECT_THROW(slicedWasserstein(a, b, 0, r3), Error);
+
+  // in 2D (a lightness and where it lies): the same gradient check
+  std::vector<std::array<float, 2>> a2, b2, g2;
+  for (const auto& p : a)
+    a2.push_back({ p[0], u(pick) });
+  for (const auto& p : b)
+    b2.push_back({ p[0], u(pick) });
+  std::mt19937_64 r4(7);
+  EXPECT_GT(slicedWasserstein(a2, b2, 8, r4, &g2), 10.0);
+  std::mt19937_64 r5(1);
+  EXPECT_NEAR(slicedWasserstein(a2, a2, 16, r5), 0.0, 1e-9);
+  for (int i : { 0, 7, 23 })
+    for (int c = 0; c < 2; ++c)
+    {
+      auto up = a2, down = a2;
+      constexpr float h = 1e-3f;
+      up[static_cast<size_t>(i)][static_cast<size_t>(c)] += h;
+      down[static_cast<size_t>(i)][static_cast<size_t>(c)] -= h;
+      std::mt19937_64 r1(7), r2(7);
+      const double fd =
+        (slicedWasserstein(up, b2, 8, r1) - slicedWasserstein(down, b2, 8, r2)) / (2.0 * h);
+      EXPECT_NEAR(
+        g2[static_cast<size_t>(i)][static_cast<size_t>(c)], fd, 1e-3 + 1e-3 * std::abs(fd));
+    }
 }
 
 TEST(ColourDistribution, FramesTheContentWithoutItsOverlays)
@@ -136,6 +168,12 @@ TEST(ColourDistribution, FramesTheContentWithoutItsOverlays)
   EXPECT_EQ(red, 400u);
   // without the mask the mark is content: the square reaches the corner
   EXPECT_GT(framedColours(picture, view).size(), 60u * 60u);
+  // where each colour lies: its distance from the square's centre in half-sides (11 pixels)
+  std::vector<float> radii;
+  const size_t framed = framedColours(picture, view, leaveOut, &radii).size();
+  ASSERT_EQ(framed, radii.size());
+  EXPECT_NEAR(*std::min_element(radii.begin(), radii.end()), std::hypot(0.5, 0.5) / 11, 1e-5);
+  EXPECT_NEAR(*std::max_element(radii.begin(), radii.end()), std::hypot(10.5, 10.5) / 11, 1e-5);
 }
 
 TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
@@ -185,6 +223,65 @@ TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
 
   EXPECT_THROW(reconstructFromColours(renderer, { ColourTarget{ target.view, {} } }, opt), Error);
   opt.initialPrimitives.pop_back();
+  EXPECT_THROW(reconstructFromColours(renderer, { target }, opt), Error);
+}
+
+TEST(ColourDistribution, PlacementTellsACoreFromARim)
+{
+  // a bright blue core inside a faint orange shell: the picture shows blue in the middle and
+  // orange around it. The same two colours the other way round (an orange core in a blue shell)
+  // are told apart far better when where the colours lie counts (colourPlacement)
+  const int n = 24;
+  std::vector<float> v;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const double r = std::hypot(i - 11.5, j - 11.5, k - 11.5);
+        v.push_back(r < 5 ? 220.0f : (r < 10 ? 120.0f : 0.0f));
+      }
+  const Volume vol({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
+  const DifferentiableRenderer renderer(vol);
+  const RGB orange{ 0.9, 0.45, 0.1 }, blue{ 0.15, 0.35, 0.9 };
+  const auto primitives = [](const RGB& shell, const RGB& core)
+  {
+    return std::vector<GaussianPrimitive>{ GaussianPrimitive{ { 120, 0 }, { 8, 1 }, shell, 0.1 },
+      GaussianPrimitive{ { 220, 0 }, { 8, 1 }, core, 0.9 } };
+  };
+  ReconstructionOptions opt;
+  opt.primitives = 2;
+  opt.initialPrimitives = primitives(orange, blue);
+  opt.iterations = 1;
+  opt.learningRate = 1e-12;
+  opt.directions = 256;
+  View view = defaultView(vol, 48, 48);
+  view.background = { 0, 0, 0 };
+  const ReconstructionResult truth = reconstructFromColours(
+    renderer, { ColourTarget{ view, { { 0.5f, 0.5f, 0.5f } }, { 0.0f } } }, opt);
+  const Image shot =
+    compositeOverBackground(renderResult(renderer.caster(), truth, view), view.background);
+  ColourTarget target{ view, {}, {} };
+  target.colours = framedColours(shot, view, {}, &target.radii);
+  const auto distance = [&](const RGB& shell, const RGB& core, double placement)
+  {
+    ReconstructionOptions o = opt;
+    o.initialPrimitives = primitives(shell, core);
+    o.colourPlacement = placement;
+    return reconstructFromColours(renderer, { target }, o).loss.front();
+  };
+  EXPECT_LT(distance(orange, blue, 0), 0.1);
+  EXPECT_LT(distance(orange, blue, 100), 0.2);
+  // against a start in the right places whose colours are off
+  const RGB red{ 0.95, 0.2, 0.2 }, violet{ 0.5, 0.3, 0.9 };
+  const double swapped0 = distance(blue, orange, 0), swapped100 = distance(blue, orange, 100);
+  const double off0 = distance(red, violet, 0), off100 = distance(red, violet, 100);
+  std::printf("the other way round: %.2f, %.2f with placement; colours off: %.2f, %.2f\n", swapped0,
+    swapped100, off0, off100);
+  // placement adds to the swapped start's distance far more than to the merely off one's
+  EXPECT_GT(swapped100 - swapped0, 3 * (off100 - off0));
+  // placement needs the target's radii
+  target.radii.clear();
+  opt.colourPlacement = 25;
   EXPECT_THROW(reconstructFromColours(renderer, { target }, opt), Error);
 }
 
