@@ -176,9 +176,11 @@ TEST(ColourDistribution, FramesTheContentWithoutItsOverlays)
   EXPECT_NEAR(*std::max_element(radii.begin(), radii.end()), std::hypot(10.5, 10.5) / 11, 1e-5);
 }
 
-TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
+namespace
 {
-  // a sphere whose shell and core take two colours; the picture is from the other side
+// 24^3 points: a core of 220 (radius 5) in a shell of 120 (radius 10) in air (0).
+Volume coreInShell()
+{
   const int n = 24;
   std::vector<float> v;
   for (int k = 0; k < n; ++k)
@@ -188,7 +190,14 @@ TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
         const double r = std::hypot(i - 11.5, j - 11.5, k - 11.5);
         v.push_back(r < 5 ? 220.0f : (r < 10 ? 120.0f : 0.0f));
       }
-  const Volume vol({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
+  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
+}
+} // namespace
+
+TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
+{
+  // a sphere whose shell and core take two colours; the picture is from the other side
+  const Volume vol = coreInShell();
   const DifferentiableRenderer renderer(vol);
   TransferFunction1D tf;
   tf.color = { { 0, 0, 0, 0 }, { 120, 0.9, 0.3, 0.1 }, { 220, 0.2, 0.8, 0.9 } };
@@ -231,16 +240,7 @@ TEST(ColourDistribution, PlacementTellsACoreFromARim)
   // a bright blue core inside a faint orange shell: the picture shows blue in the middle and
   // orange around it. The same two colours the other way round (an orange core in a blue shell)
   // are told apart far better when where the colours lie counts (colourPlacement)
-  const int n = 24;
-  std::vector<float> v;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-      {
-        const double r = std::hypot(i - 11.5, j - 11.5, k - 11.5);
-        v.push_back(r < 5 ? 220.0f : (r < 10 ? 120.0f : 0.0f));
-      }
-  const Volume vol({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
+  const Volume vol = coreInShell();
   const DifferentiableRenderer renderer(vol);
   const RGB orange{ 0.9, 0.45, 0.1 }, blue{ 0.15, 0.35, 0.9 };
   const auto primitives = [](const RGB& shell, const RGB& core)
