@@ -460,6 +460,8 @@ public:
     : Targets(targets)
     , Opt(opt)
   {
+    if (!std::isfinite(opt.colourPlacement) || opt.colourPlacement < 0)
+      throw Error("colourPlacement must be a finite number >= 0");
     for (size_t i = 0; i < targets.size(); ++i)
     {
       const auto& t = targets[i];
@@ -490,8 +492,6 @@ public:
           placed.push_back({ lab.back()[0], static_cast<float>(opt.colourPlacement * t.radii[q]) });
       }
     }
-    if (!std::isfinite(opt.colourPlacement) || opt.colourPlacement < 0)
-      throw Error("colourPlacement must be a finite number >= 0");
   }
 
   double evaluate(TableStage& stage, std::mt19937& rng) override
