@@ -359,6 +359,9 @@ struct March
                 sz = static_cast<float>(s[2]);
     const FieldT& f = *field;
     float cr = 0, cg = 0, cb = 0, ca = 0;
+    const float e3[3] = { ex, ey, ez }, s3[3] = { sx, sy, sz };
+    LitQueue queue;           // Shade: samples with opacity waiting to be lit and composited
+    float queuedAlpha = 0.0f; // the ray's opacity over the samples queued so far
     // March block by block: find the block of sample k and the first sample past its far faces;
     // skip the block when the TF makes it transparent, else sample it without further checks.
     // Classifies the block (or empty superblock) holding sample k; sets kEnd to the first
@@ -465,34 +468,34 @@ struct March
           {
             c[l] = c1->lookup(value[l]);
           }
-        if (light) // the lanes with opacity, packed, lit together
+        if (light)
         {
-          const float e3[3] = { ex, ey, ez }, s3[3] = { sx, sy, sz };
-          int lane[kBatch], count = 0;
-          float gp[3][kBatch], kp[kBatch], rgb[3][kBatch];
-          for (int l = 0; l < n; ++l)
-            if (c[l].a > 0.0f)
-            {
-              float gl[3];
-              if constexpr (TwoD)
-                for (int a = 0; a < 3; ++a)
-                  gl[a] = g[a][l];
-              else
-                stencil->inCell(f.w, lanes.i[l], lanes.j[l], lanes.k[l], lanes.idx[l], lanes.fx[l],
-                  lanes.fy[l], lanes.fz[l], cellOf(cells, lanes.idx[l]), gl);
+          // Shade: the samples with opacity queue up across batches and are lit kBatch at a time
+          // (full batches light faster than the few lanes of one batch that have opacity), then
+          // composited in order. Lighting leaves opacity as it is, so the ray's end is known as
+          // the samples queue: none past it is lit.
+          for (int l = 0; l < n && !done; ++l)
+          {
+            if (c[l].a <= 0.0f)
+              continue;
+            float gl[3];
+            if constexpr (TwoD)
               for (int a = 0; a < 3; ++a)
-                gp[a][count] = gl[a];
-              kp[count] = j + static_cast<float>(k + l);
-              rgb[0][count] = c[l].r;
-              rgb[1][count] = c[l].g;
-              rgb[2][count] = c[l].b;
-              lane[count++] = l;
+                gl[a] = g[a][l];
+            else
+              stencil->inCell(f.w, lanes.i[l], lanes.j[l], lanes.k[l], lanes.idx[l], lanes.fx[l],
+                lanes.fy[l], lanes.fz[l], cellOf(cells, lanes.idx[l]), gl);
+            queue.push(gl, j + static_cast<float>(k + l), c[l]);
+            queuedAlpha += (1.0f - queuedAlpha) * c[l].a;
+            if (queuedAlpha > termination)
+            {
+              stats.samples -= kEnd - (k + l) - 1;
+              done = true;
             }
-          if (count == 0)
-            continue;
-          light->shadeBatch(count, gp, e3, s3, kp, !TwoD, rgb);
-          for (int q = 0; q < count; ++q)
-            c[lane[q]] = RGBA{ rgb[0][q], rgb[1][q], rgb[2][q], c[lane[q]].a };
+            if (queue.count == kBatch || done)
+              queue.flush(*light, e3, s3, !TwoD, cr, cg, cb, ca);
+          }
+          continue;
         }
         for (int l = 0; l < n; ++l)
         {
@@ -512,6 +515,8 @@ struct March
       }
       k = kEnd;
     }
+    if (light)
+      queue.flush(*light, e3, s3, !TwoD, cr, cg, cb, ca);
     out[0] = cr;
     out[1] = cg;
     out[2] = cb;

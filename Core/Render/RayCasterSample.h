@@ -94,6 +94,36 @@ inline bool composite(const RGBA& c, float& cr, float& cg, float& cb, float& ca,
   return ca > termination;
 }
 
+// Shade: samples with opacity of one ray, in order, waiting to be lit together and composited.
+struct LitQueue
+{
+  int count = 0;
+  float g[3][kBatch], k[kBatch], rgb[3][kBatch], a[kBatch];
+
+  void push(const float gl[3], float kk, const RGBA& c)
+  {
+    for (int r = 0; r < 3; ++r)
+      g[r][count] = gl[r];
+    k[count] = kk;
+    rgb[0][count] = c.r;
+    rgb[1][count] = c.g;
+    rgb[2][count] = c.b;
+    a[count++] = c.a;
+  }
+
+  // Lights the queued samples (at e + k s) and composites them in order onto the ray's colour.
+  void flush(const SampleLighting& light, const float e[3], const float s[3], bool clamp, float& cr,
+    float& cg, float& cb, float& ca)
+  {
+    if (count == 0)
+      return;
+    light.shadeBatch(count, g, e, s, k, clamp, rgb);
+    for (int q = 0; q < count; ++q) // the queue ends where the ray turns opaque: no check here
+      composite(RGBA{ rgb[0][q], rgb[1][q], rgb[2][q], a[q] }, cr, cg, cb, ca, 2.0f);
+    count = 0;
+  }
+};
+
 // Trilinear values of kBatch consecutive samples p = e + (k0 + l) s, l = 0 .. kBatch-1; their
 // cells and weights in `lanes`.
 template <typename T>
