@@ -16,6 +16,8 @@
 #   e.g. one with "lighting" for lit exemplars; [the documented defaults]) may be set in the
 #   environment.
 #   e.g. scripts/train_model.sh tooth        -> Data/Models/tooth/
+#   The shipped bundles' own commands (e.g. Tooth's SPEC=Data/DesignSpaces/lit.json ... tooth 30000
+#   30000) are in the README's table of shipped bundles.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 VOLUME=${1:?volume name, e.g. tooth}
