@@ -360,8 +360,7 @@ struct March
     const FieldT& f = *field;
     float cr = 0, cg = 0, cb = 0, ca = 0;
     const float e3[3] = { ex, ey, ez }, s3[3] = { sx, sy, sz };
-    LitQueue queue;           // Shade: samples with opacity waiting to be lit and composited
-    float queuedAlpha = 0.0f; // the ray's opacity over the samples queued so far
+    LitQueue queue; // Shade: samples with opacity waiting to be lit and composited
     // March block by block: find the block of sample k and the first sample past its far faces;
     // skip the block when the TF makes it transparent, else sample it without further checks.
     // Classifies the block (or empty superblock) holding sample k; sets kEnd to the first
@@ -472,8 +471,7 @@ struct March
         {
           // Shade: the samples with opacity queue up across batches and are lit kBatch at a time
           // (full batches light faster than the few lanes of one batch that have opacity), then
-          // composited in order. Lighting leaves opacity as it is, so the ray's end is known as
-          // the samples queue: none past it is lit.
+          // composited in order; none past the ray's end is lit.
           for (int l = 0; l < n && !done; ++l)
           {
             if (c[l].a <= 0.0f)
@@ -485,9 +483,7 @@ struct March
             else
               stencil->inCell(f.w, lanes.i[l], lanes.j[l], lanes.k[l], lanes.idx[l], lanes.fx[l],
                 lanes.fy[l], lanes.fz[l], cellOf(cells, lanes.idx[l]), gl);
-            queue.push(gl, j + static_cast<float>(k + l), c[l]);
-            queuedAlpha += (1.0f - queuedAlpha) * c[l].a;
-            if (queuedAlpha > termination)
+            if (queue.push(gl, j + static_cast<float>(k + l), c[l], termination))
             {
               stats.samples -= kEnd - (k + l) - 1;
               done = true;

@@ -83,10 +83,16 @@ struct SampleLighting
   }
 };
 
+// The weight of a sample of opacity a behind accumulated opacity ca in the front-to-back "over".
+inline float overWeight(float ca, float a)
+{
+  return (1.0f - ca) * a;
+}
+
 // Front-to-back "over" of one classified sample; returns true when the ray is opaque enough.
 inline bool composite(const RGBA& c, float& cr, float& cg, float& cb, float& ca, float termination)
 {
-  const float wgt = (1.0f - ca) * c.a;
+  const float wgt = overWeight(ca, c.a);
   cr += wgt * c.r;
   cg += wgt * c.g;
   cb += wgt * c.b;
@@ -95,12 +101,15 @@ inline bool composite(const RGBA& c, float& cr, float& cg, float& cb, float& ca,
 }
 
 // Shade: samples with opacity of one ray, in order, waiting to be lit together and composited.
+// Lighting leaves opacity as it is, so the ray's opacity is known as samples are queued.
 struct LitQueue
 {
   int count = 0;
+  float alpha = 0.0f; // the ray's opacity over every sample queued so far
   float g[3][kBatch], k[kBatch], rgb[3][kBatch], a[kBatch];
 
-  void push(const float gl[3], float kk, const RGBA& c)
+  // Queues a sample; returns true when the ray turns opaque at it (composite's test).
+  bool push(const float gl[3], float kk, const RGBA& c, float termination)
   {
     for (int r = 0; r < 3; ++r)
       g[r][count] = gl[r];
@@ -109,6 +118,8 @@ struct LitQueue
     rgb[1][count] = c.g;
     rgb[2][count] = c.b;
     a[count++] = c.a;
+    alpha += overWeight(alpha, c.a);
+    return alpha > termination;
   }
 
   // Lights the queued samples (at e + k s) and composites them in order onto the ray's colour.
