@@ -256,16 +256,16 @@ void lightSumsBatch(const LightKit& kit, int count, const S (&m)[3][K], const S 
   S (&diff)[3][K], S (&spec)[3][K], S (&lit)[K])
 {
   S n[3][K];
+  for (int a = 0; a < 3; ++a) // every lane, not only count: fixed-size stores, no memset calls
+    for (int l = 0; l < K; ++l)
+      diff[a][l] = spec[a][l] = S(0);
   for (int l = 0; l < count; ++l)
   {
     const S len2 = m[0][l] * m[0][l] + m[1][l] * m[1][l] + m[2][l] * m[2][l];
     lit[l] = len2 > S(0) ? S(1) : S(0);
     const S inv = S(1) / std::sqrt(len2 > S(0) ? len2 : S(1));
     for (int a = 0; a < 3; ++a)
-    {
       n[a][l] = m[a][l] * inv;
-      diff[a][l] = spec[a][l] = S(0);
-    }
   }
   const bool specular = kit.specular > 0.0f;
   S w[3][K], nw[K]; // the direction from the eye to the sample, n . w

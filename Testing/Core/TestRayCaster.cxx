@@ -12,12 +12,14 @@
 #include "Common/Error.h"
 #include "Render/Lighting.h"
 #include "Render/RayCaster.h"
+#include "Render/RayCasterSample.h"
 #include "Render/SortLast.h"
 #include "TransferFunction/GaussianPrimitive.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 using namespace ddg;
@@ -195,6 +197,71 @@ TEST(RayCaster, SpecularPowerTableMatchesPow)
     EXPECT_LE(worst, 4e-4) << "power " << power;
     EXPECT_GT(highlights, 0) << "power " << power; // some normals do face a highlight
   }
+}
+
+// The lit queue's two builds (baseline and AVX2, Render/RayCasterSample.h) give the same bits:
+// partial and full queues, zero gradients, diffuse only and with highlights, clamped (1D) and
+// not (2D), at a view's lighting frame.
+TEST(RayCaster, ShadeQueueBuildsAgree)
+{
+  const Volume vol = blobVolume(ScalarType::Float32);
+  std::uint32_t seed = 12345;
+  auto uniform = [&seed](float lo, float hi)
+  {
+    seed = seed * 1664525u + 1013904223u;
+    return lo + (hi - lo) * static_cast<float>(seed >> 8) / 16777216.0f;
+  };
+  int highlights = 0;
+  for (const auto& [specular, power] :
+    { std::pair{ 0.0, 100.0 }, std::pair{ 0.5, 30.0 }, std::pair{ 1.0, 7.5 } })
+  {
+    View view = orbitView(vol, 35, false);
+    view.lighting.shade = true;
+    view.lighting.specular = specular;
+    view.lighting.specularPower = power;
+    raycast::SampleLighting light;
+    const double offset[3] = { 0, 0, 0 };
+    light.setup(LightingFrame::of(vol, view), view, offset);
+    const auto& d = vol.dims();
+    for (int trial = 0; trial < 400; ++trial)
+    {
+      const int count = 1 + trial % raycast::kBatch;
+      const bool clamp = trial % 2 == 0;
+      float g[3][raycast::kBatch], k[raycast::kBatch], base[3][raycast::kBatch];
+      const float e[3] = { uniform(0, d[0] - 1.0f), uniform(0, d[1] - 1.0f),
+        uniform(0, d[2] - 1.0f) };
+      const float s[3] = { uniform(-0.5f, 0.5f), uniform(-0.5f, 0.5f), uniform(-0.5f, 0.5f) };
+      for (int l = 0; l < raycast::kBatch; ++l)
+      {
+        const bool zero = l == 3 && trial % 5 == 0; // a constant region: black
+        for (int a = 0; a < 3; ++a)
+        {
+          g[a][l] = zero ? 0.0f : uniform(-40.0f, 40.0f);
+          base[a][l] = uniform(0.0f, 1.0f);
+        }
+        k[l] = static_cast<float>(l) + uniform(0.0f, 0.5f);
+      }
+      float wide[3][raycast::kBatch], narrow[3][raycast::kBatch];
+      std::memcpy(wide, base, sizeof(base));
+      std::memcpy(narrow, base, sizeof(base));
+      if (!raycast::shadeQueueAvx2(light, count, g, e, s, k, clamp, wide))
+        GTEST_SKIP() << "this CPU (or compiler) has no AVX2: one build only";
+      raycast::shadeQueueBaseline(light, count, g, e, s, k, clamp, narrow);
+      ASSERT_EQ(std::memcmp(wide, narrow, sizeof(wide)), 0)
+        << "specular " << specular << " trial " << trial;
+      if (specular > 0)
+      {
+        float unlit[3][raycast::kBatch];
+        std::memcpy(unlit, base, sizeof(base));
+        raycast::SampleLighting diffuseOnly = light;
+        diffuseOnly.kit.specular = 0;
+        raycast::shadeQueueBaseline(diffuseOnly, count, g, e, s, k, false, unlit);
+        for (int l = 0; l < count; ++l)
+          highlights += narrow[0][l] > unlit[0][l] + 1e-3f ? 1 : 0;
+      }
+    }
+  }
+  EXPECT_GT(highlights, 0); // the specular term ran in both builds
 }
 
 // A constant region has no gradient: ParaView's normal is NaN there and the sample is black
