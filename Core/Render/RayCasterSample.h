@@ -84,8 +84,8 @@ struct SampleLighting
 };
 
 // SampleLighting::shadeBatch over a LitQueue's lanes (RayCaster.cxx): shadeQueue runs the AVX2
-// build where the CPU has it (8 lanes per register; 4–8 % less lit time measured), else the
-// baseline build. Both do the same operations in the same order, so the same bits
+// build where the CPU has it (8 lanes per register; about 4 % less lit time on the CT head with
+// specular, Documentation/Rendering.md), else the baseline build. Both do the same operations in the same order, so the same bits
 // (RayCaster.ShadeQueueBuildsAgree). shadeQueueAvx2 returns false, doing nothing, where the CPU
 // or the compiler has no AVX2.
 void shadeQueue(const SampleLighting& light, int count, const float (&g)[3][kBatch],
