@@ -58,12 +58,6 @@ Storage storageFor(ScalarType t)
 
 namespace raycast
 {
-void shadeQueueBaseline(const SampleLighting& light, int count, const float (&g)[3][kBatch],
-  const float e[3], const float s[3], const float (&k)[kBatch], bool clamp, float (&rgb)[3][kBatch])
-{
-  light.shadeBatch(count, g, e, s, k, clamp, rgb);
-}
-
 #if defined(__GNUC__) && defined(__x86_64__)
 // The same code compiled for AVX2 (flatten: shadeBatch and the light sums inlined here): the
 // queue's 8 lanes in one register instead of two. GCC's and Clang's "avx2" target does not
@@ -95,7 +89,7 @@ void shadeQueue(const SampleLighting& light, int count, const float (&g)[3][kBat
   const float e[3], const float s[3], const float (&k)[kBatch], bool clamp, float (&rgb)[3][kBatch])
 {
   if (!shadeQueueAvx2(light, count, g, e, s, k, clamp, rgb))
-    shadeQueueBaseline(light, count, g, e, s, k, clamp, rgb);
+    light.shadeBatch(count, g, e, s, k, clamp, rgb);
 }
 } // namespace raycast
 

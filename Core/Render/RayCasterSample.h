@@ -83,15 +83,12 @@ struct SampleLighting
   }
 };
 
-// SampleLighting::shadeBatch over a LitQueue's lanes (RayCaster.cxx): shadeQueue runs the AVX2
+// SampleLighting::shadeBatch over a LitQueue's lanes (RayCaster.cxx): shadeQueue runs its AVX2
 // build where the CPU has it (8 lanes per register; about 4 % less lit time on the CT head with
-// specular, Documentation/Rendering.md), else the baseline build. Both do the same operations in
+// specular, Documentation/Rendering.md), else shadeBatch itself. Both do the same operations in
 // the same order, so the same bits (RayCaster.ShadeQueueBuildsAgree). shadeQueueAvx2 returns false,
 // doing nothing, where the CPU or the compiler has no AVX2.
 void shadeQueue(const SampleLighting& light, int count, const float (&g)[3][kBatch],
-  const float e[3], const float s[3], const float (&k)[kBatch], bool clamp,
-  float (&rgb)[3][kBatch]);
-void shadeQueueBaseline(const SampleLighting& light, int count, const float (&g)[3][kBatch],
   const float e[3], const float s[3], const float (&k)[kBatch], bool clamp,
   float (&rgb)[3][kBatch]);
 bool shadeQueueAvx2(const SampleLighting& light, int count, const float (&g)[3][kBatch],

@@ -199,9 +199,9 @@ TEST(RayCaster, SpecularPowerTableMatchesPow)
   }
 }
 
-// The lit queue's two builds (baseline and AVX2, Render/RayCasterSample.h) give the same bits:
-// partial and full queues, zero gradients, diffuse only and with highlights, clamped (1D) and
-// not (2D), at a view's lighting frame.
+// The lit queue's two builds (shadeBatch and its AVX2 build, Render/RayCasterSample.h) give the
+// same bits: partial and full queues, zero gradients, diffuse only and with highlights, clamped
+// (1D) and not (2D), at a view's lighting frame.
 TEST(RayCaster, ShadeQueueBuildsAgree)
 {
   const Volume vol = blobVolume(ScalarType::Float32);
@@ -246,7 +246,7 @@ TEST(RayCaster, ShadeQueueBuildsAgree)
       std::memcpy(narrow, base, sizeof(base));
       if (!raycast::shadeQueueAvx2(light, count, g, e, s, k, clamp, wide))
         GTEST_SKIP() << "this CPU (or compiler) has no AVX2: one build only";
-      raycast::shadeQueueBaseline(light, count, g, e, s, k, clamp, narrow);
+      light.shadeBatch(count, g, e, s, k, clamp, narrow);
       ASSERT_EQ(std::memcmp(wide, narrow, sizeof(wide)), 0)
         << "specular " << specular << " trial " << trial;
       if (specular > 0)
@@ -255,7 +255,7 @@ TEST(RayCaster, ShadeQueueBuildsAgree)
         std::memcpy(unlit, base, sizeof(base));
         raycast::SampleLighting diffuseOnly = light;
         diffuseOnly.kit.specular = 0;
-        raycast::shadeQueueBaseline(diffuseOnly, count, g, e, s, k, false, unlit);
+        diffuseOnly.shadeBatch(count, g, e, s, k, false, unlit);
         for (int l = 0; l < count; ++l)
           highlights += narrow[0][l] > unlit[0][l] + 1e-3f ? 1 : 0;
       }
