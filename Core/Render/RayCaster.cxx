@@ -490,20 +490,30 @@ struct March
         // lights with it, and in 1D only samples with opacity need it.
         RGBA c[kBatch];
         float g[3][kBatch];
-        for (int l = 0; l < n; ++l)
-          if constexpr (TwoD)
+        if constexpr (TwoD)
+        {
+          // the lanes' gradients one by one (through the cell table), then their magnitudes and
+          // table coordinates together
+          for (int l = 0; l < n; ++l)
           {
             float gl[3];
             stencil->inCell(f.w, lanes.i[l], lanes.j[l], lanes.k[l], lanes.idx[l], lanes.fx[l],
               lanes.fy[l], lanes.fz[l], cellOf(cells, lanes.idx[l]), gl);
-            c[l] = c2->lookup(value[l], transferGradient(gl));
             for (int a = 0; a < 3; ++a)
               g[a][l] = gl[a];
           }
-          else
-          {
+          for (int l = n; l < kBatch; ++l)
+            for (int a = 0; a < 3; ++a)
+              g[a][l] = 0.0f;
+          float gm[kBatch];
+          transferGradientBatch(g, gm);
+          c2->lookupBatch(n, value, gm, c);
+        }
+        else
+        {
+          for (int l = 0; l < n; ++l)
             c[l] = c1->lookup(value[l]);
-          }
+        }
         if (light)
         {
           // Shade: the samples with opacity queue up across batches and are lit kBatch at a time

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace ddg::raycast
@@ -97,6 +98,8 @@ struct Classify2D
   void prepare(const TransferTable2D& t, double q, double exponent)
   {
     t.validate();
+    if (static_cast<long long>(t.width) * t.height > std::numeric_limits<int>::max())
+      throw Error("2D transfer function table: more than 2^31 - 1 entries");
     width = t.width;
     height = t.height;
     table.resize(static_cast<size_t>(width) * height);
@@ -134,14 +137,21 @@ struct Classify2D
     return false;
   }
 
-  RGBA lookup(float v, float g) const
+  // Where (v, g) falls in the table: its first texel's index and the weights.
+  void coordinates(float v, float g, int& index, float& fx, float& fy) const
   {
     const float tx = std::clamp(v * vScale + vBias, 0.0f, static_cast<float>(width - 1));
     const float ty = std::clamp(g * gScale + gBias, 0.0f, static_cast<float>(height - 1));
     const int i = std::min(static_cast<int>(tx), width - 2);
     const int j = std::min(static_cast<int>(ty), height - 2);
-    const float fx = tx - i, fy = ty - j;
-    const RGBA* r0 = &table[static_cast<size_t>(j) * width + i];
+    fx = tx - static_cast<float>(i);
+    fy = ty - static_cast<float>(j);
+    index = j * width + i; // under 2^31 (prepare)
+  }
+
+  RGBA at(int index, float fx, float fy) const
+  {
+    const RGBA* r0 = &table[static_cast<size_t>(index)];
     const RGBA* r1 = r0 + width;
     auto lerp = [](const RGBA& a, const RGBA& b, float f)
     {
@@ -149,6 +159,28 @@ struct Classify2D
         a.a + f * (b.a - a.a) };
     };
     return lerp(lerp(r0[0], r0[1], fx), lerp(r1[0], r1[1], fx), fy);
+  }
+
+  RGBA lookup(float v, float g) const
+  {
+    int index;
+    float fx, fy;
+    coordinates(v, g, index, fx, fy);
+    return at(index, fx, fy);
+  }
+
+  // lookup of lanes 0 .. count-1: the coordinates of all kLanes lanes together (vectorisable;
+  // v and g must be finite on every lane), then the table's reads; the same values as lookup.
+  template <int kLanes>
+  void lookupBatch(
+    int count, const float (&v)[kLanes], const float (&g)[kLanes], RGBA (&out)[kLanes]) const
+  {
+    int index[kLanes];
+    float fx[kLanes], fy[kLanes];
+    for (int l = 0; l < kLanes; ++l)
+      coordinates(v[l], g[l], index[l], fx[l], fy[l]);
+    for (int l = 0; l < count; ++l)
+      out[l] = at(index[l], fx[l], fy[l]);
   }
 };
 

@@ -264,6 +264,47 @@ TEST(RayCaster, ShadeQueueBuildsAgree)
   EXPECT_GT(highlights, 0); // the specular term ran in both builds
 }
 
+// The 2D classification of a batch (the lanes' gradient magnitudes and table coordinates
+// together, Render/RayCasterClassify.h) gives the bits of one sample's: values and gradients
+// inside the table, on its edges and beyond them (clamped), partial and full batches.
+TEST(RayCaster, TwoDLookupBatchAgrees)
+{
+  const TransferTable2D table = twoPrimitiveTable({ 0.9, 0.5, 0.2 }, 0.6);
+  raycast::Classify2D classify;
+  classify.prepare(table, 1.0, 1.25);
+  std::uint32_t seed = 777;
+  auto uniform = [&seed](float lo, float hi)
+  {
+    seed = seed * 1664525u + 1013904223u;
+    return lo + (hi - lo) * static_cast<float>(seed >> 8) / 16777216.0f;
+  };
+  int clamped = 0;
+  for (int trial = 0; trial < 500; ++trial)
+  {
+    const int count = 1 + trial % raycast::kBatch;
+    float g[3][raycast::kBatch], v[raycast::kBatch], magnitude[raycast::kBatch];
+    for (int l = 0; l < raycast::kBatch; ++l)
+    {
+      v[l] = l == 2 && trial % 3 == 0 ? 255.0f : uniform(-30.0f, 285.0f); // an edge, beyond
+      for (int a = 0; a < 3; ++a)
+        g[a][l] = l == 5 && trial % 4 == 0 ? 0.0f : uniform(-80.0f, 80.0f);
+    }
+    transferGradientBatch(g, magnitude);
+    raycast::RGBA batch[raycast::kBatch];
+    classify.lookupBatch(count, v, magnitude, batch);
+    for (int l = 0; l < count; ++l)
+    {
+      const float gl[3] = { g[0][l], g[1][l], g[2][l] };
+      const float m = transferGradient(gl);
+      ASSERT_EQ(std::memcmp(&m, &magnitude[l], sizeof(m)), 0) << "trial " << trial;
+      const raycast::RGBA one = classify.lookup(v[l], m);
+      ASSERT_EQ(std::memcmp(&one, &batch[l], sizeof(one)), 0) << "trial " << trial << " lane " << l;
+      clamped += v[l] < 0.0f || v[l] > 255.0f || m > 60.0f ? 1 : 0;
+    }
+  }
+  EXPECT_GT(clamped, 100); // the clamps ran
+}
+
 // A constant region has no gradient: ParaView's normal is NaN there and the sample is black
 // with its opacity (no NaN in the image).
 TEST(RayCaster, ShadeOfAConstantRegionIsBlack)
