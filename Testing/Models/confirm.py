@@ -3,8 +3,9 @@
 
 The report's model sweep trains every configuration for 1.5 minutes; whether a smaller model
 than the shipped one would do is settled here at full training: the candidate (kind, width,
-image size) is trained with the shipped bundle's recipe (exemplars, iterations, seeds, schedule:
-scripts/train_model.sh with MODEL_OUT, OUTLINE=0) and its held-out metrics are recorded next to
+image size) is trained with the shipped bundle's recipe (design space, exemplars, iterations,
+seeds, schedule: scripts/train_model.sh with SPEC (the spec bundle.json records), MODEL_OUT,
+OUTLINE=0) and its held-out metrics are recorded next to
 the shipped bundle's in model_confirm_VOLUME.json. It suffices when it meets the shipped models'
 bar (bar.json, as CheckBundle.cmake) and is within SUFFICES_DB / SUFFICES_SSIM of the better of
 the two. `Testing/Benchmarks/report.py --confirm` picks the candidate from the sweep; alone:
@@ -93,8 +94,8 @@ def read_confirmation(volume, candidate, out, log=print):
 
 
 def confirm(volume, candidate, out, ddg, work, log=print):
-    """Trains `candidate` with the shipped bundle's recipe (exemplars, iterations, seeds, schedule:
-    scripts/train_model.sh, with the `ddg` program) in `work` and records its held-out metrics
+    """Trains `candidate` with the shipped bundle's recipe (its design space, exemplars, iterations,
+    seeds, schedule: scripts/train_model.sh, with the `ddg` program) in `work` and records its held-out metrics
     next to the shipped bundle's in `out`/model_confirm_VOLUME.json. Returns the record."""
     shipped = shipped_bundle(volume)
     iterations = shipped["metrics"]["train_iterations"]
@@ -102,6 +103,11 @@ def confirm(volume, candidate, out, ddg, work, log=print):
     weight = "100" if candidate["kind"].startswith("decoder (image") else "0"
     kind = candidate["kind"].split()[0]
     bundle = os.path.join(work, f"confirm_{volume}")
+    # the shipped bundle's design space (e.g. lit exemplars): the spec it records, as `SPEC`
+    os.makedirs(work, exist_ok=True)
+    spec = os.path.join(work, f"confirm_{volume}_spec.json")
+    with open(spec, "w") as f:
+        json.dump(shipped["spec"], f, indent=1)
     cmd = [
         "bash",
         os.path.join(ROOT, "scripts", "train_model.sh"),
@@ -120,7 +126,9 @@ def confirm(volume, candidate, out, ddg, work, log=print):
     subprocess.run(
         cmd,
         check=True,
-        env=dict(os.environ, DDG=ddg, WORK=bundle + "_work", MODEL_OUT=bundle, OUTLINE="0"),
+        env=dict(
+            os.environ, DDG=ddg, WORK=bundle + "_work", MODEL_OUT=bundle, OUTLINE="0", SPEC=spec
+        ),
     )
     with open(os.path.join(bundle, "bundle.json")) as f:
         metrics = json.load(f)["metrics"]
@@ -129,7 +137,8 @@ def confirm(volume, candidate, out, ddg, work, log=print):
         "kind": candidate["kind"],
         "width": candidate["width"],
         "image": candidate["image"],
-        "command": "MODEL_OUT=DIR OUTLINE=0 scripts/train_model.sh " + " ".join(cmd[2:]),
+        "command": "SPEC=<the shipped bundle's spec> MODEL_OUT=DIR OUTLINE=0 scripts/train_model.sh "
+        + " ".join(cmd[2:]),
         "exemplars": exemplars,
         "iterations": iterations,
         "wall_minutes": (time.time() - t0) / 60,
