@@ -369,13 +369,15 @@ S transferGradient(const S g[3])
   return S(0.5) * std::sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
 }
 
-/// transferGradient of kLanes gradients g[axis][lane] together (the same operations per lane,
-/// the same values; the square roots vectorise).
+/// transferGradient of kLanes gradients g[axis][lane] together (the square roots vectorise).
 template <int kLanes>
 void transferGradientBatch(const float (&g)[3][kLanes], float (&out)[kLanes])
 {
   for (int l = 0; l < kLanes; ++l)
-    out[l] = 0.5f * std::sqrt(g[0][l] * g[0][l] + g[1][l] * g[1][l] + g[2][l] * g[2][l]);
+  {
+    const float gl[3] = { g[0][l], g[1][l], g[2][l] };
+    out[l] = transferGradient(gl);
+  }
 }
 
 // Shade on: the light sums of the sample at index coordinates x (diffuse multiplies the table

@@ -57,6 +57,14 @@ void expectClose(const Image& fast, const Image& ref)
   EXPECT_LE(outliers, fast.pixels.size() / 1000) << "worst difference " << worst;
 }
 
+// A uniform draw in [lo, hi) from a linear congruential generator: the same numbers on every
+// platform, for the lane-by-lane comparisons below.
+float lcgUniform(std::uint32_t& seed, float lo, float hi)
+{
+  seed = seed * 1664525u + 1013904223u;
+  return lo + (hi - lo) * static_cast<float>(seed >> 8) / 16777216.0f;
+}
+
 // A 2D table of two Gaussian primitives over value [0, 255] x gradient [0, 60]; the first's
 // colour and opacity as given.
 TransferTable2D twoPrimitiveTable(std::array<double, 3> rgb0, double opacity0)
@@ -206,11 +214,7 @@ TEST(RayCaster, ShadeQueueBuildsAgree)
 {
   const Volume vol = blobVolume(ScalarType::Float32);
   std::uint32_t seed = 12345;
-  auto uniform = [&seed](float lo, float hi)
-  {
-    seed = seed * 1664525u + 1013904223u;
-    return lo + (hi - lo) * static_cast<float>(seed >> 8) / 16777216.0f;
-  };
+  auto uniform = [&seed](float lo, float hi) { return lcgUniform(seed, lo, hi); };
   int highlights = 0;
   for (const auto& [specular, power] :
     { std::pair{ 0.0, 100.0 }, std::pair{ 0.5, 30.0 }, std::pair{ 1.0, 7.5 } })
@@ -273,11 +277,7 @@ TEST(RayCaster, TwoDLookupBatchAgrees)
   raycast::Classify2D classify;
   classify.prepare(table, 1.0, 1.25);
   std::uint32_t seed = 777;
-  auto uniform = [&seed](float lo, float hi)
-  {
-    seed = seed * 1664525u + 1013904223u;
-    return lo + (hi - lo) * static_cast<float>(seed >> 8) / 16777216.0f;
-  };
+  auto uniform = [&seed](float lo, float hi) { return lcgUniform(seed, lo, hi); };
   int clamped = 0;
   for (int trial = 0; trial < 500; ++trial)
   {
