@@ -171,7 +171,10 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
             }
             if (!e.picture)
               toBytes(compositeOverBackground(exp, e.viewExp.background), out);
-            toBytes(render(aux, e.viewView), out + 3 * px);
+            if (opt.viewport)
+              toBytes(render(aux, e.viewView), out + 3 * px);
+            else
+              std::fill_n(out + 3 * px, 4 * px, std::uint8_t(0));
             toBytes(render(e.primitives, e.viewView), out + 7 * px);
             drawn[q] = std::move(e);
             ++done;
@@ -223,6 +226,8 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
     j["seed"] = opt.seed;
     j["first_index"] = opt.firstIndex;
     j["shard_size"] = opt.shardSize;
+    if (!opt.viewport)
+      j["viewport"] = false;
     if (opt.screen)
       j["screen"] = { { "candidates", report.candidates }, { "empty", report.empty },
         { "flat_box", report.flatBox }, { "regions_left_out", report.regionsLeftOut },
@@ -277,6 +282,7 @@ ExemplarDataset::ExemplarDataset(const std::string& dir)
     Count = j.at("count").get<int>();
     VolumeFile = j.value("volume_file", std::string());
     ShardSize = j.at("shard_size").get<int>();
+    Viewport = j.value("viewport", true);
     Spec = parseDesignSpaceSpec(j.at("spec").dump(), indexPath);
     for (const auto& r : j.at("regions"))
       Regions.push_back(regionFromJson(r));

@@ -30,6 +30,10 @@ struct GenerateOptions
   /// per batch) the rest are kept as drawn [false: every index in turn, as the shipped bundles were
   /// made]
   bool screen = false;
+  /// The U-Net's viewport image (the auxiliary TF at V_view). The decoder never reads it: without
+  /// it each exemplar costs two renders instead of three, its viewport bytes stay zero and
+  /// dataset.json says "viewport": false (the U-Net refuses such data) [true]
+  bool viewport = true;
 };
 
 struct GenerateReport
@@ -77,6 +81,8 @@ public:
   const std::string& fingerprint() const { return Fingerprint; }
   /// The volume file the dataset was generated from, as recorded ("" when unknown).
   const std::string& volumeFile() const { return VolumeFile; }
+  /// Whether the exemplars have their viewport image (GenerateOptions::viewport).
+  bool hasViewport() const { return Viewport; }
   const std::vector<Exemplar>& exemplars() const { return Items; }
   const std::vector<FeatureRegion>& regions() const { return Regions; }
   const DesignSpaceSpec& spec() const { return Spec; }
@@ -95,6 +101,7 @@ public:
 private:
   std::string Dir, Fingerprint, VolumeFile;
   int Count = 0, Size = 0, ShardSize = 0;
+  bool Viewport = true;
   std::vector<Exemplar> Items;
   std::vector<FeatureRegion> Regions;
   DesignSpaceSpec Spec;

@@ -171,6 +171,7 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
   g.threads = o.threads;
   g.volumeFile = volumeFile;
   g.screen = o.screen;
+  g.viewport = false; // the decoder does not read it
   const double trainShare = static_cast<double>(o.count) / (o.count + o.heldout);
   r.exemplars = generateExemplars(volume, o.spec, (fs::path(work) / "train").string(), g,
     [&](double f) { return keepGoing("exemplars", wE * trainShare * f); });
@@ -197,6 +198,7 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
   t.maxIterations = o.iterations;
   t.cosineSchedule = true; // over the iterations when given, else over the time budget
   t.imageWeight = 100;
+  t.otherViewFraction = o.otherViewFraction;
   t.seed = o.seed;
   t.threads = o.threads;
   double trained = wE; // the overall fraction at the last report

@@ -15,14 +15,17 @@ namespace ddg
 /// Options (defaults in brackets; the shipped bundles used 10 000-30 000 exemplars and 30 min).
 struct BuildOptions
 {
-  DesignSpaceSpec spec;      ///< design space [defaults, regions found automatically]
-  int count = 2000;          ///< training exemplars [2000]
-  int heldout = 200;         ///< held-out exemplars for the recorded figures [200]
-  int size = 64;             ///< image side [64]
-  double minutes = 5;        ///< training budget [5]
-  int iterations = 0;        ///< 0: the budget decides; else also the cosine schedule's length [0]
-  int outlineCount = 10000;  ///< designs in the outline [10000]
-  int width = 16;            ///< analyzer width [16]
+  DesignSpaceSpec spec;     ///< design space [defaults, regions found automatically]
+  int count = 2000;         ///< training exemplars [2000]
+  int heldout = 200;        ///< held-out exemplars for the recorded figures [200]
+  int size = 64;            ///< image side [64]
+  double minutes = 5;       ///< training budget [5]
+  int iterations = 0;       ///< 0: the budget decides; else also the cosine schedule's length [0]
+  int outlineCount = 10000; ///< designs in the outline [10000]
+  int width = 16;           ///< analyzer width [16]
+  /// share of the analyzer's training images from each exemplar's other view
+  /// (TrainOptions::otherViewFraction) [0]
+  double otherViewFraction = 0;
   std::uint64_t seed = 1;    ///< [1]
   int threads = 0;           ///< 0 = all cores
   std::string workDirectory; ///< exemplars go here ["" = a staging folder, removed after]

@@ -190,6 +190,9 @@ EvaluationReport NeuralDesignModel::evaluate(
   if (data.size() != s)
     throw Error("the dataset's images are " + std::to_string(data.size()) +
       " pixels, the model's " + std::to_string(s));
+  if (!In->decoder() && !data.hasViewport())
+    throw Error("the U-Net needs the exemplars' viewport images, and this dataset was generated "
+                "without them (for the decoder)");
   EvaluationReport r;
   r.count = std::min(maxExemplars, data.count());
   std::vector<std::vector<float>> latExp, latView;

@@ -53,6 +53,11 @@ struct TrainOptions
   /// analyzer). 0 = TF-parameter regression only. Needs attachVolume() first [0].
   double imageWeight = 0;
   int imageRays = 512; ///< [512]
+  /// Share of the analyzer's images that are the exemplar at its other view: the ground truth at
+  /// V_view composed over black or white (drawn with it), instead of the image at V_exp. Both
+  /// views are drawn alike, so this doubles the pictures of a design the analyzer learns from
+  /// without rendering any more; the targets (the TF, the image at V_view) stay [0].
+  double otherViewFraction = 0;
   /// Cosine learning-rate schedule from learningRate down to 5 % of it at maxIterations (a
   /// function of the iteration, so resuming continues it) or, without maxIterations, at the end
   /// of the time budget (a function of the seconds spent in this call) [false].
@@ -62,6 +67,12 @@ struct TrainOptions
   /// ddg::Cancelled [none]
   std::function<bool()> interrupt;
 };
+
+/// Which of a batch's `count` analyzer images are taken from the exemplar's other view
+/// (TrainOptions::otherViewFraction = `fraction`), and over which background: per image, -1 for
+/// its image at V_exp, else 0 (black) or 1 (white). Drawn from (seed, iteration) alone, so a
+/// resumed training draws what an uninterrupted one does.
+std::vector<int> otherViewDraw(int count, double fraction, std::uint64_t seed, int iteration);
 
 struct TrainProgress
 {

@@ -87,6 +87,9 @@ public:
     : In(in)
     , Opt(opt)
   {
+    if (!data.hasViewport())
+      throw Error("the U-Net needs the exemplars' viewport images, and this dataset was generated "
+                  "without them (for the decoder): generate it again with them");
     In.Layout.regions = data.regions();
     In.Layout.spec = data.spec();
   }
@@ -279,9 +282,54 @@ private:
   std::vector<std::uint8_t> Truth; // image loss: ground truths, N x S x S x 4
 };
 
+// The analyzer's images of the batch `sel` (float, 0..255): the images at V_exp, those that
+// otherViewDraw picks replaced by the ground truth at V_view (`other`, premultiplied RGBA)
+// composed over black or white and rounded as an 8-bit image is.
+torch::Tensor analyzerInput(const torch::Tensor& rgb, const torch::Tensor& other,
+  const torch::Tensor& sel, const TrainOptions& opt, int iteration)
+{
+  auto x = rgb.index_select(0, sel).to(torch::kFloat32);
+  if (!other.defined())
+    return x;
+  const std::vector<int> draw =
+    otherViewDraw(static_cast<int>(sel.size(0)), opt.otherViewFraction, opt.seed, iteration);
+  std::vector<std::int64_t> rows;
+  std::vector<float> backgrounds;
+  for (size_t b = 0; b < draw.size(); ++b)
+    if (draw[b] >= 0)
+    {
+      rows.push_back(static_cast<std::int64_t>(b));
+      backgrounds.push_back(static_cast<float>(draw[b]));
+    }
+  if (rows.empty())
+    return x;
+  const auto where = torch::tensor(rows, torch::kInt64);
+  const auto v = other.index_select(0, sel.index_select(0, where)).to(torch::kFloat32);
+  const auto background = torch::tensor(backgrounds, torch::kFloat32).view({ -1, 1, 1, 1 });
+  const auto composed =
+    (v.slice(1, 0, 3) + (255 - v.slice(1, 3, 4)) * background).round().clamp(0, 255);
+  x.index_copy_(0, where, composed);
+  return x;
+}
+
 } // namespace
 
 // --- the training loop -------------------------------------------------------------------
+
+std::vector<int> otherViewDraw(int count, double fraction, std::uint64_t seed, int iteration)
+{
+  std::mt19937_64 draw(seed * 0xD1B54A32D192ED03ull + static_cast<std::uint64_t>(iteration));
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<int> out(static_cast<size_t>(std::max(0, count)), -1);
+  for (int& o : out)
+  {
+    const bool other = u(draw) < fraction;
+    const int background = u(draw) < 0.5 ? 0 : 1;
+    if (other)
+      o = background;
+  }
+  return out;
+}
 
 TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOptions& opt,
   const std::function<bool(const TrainProgress&)>& progress)
@@ -299,12 +347,18 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     strategy = std::make_unique<UNetTraining>(*In, data, opt);
   if (opt.imageWeight < 0 || opt.imageRays < 1)
     throw Error("training needs an image weight >= 0 and at least one ray per exemplar");
+  if (!(opt.otherViewFraction >= 0 && opt.otherViewFraction <= 1))
+    throw Error("training needs an other-view fraction in [0, 1]");
   setThreads(opt.threads);
   torch::manual_seed(opt.seed);
   // Whole dataset in memory: the analyzer's input (N x 3 x S x S, uint8) here, what the
   // strategy's step needs there.
   const int n = data.count();
   auto rgb = torch::empty({ n, 3, s, s }, torch::kUInt8);
+  // with otherViewFraction, the ground truths at V_view too (N x 4 x S x S, premultiplied)
+  torch::Tensor other;
+  if (opt.otherViewFraction > 0)
+    other = torch::empty({ n, 4, s, s }, torch::kUInt8);
   strategy->prepare(n, s);
   {
     std::vector<std::uint8_t> a, b, c;
@@ -312,6 +366,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     {
       data.load(i, a, b, c);
       rgb[i].copy_(torch::from_blob(a.data(), { s, s, 3 }, torch::kUInt8).permute({ 2, 0, 1 }));
+      if (other.defined())
+        other[i].copy_(torch::from_blob(c.data(), { s, s, 4 }, torch::kUInt8).permute({ 2, 0, 1 }));
       strategy->store(i, b, c);
     }
   }
@@ -406,7 +462,7 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
           static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
     }
     const auto sel = torch::tensor(idx, torch::kInt64);
-    const auto x = rgb.index_select(0, sel).to(torch::kFloat32).div(127.5).sub(1.0);
+    const auto x = analyzerInput(rgb, other, sel, opt, iteration).div(127.5).sub(1.0);
     const StepLosses losses = strategy->step(idx, sel, x, iteration);
     ++iteration;
     if (!opt.checkpoint.empty() && iteration % opt.checkpointEvery == 0)

@@ -130,6 +130,11 @@ ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
     ->check(CLI::Range(3, 10000000));
   build->add_option("--width", ba->o.width, "Analyzer width (default 16)")
     ->check(CLI::Range(2, 256));
+  build
+    ->add_option("--other-view", ba->o.otherViewFraction,
+      "Share of the analyzer's training images taken from each exemplar's other view (its "
+      "ground truth over black or white) instead of its image at V_exp (default 0)")
+    ->check(CLI::Range(0.0, 1.0));
   build->add_option("--seed", ba->o.seed, "Seed (default 1)");
   build->add_option("--threads", ba->o.threads, "Threads (default 0: all cores)");
   build

@@ -23,7 +23,7 @@ struct GenerateArgs
   std::string volume, spec, out, array, preview;
   int count = 1000, size = 64, threads = 0, shardSize = 256;
   std::uint64_t seed = 1, firstIndex = 0;
-  bool quiet = false, screen = false;
+  bool quiet = false, screen = false, noViewport = false;
 };
 
 int runGenerate(const GenerateArgs& a)
@@ -39,6 +39,7 @@ int runGenerate(const GenerateArgs& a)
   opt.threads = a.threads;
   opt.shardSize = a.shardSize;
   opt.screen = a.screen;
+  opt.viewport = !a.noViewport;
   std::error_code ec;
   const auto absolute = std::filesystem::absolute(a.volume, ec);
   opt.volumeFile = ec ? a.volume : absolute.lexically_normal().string();
@@ -124,6 +125,9 @@ ddg::cli::Command ddg::cli::addGenerateCommand(CLI::App& app)
   generate->add_option(
     "--preview", ga->preview, "Also write a contact sheet of the first exemplars");
   generate->add_option("--array", ga->array, "Point array (default: the active scalars)");
+  generate->add_flag("--no-viewport", ga->noViewport,
+    "Leave out the U-Net's viewport image (the decoder does not read it): two renders per "
+    "exemplar instead of three");
   generate->add_flag("--quiet", ga->quiet, "Do not print progress");
   return { generate, [ga] { return runGenerate(*ga); } };
 }

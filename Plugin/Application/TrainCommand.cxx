@@ -28,6 +28,7 @@ struct TrainArgs
   double minutes = 10, lr = 0, lambda = 1000, dropout = 0.5, imageWeight = 100;
   int width = 16, latent = 64, batch = 16, threads = 0, maxIterations = 0, evalCount = 1000;
   int imageRays = 512;
+  double otherView = 0;
   std::uint64_t seed = 1;
   int checkCount = 100;
   bool resume = false, quiet = false, cosine = false;
@@ -66,6 +67,7 @@ int runTrain(const TrainArgs& a)
   opt.resume = a.resume;
   opt.imageWeight = a.kind == "decoder" ? a.imageWeight : 0.0;
   opt.imageRays = a.imageRays;
+  opt.otherViewFraction = a.otherView;
   opt.cosineSchedule = a.cosine;
   // the decoder ray casts its TFs: the volume given, or the one the data was generated from
   const std::string volumeFile = a.volume.empty() ? data.volumeFile() : a.volume;
@@ -152,6 +154,12 @@ ddg::cli::Command ddg::cli::addTrainCommand(CLI::App& app)
       "Decoder: random pixels per exemplar in the "
       "image loss (default 512)")
     ->check(CLI::Range(1, 1 << 20));
+  train
+    ->add_option("--other-view", ta->otherView,
+      "Share of the analyzer's images taken from each exemplar's other view (its ground truth "
+      "over black or white) instead of its image at V_exp: more pictures of each design, no "
+      "more renders (default 0)")
+    ->check(CLI::Range(0.0, 1.0));
   train->add_option("--width", ta->width, "Channels of the first block (default 16)")
     ->check(CLI::Range(2, 256));
   train->add_option("--latent", ta->latent, "Latent TF size (default 64)")

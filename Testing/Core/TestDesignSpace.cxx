@@ -174,6 +174,39 @@ TEST(ExemplarGenerator, DeterministicReadableAndGuarded)
   EXPECT_THROW(generateExemplars(vol, DesignSpaceSpec{}, "/proc/ddg_no_such_dir", opt), Error);
 }
 
+TEST(ExemplarGenerator, WithoutViewportTheSameImagesForTheDecoder)
+{
+  const Volume vol = materials();
+  GenerateOptions opt;
+  opt.count = 6;
+  opt.size = 16;
+  const std::string a = tempDir("gen_vp"), b = tempDir("gen_novp");
+  generateExemplars(vol, DesignSpaceSpec{}, a, opt);
+  opt.viewport = false;
+  generateExemplars(vol, DesignSpaceSpec{}, b, opt);
+  const ExemplarDataset with(a), without(b);
+  EXPECT_TRUE(with.hasViewport());
+  EXPECT_FALSE(without.hasViewport());
+  ASSERT_EQ(without.count(), 6);
+  int viewportPixels = 0;
+  for (int i = 0; i < 6; ++i)
+  {
+    std::vector<std::uint8_t> rgb1, vp1, gt1, rgb2, vp2, gt2;
+    with.load(i, rgb1, vp1, gt1);
+    without.load(i, rgb2, vp2, gt2);
+    EXPECT_EQ(rgb1, rgb2) << "exemplar " << i;
+    EXPECT_EQ(gt1, gt2) << "exemplar " << i;
+    for (size_t p = 0; p < vp1.size(); ++p)
+    {
+      viewportPixels += vp1[p] > 0;
+      ASSERT_EQ(vp2[p], 0);
+    }
+    EXPECT_EQ(with.exemplars()[static_cast<size_t>(i)].viewView.width,
+      without.exemplars()[static_cast<size_t>(i)].viewView.width);
+  }
+  EXPECT_GT(viewportPixels, 0); // the viewport images that were left out are not empty
+}
+
 TEST(ExemplarGenerator, FullDiskLeavesNothingThatLooksValid)
 {
   const Volume vol = materials();

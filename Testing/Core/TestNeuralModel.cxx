@@ -100,6 +100,62 @@ TEST(NeuralModel, TrainingLowersTheError)
   EXPECT_GT(after, before + 1.0) << "PSNR before " << before << " after " << after;
 }
 
+TEST(NeuralModel, OtherViewDrawIsItsShareAndRepeatable)
+{
+  for (int image : otherViewDraw(16, 0.0, 7, 3))
+    EXPECT_EQ(image, -1);
+  int other = 0, white = 0, total = 0;
+  for (int it = 0; it < 200; ++it)
+  {
+    const auto all = otherViewDraw(16, 1.0, 7, it);
+    for (int image : all)
+    {
+      ASSERT_TRUE(image == 0 || image == 1);
+      white += image;
+    }
+    for (int image : otherViewDraw(16, 0.5, 7, it))
+    {
+      other += image >= 0 ? 1 : 0;
+      ++total;
+    }
+  }
+  EXPECT_NEAR(static_cast<double>(other) / total, 0.5, 0.05);
+  EXPECT_NEAR(white / 3200.0, 0.5, 0.05); // both backgrounds
+  EXPECT_EQ(otherViewDraw(16, 0.5, 7, 11), otherViewDraw(16, 0.5, 7, 11));
+  EXPECT_NE(otherViewDraw(64, 0.5, 7, 11), otherViewDraw(64, 0.5, 7, 12));
+  EXPECT_NE(otherViewDraw(64, 0.5, 7, 11), otherViewDraw(64, 0.5, 8, 11));
+}
+
+TEST(NeuralModel, TrainingOnTheOtherViewLowersTheError)
+{
+  // every analyzer image from the other view: what the analyzer learns must still carry over to
+  // the images at V_exp that it is evaluated on
+  NeuralDesignModel m(tiny(), 3);
+  const double before = m.evaluate(dataset(), 24).psnr;
+  TrainOptions t = quick(150);
+  t.otherViewFraction = 1;
+  m.train(dataset(), t);
+  const double after = m.evaluate(dataset(), 24).psnr;
+  EXPECT_GT(after, before + 1.0) << "PSNR before " << before << " after " << after;
+  t.otherViewFraction = 1.5;
+  EXPECT_THROW(m.train(dataset(), t), Error);
+}
+
+TEST(NeuralModel, TheUNetRefusesDataWithoutViewports)
+{
+  const std::string d = ddg::testing::tempDir() + "/ddg_neural_no_viewport";
+  fs::remove_all(d);
+  GenerateOptions opt;
+  opt.count = 4;
+  opt.size = 16;
+  opt.viewport = false;
+  generateExemplars(blobs(), DesignSpaceSpec{}, d, opt);
+  const ExemplarDataset data(d);
+  NeuralDesignModel m(tiny(), 3);
+  EXPECT_THROW(m.train(data, quick(2)), Error);
+  EXPECT_THROW(m.evaluate(data, 4), Error);
+}
+
 TEST(NeuralModel, BundlesRoundTripAndRefuseBadOnes)
 {
   NeuralDesignModel m(tiny(), 5);
