@@ -24,8 +24,8 @@ struct BuildOptions
   int outlineCount = 10000; ///< designs in the outline [10000]
   int width = 16;           ///< analyzer width [16]
   /// share of the analyzer's training images from each exemplar's other view
-  /// (TrainOptions::otherViewFraction) [0]
-  double otherViewFraction = 0;
+  /// (TrainOptions::otherViewFraction; Documentation/DesignSpaces.md) [0.5]
+  double otherViewFraction = 0.5;
   std::uint64_t seed = 1;    ///< [1]
   int threads = 0;           ///< 0 = all cores
   std::string workDirectory; ///< exemplars go here ["" = a staging folder, removed after]

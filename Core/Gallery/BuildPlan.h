@@ -18,8 +18,8 @@ constexpr std::int64_t kMaxDesignSpaceVoxels = 16 * 1024 * 1024;
 /// the threads the build uses, under the machine's load at the time).
 struct BuildRates
 {
-  double exemplarSeconds = 0;     ///< one exemplar generated (3 renders, the shard write)
-  double renderSeconds = 0;       ///< one outline design's render (a third of an exemplar)
+  double exemplarSeconds = 0;     ///< one exemplar generated (2 renders, the shard write)
+  double renderSeconds = 0;       ///< one outline design's render (half an exemplar)
   double analyzeSeconds = 0;      ///< the analyzer on one image, alone (held-out figures)
   double analyzeBatchSeconds = 0; ///< ... per image in a batch (outline)
   double figureSeconds = 0;       ///< a held-out figure's PSNR, SSIM and colour-histogram EMD

@@ -133,7 +133,7 @@ ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
   build
     ->add_option("--other-view", ba->o.otherViewFraction,
       "Share of the analyzer's training images taken from each exemplar's other view (its "
-      "ground truth over black or white) instead of its image at V_exp (default 0)")
+      "ground truth over black or white) instead of its image at V_exp (default 0.5)")
     ->check(CLI::Range(0.0, 1.0));
   build->add_option("--seed", ba->o.seed, "Seed (default 1)");
   build->add_option("--threads", ba->o.threads, "Threads (default 0: all cores)");
