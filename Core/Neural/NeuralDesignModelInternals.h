@@ -35,4 +35,13 @@ struct NeuralDesignModel::Internals
   }
 };
 
+namespace neural
+{
+/// The analyzer's images of the batch `sel` (float, 0..255): `rgb`'s images at V_exp, those that
+/// otherViewDraw picks replaced by `other`'s ground truth at V_view (premultiplied RGBA; undefined
+/// when opt.otherViewFraction is 0) composed over black or white (NeuralTrainingInputs.cxx).
+torch::Tensor analyzerInput(const torch::Tensor& rgb, const torch::Tensor& other,
+  const torch::Tensor& sel, const TrainOptions& opt, int iteration);
+} // namespace neural
+
 } // namespace ddg
