@@ -351,12 +351,23 @@ Image renderDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>
   int dimensions, const std::array<double, 2>& gradientRange, const View& view,
   const RenderOptions& options)
 {
-  const auto range = caster.dataRange();
   if (tf.empty())
     return Image(view.width, view.height, 4, 0.0f);
+  const DesignTable table = designTable(tf, dimensions, caster.dataRange(), gradientRange);
+  return dimensions == 2 ? caster.render(table.twoD, view, options)
+                         : caster.render(table.oneD, view, options);
+}
+
+DesignTable designTable(const std::vector<GaussianPrimitive>& tf, int dimensions,
+  const std::array<double, 2>& range, const std::array<double, 2>& gradientRange)
+{
+  DesignTable t;
+  t.dimensions = dimensions;
   if (dimensions == 2)
-    return caster.render(rasterize2D(tf, range, gradientRange, 256, 64), view, options);
-  return caster.render(rasterize1D(tf, range[0], range[1], 256), view, options);
+    t.twoD = rasterize2D(tf, range, gradientRange, 256, 64);
+  else
+    t.oneD = rasterize1D(tf, range[0], range[1], 256);
+  return t;
 }
 
 GaussianPrimitive basePrimitive(const FeatureRegion& r)
@@ -658,30 +669,46 @@ std::vector<GaussianPrimitive> auxiliaryPrimitives(
   return out;
 }
 
+void VolumeHash::add(const float* values, std::int64_t count)
+{
+  std::uint64_t h = Hash;
+  for (std::int64_t i = 0; i < count; ++i)
+  {
+    std::uint32_t bits;
+    std::memcpy(&bits, values + i, 4);
+    for (int q = 0; q < 4; ++q)
+    {
+      h ^= (bits >> (8 * q)) & 0xFF;
+      h *= 1099511628211ull;
+    }
+  }
+  Hash = h;
+}
+
 std::string volumeFingerprint(const Volume& volume)
 {
-  std::uint64_t h = 1469598103934665603ull;
+  VolumeHash hash;
   volume.visit(
     [&](const auto* p)
     {
-      for (std::int64_t i = 0; i < volume.voxelCount(); ++i)
+      float chunk[4096]; // the hash of the float values, as ever
+      for (std::int64_t i = 0; i < volume.voxelCount(); i += 4096)
       {
-        const float v = static_cast<float>(p[i]); // the hash of the float values, as ever
-        std::uint32_t bits;
-        std::memcpy(&bits, &v, 4);
-        for (int q = 0; q < 4; ++q)
-        {
-          h ^= (bits >> (8 * q)) & 0xFF;
-          h *= 1099511628211ull;
-        }
+        const std::int64_t n = std::min<std::int64_t>(4096, volume.voxelCount() - i);
+        for (std::int64_t k = 0; k < n; ++k)
+          chunk[k] = static_cast<float>(p[i + k]);
+        hash.add(chunk, n);
       }
     });
-  const auto& d = volume.dims();
-  const auto& s = volume.spacing();
+  return volumeFingerprint(volume.dims(), volume.spacing(), volume.range(), hash.value());
+}
+
+std::string volumeFingerprint(const std::array<int, 3>& d, const std::array<double, 3>& s,
+  const std::array<double, 2>& range, std::uint64_t hash)
+{
   char buf[256];
   std::snprintf(buf, sizeof(buf), "%dx%dx%d spacing %.6g,%.6g,%.6g range %.6g..%.6g fnv1a %016llx",
-    d[0], d[1], d[2], s[0], s[1], s[2], volume.range()[0], volume.range()[1],
-    static_cast<unsigned long long>(h));
+    d[0], d[1], d[2], s[0], s[1], s[2], range[0], range[1], static_cast<unsigned long long>(hash));
   return buf;
 }
 

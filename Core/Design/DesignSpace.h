@@ -8,6 +8,7 @@
 #include "Render/RayCaster.h"
 #include "Render/View.h"
 #include "TransferFunction/GaussianPrimitive.h"
+#include "TransferFunction/TransferFunction2D.h"
 #include "Volume/Volume.h"
 
 #include <array>
@@ -141,12 +142,40 @@ Image renderDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>
   int dimensions, const std::array<double, 2>& gradientRange, const View& view,
   const RenderOptions& options = {});
 
+/// The table renderDesign ray casts for a TF of primitives (`dimensions` 1: `oneD`, 2: `twoD`),
+/// for a front end that renders it elsewhere (over the ranks of a split volume).
+struct DesignTable
+{
+  int dimensions = 1;
+  TransferTable1D oneD;
+  TransferTable2D twoD;
+};
+DesignTable designTable(const std::vector<GaussianPrimitive>& tf, int dimensions,
+  const std::array<double, 2>& valueRange, const std::array<double, 2>& gradientRange);
+
 /// The auxiliary TF (one grey primitive per region at the viewport opacity).
 std::vector<GaussianPrimitive> auxiliaryPrimitives(
   const DesignSpaceSpec& spec, const std::vector<FeatureRegion>& regions);
 
 /// A fingerprint of a volume: dims, spacing, range and a 64-bit FNV-1a hash of its values.
 std::string volumeFingerprint(const Volume& volume);
+
+/// The hash of volumeFingerprint fed in parts: the volume's values as floats, in its order (x
+/// fastest, then y, then z), in as many calls as the caller likes (a volume split over ranks
+/// streams its point planes to one of them).
+class VolumeHash
+{
+public:
+  void add(const float* values, std::int64_t count);
+  std::uint64_t value() const { return Hash; }
+
+private:
+  std::uint64_t Hash = 1469598103934665603ull;
+};
+
+/// volumeFingerprint from its parts: the whole volume's dims, spacing, range and VolumeHash.
+std::string volumeFingerprint(const std::array<int, 3>& dims, const std::array<double, 3>& spacing,
+  const std::array<double, 2>& range, std::uint64_t hash);
 /// A fingerprint in words, for messages: "103 x 94 x 161 voxels, values 0 to 255" ("an unknown
 /// volume" when it does not parse).
 std::string describeFingerprint(const std::string& fingerprint);

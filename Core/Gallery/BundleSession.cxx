@@ -22,23 +22,65 @@ BundleSession::BundleSession(
   : Directory(bundleDir)
   , Vol(std::make_unique<Volume>(std::move(volume)))
 {
-  Model = std::make_unique<NeuralDesignModel>(
-    NeuralDesignModel::loadBundle(bundleDir, volumeFingerprint(*Vol)));
+  Fingerprint = volumeFingerprint(*Vol);
+  LatentSet latents = openBundle(volumeHint);
+  const auto t1 = Clock::now();
+  Gallery = std::make_unique<DesignGallery>(*Model, *Vol, std::move(latents));
+  PcaMs = msSince(t1);
+}
+
+BundleSession::BundleSession(
+  const std::string& bundleDir, const std::string& fingerprint, const std::string& volumeHint)
+  : Directory(bundleDir)
+  , Fingerprint(fingerprint)
+{
+  LatentSet latents = openBundle(volumeHint);
+  const auto t1 = Clock::now();
+  Outline = std::make_unique<DesignOutline>(std::move(latents));
+  PcaMs = msSince(t1);
+}
+
+LatentSet BundleSession::openBundle(const std::string& volumeHint)
+{
+  Model =
+    std::make_unique<NeuralDesignModel>(NeuralDesignModel::loadBundle(Directory, Fingerprint));
   const auto t0 = Clock::now();
   LatentSet latents;
   try
   {
-    latents = readLatentSet(outlineFile(bundleDir));
+    latents = readLatentSet(outlineFile(Directory));
   }
   catch (const Error& e)
   {
     throw Error(std::string(e.what()) + " (build the outline with: ddg outline --model " +
-      bundleDir + " --volume " + volumeHint + ")");
+      Directory + " --volume " + volumeHint + ")");
   }
   ReadMs = msSince(t0);
-  const auto t1 = Clock::now();
-  Gallery = std::make_unique<DesignGallery>(*Model, *Vol, std::move(latents));
-  PcaMs = msSince(t1);
+  return latents;
+}
+
+const Volume& BundleSession::volume() const
+{
+  if (!Vol)
+    throw Error("the bundle was opened for a volume known by its fingerprint only");
+  return *Vol;
+}
+
+DesignGallery& BundleSession::gallery()
+{
+  volume(); // a session by fingerprint has no gallery
+  return *Gallery;
+}
+
+const DesignGallery& BundleSession::gallery() const
+{
+  volume();
+  return *Gallery;
+}
+
+const DesignOutline& BundleSession::outline() const
+{
+  return Gallery ? Gallery->outline() : *Outline;
 }
 
 BundleSession::~BundleSession() = default;
@@ -48,11 +90,25 @@ BundleSession& BundleSessionCache::get(const std::string& bundleDir, std::uint64
 {
   if (bundleDir.empty())
     throw Error("no ModelDirectory set");
-  if (!Session || Session->directory() != bundleDir || Version != volumeVersion)
+  if (!Session || Session->directory() != bundleDir || Version != volumeVersion ||
+    !Session->hasVolume())
   {
     Session.reset();
     Session = std::make_unique<BundleSession>(bundleDir, loadVolume());
     Version = volumeVersion;
+  }
+  return *Session;
+}
+
+BundleSession& BundleSessionCache::get(const std::string& bundleDir, const std::string& fingerprint)
+{
+  if (bundleDir.empty())
+    throw Error("no ModelDirectory set");
+  if (!Session || Session->directory() != bundleDir || Session->hasVolume() ||
+    Session->fingerprint() != fingerprint)
+  {
+    Session.reset();
+    Session = std::make_unique<BundleSession>(bundleDir, fingerprint);
   }
   return *Session;
 }

@@ -23,24 +23,35 @@ public:
   /// names the command that builds it (`volumeHint` stands for the volume in that command).
   BundleSession(
     const std::string& bundleDir, Volume volume, const std::string& volumeHint = "VOLUME");
+  /// The bundle for a volume known by its fingerprint (volumeFingerprint) only, e.g. one split
+  /// over ranks: the model and its outline, and no gallery (which renders through the volume).
+  BundleSession(const std::string& bundleDir, const std::string& fingerprint,
+    const std::string& volumeHint = "VOLUME");
   ~BundleSession();
   BundleSession(const BundleSession&) = delete;
   BundleSession& operator=(const BundleSession&) = delete;
 
   const std::string& directory() const { return Directory; }
-  const Volume& volume() const { return *Vol; }
+  /// The volume and the gallery: throw ddg::Error for a session opened by fingerprint.
+  const Volume& volume() const;
   NeuralDesignModel& model() { return *Model; }
-  DesignGallery& gallery() { return *Gallery; }
-  const DesignGallery& gallery() const { return *Gallery; }
+  DesignGallery& gallery();
+  const DesignGallery& gallery() const;
+  const DesignOutline& outline() const;
+  const std::string& fingerprint() const { return Fingerprint; }
+  bool hasVolume() const { return Vol != nullptr; }
 
   double outlineReadMs() const { return ReadMs; } ///< reading outline.bin
   double outlinePcaMs() const { return PcaMs; }   ///< the outline's PCA (building the gallery)
 
 private:
-  std::string Directory;
+  LatentSet openBundle(const std::string& volumeHint); // the model, then the outline's latents
+
+  std::string Directory, Fingerprint;
   std::unique_ptr<Volume> Vol;
   std::unique_ptr<NeuralDesignModel> Model;
   std::unique_ptr<DesignGallery> Gallery;
+  std::unique_ptr<DesignOutline> Outline; // by fingerprint (else the gallery's)
   double ReadMs = 0, PcaMs = 0;
 };
 
@@ -53,6 +64,9 @@ public:
   /// Throws ddg::Error for an empty directory ("no ModelDirectory set") and as BundleSession does.
   BundleSession& get(const std::string& bundleDir, std::uint64_t volumeVersion,
     const std::function<Volume()>& loadVolume);
+  /// The session by fingerprint (a volume split over ranks), reopened when the directory or the
+  /// fingerprint changes.
+  BundleSession& get(const std::string& bundleDir, const std::string& fingerprint);
   void clear() { Session.reset(); }
 
 private:

@@ -229,17 +229,24 @@ std::vector<float> DesignGallery::analyzeImage(const Image& image) const
 
 QueryResult DesignGallery::query(const Image& image, const View& view, int neighbours) const
 {
+  return queryDesignSpace(Model, Outline, image, view, neighbours,
+    [this](const std::vector<float>& latent, const View& v) { return render(latent, v); });
+}
+
+QueryResult queryDesignSpace(const NeuralDesignModel& model, const DesignOutline& outline,
+  const Image& image, const View& view, int neighbours, const DesignRender& render)
+{
   if (neighbours < 0)
     throw Error("the neighbour count must be >= 0");
   QueryResult r;
-  r.input = prepareQueryImage(image, Model.config().imageSize);
+  r.input = prepareQueryImage(image, model.config().imageSize);
   // a chart is refused; a picture that cannot be read as a rendered volume gets a warning
   const Image colour =
     image.channels >= 3 ? Image() : toChannels(image, image.channels == 2 ? 4 : 3);
   r.warning = checkQueryPicture(image.channels >= 3 ? image : colour);
-  r.latent = Model.analyze(r.input);
-  r.position = Outline.project(r.latent.data());
-  r.neighbours = Outline.nearest(r.latent.data(), neighbours);
+  r.latent = model.analyze(r.input);
+  r.position = outline.project(r.latent.data());
+  r.neighbours = outline.nearest(r.latent.data(), neighbours);
   r.preview = render(r.latent, view);
   // a lit scene's preview against an unlit picture (or the other way) would score the lighting,
   // not the design: the other lighting is rendered too and the better figure kept (the picture
@@ -336,13 +343,7 @@ TransferFunctionFile DesignGallery::explicitTransferFunction(
   const auto gradientRange =
     dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
   if (Model.config().kind == "decoder")
-  {
-    std::vector<GaussianPrimitive> visible;
-    for (const auto& g : regionPrimitives(latent, lock))
-      if (g.opacity >= DecoderLayout::kMinOpacity)
-        visible.push_back(g);
-    return primitivesToTransferFunction(visible, dims, valueRange, gradientRange, "ddg design");
-  }
+    return decoderTransferFunction(regionPrimitives(latent, lock), dims, valueRange, gradientRange);
   // the U-Net's image has no TF: reconstruct one from it at this view
   const DifferentiableRenderer diff(Vol);
   ReconstructionOptions opt;
@@ -351,6 +352,17 @@ TransferFunctionFile DesignGallery::explicitTransferFunction(
   target.image = compositeOverBackground(render(latent, view), view.background);
   target.view = view;
   return resultTransferFunction(reconstructTransferFunction(diff, { target }, opt), "ddg design");
+}
+
+TransferFunctionFile decoderTransferFunction(const std::vector<GaussianPrimitive>& regions,
+  int dimensions, const std::array<double, 2>& valueRange,
+  const std::array<double, 2>& gradientRange)
+{
+  std::vector<GaussianPrimitive> visible;
+  for (const auto& g : regions)
+    if (g.opacity >= DecoderLayout::kMinOpacity)
+      visible.push_back(g);
+  return primitivesToTransferFunction(visible, dimensions, valueRange, gradientRange, "ddg design");
 }
 
 namespace

@@ -50,6 +50,22 @@ struct QueryResult
   std::string warning;
 };
 
+/// The design of a latent rendered at a view (premultiplied RGBA, the view's size).
+using DesignRender = std::function<Image(const std::vector<float>& latent, const View& view)>;
+
+/// A query's steps (DesignGallery::query) with the renders left to `render`: the analyzer and
+/// the outline need no volume, so a front end whose volume is split over ranks renders the two
+/// designs there (the preview at `view`, and the other lighting for the picture's figure).
+QueryResult queryDesignSpace(const NeuralDesignModel& model, const DesignOutline& outline,
+  const Image& image, const View& view, int neighbours, const DesignRender& render);
+
+/// A decoder's design as the explicit TF ParaView is given (DesignGallery::
+/// explicitTransferFunction): its regions' primitives (decodeRegions) that are visible, over the
+/// volume's value range (and, 2D, gradient-magnitude range).
+TransferFunctionFile decoderTransferFunction(const std::vector<GaussianPrimitive>& regions,
+  int dimensions, const std::array<double, 2>& valueRange,
+  const std::array<double, 2>& gradientRange);
+
 /// How often a query finds the design it shows (the retrieval check of the gallery).
 struct QueryRecall
 {

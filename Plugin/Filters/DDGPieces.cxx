@@ -11,7 +11,10 @@
 #include <vtkUnsignedCharArray.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
+#include <exception>
 #include <limits>
 
 namespace ddg
@@ -205,16 +208,19 @@ std::unique_ptr<DifferentiableRenderer> differentiableOnRanks(
   return out;
 }
 
-Image renderOnRanks(const RankGroup& ranks, const RankVolume& volume,
-  const TransferFunctionFile& tf, const View& view, const RenderOptions& options,
-  const ProgressCallback& progress)
+namespace
+{
+// Every rank renders its piece with `renderPiece` (inside one collective step), the first rank
+// composites the parts front to back: the image there, empty elsewhere.
+Image compositeOnRanks(const RankGroup& ranks, const RankVolume& volume, const View& view,
+  const std::function<Image(const RayCaster& caster)>& renderPiece)
 {
   Image part;
   ranks.step(
     [&]
     {
       if (volume.caster)
-        part = volume.caster->render(volume.caster->resolve(tf, view), view, options, progress);
+        part = renderPiece(*volume.caster);
       else // owns nothing: transparent, behind every piece
       {
         part = Image(view.width, view.height, 5, 0.0f);
@@ -246,6 +252,208 @@ Image renderOnRanks(const RankGroup& ranks, const RankVolume& volume,
     offset += static_cast<size_t>(n);
   }
   return compositeBricks(each, where, view.width, view.height);
+}
+
+Image renderTable(const RayCaster& caster, const DesignTable& table, const View& view)
+{
+  return table.dimensions == 2 ? caster.render(table.twoD, view) : caster.render(table.oneD, view);
+}
+
+// A render request of the first rank: the view and the table's shape (its entries follow).
+std::string requestText(const DesignTable& t, const View& view)
+{
+  char shape[512];
+  const bool two = t.dimensions == 2;
+  std::snprintf(shape, sizeof(shape), "%d %d %d %.17g %.17g %.17g %.17g\n", t.dimensions,
+    two ? t.twoD.width : t.oneD.width, two ? t.twoD.height : 1,
+    two ? t.twoD.valueRange[0] : t.oneD.min, two ? t.twoD.valueRange[1] : t.oneD.max,
+    two ? t.twoD.gradientRange[0] : 0.0, two ? t.twoD.gradientRange[1] : 0.0);
+  return shape + viewToJson(view);
+}
+
+void parseRequest(const std::string& text, std::vector<float> rgba, DesignTable& t, View& view)
+{
+  const auto line = text.find('\n');
+  int width = 0, height = 0;
+  double v0 = 0, v1 = 0, g0 = 0, g1 = 0;
+  if (line == std::string::npos ||
+    std::sscanf(text.c_str(), "%d %d %d %lg %lg %lg %lg", &t.dimensions, &width, &height, &v0, &v1,
+      &g0, &g1) != 7 ||
+    rgba.size() != 4 * static_cast<size_t>(width) * static_cast<size_t>(height))
+    throw Error("a render request from the first rank did not parse");
+  view = parseView(text.substr(line + 1), "the first rank's view");
+  if (t.dimensions == 2)
+  {
+    t.twoD.width = width;
+    t.twoD.height = height;
+    t.twoD.valueRange = { v0, v1 };
+    t.twoD.gradientRange = { g0, g1 };
+    t.twoD.rgba = std::move(rgba);
+  }
+  else
+  {
+    t.oneD.width = width;
+    t.oneD.min = v0;
+    t.oneD.max = v1;
+    t.oneD.rgba = std::move(rgba);
+  }
+}
+} // namespace
+
+Image renderOnRanks(const RankGroup& ranks, const RankVolume& volume,
+  const TransferFunctionFile& tf, const View& view, const RenderOptions& options,
+  const ProgressCallback& progress)
+{
+  return compositeOnRanks(ranks, volume, view,
+    [&](const RayCaster& caster)
+    { return caster.render(caster.resolve(tf, view), view, options, progress); });
+}
+
+Image renderOnRanks(
+  const RankGroup& ranks, const RankVolume& volume, const DesignTable& table, const View& view)
+{
+  return compositeOnRanks(
+    ranks, volume, view, [&](const RayCaster& caster) { return renderTable(caster, table, view); });
+}
+
+std::string fingerprintOnRanks(const RankGroup& ranks, const RankVolume& volume)
+{
+  const VolumeBrick& whole = volume.brick;
+  const auto& d = whole.wholeDims;
+  // the points a brick owns along an axis: [first, last]
+  auto ownedPoints = [&](const VolumeBrick& b, int a, int& first, int& last)
+  {
+    first = b.ownedMin[a];
+    last = b.ownedMax[a] == d[a] - 1 ? d[a] - 1 : b.ownedMax[a] - 1;
+  };
+  const std::int64_t plane = static_cast<std::int64_t>(d[0]) * d[1];
+  const int slab = static_cast<int>(std::max<std::int64_t>(1, (std::int64_t(1) << 22) / plane));
+  VolumeHash hash;
+  std::vector<float> values, assembled;
+  for (int z0 = 0; z0 < d[2]; z0 += slab)
+  {
+    const int z1 = std::min(d[2], z0 + slab) - 1; // planes z0 .. z1
+    // what each rank sends: its owned points in these planes, x fastest
+    std::vector<long long> counts;
+    std::vector<std::array<int, 6>> boxes;
+    for (const VolumeBrick& b : volume.all)
+    {
+      std::array<int, 6> box{ 0, -1, 0, -1, 0, -1 };
+      if (!b.ownsNothing())
+      {
+        for (int a = 0; a < 3; ++a)
+          ownedPoints(b, a, box[2 * a], box[2 * a + 1]);
+        box[4] = std::max(box[4], z0);
+        box[5] = std::min(box[5], z1);
+      }
+      boxes.push_back(box);
+      counts.push_back(box[1] < box[0] || box[3] < box[2] || box[5] < box[4]
+          ? 0
+          : static_cast<long long>(box[1] - box[0] + 1) * (box[3] - box[2] + 1) *
+            (box[5] - box[4] + 1));
+    }
+    const auto& mine = boxes[static_cast<size_t>(ranks.rank())];
+    values.assign(static_cast<size_t>(counts[static_cast<size_t>(ranks.rank())]), 0.0f);
+    if (!values.empty())
+    {
+      const Volume& p = *volume.piece;
+      const auto& pd = p.dims();
+      const auto& off = volume.brick.offset;
+      p.visit(
+        [&](const auto* v)
+        {
+          size_t n = 0;
+          for (int z = mine[4]; z <= mine[5]; ++z)
+            for (int y = mine[2]; y <= mine[3]; ++y)
+            {
+              const std::int64_t row =
+                (static_cast<std::int64_t>(z - off[2]) * pd[1] + (y - off[1])) * pd[0] - off[0];
+              for (int x = mine[0]; x <= mine[1]; ++x)
+                values[n++] = static_cast<float>(v[row + x]);
+            }
+        });
+    }
+    const std::vector<float> parts = ranks.gatherToFirst(values, counts);
+    if (ranks.rank() != 0)
+      continue;
+    assembled.assign(static_cast<size_t>(plane) * (z1 - z0 + 1), 0.0f);
+    size_t at = 0;
+    for (const auto& box : boxes)
+      for (int z = box[4]; z <= box[5] && box[1] >= box[0] && box[3] >= box[2]; ++z)
+        for (int y = box[2]; y <= box[3]; ++y)
+          for (int x = box[0]; x <= box[1]; ++x)
+            assembled[static_cast<size_t>(
+              (z - z0) * plane + static_cast<std::int64_t>(y) * d[0] + x)] = parts[at++];
+    hash.add(assembled.data(), static_cast<std::int64_t>(assembled.size()));
+  }
+  if (ranks.rank() != 0)
+    return std::string();
+  return volumeFingerprint(d, whole.spacing, whole.wholeRange, hash.value());
+}
+
+void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
+  const std::function<void(const RanksTableRender& render)>& work)
+{
+  if (ranks.rank() == 0)
+  {
+    bool together = false; // inside a collective render: every rank throws with it
+    std::exception_ptr failure;
+    try
+    {
+      work(
+        [&](const DesignTable& table, const View& view)
+        {
+          ranks.broadcast(requestText(table, view));
+          std::vector<float> rgba = table.dimensions == 2 ? table.twoD.rgba : table.oneD.rgba;
+          ranks.broadcast(rgba);
+          together = true;
+          Image out = renderOnRanks(ranks, volume, table, view);
+          together = false;
+          return out;
+        });
+    }
+    catch (...)
+    {
+      if (together)
+        throw;
+      failure = std::current_exception();
+    }
+    ranks.broadcast(std::string()); // no more renders
+    ranks.step(
+      [&]
+      {
+        if (failure)
+          std::rethrow_exception(failure);
+      });
+    return;
+  }
+  for (;;)
+  {
+    const std::string request = ranks.broadcast(std::string());
+    if (request.empty())
+      break;
+    std::vector<float> rgba;
+    ranks.broadcast(rgba);
+    DesignTable table;
+    View view;
+    std::string error;
+    try
+    {
+      parseRequest(request, std::move(rgba), table, view);
+    }
+    catch (const std::exception& e)
+    {
+      error = e.what();
+    }
+    compositeOnRanks(ranks, volume, view,
+      [&](const RayCaster& caster)
+      {
+        if (!error.empty())
+          throw Error(error);
+        return renderTable(caster, table, view);
+      });
+  }
+  ranks.step([] {});
 }
 
 } // namespace ddg

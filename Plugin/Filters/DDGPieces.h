@@ -6,10 +6,12 @@
 #include "DDGFiltersModule.h" // export macro
 #include "DDGRanks.h"
 
+#include "Design/DesignSpace.h"
 #include "Render/DifferentiableRenderer.h"
 #include "Render/RayCaster.h"
 #include "Volume/VolumeBrick.h"
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -58,5 +60,27 @@ DDGFILTERS_EXPORT std::unique_ptr<DifferentiableRenderer> differentiableOnRanks(
 DDGFILTERS_EXPORT Image renderOnRanks(const RankGroup& ranks, const RankVolume& volume,
   const TransferFunctionFile& tf, const View& view, const RenderOptions& options,
   const ProgressCallback& progress);
+
+/// Collective: renderOnRanks for a design's table (renderDesign's, DesignTable) with the
+/// default render options.
+DDGFILTERS_EXPORT Image renderOnRanks(
+  const RankGroup& ranks, const RankVolume& volume, const DesignTable& table, const View& view);
+
+/// Collective: the whole volume's fingerprint (volumeFingerprint, the same text one process
+/// gives for the whole) on the first rank, empty elsewhere. Every rank sends the points it owns
+/// (each point of the whole is owned by one rank: VolumeBrick's ownership, the last point plane
+/// closed) a slab of point planes at a time (about 4 Mi values) to the first rank, which hashes
+/// them in the whole's order: no rank holds more than its piece and one slab.
+DDGFILTERS_EXPORT std::string fingerprintOnRanks(const RankGroup& ranks, const RankVolume& volume);
+
+/// The design renders a first rank asks for while it runs `work` (renders a table at a view over
+/// every rank's piece: renderOnRanks; the image on the first rank).
+using RanksTableRender = std::function<Image(const DesignTable& table, const View& view)>;
+
+/// Collective: runs `work` on the first rank while the other ranks serve its renders (any
+/// number, in the order asked). A failure in `work` or in a render reaches every rank and they
+/// all throw together (RankGroup::step).
+DDGFILTERS_EXPORT void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
+  const std::function<void(const RanksTableRender& render)>& work);
 
 } // namespace ddg

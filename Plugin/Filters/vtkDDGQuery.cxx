@@ -1,10 +1,12 @@
 // vtkDDGQuery.cxx: converts the input, runs ddg::DesignGallery::query, returns the preview image
-// and the designs table.
+// and the designs table; under MPI the first rank runs the query (Core's queryDesignSpace) and
+// every rank renders its piece of the designs.
 #include "vtkDDGQuery.h"
 
 #include "DDGBundleSession.h"
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
+#include "DDGPieces.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Gallery/Export.h"
@@ -26,12 +28,85 @@
 #include <vtkStringArray.h>
 #include <vtkTable.h>
 
+#include <algorithm>
+#include <array>
+
 vtkStandardNewMacro(vtkDDGQuery);
 
 struct vtkDDGQuery::Internals
 {
   ddg::BundleSessionCache Sessions;
+  // under MPI: the pieces and the whole's fingerprint, for this input
+  std::unique_ptr<ddg::RankVolume> Pieces;
+  std::string Fingerprint;
+  vtkMTimeType InputTime = 0;
+  vtkDataArray* Array = nullptr;
 };
+
+namespace
+{
+// The query's outputs: the preview and the designs table (rows, latent, position, the picture's
+// figure, a warning, the explicit TF and, 2D, ParaView's boxes).
+void writeQuery(const ddg::QueryResult& r, const ddg::DesignOutline& outline,
+  const ddg::TransferFunctionFile& tf, const std::string& boxes2D, const ddg::View& view,
+  vtkImageData* preview, vtkTable* designs)
+{
+  ddg::toVTKImage(r.preview, view.background, preview);
+  auto row = vtkSmartPointer<vtkIntArray>::New();
+  row->SetName("Row");
+  auto index = vtkSmartPointer<vtkDoubleArray>::New(); // uint64 indices fit a double exactly
+  index->SetName("DesignIndex");
+  auto distance = vtkSmartPointer<vtkDoubleArray>::New();
+  distance->SetName("Distance");
+  for (const auto& n : r.neighbours)
+  {
+    row->InsertNextValue(n.row);
+    index->InsertNextValue(
+      static_cast<double>(outline.latents().indices[static_cast<size_t>(n.row)]));
+    distance->InsertNextValue(n.distance);
+  }
+  designs->AddColumn(row);
+  designs->AddColumn(index);
+  designs->AddColumn(distance);
+  auto latent = vtkSmartPointer<vtkFloatArray>::New();
+  latent->SetName("Latent");
+  for (float v : r.latent)
+    latent->InsertNextValue(v);
+  designs->GetFieldData()->AddArray(latent);
+  auto position = vtkSmartPointer<vtkDoubleArray>::New();
+  position->SetName("Position");
+  position->InsertNextValue(r.position[0]);
+  position->InsertNextValue(r.position[1]);
+  designs->GetFieldData()->AddArray(position);
+  auto picture = vtkSmartPointer<vtkDoubleArray>::New();
+  picture->SetName("PicturePSNR");
+  picture->InsertNextValue(r.picturePSNR);
+  designs->GetFieldData()->AddArray(picture);
+  auto pictureLit = vtkSmartPointer<vtkIntArray>::New();
+  pictureLit->SetName("PictureLit");
+  pictureLit->InsertNextValue(r.pictureLit ? 1 : 0);
+  designs->GetFieldData()->AddArray(pictureLit);
+  if (!r.warning.empty())
+  {
+    auto warning = vtkSmartPointer<vtkStringArray>::New();
+    warning->SetName("Warning");
+    warning->InsertNextValue(r.warning);
+    designs->GetFieldData()->AddArray(warning);
+  }
+  auto text = vtkSmartPointer<vtkStringArray>::New();
+  text->SetName(tf.is2D ? "TransferFunction2D" : "Preset");
+  text->InsertNextValue(
+    tf.is2D ? ddg::transferFunction2DToJson(tf.tf2D) : ddg::presetToJson(tf.tf1D));
+  designs->GetFieldData()->AddArray(text);
+  if (tf.is2D)
+  {
+    auto boxes = vtkSmartPointer<vtkStringArray>::New();
+    boxes->SetName("ParaViewTransferFunction2D");
+    boxes->InsertNextValue(boxes2D);
+    designs->GetFieldData()->AddArray(boxes);
+  }
+}
+} // namespace
 
 vtkDDGQuery::vtkDDGQuery()
   : Internal(new Internals)
@@ -63,9 +138,19 @@ void vtkDDGQuery::PreviewSize(int& width, int& height)
   ddg::filterViewSize(this->ViewJSON, this->ViewFile, width, height);
 }
 
+int vtkDDGQuery::PieceGhostLevels()
+{
+  return 1; // the designs' renders: gradients for Shade and 2D tables
+}
+
 void vtkDDGQuery::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
+  if (const ddg::RankGroup* ranks = this->Ranks())
+  {
+    this->ExecuteOnRanks(*ranks, input, array, outputVector);
+    return;
+  }
   vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
   vtkTable* designs = vtkTable::GetData(outputVector, 1);
   if (this->ModelDirectory.empty())
@@ -77,61 +162,75 @@ void vtkDDGQuery::Execute(
   this->UpdateProgress(0.5);
   const auto r = gallery.query(image, view, this->Neighbours);
   const auto tf = gallery.explicitTransferFunction(r.latent, view);
-
-  ddg::toVTKImage(r.preview, view.background, preview);
-  auto row = vtkSmartPointer<vtkIntArray>::New();
-  row->SetName("Row");
-  auto index = vtkSmartPointer<vtkDoubleArray>::New(); // uint64 indices fit a double exactly
-  index->SetName("DesignIndex");
-  auto distance = vtkSmartPointer<vtkDoubleArray>::New();
-  distance->SetName("Distance");
-  for (const auto& n : r.neighbours)
-  {
-    row->InsertNextValue(n.row);
-    index->InsertNextValue(
-      static_cast<double>(gallery.outline().latents().indices[static_cast<size_t>(n.row)]));
-    distance->InsertNextValue(n.distance);
-  }
-  designs->AddColumn(row);
-  designs->AddColumn(index);
-  designs->AddColumn(distance);
-  auto latent = vtkSmartPointer<vtkFloatArray>::New();
-  latent->SetName("Latent");
-  for (float v : r.latent)
-    latent->InsertNextValue(v);
-  designs->GetFieldData()->AddArray(latent);
-  auto position = vtkSmartPointer<vtkDoubleArray>::New();
-  position->SetName("Position");
-  position->InsertNextValue(r.position[0]);
-  position->InsertNextValue(r.position[1]);
-  designs->GetFieldData()->AddArray(position);
-  auto picture = vtkSmartPointer<vtkDoubleArray>::New();
-  picture->SetName("PicturePSNR");
-  picture->InsertNextValue(r.picturePSNR);
-  designs->GetFieldData()->AddArray(picture);
-  auto pictureLit = vtkSmartPointer<vtkIntArray>::New();
-  pictureLit->SetName("PictureLit");
-  pictureLit->InsertNextValue(r.pictureLit ? 1 : 0);
-  designs->GetFieldData()->AddArray(pictureLit);
   if (!r.warning.empty())
-  {
-    auto warning = vtkSmartPointer<vtkStringArray>::New();
-    warning->SetName("Warning");
-    warning->InsertNextValue(r.warning);
-    designs->GetFieldData()->AddArray(warning);
     vtkWarningMacro(<< "Query: " << r.warning << ".");
-  }
-  auto text = vtkSmartPointer<vtkStringArray>::New();
-  text->SetName(tf.is2D ? "TransferFunction2D" : "Preset");
-  text->InsertNextValue(
-    tf.is2D ? ddg::transferFunction2DToJson(tf.tf2D) : ddg::presetToJson(tf.tf1D));
-  designs->GetFieldData()->AddArray(text);
-  if (tf.is2D)
-  {
-    auto boxes = vtkSmartPointer<vtkStringArray>::New();
-    boxes->SetName("ParaViewTransferFunction2D");
-    boxes->InsertNextValue(ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view));
-    designs->GetFieldData()->AddArray(boxes);
-  }
+  writeQuery(r, gallery.outline(), tf,
+    tf.is2D ? ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view) : "", view,
+    preview, designs);
   this->UpdateProgress(1.0);
+}
+
+void vtkDDGQuery::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input,
+  vtkDataArray* array, vtkInformationVector* outputVector)
+{
+  Internals& in = *this->Internal;
+  // the pieces and the whole's fingerprint, agreed again when any rank's input changed
+  const vtkMTimeType inputTime =
+    std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
+  double stale = !in.Pieces || in.InputTime != inputTime || in.Array != array ? 1.0 : 0.0;
+  ranks.allMax(&stale, 1);
+  if (stale > 0)
+  {
+    in.Pieces.reset();
+    auto pieces = std::make_unique<ddg::RankVolume>(ddg::RankVolume::gather(ranks, input, array,
+      this->InputWholeExtent(), true, true)); // (the gradient range: 2D bundles)
+    in.Fingerprint = ddg::fingerprintOnRanks(ranks, *pieces);
+    in.Pieces = std::move(pieces);
+    in.InputTime = inputTime;
+    in.Array = array;
+  }
+  const ddg::RankVolume& pieces = *in.Pieces;
+  vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
+  vtkTable* designs = vtkTable::GetData(outputVector, 1);
+  ddg::renderForFirstRank(ranks, pieces,
+    [&](const ddg::RanksTableRender& render)
+    {
+      // the first rank: the query as Execute's, its renders over the ranks' pieces
+      if (this->ModelDirectory.empty())
+        throw ddg::Error("no ModelDirectory set");
+      const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
+      const ddg::Image image = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
+      ddg::BundleSession& session = in.Sessions.get(this->ModelDirectory, in.Fingerprint);
+      const ddg::NeuralDesignModel& model = session.model();
+      if (model.config().kind != "decoder")
+        throw ddg::Error("the query of a U-Net bundle needs the whole volume on one process (its "
+                         "TF is reconstructed from its image): under MPI, query a decoder bundle "
+                         "(ddg build, ddg train --kind decoder)");
+      const int dims = model.config().dimensions;
+      const auto& range = pieces.brick.wholeRange;
+      const std::array<double, 2> gradients =
+        dims == 2 ? pieces.brick.wholeGradientRange : std::array<double, 2>{ 0.0, 1.0 };
+      this->UpdateProgress(0.5);
+      const auto r = ddg::queryDesignSpace(model, session.outline(), image, view, this->Neighbours,
+        [&](const std::vector<float>& latent, const ddg::View& v)
+        {
+          const auto prims = model.decode(latent); // as NeuralDesignModel::renderAt
+          if (prims.empty())
+            return ddg::Image(v.width, v.height, 4, 0.0f);
+          return render(ddg::designTable(prims, dims, range, gradients), v);
+        });
+      const auto tf =
+        ddg::decoderTransferFunction(model.decodeRegions(r.latent), dims, range, gradients);
+      std::string boxes;
+      if (tf.is2D)
+      {
+        if (!pieces.caster)
+          throw ddg::Error("the first rank's piece is empty: ParaView's 2D boxes are fitted there");
+        boxes = ddg::paraViewTransferFunction2DJson(*pieces.caster, tf.tf2D, view);
+      }
+      if (!r.warning.empty())
+        vtkWarningMacro(<< "Query: " << r.warning << ".");
+      writeQuery(r, session.outline(), tf, boxes, view, preview, designs);
+      this->UpdateProgress(1.0);
+    });
 }

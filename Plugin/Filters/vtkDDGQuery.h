@@ -83,8 +83,12 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   void PreviewSize(int& width, int& height) override;
+  int PieceGhostLevels() override;
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
+  // under `mpiexec -np N pvserver`: the first rank analyzes, every rank renders its piece
+  void ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array,
+    vtkInformationVector* outputVector);
 
 private:
   vtkDDGQuery(const vtkDDGQuery&) = delete;

@@ -394,3 +394,35 @@ TEST(DesignSpace, FingerprintInWords)
     "64 x 64 x 93 voxels, values -1024 to 3071");
   EXPECT_EQ(describeFingerprint("garbage"), "an unknown volume");
 }
+
+// The fingerprint fed in parts (a volume split over ranks streams its planes) is the whole's,
+// and its text is the one bundles record (pinned: FNV-1a over the float bits, computed apart).
+TEST(DesignSpace, FingerprintFedInPartsIsTheWholes)
+{
+  std::vector<float> v;
+  for (int i = 0; i < 12; ++i)
+    v.push_back(0.5f * static_cast<float>(i));
+  const Volume small({ 3, 2, 2 }, { 0, 0, 0 }, { 1, 2, 0.5 }, v, ScalarType::Float32);
+  EXPECT_EQ(volumeFingerprint(small), "3x2x2 spacing 1,2,0.5 range 0..5.5 fnv1a f4cd8a25a05bf89a");
+  VolumeHash parts;
+  parts.add(v.data(), 5);
+  parts.add(v.data() + 5, 0);
+  parts.add(v.data() + 5, 7);
+  EXPECT_EQ(volumeFingerprint(small.dims(), small.spacing(), small.range(), parts.value()),
+    volumeFingerprint(small));
+  const Volume big = materials(); // over the 4096-value chunks of the whole's own pass
+  VolumeHash planes;
+  std::vector<float> plane(32 * 32);
+  big.visit(
+    [&](const auto* p)
+    {
+      for (int k = 0; k < 32; ++k)
+      {
+        for (int q = 0; q < 32 * 32; ++q)
+          plane[static_cast<size_t>(q)] = static_cast<float>(p[k * 32 * 32 + q]);
+        planes.add(plane.data(), 32 * 32);
+      }
+    });
+  EXPECT_EQ(volumeFingerprint(big.dims(), big.spacing(), big.range(), planes.value()),
+    volumeFingerprint(big));
+}

@@ -1,8 +1,10 @@
 """The filters on ParaView's MPI engine: `mpiexec -np N pvserver` on a free loopback port.
 
-DDG Volume Render and DDG Reconstruct Transfer Function (with Match Picture too) work on pieces:
-every rank reads and renders its own piece of the volume (one ghost level); the render's images
-are composited sort-last on the first rank, the reconstruction composites every step's rays on
+DDG Volume Render, DDG Query and DDG Reconstruct Transfer Function (with Match Picture too) work
+on pieces: every rank reads and renders its own piece of the volume (one ghost level); the
+render's images are composited sort-last on the first rank, the query runs on the first rank
+(the bundle checked against the whole's fingerprint, streamed to it slab by slab) and its design
+renders are composited like the render's, the reconstruction composites every step's rays on
 every rank and sums the ranks' TF gradients (DDGPieces.h), the match runs in step on every rank
 (Core's match over pieces). The other filters need the whole volume: piece 0
 (rank 0) asks for the whole extent and computes, the other ranks ask for nothing and output empty
@@ -16,8 +18,10 @@ which keeps the first rank's output) the outputs of DDG Volume Render (1D; Shade
   and compositing adds in another order;
 - the reader's points over the ranks after the renders are the pieces' (the volume split as
   vtkExtentTranslator splits it, one ghost level): no rank read the whole volume;
-- query: identical (every array of the images and of the designs table, every field
-  data array, the Preset string);
+- query: the preview within RENDER_TOL (a render over pieces, as above), the designs table
+  identical (rows, latent, outline position, the Preset string) but for the picture's figure
+  (PicturePSNR, from the preview: within 0.1 dB); after the query the reader's points are the
+  pieces' (no rank read the whole volume);
 - reconstruction: same columns, rows, field data names and steps, values within
   RECONSTRUCT_TOL (1e-3, a quarter of one 8-bit level of a table entry): each piece stops its
   rays at ParaView's opacity threshold on its own (the images of a step differ by up to 1/255
@@ -161,15 +165,14 @@ def run_filters(remote):
         Iterations=10,
         a2Dvaluexgradientmagnitude=1,  # TwoD, named after its label
     )
-    filters = [("reconstruct", rec, [0]), ("reconstruct 2d", rec2d, [0])]
+    query = simple.DDGQuery(
+        Input=tooth,
+        ModelDirectory=os.path.join(data, "Models", "tooth"),
+        ImageFile=shot,
+        ViewFile=view_file,
+    )
+    filters = [("query", query, [0, 1]), ("reconstruct", rec, [0]), ("reconstruct 2d", rec2d, [0])]
     if ranks == 2:
-        query = simple.DDGQuery(
-            Input=tooth,
-            ModelDirectory=os.path.join(data, "Models", "tooth"),
-            ImageFile=shot,
-            ViewFile=view_file,
-        )
-        filters.insert(0, ("query", query, [0, 1]))
         # Match Picture over pieces: the camera searched near the given view (silhouettes,
         # colours, short fits, polish), the fit, previews and the before/after renders
         match = simple.DDGReconstructTransferFunction(
@@ -188,6 +191,12 @@ def run_filters(remote):
         seconds[name] = time.time() - start
         for port in ports:
             out[f"{name}:{port}"] = snapshot(servermanager.Fetch(proxy, idx=port))
+        if name == "query":
+            whole = tooth.GetDataInformation().DataInformation.GetExtent()
+            out["reader points after query"] = (
+                tooth.GetDataInformation().GetNumberOfPoints(),
+                split_points(whole, ranks if remote else 1, 1 if remote else 0),
+            )
     whole = tooth.GetDataInformation().DataInformation.GetExtent()
     out["reader points after reconstruct"] = (
         tooth.GetDataInformation().GetNumberOfPoints(),
@@ -247,15 +256,31 @@ def compare_renders(mpi, builtin):
     ), f"the ranks read {points} points; their pieces with one ghost level hold {expected}"
 
 
+def compare_query(mpi, builtin):
+    rgba, levels = render_difference(mpi["query:0"], builtin["query:0"])
+    assert rgba <= RENDER_TOL and levels <= round(
+        255 * RENDER_TOL
+    ), f"query preview: {rgba} ({levels} levels) from builtin"
+    a, b = dict(mpi["query:1"]), dict(builtin["query:1"])
+    assert a["class"] == b["class"], ("query:1", a["class"], b["class"])
+    fa, fb = dict(a.pop("field")), dict(b.pop("field"))
+    psnr = (float(fa.pop("PicturePSNR")[0]), float(fb.pop("PicturePSNR")[0]))
+    assert abs(psnr[0] - psnr[1]) <= 0.1, f"query: the picture's figure {psnr} from builtin"
+    assert same(a, b) and same(fa, fb), "query:1 differs from the builtin session's"
+    points, expected = mpi["reader points after query"]
+    assert (
+        points == expected
+    ), f"after the query the ranks read {points} points; their pieces hold {expected}"
+    print(
+        f"query: {ranks} ranks vs builtin, preview RGBA max difference {rgba:.2e}, "
+        f"{levels} level(s), picture {psnr[0]:.3f} vs {psnr[1]:.3f} dB; the table the same; "
+        f"the reader's points after it: the pieces' ({points})"
+    )
+
+
 def compare(mpi, builtin):
     compare_renders(mpi, builtin)
-    for key in ("query:0", "query:1"):
-        assert mpi[key]["class"] == builtin[key]["class"], (
-            key,
-            mpi[key]["class"],
-            builtin[key]["class"],
-        )
-        assert same(mpi[key], builtin[key]), f"{key} differs from the builtin session's"
+    compare_query(mpi, builtin)
     assert (
         mpi["query:1"]["rows"] > 0 and "Preset" in mpi["query:1"]["field"]
     ), "query: no designs or preset"
@@ -338,6 +363,7 @@ if vtkMultiProcessController.GetGlobalController().GetLocalProcessId() == 1:
     out.GetPointData().Initialize()  # this rank's piece has no point data
 """
 FAILED = "rank 1: the volume has cell data only"  # tooth.vti has cell data too
+MISSING_BUNDLE = "/nonexistent/ddg_bundle"
 
 
 def tiny_render():
@@ -367,8 +393,8 @@ def tiny_render():
 
 def failing_rank(tooth):
     """A pipeline whose piece on rank 1 has no scalars: every rank stops, the client reads the
-    error from the first rank — for a render and for Match Picture (the match's ranks stop before
-    their first exchange of the match)."""
+    error from the first rank — for a render, a query and Match Picture (the match's ranks stop
+    before their first exchange of the match)."""
     broken = simple.ProgrammableFilter(Input=tooth, Script=FAIL_ON_RANK_1)
     render = simple.DDGVolumeRender(
         Input=broken,
@@ -378,7 +404,23 @@ def failing_rank(tooth):
     match = simple.DDGReconstructTransferFunction(
         Input=broken, TargetImageFile=shot, MatchPicture=1, Iterations=20
     )
-    for name, proxy in (("render", render), ("match", match)):
+    query = simple.DDGQuery(
+        Input=broken,
+        ModelDirectory=os.path.join(data, "Models", "tooth"),
+        ImageFile=shot,
+        ViewFile=view_file,
+    )
+    # the first rank fails on its own (no such bundle) while the others serve its renders: they
+    # stop too
+    missing = simple.DDGQuery(
+        Input=tooth, ModelDirectory=MISSING_BUNDLE, ImageFile=shot, ViewFile=view_file
+    )
+    missing.UpdatePipeline()
+    missing.UpdatePropertyInformation()
+    error = missing.GetProperty("LastError").GetElement(0)
+    assert MISSING_BUNDLE in error, f"query without a bundle: LastError {error!r}"
+    print(f"{ranks} ranks, query of a missing bundle: the client read: {error}")
+    for name, proxy in (("render", render), ("query", query), ("match", match)):
         start = time.time()
         proxy.UpdatePipeline()
         proxy.UpdatePropertyInformation()
@@ -436,13 +478,17 @@ try:
         assert not errors, "the server logged errors:\n" + log
     else:  # the failing rank's error, reported once by the first rank
         # the error as vtkErrorMacro prints it: a header line ("ERR| ERROR: In ...") and the message
-        others = [line for line in errors if FAILED not in line and "ERR| ERROR: In" not in line]
-        assert len(expected) == 2 and not others, (
-            "the server should log rank 1's error once per filter (render, match):\n" + log
+        others = [
+            line
+            for line in errors
+            if FAILED not in line and MISSING_BUNDLE not in line and "ERR| ERROR: In" not in line
+        ]
+        assert len(expected) == 3 and not others, (
+            "the server should log rank 1's error once per filter (render, query, match):\n" + log
         )
     print(
         f"{ranks} ranks: mpiexec exited with status 0 after the client left, "
-        f"{len(expected)} error(s) logged (expected {0 if ranks == 2 else 2})"
+        f"{len(expected)} error(s) logged (expected {0 if ranks == 2 else 3})"
     )
 finally:
     server.stop()
@@ -454,6 +500,7 @@ finally:
 _, builtin = run_filters(remote=False)
 if ranks != 2:
     compare_renders(mpi, builtin)
+    compare_query(mpi, builtin)
     diffs = compare_reconstructions(mpi, builtin)
     print(
         f"reconstruct on {ranks} pieces: max difference {diffs[0]:.1e}, 2D {diffs[1]:.1e} "
