@@ -650,7 +650,12 @@ Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
 
 View designDefaultView(const Volume& volume, const DesignSpaceSpec& spec, int size)
 {
-  View v = defaultView(volume, size, size);
+  return designDefaultView(volume.bounds(), spec, size);
+}
+
+View designDefaultView(const std::array<double, 6>& bounds, const DesignSpaceSpec& spec, int size)
+{
+  View v = defaultView(bounds, size, size);
   if (spec.lighting.shade)
     v.lighting = spec.lighting;
   return v;

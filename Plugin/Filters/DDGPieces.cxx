@@ -6,6 +6,7 @@
 #include "Render/PieceExchange.h"
 #include "Render/SortLast.h"
 
+#include <vtkDataArray.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkImageData.h>
 #include <vtkUnsignedCharArray.h>
@@ -454,6 +455,48 @@ void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
       });
   }
   ranks.step([] {});
+}
+
+DesignRender decoderRenderOnRanks(
+  const NeuralDesignModel& model, const RankVolume& volume, const RanksTableRender& render)
+{
+  if (model.config().kind != "decoder")
+    throw Error("a U-Net bundle needs the whole volume on one process (its TF is reconstructed "
+                "from its image): under MPI, use a decoder bundle (ddg build, ddg train --kind "
+                "decoder)");
+  const int dims = model.config().dimensions;
+  const auto range = volume.brick.wholeRange;
+  const std::array<double, 2> gradients =
+    dims == 2 ? volume.brick.wholeGradientRange : std::array<double, 2>{ 0.0, 1.0 };
+  return [&model, render, dims, range, gradients](
+           const std::vector<float>& latent, const View& view)
+  {
+    const auto prims = model.decode(latent);
+    if (prims.empty())
+      return Image(view.width, view.height, 4, 0.0f);
+    return render(designTable(prims, dims, range, gradients), view);
+  };
+}
+
+const RankVolume& RankVolumeCache::get(
+  const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6])
+{
+  const unsigned long long time = std::max<unsigned long long>(
+    piece ? piece->GetMTime() : 0, array ? array->GetMTime() : 0);
+  double stale = !Pieces || Time != time || Array != array ? 1.0 : 0.0;
+  ranks.allMax(&stale, 1);
+  if (stale > 0)
+  {
+    Pieces.reset();
+    Fingerprint.clear();
+    auto pieces = std::make_unique<RankVolume>(
+      RankVolume::gather(ranks, piece, array, wholeExtent, true, true));
+    Fingerprint = fingerprintOnRanks(ranks, *pieces);
+    Pieces = std::move(pieces);
+    Time = time;
+    Array = array;
+  }
+  return *Pieces;
 }
 
 } // namespace ddg

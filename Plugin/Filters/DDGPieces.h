@@ -7,6 +7,7 @@
 #include "DDGRanks.h"
 
 #include "Design/DesignSpace.h"
+#include "Gallery/Gallery.h"
 #include "Render/DifferentiableRenderer.h"
 #include "Render/RayCaster.h"
 #include "Volume/VolumeBrick.h"
@@ -82,5 +83,28 @@ using RanksTableRender = std::function<Image(const DesignTable& table, const Vie
 /// all throw together (RankGroup::step).
 DDGFILTERS_EXPORT void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
   const std::function<void(const RanksTableRender& render)>& work);
+
+/// A decoder model's design renders (NeuralDesignModel::renderAt's) over the ranks' pieces, for
+/// the first rank inside renderForFirstRank. Throws ddg::Error for a U-Net model (its TF is
+/// reconstructed from its image on the whole volume).
+DDGFILTERS_EXPORT DesignRender decoderRenderOnRanks(
+  const NeuralDesignModel& model, const RankVolume& volume, const RanksTableRender& render);
+
+/// A filter's pieces under MPI and the whole volume's fingerprint (fingerprintOnRanks: on the
+/// first rank), agreed again when any rank's input or array changed.
+class DDGFILTERS_EXPORT RankVolumeCache
+{
+public:
+  /// Collective. The pieces with their casters and the gradient range (2D designs).
+  const RankVolume& get(const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array,
+    const int wholeExtent[6]);
+  const std::string& fingerprint() const { return Fingerprint; }
+
+private:
+  std::unique_ptr<RankVolume> Pieces;
+  std::string Fingerprint;
+  unsigned long long Time = 0;
+  vtkDataArray* Array = nullptr;
+};
 
 } // namespace ddg

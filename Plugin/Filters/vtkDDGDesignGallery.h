@@ -6,6 +6,7 @@
 #include "DDGFiltersModule.h" // export macro
 #include "vtkDDGAlgorithm.h"
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -25,6 +26,14 @@
  * "X", "Y" (plane coordinates) and "Thumbnail" (its cell in port 0, -1 for none); field data
  * "Box" (the box shown) and "ExplainedVariance" (of the two plane axes).
  */
+class vtkTable;
+namespace ddg
+{
+class DesignOutline;
+struct Image;
+struct View;
+}
+
 class DDGFILTERS_EXPORT vtkDDGDesignGallery : public vtkDDGAlgorithm
 {
 public:
@@ -90,6 +99,16 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   void PreviewSize(int& width, int& height) override;
+  int PieceGhostLevels() override;
+  // under `mpiexec -np N pvserver`: the first rank lays out the sheet, every rank renders its
+  // piece of the thumbnails
+  void ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array,
+    vtkInformationVector* outputVector);
+  // the sheet and the designs table, the thumbnails from `thumbnail` (row, view)
+  void WriteGallery(const ddg::DesignOutline& outline, const ddg::View& view,
+    const std::function<const ddg::Image&(int row)>& thumbnail, vtkImageData* sheet,
+    vtkTable* designs);
+  ddg::View ThumbnailView(const std::function<ddg::View(int size)>& defaultView) const;
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 

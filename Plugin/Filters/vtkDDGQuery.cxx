@@ -36,11 +36,7 @@ vtkStandardNewMacro(vtkDDGQuery);
 struct vtkDDGQuery::Internals
 {
   ddg::BundleSessionCache Sessions;
-  // under MPI: the pieces and the whole's fingerprint, for this input
-  std::unique_ptr<ddg::RankVolume> Pieces;
-  std::string Fingerprint;
-  vtkMTimeType InputTime = 0;
-  vtkDataArray* Array = nullptr;
+  ddg::RankVolumeCache Pieces; // under MPI
 };
 
 namespace
@@ -174,22 +170,7 @@ void vtkDDGQuery::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* inpu
   vtkDataArray* array, vtkInformationVector* outputVector)
 {
   Internals& in = *this->Internal;
-  // the pieces and the whole's fingerprint, agreed again when any rank's input changed
-  const vtkMTimeType inputTime =
-    std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
-  double stale = !in.Pieces || in.InputTime != inputTime || in.Array != array ? 1.0 : 0.0;
-  ranks.allMax(&stale, 1);
-  if (stale > 0)
-  {
-    in.Pieces.reset();
-    auto pieces = std::make_unique<ddg::RankVolume>(ddg::RankVolume::gather(ranks, input, array,
-      this->InputWholeExtent(), true, true)); // (the gradient range: 2D bundles)
-    in.Fingerprint = ddg::fingerprintOnRanks(ranks, *pieces);
-    in.Pieces = std::move(pieces);
-    in.InputTime = inputTime;
-    in.Array = array;
-  }
-  const ddg::RankVolume& pieces = *in.Pieces;
+  const ddg::RankVolume& pieces = in.Pieces.get(ranks, input, array, this->InputWholeExtent());
   vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
   vtkTable* designs = vtkTable::GetData(outputVector, 1);
   ddg::renderForFirstRank(ranks, pieces,
@@ -200,27 +181,16 @@ void vtkDDGQuery::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* inpu
         throw ddg::Error("no ModelDirectory set");
       const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
       const ddg::Image image = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
-      ddg::BundleSession& session = in.Sessions.get(this->ModelDirectory, in.Fingerprint);
+      ddg::BundleSession& session = in.Sessions.get(this->ModelDirectory, in.Pieces.fingerprint());
       const ddg::NeuralDesignModel& model = session.model();
-      if (model.config().kind != "decoder")
-        throw ddg::Error("the query of a U-Net bundle needs the whole volume on one process (its "
-                         "TF is reconstructed from its image): under MPI, query a decoder bundle "
-                         "(ddg build, ddg train --kind decoder)");
-      const int dims = model.config().dimensions;
-      const auto& range = pieces.brick.wholeRange;
-      const std::array<double, 2> gradients =
-        dims == 2 ? pieces.brick.wholeGradientRange : std::array<double, 2>{ 0.0, 1.0 };
+      const auto designRender = ddg::decoderRenderOnRanks(model, pieces, render);
       this->UpdateProgress(0.5);
-      const auto r = ddg::queryDesignSpace(model, session.outline(), image, view, this->Neighbours,
-        [&](const std::vector<float>& latent, const ddg::View& v)
-        {
-          const auto prims = model.decode(latent); // as NeuralDesignModel::renderAt
-          if (prims.empty())
-            return ddg::Image(v.width, v.height, 4, 0.0f);
-          return render(ddg::designTable(prims, dims, range, gradients), v);
-        });
-      const auto tf =
-        ddg::decoderTransferFunction(model.decodeRegions(r.latent), dims, range, gradients);
+      const auto r = ddg::queryDesignSpace(
+        model, session.outline(), image, view, this->Neighbours, designRender);
+      const int dims = model.config().dimensions;
+      const auto tf = ddg::decoderTransferFunction(model.decodeRegions(r.latent), dims,
+        pieces.brick.wholeRange,
+        dims == 2 ? pieces.brick.wholeGradientRange : std::array<double, 2>{ 0.0, 1.0 });
       std::string boxes;
       if (tf.is2D)
       {

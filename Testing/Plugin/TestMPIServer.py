@@ -1,14 +1,14 @@
 """The filters on ParaView's MPI engine: `mpiexec -np N pvserver` on a free loopback port.
 
-DDG Volume Render, DDG Query and DDG Reconstruct Transfer Function (with Match Picture too) work
-on pieces: every rank reads and renders its own piece of the volume (one ghost level); the
-render's images are composited sort-last on the first rank, the query runs on the first rank
-(the bundle checked against the whole's fingerprint, streamed to it slab by slab) and its design
-renders are composited like the render's, the reconstruction composites every step's rays on
-every rank and sums the ranks' TF gradients (DDGPieces.h), the match runs in step on every rank
-(Core's match over pieces). The other filters need the whole volume: piece 0
-(rank 0) asks for the whole extent and computes, the other ranks ask for nothing and output empty
-data (DDGFilterSupport.h). What is compared with what: the client fetches (servermanager.Fetch,
+DDG Volume Render, DDG Query, DDG Design Gallery and DDG Reconstruct Transfer Function (with Match
+Picture too) work on pieces: every rank reads and renders its own piece of the volume (one ghost
+level); the render's images are composited sort-last on the first rank; the query and the
+gallery run on the first rank (the bundle checked against the whole's fingerprint, streamed to
+it slab by slab) and their design renders are composited like the render's; the reconstruction
+composites every step's rays on every rank and sums the ranks' TF gradients (DDGPieces.h); the
+match runs in step on every rank (Core's match over pieces). DDG Build Design Space needs the
+whole volume: piece 0 (rank 0) asks for the whole extent and computes, the other ranks ask for
+nothing and output empty data (DDGFilterSupport.h). What is compared with what: the client fetches (servermanager.Fetch,
 which keeps the first rank's output) the outputs of DDG Volume Render (1D; Shade with specular; a
 2D TF), DDG Query (shipped Tooth bundle and screenshot) and DDG Reconstruct Transfer Function (1D,
 20 iterations; 2D, 10 iterations) from the server, then computes the same in a builtin session:
@@ -18,10 +18,10 @@ which keeps the first rank's output) the outputs of DDG Volume Render (1D; Shade
   and compositing adds in another order;
 - the reader's points over the ranks after the renders are the pieces' (the volume split as
   vtkExtentTranslator splits it, one ghost level): no rank read the whole volume;
-- query: the preview within RENDER_TOL (a render over pieces, as above), the designs table
-  identical (rows, latent, outline position, the Preset string) but for the picture's figure
-  (PicturePSNR, from the preview: within 0.1 dB); after the query the reader's points are the
-  pieces' (no rank read the whole volume);
+- query and gallery (9 thumbnails): the preview and the sheet within RENDER_TOL (renders over
+  pieces, as above), the designs tables identical (rows, latent, outline position, the Preset
+  string) but for the picture's figure (PicturePSNR, from the preview: within 0.1 dB); after
+  each the reader's points are the pieces' (no rank read the whole volume);
 - reconstruction: same columns, rows, field data names and steps, values within
   RECONSTRUCT_TOL (1e-3, a quarter of one 8-bit level of a table entry): each piece stops its
   rays at ParaView's opacity threshold on its own (the images of a step differ by up to 1/255
@@ -171,7 +171,19 @@ def run_filters(remote):
         ImageFile=shot,
         ViewFile=view_file,
     )
-    filters = [("query", query, [0, 1]), ("reconstruct", rec, [0]), ("reconstruct 2d", rec2d, [0])]
+    gallery = simple.DDGDesignGallery(
+        Input=tooth,
+        ModelDirectory=os.path.join(data, "Models", "tooth"),
+        ViewFile=view_file,
+        Count=9,
+        ThumbnailSize=48,
+    )
+    filters = [
+        ("query", query, [0, 1]),
+        ("gallery", gallery, [0, 1]),
+        ("reconstruct", rec, [0]),
+        ("reconstruct 2d", rec2d, [0]),
+    ]
     if ranks == 2:
         # Match Picture over pieces: the camera searched near the given view (silhouettes,
         # colours, short fits, polish), the fit, previews and the before/after renders
@@ -191,9 +203,9 @@ def run_filters(remote):
         seconds[name] = time.time() - start
         for port in ports:
             out[f"{name}:{port}"] = snapshot(servermanager.Fetch(proxy, idx=port))
-        if name == "query":
+        if name in ("query", "gallery"):
             whole = tooth.GetDataInformation().DataInformation.GetExtent()
-            out["reader points after query"] = (
+            out[f"reader points after {name}"] = (
                 tooth.GetDataInformation().GetNumberOfPoints(),
                 split_points(whole, ranks if remote else 1, 1 if remote else 0),
             )
@@ -256,31 +268,35 @@ def compare_renders(mpi, builtin):
     ), f"the ranks read {points} points; their pieces with one ghost level hold {expected}"
 
 
-def compare_query(mpi, builtin):
-    rgba, levels = render_difference(mpi["query:0"], builtin["query:0"])
+def compare_designs(mpi, builtin, name):
+    """The query's (or the gallery's) image within RENDER_TOL, its table the same but for the
+    picture's figure (within 0.1 dB), and the reader's points after it the pieces'."""
+    rgba, levels = render_difference(mpi[name + ":0"], builtin[name + ":0"])
     assert rgba <= RENDER_TOL and levels <= round(
         255 * RENDER_TOL
-    ), f"query preview: {rgba} ({levels} levels) from builtin"
-    a, b = dict(mpi["query:1"]), dict(builtin["query:1"])
-    assert a["class"] == b["class"], ("query:1", a["class"], b["class"])
+    ), f"{name} image: {rgba} ({levels} levels) from builtin"
+    a, b = dict(mpi[name + ":1"]), dict(builtin[name + ":1"])
+    assert a["class"] == b["class"], (name, a["class"], b["class"])
     fa, fb = dict(a.pop("field")), dict(b.pop("field"))
-    psnr = (float(fa.pop("PicturePSNR")[0]), float(fb.pop("PicturePSNR")[0]))
-    assert abs(psnr[0] - psnr[1]) <= 0.1, f"query: the picture's figure {psnr} from builtin"
-    assert same(a, b) and same(fa, fb), "query:1 differs from the builtin session's"
-    points, expected = mpi["reader points after query"]
+    psnr = [float(f.pop("PicturePSNR")[0]) for f in (fa, fb) if "PicturePSNR" in f]
+    assert not psnr or abs(psnr[0] - psnr[1]) <= 0.1, f"{name}: the picture's figure {psnr}"
+    assert same(a, b) and same(fa, fb), f"{name}:1 differs from the builtin session's"
+    points, expected = mpi[f"reader points after {name}"]
     assert (
         points == expected
-    ), f"after the query the ranks read {points} points; their pieces hold {expected}"
+    ), f"after the {name} the ranks read {points} points; their pieces hold {expected}"
+    figure = f", picture {psnr[0]:.3f} vs {psnr[1]:.3f} dB" if psnr else ""
     print(
-        f"query: {ranks} ranks vs builtin, preview RGBA max difference {rgba:.2e}, "
-        f"{levels} level(s), picture {psnr[0]:.3f} vs {psnr[1]:.3f} dB; the table the same; "
+        f"{name}: {ranks} ranks vs builtin, image RGBA max difference {rgba:.2e}, "
+        f"{levels} level(s){figure}; the table the same ({a.get('rows')} rows); "
         f"the reader's points after it: the pieces' ({points})"
     )
 
 
 def compare(mpi, builtin):
     compare_renders(mpi, builtin)
-    compare_query(mpi, builtin)
+    compare_designs(mpi, builtin, "query")
+    compare_designs(mpi, builtin, "gallery")
     assert (
         mpi["query:1"]["rows"] > 0 and "Preset" in mpi["query:1"]["field"]
     ), "query: no designs or preset"
@@ -500,7 +516,8 @@ finally:
 _, builtin = run_filters(remote=False)
 if ranks != 2:
     compare_renders(mpi, builtin)
-    compare_query(mpi, builtin)
+    compare_designs(mpi, builtin, "query")
+    compare_designs(mpi, builtin, "gallery")
     diffs = compare_reconstructions(mpi, builtin)
     print(
         f"reconstruct on {ranks} pieces: max difference {diffs[0]:.1e}, 2D {diffs[1]:.1e} "
