@@ -135,8 +135,7 @@ View orbitView(const std::array<double, 6>& bounds, int size, double azimuthDeg,
 /// (defaultView, size x size), lit as the design space's exemplars (spec.lighting with Shade on).
 View designDefaultView(const Volume& volume, const DesignSpaceSpec& spec, int size);
 /// The same for a volume's bounds (a whole volume split into pieces).
-View designDefaultView(
-  const std::array<double, 6>& bounds, const DesignSpaceSpec& spec, int size);
+View designDefaultView(const std::array<double, 6>& bounds, const DesignSpaceSpec& spec, int size);
 
 /// Ray casts a TF of primitives (none: an empty image) as the generator does: a 256-entry 1D
 /// table, or (dimensions 2) a 256 x 64 table over the value range x

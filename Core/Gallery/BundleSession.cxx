@@ -29,14 +29,15 @@ BundleSession::BundleSession(
   PcaMs = msSince(t1);
 }
 
-BundleSession::BundleSession(
-  const std::string& bundleDir, const std::string& fingerprint, const std::string& volumeHint)
+BundleSession::BundleSession(const std::string& bundleDir, const std::string& fingerprint,
+  std::shared_ptr<const DesignVolume> volume, const std::string& volumeHint)
   : Directory(bundleDir)
   , Fingerprint(fingerprint)
+  , Space(std::move(volume))
 {
   LatentSet latents = openBundle(volumeHint);
   const auto t1 = Clock::now();
-  Outline = std::make_unique<DesignOutline>(std::move(latents));
+  Gallery = std::make_unique<DesignGallery>(*Model, Space, std::move(latents));
   PcaMs = msSince(t1);
 }
 
@@ -66,23 +67,6 @@ const Volume& BundleSession::volume() const
   return *Vol;
 }
 
-DesignGallery& BundleSession::gallery()
-{
-  volume(); // a session by fingerprint has no gallery
-  return *Gallery;
-}
-
-const DesignGallery& BundleSession::gallery() const
-{
-  volume();
-  return *Gallery;
-}
-
-const DesignOutline& BundleSession::outline() const
-{
-  return Gallery ? Gallery->outline() : *Outline;
-}
-
 BundleSession::~BundleSession() = default;
 
 BundleSession& BundleSessionCache::get(const std::string& bundleDir, std::uint64_t volumeVersion,
@@ -100,15 +84,16 @@ BundleSession& BundleSessionCache::get(const std::string& bundleDir, std::uint64
   return *Session;
 }
 
-BundleSession& BundleSessionCache::get(const std::string& bundleDir, const std::string& fingerprint)
+BundleSession& BundleSessionCache::get(const std::string& bundleDir, const std::string& fingerprint,
+  const std::shared_ptr<const DesignVolume>& volume)
 {
   if (bundleDir.empty())
     throw Error("no ModelDirectory set");
   if (!Session || Session->directory() != bundleDir || Session->hasVolume() ||
-    Session->fingerprint() != fingerprint)
+    Session->fingerprint() != fingerprint || &Session->gallery().space() != volume.get())
   {
     Session.reset();
-    Session = std::make_unique<BundleSession>(bundleDir, fingerprint);
+    Session = std::make_unique<BundleSession>(bundleDir, fingerprint, volume);
   }
   return *Session;
 }

@@ -23,21 +23,20 @@ public:
   /// names the command that builds it (`volumeHint` stands for the volume in that command).
   BundleSession(
     const std::string& bundleDir, Volume volume, const std::string& volumeHint = "VOLUME");
-  /// The bundle for a volume known by its fingerprint (volumeFingerprint) only, e.g. one split
-  /// over ranks: the model and its outline, and no gallery (which renders through the volume).
+  /// The bundle for a volume given by its fingerprint (volumeFingerprint) and what it can do
+  /// (DesignVolume: e.g. one split over ranks): the gallery renders through `volume`.
   BundleSession(const std::string& bundleDir, const std::string& fingerprint,
-    const std::string& volumeHint = "VOLUME");
+    std::shared_ptr<const DesignVolume> volume, const std::string& volumeHint = "VOLUME");
   ~BundleSession();
   BundleSession(const BundleSession&) = delete;
   BundleSession& operator=(const BundleSession&) = delete;
 
   const std::string& directory() const { return Directory; }
-  /// The volume and the gallery: throw ddg::Error for a session opened by fingerprint.
+  /// The volume in this process (throws ddg::Error for a session opened by fingerprint).
   const Volume& volume() const;
   NeuralDesignModel& model() { return *Model; }
-  DesignGallery& gallery();
-  const DesignGallery& gallery() const;
-  const DesignOutline& outline() const;
+  DesignGallery& gallery() { return *Gallery; }
+  const DesignGallery& gallery() const { return *Gallery; }
   const std::string& fingerprint() const { return Fingerprint; }
   bool hasVolume() const { return Vol != nullptr; }
 
@@ -50,8 +49,8 @@ private:
   std::string Directory, Fingerprint;
   std::unique_ptr<Volume> Vol;
   std::unique_ptr<NeuralDesignModel> Model;
+  std::shared_ptr<const DesignVolume> Space; // by fingerprint
   std::unique_ptr<DesignGallery> Gallery;
-  std::unique_ptr<DesignOutline> Outline; // by fingerprint (else the gallery's)
   double ReadMs = 0, PcaMs = 0;
 };
 
@@ -64,9 +63,10 @@ public:
   /// Throws ddg::Error for an empty directory ("no ModelDirectory set") and as BundleSession does.
   BundleSession& get(const std::string& bundleDir, std::uint64_t volumeVersion,
     const std::function<Volume()>& loadVolume);
-  /// The session by fingerprint (a volume split over ranks), reopened when the directory or the
-  /// fingerprint changes.
-  BundleSession& get(const std::string& bundleDir, const std::string& fingerprint);
+  /// The session by fingerprint (a volume split over ranks), reopened when the directory, the
+  /// fingerprint or the volume object changes.
+  BundleSession& get(const std::string& bundleDir, const std::string& fingerprint,
+    const std::shared_ptr<const DesignVolume>& volume);
   void clear() { Session.reset(); }
 
 private:

@@ -146,9 +146,15 @@ void exportTransferFunction(const TransferFunctionFile& tf, const std::string& p
 std::string paraViewTransferFunction2DJson(const RayCaster& caster, const TransferFunction2D& tf,
   const View& view, const ParaViewBoxFitOptions& options, ParaViewBoxFitReport* report)
 {
+  return paraViewTransferFunction2DJson(caster.paraviewMapping2D(view), tf, options, report);
+}
+
+std::string paraViewTransferFunction2DJson(const ParaViewTransfer2DMapping& mapping,
+  const TransferFunction2D& tf, const ParaViewBoxFitOptions& options, ParaViewBoxFitReport* report)
+{
   ParaViewBoxFitReport own;
   ParaViewBoxFitReport& r = report ? *report : own;
-  const auto boxes = fitParaViewBoxes(tf, caster.paraviewMapping2D(view), options, &r);
+  const auto boxes = fitParaViewBoxes(tf, mapping, options, &r);
   return boxes.toJson(&r);
 }
 

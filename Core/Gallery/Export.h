@@ -63,6 +63,11 @@ void exportTransferFunction(const TransferFunctionFile& tf, const std::string& p
 std::string paraViewTransferFunction2DJson(const RayCaster& caster, const TransferFunction2D& tf,
   const View& view, const ParaViewBoxFitOptions& options = {},
   ParaViewBoxFitReport* report = nullptr);
+/// The same for ParaView's mapping of a volume at a view (RayCaster::paraviewMapping2D,
+/// DesignVolume::paraviewMapping2D).
+std::string paraViewTransferFunction2DJson(const ParaViewTransfer2DMapping& mapping,
+  const TransferFunction2D& tf, const ParaViewBoxFitOptions& options = {},
+  ParaViewBoxFitReport* report = nullptr);
 
 /// Exports `tf` for `caster`'s volume at `view` (its opacity unit distance, else ParaView's
 /// default) as "paraview", "slicer" (as above) or "paraview-2d" (a 2D TF as ParaView's boxes,

@@ -157,17 +157,50 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
 // ---- the gallery --------------------------------------------------------------------------
 
 DesignGallery::DesignGallery(NeuralDesignModel& model, const Volume& volume, LatentSet latents)
+  : DesignGallery(model, std::make_shared<LocalDesignVolume>(volume), std::move(latents))
+{
+  Vol = &volume;
+  if (model.config().kind == "decoder")
+    model.attachVolume(volume); // checks the fingerprint
+}
+
+DesignGallery::DesignGallery(
+  NeuralDesignModel& model, std::shared_ptr<const DesignVolume> volume, LatentSet latents)
   : Model(model)
-  , Vol(volume)
-  , Caster(volume)
+  , Space(std::move(volume))
   , Outline(std::move(latents))
 {
   if (Outline.latents().dim != model.config().latent)
     throw Error("the outline's latents have " + std::to_string(Outline.latents().dim) +
       " values, the model's " + std::to_string(model.config().latent) +
       ": they come from another model");
-  if (model.config().kind == "decoder")
-    model.attachVolume(volume); // checks the fingerprint
+}
+
+const Volume& DesignGallery::volume() const
+{
+  if (!Vol)
+    throw Error("this needs the whole volume in one process, and it is split over ranks");
+  return *Vol;
+}
+
+const RayCaster& DesignGallery::caster() const
+{
+  volume();
+  return *Space->caster();
+}
+
+std::array<double, 2> DesignGallery::gradientAxis() const
+{
+  return Model.spec().dimensions == 2 ? Space->gradientRange() : std::array<double, 2>{ 0.0, 1.0 };
+}
+
+// renderDesign's ray cast of a TF of primitives (none: an empty image), through the volume
+Image DesignGallery::renderTable(const std::vector<GaussianPrimitive>& tf, const View& view) const
+{
+  if (tf.empty())
+    return Image(view.width, view.height, 4, 0.0f);
+  return Space->render(
+    designTable(tf, Model.spec().dimensions, Space->range(), gradientAxis()), view);
 }
 
 std::vector<float> DesignGallery::latent(int row) const
@@ -182,7 +215,7 @@ std::vector<float> DesignGallery::latent(int row) const
 Exemplar DesignGallery::exemplar(int row) const
 {
   latent(row); // range check
-  return sampleExemplar(Vol, Model.spec(), Model.regions(), Outline.latents().seed,
+  return sampleExemplar(volume(), Model.spec(), Model.regions(), Outline.latents().seed,
     Outline.latents().indices[row], Model.config().imageSize);
 }
 
@@ -191,11 +224,9 @@ const Image& DesignGallery::viewport(const View& view) const
   const std::string key = viewToJson(view);
   if (Viewport.empty() || key != ViewportKey)
   {
-    const int dims = Model.spec().dimensions;
     View v = view;
     v.width = v.height = Model.config().imageSize;
-    Viewport = renderDesign(Caster, auxiliaryPrimitives(Model.spec(), Model.regions()), dims,
-      dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 }, v);
+    Viewport = renderTable(auxiliaryPrimitives(Model.spec(), Model.regions()), v);
     ViewportKey = key;
   }
   return Viewport;
@@ -203,8 +234,8 @@ const Image& DesignGallery::viewport(const View& view) const
 
 Image DesignGallery::render(const std::vector<float>& latent, const View& view) const
 {
-  if (Model.config().kind == "decoder")
-    return Model.renderAt(latent, Image(), view);
+  if (Model.config().kind == "decoder") // NeuralDesignModel::renderAt's ray cast, here
+    return renderTable(Model.decode(latent), view);
   return Model.renderAt(latent, viewport(view), view);
 }
 
@@ -229,24 +260,17 @@ std::vector<float> DesignGallery::analyzeImage(const Image& image) const
 
 QueryResult DesignGallery::query(const Image& image, const View& view, int neighbours) const
 {
-  return queryDesignSpace(Model, Outline, image, view, neighbours,
-    [this](const std::vector<float>& latent, const View& v) { return render(latent, v); });
-}
-
-QueryResult queryDesignSpace(const NeuralDesignModel& model, const DesignOutline& outline,
-  const Image& image, const View& view, int neighbours, const DesignRender& render)
-{
   if (neighbours < 0)
     throw Error("the neighbour count must be >= 0");
   QueryResult r;
-  r.input = prepareQueryImage(image, model.config().imageSize);
+  r.input = prepareQueryImage(image, Model.config().imageSize);
   // a chart is refused; a picture that cannot be read as a rendered volume gets a warning
   const Image colour =
     image.channels >= 3 ? Image() : toChannels(image, image.channels == 2 ? 4 : 3);
   r.warning = checkQueryPicture(image.channels >= 3 ? image : colour);
-  r.latent = model.analyze(r.input);
-  r.position = outline.project(r.latent.data());
-  r.neighbours = outline.nearest(r.latent.data(), neighbours);
+  r.latent = Model.analyze(r.input);
+  r.position = Outline.project(r.latent.data());
+  r.neighbours = Outline.nearest(r.latent.data(), neighbours);
   r.preview = render(r.latent, view);
   // a lit scene's preview against an unlit picture (or the other way) would score the lighting,
   // not the design: the other lighting is rendered too and the better figure kept (the picture
@@ -314,9 +338,7 @@ Image DesignGallery::renderPrimitives(
   for (const auto& g : primitives)
     if (g.opacity >= DecoderLayout::kMinOpacity)
       visible.push_back(g);
-  const int dims = Model.spec().dimensions;
-  return renderDesign(Caster, visible, dims,
-    dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 }, view);
+  return renderTable(visible, view);
 }
 
 Image DesignGallery::render(
@@ -339,30 +361,24 @@ TransferFunctionFile DesignGallery::explicitTransferFunction(
   const std::vector<float>& latent, const View& view, const FeatureLock* lock) const
 {
   const int dims = Model.spec().dimensions;
-  const auto valueRange = Vol.range();
-  const auto gradientRange =
-    dims == 2 ? Vol.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
+  const auto valueRange = Space->range();
+  const auto gradientRange = gradientAxis();
   if (Model.config().kind == "decoder")
-    return decoderTransferFunction(regionPrimitives(latent, lock), dims, valueRange, gradientRange);
+  {
+    std::vector<GaussianPrimitive> visible;
+    for (const auto& g : regionPrimitives(latent, lock))
+      if (g.opacity >= DecoderLayout::kMinOpacity)
+        visible.push_back(g);
+    return primitivesToTransferFunction(visible, dims, valueRange, gradientRange, "ddg design");
+  }
   // the U-Net's image has no TF: reconstruct one from it at this view
-  const DifferentiableRenderer diff(Vol);
+  const DifferentiableRenderer diff(volume());
   ReconstructionOptions opt;
   opt.twoD = dims == 2;
   ReconstructionTarget target;
   target.image = compositeOverBackground(render(latent, view), view.background);
   target.view = view;
   return resultTransferFunction(reconstructTransferFunction(diff, { target }, opt), "ddg design");
-}
-
-TransferFunctionFile decoderTransferFunction(const std::vector<GaussianPrimitive>& regions,
-  int dimensions, const std::array<double, 2>& valueRange,
-  const std::array<double, 2>& gradientRange)
-{
-  std::vector<GaussianPrimitive> visible;
-  for (const auto& g : regions)
-    if (g.opacity >= DecoderLayout::kMinOpacity)
-      visible.push_back(g);
-  return primitivesToTransferFunction(visible, dimensions, valueRange, gradientRange, "ddg design");
 }
 
 namespace
@@ -393,8 +409,7 @@ Fidelity DesignGallery::fidelity(
   Fidelity f;
   f.neural = compositeOverBackground(render(latent, view, lock), view.background);
   const auto tf = explicitTransferFunction(latent, view, lock);
-  const Image real = tf.is2D ? Caster.render(tf.tf2D.bake(), view)
-                             : Caster.render(Caster.paraviewTable(tf.tf1D), view);
+  const Image real = Space->render(transferTable(tf, Space->range()), view);
   f.real = compositeOverBackground(real, view.background);
   f.psnr = psnr(f.neural, f.real);
   f.ssim = ssim(f.neural, f.real);
@@ -425,7 +440,7 @@ Animation DesignGallery::animate(const std::vector<float>& a, const std::vector<
     if (twoD)
       t2.push_back(tf.tf2D.bake());
     else
-      t1.push_back(bakeTable(tf.tf1D, Vol.range()[0], Vol.range()[1], 1024));
+      t1.push_back(bakeTable(tf.tf1D, Space->range()[0], Space->range()[1], 1024));
   }
   for (int f = 0; f < frames; ++f)
   {
@@ -447,15 +462,15 @@ Animation DesignGallery::animate(const std::vector<float>& a, const std::vector<
     Image real;
     if (twoD)
     {
-      TransferTable2D table = t2[k];
-      table.rgba = mix(t2[k].rgba, t2[k1].rgba);
-      real = Caster.render(table, view);
+      DesignTable table{ 2, {}, t2[k] };
+      table.twoD.rgba = mix(t2[k].rgba, t2[k1].rgba);
+      real = Space->render(table, view);
     }
     else
     {
-      TransferTable1D table = t1[k];
-      table.rgba = mix(t1[k].rgba, t1[k1].rgba);
-      real = Caster.render(table, view);
+      DesignTable table{ 1, t1[k], {} };
+      table.oneD.rgba = mix(t1[k].rgba, t1[k1].rgba);
+      real = Space->render(table, view);
     }
     anim.real.push_back(compositeOverBackground(real, view.background));
   }

@@ -2,6 +2,7 @@
 // generated designs, thumbnails at the current view, query by image, explicit TFs of designs.
 #pragma once
 
+#include "Gallery/DesignVolume.h"
 #include "Gallery/Edit.h"
 #include "Gallery/Navigation.h"
 #include "Gallery/Outline.h"
@@ -11,6 +12,7 @@
 
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -49,22 +51,6 @@ struct QueryResult
   /// border has no one colour: a photograph, or the object cut by the frame; checkQueryPicture).
   std::string warning;
 };
-
-/// The design of a latent rendered at a view (premultiplied RGBA, the view's size).
-using DesignRender = std::function<Image(const std::vector<float>& latent, const View& view)>;
-
-/// A query's steps (DesignGallery::query) with the renders left to `render`: the analyzer and
-/// the outline need no volume, so a front end whose volume is split over ranks renders the two
-/// designs there (the preview at `view`, and the other lighting for the picture's figure).
-QueryResult queryDesignSpace(const NeuralDesignModel& model, const DesignOutline& outline,
-  const Image& image, const View& view, int neighbours, const DesignRender& render);
-
-/// A decoder's design as the explicit TF ParaView is given (DesignGallery::
-/// explicitTransferFunction): its regions' primitives (decodeRegions) that are visible, over the
-/// volume's value range (and, 2D, gradient-magnitude range).
-TransferFunctionFile decoderTransferFunction(const std::vector<GaussianPrimitive>& regions,
-  int dimensions, const std::array<double, 2>& valueRange,
-  const std::array<double, 2>& gradientRange);
 
 /// How often a query finds the design it shows (the retrieval check of the gallery).
 struct QueryRecall
@@ -121,12 +107,20 @@ public:
   /// ddg::Error when the latents' size differs from the model's latent or the volume is not
   /// the model's (fingerprint).
   DesignGallery(NeuralDesignModel& model, const Volume& volume, LatentSet latents);
+  /// The same over a volume given by what it can do (DesignVolume; a volume split over ranks):
+  /// the fingerprint is the caller's to check (NeuralDesignModel::loadBundle). Exemplars, a
+  /// U-Net's TFs and what needs `volume()` or `caster()` need the volume in this process.
+  DesignGallery(
+    NeuralDesignModel& model, std::shared_ptr<const DesignVolume> volume, LatentSet latents);
 
   const DesignOutline& outline() const { return Outline; }
   NeuralDesignModel& model() { return Model; }
-  const Volume& volume() const { return Vol; }
-  /// The ray caster of the volume (one, shared by every render of the gallery).
-  const RayCaster& caster() const { return Caster; }
+  /// The volume and its ray caster (one, shared by every render of the gallery): throw
+  /// ddg::Error when the volume is not in this process.
+  const Volume& volume() const;
+  const RayCaster& caster() const;
+  /// What the gallery renders with: the volume in this process, or split over ranks.
+  const DesignVolume& space() const { return *Space; }
 
   std::vector<float> latent(int row) const;
   /// The design a row came from, regenerated from (seed, index): its TF and views.
@@ -195,9 +189,11 @@ public:
 
 private:
   NeuralDesignModel& Model;
-  const Volume& Vol;
-  RayCaster Caster;
+  const Volume* Vol = nullptr; // the volume in this process, else null
+  std::shared_ptr<const DesignVolume> Space;
   DesignOutline Outline;
+  std::array<double, 2> gradientAxis() const; // the 2D tables' gradient range ([0, 1] for 1D)
+  Image renderTable(const std::vector<GaussianPrimitive>& tf, const View& view) const;
   mutable Image Viewport; ///< U-Net only: the auxiliary TF at the last view (model size)
   mutable std::string ViewportKey;
   std::map<int, Image> Cache; ///< thumbnails by row, at CacheView

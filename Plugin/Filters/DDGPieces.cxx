@@ -457,32 +457,11 @@ void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
   ranks.step([] {});
 }
 
-DesignRender decoderRenderOnRanks(
-  const NeuralDesignModel& model, const RankVolume& volume, const RanksTableRender& render)
-{
-  if (model.config().kind != "decoder")
-    throw Error("a U-Net bundle needs the whole volume on one process (its TF is reconstructed "
-                "from its image): under MPI, use a decoder bundle (ddg build, ddg train --kind "
-                "decoder)");
-  const int dims = model.config().dimensions;
-  const auto range = volume.brick.wholeRange;
-  const std::array<double, 2> gradients =
-    dims == 2 ? volume.brick.wholeGradientRange : std::array<double, 2>{ 0.0, 1.0 };
-  return [&model, render, dims, range, gradients](
-           const std::vector<float>& latent, const View& view)
-  {
-    const auto prims = model.decode(latent);
-    if (prims.empty())
-      return Image(view.width, view.height, 4, 0.0f);
-    return render(designTable(prims, dims, range, gradients), view);
-  };
-}
-
 const RankVolume& RankVolumeCache::get(
   const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6])
 {
-  const unsigned long long time = std::max<unsigned long long>(
-    piece ? piece->GetMTime() : 0, array ? array->GetMTime() : 0);
+  const unsigned long long time =
+    std::max<unsigned long long>(piece ? piece->GetMTime() : 0, array ? array->GetMTime() : 0);
   double stale = !Pieces || Time != time || Array != array ? 1.0 : 0.0;
   ranks.allMax(&stale, 1);
   if (stale > 0)
@@ -497,6 +476,71 @@ const RankVolume& RankVolumeCache::get(
     Array = array;
   }
   return *Pieces;
+}
+
+const RankVolume& RanksDesignVolume::pieces() const
+{
+  if (!Volume)
+    throw Error("the volume's pieces are used only inside a request of every rank");
+  return *Volume;
+}
+
+std::array<double, 2> RanksDesignVolume::range() const
+{
+  return pieces().brick.wholeRange;
+}
+
+std::array<double, 2> RanksDesignVolume::gradientRange() const
+{
+  return pieces().brick.wholeGradientRange;
+}
+
+std::array<double, 6> RanksDesignVolume::bounds() const
+{
+  return pieces().brick.wholeBounds(pieces().brick.spacing);
+}
+
+Image RanksDesignVolume::render(const DesignTable& table, const View& view) const
+{
+  if (!Render)
+    throw Error("the volume's pieces render only inside a request of every rank");
+  return (*Render)(table, view);
+}
+
+const RayCaster& RanksDesignVolume::firstCaster() const
+{
+  if (!pieces().caster)
+    throw Error("the first rank's piece is empty: its ray caster gives ParaView's mapping of the "
+                "whole volume");
+  return *pieces().caster;
+}
+
+double RanksDesignVolume::opacityUnitDistance(const View& view) const
+{
+  return firstCaster().opacityUnitDistance(view);
+}
+
+ParaViewTransfer2DMapping RanksDesignVolume::paraviewMapping2D(const View& view) const
+{
+  return firstCaster().paraviewMapping2D(view);
+}
+
+void RankGallery::run(const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array,
+  const int wholeExtent[6], const std::string& bundleDir,
+  const std::function<void(DesignGallery& gallery)>& work)
+{
+  const RankVolume& volume = Pieces.get(ranks, piece, array, wholeExtent);
+  renderForFirstRank(ranks, volume,
+    [&](const RanksTableRender& render)
+    {
+      struct Use // the space renders through this request only
+      {
+        RanksDesignVolume& space;
+        ~Use() { space.use(nullptr, nullptr); }
+      } use{ *Space };
+      Space->use(&volume, &render);
+      work(Sessions.get(bundleDir, Pieces.fingerprint(), Space).gallery());
+    });
 }
 
 } // namespace ddg

@@ -7,6 +7,8 @@
 #include "DDGRanks.h"
 
 #include "Design/DesignSpace.h"
+#include "Gallery/BundleSession.h"
+#include "Gallery/DesignVolume.h"
 #include "Gallery/Gallery.h"
 #include "Render/DifferentiableRenderer.h"
 #include "Render/RayCaster.h"
@@ -84,20 +86,14 @@ using RanksTableRender = std::function<Image(const DesignTable& table, const Vie
 DDGFILTERS_EXPORT void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
   const std::function<void(const RanksTableRender& render)>& work);
 
-/// A decoder model's design renders (NeuralDesignModel::renderAt's) over the ranks' pieces, for
-/// the first rank inside renderForFirstRank. Throws ddg::Error for a U-Net model (its TF is
-/// reconstructed from its image on the whole volume).
-DDGFILTERS_EXPORT DesignRender decoderRenderOnRanks(
-  const NeuralDesignModel& model, const RankVolume& volume, const RanksTableRender& render);
-
 /// A filter's pieces under MPI and the whole volume's fingerprint (fingerprintOnRanks: on the
 /// first rank), agreed again when any rank's input or array changed.
 class DDGFILTERS_EXPORT RankVolumeCache
 {
 public:
   /// Collective. The pieces with their casters and the gradient range (2D designs).
-  const RankVolume& get(const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array,
-    const int wholeExtent[6]);
+  const RankVolume& get(
+    const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6]);
   const std::string& fingerprint() const { return Fingerprint; }
 
 private:
@@ -105,6 +101,50 @@ private:
   std::string Fingerprint;
   unsigned long long Time = 0;
   vtkDataArray* Array = nullptr;
+};
+
+/// A volume split over the ranks as a design gallery sees it: the whole's ranges and bounds,
+/// ParaView's mapping from the first rank's piece (whose caster knows the whole), and renders
+/// over every rank's piece through the renderForFirstRank call in progress (use()).
+class DDGFILTERS_EXPORT RanksDesignVolume : public DesignVolume
+{
+public:
+  void use(const RankVolume* volume, const RanksTableRender* render)
+  {
+    Volume = volume;
+    Render = render;
+  }
+  std::array<double, 2> range() const override;
+  std::array<double, 2> gradientRange() const override;
+  std::array<double, 6> bounds() const override;
+  Image render(const DesignTable& table, const View& view) const override;
+  double opacityUnitDistance(const View& view) const override;
+  ParaViewTransfer2DMapping paraviewMapping2D(const View& view) const override;
+
+private:
+  const RankVolume& pieces() const;
+  const RayCaster& firstCaster() const;
+  const RankVolume* Volume = nullptr;
+  const RanksTableRender* Render = nullptr;
+};
+
+/// A bundle's gallery over a filter's pieces under MPI: the pieces and fingerprint
+/// (RankVolumeCache), the bundle's session on the first rank (kept while the bundle, the
+/// fingerprint and the pieces' volume stay), its renders over the ranks.
+class DDGFILTERS_EXPORT RankGallery
+{
+public:
+  /// Collective: runs `work` on the first rank with the gallery of `bundleDir` (refused when the
+  /// bundle belongs to another volume), while the other ranks render their pieces of its
+  /// designs (renderForFirstRank). A failure anywhere reaches every rank (RankGroup::step).
+  void run(const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array,
+    const int wholeExtent[6], const std::string& bundleDir,
+    const std::function<void(DesignGallery& gallery)>& work);
+
+private:
+  RankVolumeCache Pieces;
+  BundleSessionCache Sessions;
+  std::shared_ptr<RanksDesignVolume> Space = std::make_shared<RanksDesignVolume>();
 };
 
 } // namespace ddg

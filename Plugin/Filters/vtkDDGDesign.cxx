@@ -1,9 +1,11 @@
-// vtkDDGDesign.cxx: replays the history on the cached gallery, renders, exports the TF.
+// vtkDDGDesign.cxx: replays the history on the cached gallery, renders, exports the TF (under MPI
+// on the first rank, the gallery rendering over every rank's piece).
 #include "vtkDDGDesign.h"
 
 #include "DDGBundleSession.h"
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
+#include "DDGPieces.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Gallery/Export.h"
@@ -29,6 +31,7 @@ vtkStandardNewMacro(vtkDDGDesign);
 struct vtkDDGDesign::Internals
 {
   ddg::BundleSessionCache Sessions;
+  ddg::RankGallery Ranked; // under MPI
 };
 
 vtkDDGDesign::vtkDDGDesign()
@@ -97,18 +100,33 @@ void addField(vtkTable* table, const char* name, const Values& values)
 }
 } // namespace
 
+int vtkDDGDesign::PieceGhostLevels()
+{
+  return 1; // the design's renders: gradients for Shade and 2D tables
+}
+
 void vtkDDGDesign::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
-  vtkTable* design = vtkTable::GetData(outputVector, 1);
+  if (const ddg::RankGroup* ranks = this->Ranks())
+  {
+    this->Internal->Ranked.run(*ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
+      [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
+    return;
+  }
   if (this->ModelDirectory.empty())
     throw ddg::Error("no ModelDirectory set");
+  this->Run(
+    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array), outputVector);
+}
+
+void vtkDDGDesign::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)
+{
+  vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
+  vtkTable* design = vtkTable::GetData(outputVector, 1);
   if (this->History.empty())
     throw ddg::Error("no History set: the design is a ddg history JSON");
   const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
-  ddg::DesignGallery& gallery =
-    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array);
   const auto z =
     ddg::replayHistory(gallery, ddg::DesignHistory::fromJson(this->History, "History"));
   std::unique_ptr<ddg::FeatureLock> lock;
@@ -157,14 +175,14 @@ void vtkDDGDesign::Execute(
     regions.push_back(r.hi);
   }
   addField<vtkDoubleArray>(design, "Regions", regions);
-  const double unit = gallery.caster().opacityUnitDistance(view);
+  const double unit = gallery.space().opacityUnitDistance(view);
   if (tf.is2D)
   {
     addField<vtkStringArray>(design, "TransferFunction2D",
       std::vector<std::string>{ ddg::transferFunction2DToJson(tf.tf2D) });
     addField<vtkStringArray>(design, "ParaViewTransferFunction2D",
       std::vector<std::string>{
-        ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view) });
+        ddg::paraViewTransferFunction2DJson(gallery.space().paraviewMapping2D(view), tf.tf2D) });
   }
   else
   {
@@ -172,7 +190,7 @@ void vtkDDGDesign::Execute(
       design, "Preset", std::vector<std::string>{ ddg::presetToJson(tf.tf1D) });
     addField<vtkStringArray>(design, "Slicer",
       std::vector<std::string>{
-        ddg::slicerVolumePropertyJson(tf.tf1D, gallery.volume().range(), unit) });
+        ddg::slicerVolumePropertyJson(tf.tf1D, gallery.space().range(), unit) });
   }
   if (this->ComputeFidelity)
   {

@@ -33,6 +33,11 @@
  * Bad input (no history, an invalid step, another model's latent, another volume, a lock on a
  * region the model does not have) gives one error message and empty outputs.
  */
+namespace ddg
+{
+class DesignGallery;
+}
+
 class DDGFILTERS_EXPORT vtkDDGDesign : public vtkDDGAlgorithm
 {
 public:
@@ -88,6 +93,10 @@ protected:
 
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   void PreviewSize(int& width, int& height) override;
+  int PieceGhostLevels() override;
+  // the design of `gallery`'s design space (under `mpiexec -np N pvserver` on the first rank, the
+  // gallery rendering over every rank's piece)
+  void Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector);
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 

@@ -20,8 +20,6 @@
 #include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkTable.h>
 
-#include <map>
-
 #include <cmath>
 
 vtkStandardNewMacro(vtkDDGDesignGallery);
@@ -29,10 +27,7 @@ vtkStandardNewMacro(vtkDDGDesignGallery);
 struct vtkDDGDesignGallery::Internals
 {
   ddg::BundleSessionCache Sessions;
-  // under MPI: the pieces, and the first rank's thumbnails of one view and bundle
-  ddg::RankVolumeCache Pieces;
-  std::string ThumbnailsOf;
-  std::map<int, ddg::Image> Thumbnails;
+  ddg::RankGallery Ranked; // under MPI
 };
 
 vtkDDGDesignGallery::vtkDDGDesignGallery()
@@ -81,82 +76,30 @@ int vtkDDGDesignGallery::PieceGhostLevels()
   return 1; // the thumbnails' renders: gradients for Shade and 2D tables
 }
 
-ddg::View vtkDDGDesignGallery::ThumbnailView(
-  const std::function<ddg::View(int size)>& defaultView) const
-{
-  ddg::View view = this->ViewFile.empty() && this->ViewJSON.empty()
-    ? defaultView(this->ThumbnailSize)
-    : ddg::filterView(this->ViewJSON, this->ViewFile);
-  view.width = view.height = this->ThumbnailSize;
-  if (!this->LightingJSON.empty())
-    view.lighting = ddg::parseLighting(this->LightingJSON, "the thumbnails' lighting");
-  return view;
-}
-
 void vtkDDGDesignGallery::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   if (const ddg::RankGroup* ranks = this->Ranks())
   {
-    this->ExecuteOnRanks(*ranks, input, array, outputVector);
+    this->Internal->Ranked.run(*ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
+      [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
     return;
   }
-  ddg::DesignGallery& gallery =
-    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array);
-  const ddg::View view = this->ThumbnailView([&](int size)
-    { return ddg::designDefaultView(gallery.volume(), gallery.model().spec(), size); });
-  this->WriteGallery(gallery.outline(), view,
-    [&](int row) -> const ddg::Image& { return gallery.thumbnail(row, view); },
-    vtkImageData::GetData(outputVector, 0), vtkTable::GetData(outputVector, 1));
+  this->Run(
+    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array), outputVector);
 }
 
-void vtkDDGDesignGallery::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input,
-  vtkDataArray* array, vtkInformationVector* outputVector)
+void vtkDDGDesignGallery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)
 {
-  Internals& in = *this->Internal;
-  const ddg::RankVolume& pieces = in.Pieces.get(ranks, input, array, this->InputWholeExtent());
-  ddg::renderForFirstRank(ranks, pieces,
-    [&](const ddg::RanksTableRender& render)
-    {
-      // the first rank: the sheet as Execute's, the thumbnails rendered over the ranks' pieces
-      ddg::BundleSession& session = in.Sessions.get(this->ModelDirectory, in.Pieces.fingerprint());
-      const auto designRender = ddg::decoderRenderOnRanks(session.model(), pieces, render);
-      const ddg::View view = this->ThumbnailView(
-        [&](int size)
-        {
-          return ddg::designDefaultView(
-            pieces.brick.wholeBounds(pieces.brick.spacing), session.model().spec(), size);
-        });
-      const std::string key = this->ModelDirectory + "\n" + in.Pieces.fingerprint() + "\n" +
-        ddg::viewToJson(view); // a new camera, bundle or volume starts the thumbnails anew
-      if (key != in.ThumbnailsOf)
-      {
-        in.Thumbnails.clear();
-        in.ThumbnailsOf = key;
-      }
-      const ddg::DesignOutline& outline = session.outline();
-      this->WriteGallery(outline, view,
-        [&](int row) -> const ddg::Image&
-        {
-          auto it = in.Thumbnails.find(row);
-          if (it == in.Thumbnails.end())
-          {
-            const float* z = outline.latents().row(row);
-            it = in.Thumbnails
-                   .emplace(row,
-                     designRender(std::vector<float>(z, z + outline.latents().dim), view))
-                   .first;
-          }
-          return it->second;
-        },
-        vtkImageData::GetData(outputVector, 0), vtkTable::GetData(outputVector, 1));
-    });
-}
-
-void vtkDDGDesignGallery::WriteGallery(const ddg::DesignOutline& outline, const ddg::View& view,
-  const std::function<const ddg::Image&(int row)>& thumbnail, vtkImageData* sheet,
-  vtkTable* designs)
-{
+  vtkImageData* sheet = vtkImageData::GetData(outputVector, 0);
+  vtkTable* designs = vtkTable::GetData(outputVector, 1);
+  const auto& outline = gallery.outline();
+  ddg::View view = this->ViewFile.empty() && this->ViewJSON.empty()
+    ? ddg::designDefaultView(gallery.space().bounds(), gallery.model().spec(), this->ThumbnailSize)
+    : ddg::filterView(this->ViewJSON, this->ViewFile);
+  view.width = view.height = this->ThumbnailSize;
+  if (!this->LightingJSON.empty())
+    view.lighting = ddg::parseLighting(this->LightingJSON, "the thumbnails' lighting");
   const bool whole =
     this->Box[0] == 0 && this->Box[1] == 0 && this->Box[2] == 0 && this->Box[3] == 0;
   const ddg::OutlineBox box = whole
@@ -171,7 +114,7 @@ void vtkDDGDesignGallery::WriteGallery(const ddg::DesignOutline& outline, const 
   ddg::Image canvas(cols * (cell + gap) + gap, gridRows * (cell + gap) + gap, 4, 0.0f);
   for (size_t k = 0; k < rows.size(); ++k)
   {
-    const ddg::Image& t = thumbnail(rows[k]);
+    const ddg::Image& t = gallery.thumbnail(rows[k], view);
     const int x0 = gap + static_cast<int>(k % cols) * (cell + gap);
     const int y0 = gap + static_cast<int>(k / cols) * (cell + gap);
     for (int y = 0; y < cell; ++y)

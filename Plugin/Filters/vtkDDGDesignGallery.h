@@ -6,7 +6,6 @@
 #include "DDGFiltersModule.h" // export macro
 #include "vtkDDGAlgorithm.h"
 
-#include <functional>
 #include <memory>
 #include <string>
 
@@ -29,9 +28,7 @@
 class vtkTable;
 namespace ddg
 {
-class DesignOutline;
-struct Image;
-struct View;
+class DesignGallery;
 }
 
 class DDGFILTERS_EXPORT vtkDDGDesignGallery : public vtkDDGAlgorithm
@@ -100,15 +97,9 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   void PreviewSize(int& width, int& height) override;
   int PieceGhostLevels() override;
-  // under `mpiexec -np N pvserver`: the first rank lays out the sheet, every rank renders its
-  // piece of the thumbnails
-  void ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array,
-    vtkInformationVector* outputVector);
-  // the sheet and the designs table, the thumbnails from `thumbnail` (row, view)
-  void WriteGallery(const ddg::DesignOutline& outline, const ddg::View& view,
-    const std::function<const ddg::Image&(int row)>& thumbnail, vtkImageData* sheet,
-    vtkTable* designs);
-  ddg::View ThumbnailView(const std::function<ddg::View(int size)>& defaultView) const;
+  // the sheet and the designs table of `gallery` (under `mpiexec -np N pvserver` on the first
+  // rank, the gallery rendering over every rank's piece)
+  void Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector);
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
 

@@ -1,6 +1,6 @@
 // vtkDDGQuery.cxx: converts the input, runs ddg::DesignGallery::query, returns the preview image
-// and the designs table; under MPI the first rank runs the query (Core's queryDesignSpace) and
-// every rank renders its piece of the designs.
+// and the designs table; under MPI the first rank runs the query, its gallery rendering over
+// every rank's piece (DDGPieces.h, RankGallery).
 #include "vtkDDGQuery.h"
 
 #include "DDGBundleSession.h"
@@ -36,7 +36,7 @@ vtkStandardNewMacro(vtkDDGQuery);
 struct vtkDDGQuery::Internals
 {
   ddg::BundleSessionCache Sessions;
-  ddg::RankVolumeCache Pieces; // under MPI
+  ddg::RankGallery Ranked; // under MPI
 };
 
 namespace
@@ -144,63 +144,28 @@ void vtkDDGQuery::Execute(
 {
   if (const ddg::RankGroup* ranks = this->Ranks())
   {
-    this->ExecuteOnRanks(*ranks, input, array, outputVector);
+    this->Internal->Ranked.run(*ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
+      [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
     return;
   }
-  vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
-  vtkTable* designs = vtkTable::GetData(outputVector, 1);
   if (this->ModelDirectory.empty())
     throw ddg::Error("no ModelDirectory set");
+  this->Run(
+    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array), outputVector);
+}
+
+void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)
+{
   const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
   const ddg::Image image = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
-  ddg::DesignGallery& gallery =
-    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array);
   this->UpdateProgress(0.5);
   const auto r = gallery.query(image, view, this->Neighbours);
   const auto tf = gallery.explicitTransferFunction(r.latent, view);
   if (!r.warning.empty())
     vtkWarningMacro(<< "Query: " << r.warning << ".");
   writeQuery(r, gallery.outline(), tf,
-    tf.is2D ? ddg::paraViewTransferFunction2DJson(gallery.caster(), tf.tf2D, view) : "", view,
-    preview, designs);
+    tf.is2D ? ddg::paraViewTransferFunction2DJson(gallery.space().paraviewMapping2D(view), tf.tf2D)
+            : "",
+    view, vtkImageData::GetData(outputVector, 0), vtkTable::GetData(outputVector, 1));
   this->UpdateProgress(1.0);
-}
-
-void vtkDDGQuery::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input,
-  vtkDataArray* array, vtkInformationVector* outputVector)
-{
-  Internals& in = *this->Internal;
-  const ddg::RankVolume& pieces = in.Pieces.get(ranks, input, array, this->InputWholeExtent());
-  vtkImageData* preview = vtkImageData::GetData(outputVector, 0);
-  vtkTable* designs = vtkTable::GetData(outputVector, 1);
-  ddg::renderForFirstRank(ranks, pieces,
-    [&](const ddg::RanksTableRender& render)
-    {
-      // the first rank: the query as Execute's, its renders over the ranks' pieces
-      if (this->ModelDirectory.empty())
-        throw ddg::Error("no ModelDirectory set");
-      const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
-      const ddg::Image image = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
-      ddg::BundleSession& session = in.Sessions.get(this->ModelDirectory, in.Pieces.fingerprint());
-      const ddg::NeuralDesignModel& model = session.model();
-      const auto designRender = ddg::decoderRenderOnRanks(model, pieces, render);
-      this->UpdateProgress(0.5);
-      const auto r = ddg::queryDesignSpace(
-        model, session.outline(), image, view, this->Neighbours, designRender);
-      const int dims = model.config().dimensions;
-      const auto tf = ddg::decoderTransferFunction(model.decodeRegions(r.latent), dims,
-        pieces.brick.wholeRange,
-        dims == 2 ? pieces.brick.wholeGradientRange : std::array<double, 2>{ 0.0, 1.0 });
-      std::string boxes;
-      if (tf.is2D)
-      {
-        if (!pieces.caster)
-          throw ddg::Error("the first rank's piece is empty: ParaView's 2D boxes are fitted there");
-        boxes = ddg::paraViewTransferFunction2DJson(*pieces.caster, tf.tf2D, view);
-      }
-      if (!r.warning.empty())
-        vtkWarningMacro(<< "Query: " << r.warning << ".");
-      writeQuery(r, session.outline(), tf, boxes, view, preview, designs);
-      this->UpdateProgress(1.0);
-    });
 }

@@ -32,6 +32,11 @@
  * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one
  * error message and empty outputs.
  */
+namespace ddg
+{
+class DesignGallery;
+}
+
 class DDGFILTERS_EXPORT vtkDDGQuery : public vtkDDGAlgorithm
 {
 public:
@@ -86,9 +91,9 @@ protected:
   int PieceGhostLevels() override;
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
-  // under `mpiexec -np N pvserver`: the first rank analyzes, every rank renders its piece
-  void ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array,
-    vtkInformationVector* outputVector);
+  // the query of `gallery`'s design space (under `mpiexec -np N pvserver` on the first rank, the
+  // gallery rendering over every rank's piece)
+  void Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector);
 
 private:
   vtkDDGQuery(const vtkDDGQuery&) = delete;

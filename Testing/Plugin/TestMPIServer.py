@@ -178,9 +178,28 @@ def run_filters(remote):
         Count=9,
         ThumbnailSize=48,
     )
+    with open(view_file) as f:
+        view = json.load(f)
+
+    def design_of(*steps):
+        return simple.DDGDesign(
+            Input=tooth,
+            ModelDirectory=os.path.join(data, "Models", "tooth"),
+            ViewFile=view_file,
+            ComputeFidelity=1,
+            History=json.dumps({"format": "ddg-history", "version": 1, "steps": list(steps)}),
+        )
+
+    design = design_of({"action": "pick", "row": 4725}, {"action": "axes", "steps": [1.0, -0.5]})
+    # an edit renders the design and analyzes its recoloured image again (over the pieces)
+    edited = design_of(
+        {"action": "pick", "row": 4725}, {"action": "edit", "view": view, "cluster": 0, "hue": 90}
+    )
     filters = [
         ("query", query, [0, 1]),
         ("gallery", gallery, [0, 1]),
+        ("design", design, [0, 1]),
+        ("edited", edited, [1]),
         ("reconstruct", rec, [0]),
         ("reconstruct 2d", rec2d, [0]),
     ]
@@ -203,7 +222,7 @@ def run_filters(remote):
         seconds[name] = time.time() - start
         for port in ports:
             out[f"{name}:{port}"] = snapshot(servermanager.Fetch(proxy, idx=port))
-        if name in ("query", "gallery"):
+        if name in ("query", "gallery", "design"):
             whole = tooth.GetDataInformation().DataInformation.GetExtent()
             out[f"reader points after {name}"] = (
                 tooth.GetDataInformation().GetNumberOfPoints(),
@@ -293,10 +312,39 @@ def compare_designs(mpi, builtin, name):
     )
 
 
+def compare_design(mpi, builtin):
+    """The design (a pick and a move along the principal axes): its preview within RENDER_TOL,
+    the same latent and fields, the fidelity (the neural image against the explicit TF's ray
+    cast, both over the pieces) within 0.5 dB; the reader's points after it the pieces'. The
+    edited design (its image rendered over the pieces, recoloured and analyzed again): its
+    latent is another than the pick's (the edit ran); how far it is from the builtin's is
+    reported (an image that differs by up to 1/255 can fall into other colour clusters)."""
+    rgba, levels = render_difference(mpi["design:0"], builtin["design:0"])
+    assert rgba <= RENDER_TOL and levels <= round(
+        255 * RENDER_TOL
+    ), f"design preview: {rgba} ({levels} levels) from builtin"
+    fa, fb = dict(mpi["design:1"]["field"]), dict(builtin["design:1"]["field"])
+    fidelity = (float(fa.pop("Fidelity")[0]), float(fb.pop("Fidelity")[0]))
+    assert abs(fidelity[0] - fidelity[1]) <= 0.5, f"design: fidelity {fidelity}"
+    assert same(fa, fb), "design: the latent, TF or regions differ from the builtin session's"
+    points, expected = mpi["reader points after design"]
+    assert points == expected, f"after the design the ranks read {points} points, not {expected}"
+    edited = mpi["edited:1"]["field"]["Latent"]
+    moved = float(abs(edited - builtin["edited:1"]["field"]["Latent"]).max())
+    assert (edited != fa["Latent"]).any() and "Preset" in mpi["edited:1"]["field"]
+    print(
+        f"design (pick + axes): {ranks} ranks vs builtin, preview RGBA max difference {rgba:.2e}, "
+        f"the same latent and TF, fidelity {fidelity[0]:.2f} vs {fidelity[1]:.2f} dB; edited "
+        f"(pick + edit): its latent {moved:.3f} from the builtin's at most; the reader's points "
+        f"after them: the pieces' ({points})"
+    )
+
+
 def compare(mpi, builtin):
     compare_renders(mpi, builtin)
     compare_designs(mpi, builtin, "query")
     compare_designs(mpi, builtin, "gallery")
+    compare_design(mpi, builtin)
     assert (
         mpi["query:1"]["rows"] > 0 and "Preset" in mpi["query:1"]["field"]
     ), "query: no designs or preset"
@@ -518,6 +566,7 @@ if ranks != 2:
     compare_renders(mpi, builtin)
     compare_designs(mpi, builtin, "query")
     compare_designs(mpi, builtin, "gallery")
+    compare_design(mpi, builtin)
     diffs = compare_reconstructions(mpi, builtin)
     print(
         f"reconstruct on {ranks} pieces: max difference {diffs[0]:.1e}, 2D {diffs[1]:.1e} "

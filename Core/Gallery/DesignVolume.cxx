@@ -1,0 +1,58 @@
+// DesignVolume.cxx: the volume in this process, and the table of a TF file.
+#include "Gallery/DesignVolume.h"
+
+#include "Common/Error.h"
+
+namespace ddg
+{
+
+LocalDesignVolume::LocalDesignVolume(const Volume& volume)
+  : Vol(volume)
+  , Caster(volume)
+{
+}
+
+std::array<double, 2> LocalDesignVolume::range() const
+{
+  return Vol.range();
+}
+
+std::array<double, 2> LocalDesignVolume::gradientRange() const
+{
+  return Vol.gradientMagnitudeRange();
+}
+
+std::array<double, 6> LocalDesignVolume::bounds() const
+{
+  return Vol.bounds();
+}
+
+Image LocalDesignVolume::render(const DesignTable& table, const View& view) const
+{
+  return table.dimensions == 2 ? Caster.render(table.twoD, view) : Caster.render(table.oneD, view);
+}
+
+double LocalDesignVolume::opacityUnitDistance(const View& view) const
+{
+  return Caster.opacityUnitDistance(view);
+}
+
+ParaViewTransfer2DMapping LocalDesignVolume::paraviewMapping2D(const View& view) const
+{
+  return Caster.paraviewMapping2D(view);
+}
+
+DesignTable transferTable(const TransferFunctionFile& tf, const std::array<double, 2>& range)
+{
+  if (tf.isParaView2D)
+    throw Error("ParaView's 2D boxes are mapped onto the volume: resolve them first");
+  DesignTable t;
+  t.dimensions = tf.is2D ? 2 : 1;
+  if (tf.is2D)
+    t.twoD = tf.tf2D.bake();
+  else
+    t.oneD = bakeTable(tf.tf1D, range[0], range[1], paraviewTableWidth(tf.tf1D, range[0], range[1]));
+  return t;
+}
+
+} // namespace ddg
