@@ -51,7 +51,8 @@ DesignTable transferTable(const TransferFunctionFile& tf, const std::array<doubl
   if (tf.is2D)
     t.twoD = tf.tf2D.bake();
   else
-    t.oneD = bakeTable(tf.tf1D, range[0], range[1], paraviewTableWidth(tf.tf1D, range[0], range[1]));
+    t.oneD =
+      bakeTable(tf.tf1D, range[0], range[1], paraviewTableWidth(tf.tf1D, range[0], range[1]));
   return t;
 }
 

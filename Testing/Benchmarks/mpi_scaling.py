@@ -14,7 +14,11 @@ the plugin loaded on the server, then on the volume read by XMLImageDataReader:
   reconstruct   DDG Reconstruct Transfer Function from a `ddg render` of the volume at the view
                 (target), --iterations steps of 2048 rays;
   match         DDG Reconstruct Transfer Function with Match Picture on the same target, the camera
-                searched near its view (EstimateCamera), --match-iterations steps.
+                searched near its view (EstimateCamera), --match-iterations steps;
+  query         DDG Query with the target, of a design space built once for the volume (`ddg
+                build --budget 1`: its bundle checked against the whole's fingerprint, the
+                picture analyzed, the design's preview and other lighting rendered at the view);
+  gallery       DDG Design Gallery: 16 thumbnails of 128 x 128 at the view.
 With one rank the filters compute as one process (no pieces: ParaView's pipeline asks for the
 whole volume); with more, every rank renders its own piece (one ghost level) and the images or
 the reconstruction's rays are composited sort-last (Documentation/Rendering.md).
@@ -122,7 +126,29 @@ def target(build, volume_json, tf, view_path, work):
     return out
 
 
-def run(ranks, args, vti, tf, view_text, moved_text, target_png):
+def bundle(build, volume_json, work):
+    """A design space for the volume (`ddg build --budget 1`, once): what DDG Query reads."""
+    out = os.path.join(work, "bundle")
+    if not os.path.exists(os.path.join(out, "outline.bin")):
+        subprocess.run(
+            [
+                os.path.join(build, "bin", "ddg"),
+                "build",
+                "--volume",
+                volume_json,
+                "--out",
+                out,
+                "--budget",
+                "1",
+                "--overwrite",
+                "--quiet",
+            ],
+            check=True,
+        )
+    return out
+
+
+def run(ranks, args, vti, tf, view_text, moved_text, target_png, model):
     import paraview.simple as simple
 
     plugin = os.path.join(
@@ -155,6 +181,13 @@ def run(ranks, args, vti, tf, view_text, moved_text, target_png):
             Iterations=args.match_iterations,
         )
 
+        query = simple.DDGQuery(
+            Input=reader, ModelDirectory=model, ImageFile=target_png, ViewJSON=view_text
+        )
+        gallery = simple.DDGDesignGallery(
+            Input=reader, ModelDirectory=model, ViewJSON=view_text, Count=16, ThumbnailSize=128
+        )
+
         def stage(name, proxy, change=None):
             before = {}
             for r in range(ranks):
@@ -180,10 +213,12 @@ def run(ranks, args, vti, tf, view_text, moved_text, target_png):
         stage("render", render, lambda: setattr(render, "ViewJSON", moved_text))
         stage("reconstruct", rec)
         stage("match", match)
+        stage("query", query)
+        stage("gallery", gallery)
         extent = reader.GetDataInformation().DataInformation.GetExtent()
         boxes = split_boxes(extent, ranks)
         result["piece_points"] = [piece_points(extent, box, 1 if ranks > 1 else 0) for box in boxes]
-        del reader, render, rec, match
+        del reader, render, rec, match, query, gallery
         simple.Disconnect()
         simple.Connect()
         server.process.wait(timeout=60)
@@ -204,18 +239,21 @@ def markdown(results, cores, voxels):
         f"Match Picture: the render as the picture, the camera searched near its view, "
         f"{results[0]['match_iterations']} steps.",
         "",
-        "| ranks | read+render s | render s | reconstruct s | match s | speed-up (render, "
-        "reconstruct, match) |",
-        "|---|---|---|---|---|---|",
+        "| ranks | read+render s | render s | reconstruct s | match s | query s | gallery s | "
+        "speed-up (render, reconstruct, match, query, gallery) |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         st = r["stages"]
         lines.append(
             f"| {r['ranks']} | {st['read+render']['seconds']:.2f} | {st['render']['seconds']:.2f} "
             f"| {st['reconstruct']['seconds']:.2f} | {st['match']['seconds']:.1f} "
+            f"| {st['query']['seconds']:.2f} | {st['gallery']['seconds']:.2f} "
             f"| {base['render'] / st['render']['seconds']:.2f}, "
             f"{base['reconstruct'] / st['reconstruct']['seconds']:.2f}, "
-            f"{base['match'] / st['match']['seconds']:.2f} |"
+            f"{base['match'] / st['match']['seconds']:.2f}, "
+            f"{base['query'] / st['query']['seconds']:.2f}, "
+            f"{base['gallery'] / st['gallery']['seconds']:.2f} |"
         )
     lines += [
         "",
@@ -223,8 +261,8 @@ def markdown(results, cores, voxels):
         "and the peak resident set size above the stage's start (MB; bytes per piece point).",
         "",
         "| ranks | rank | piece points | process MB | read+render MB (B/pt) | render MB | "
-        "reconstruct MB (B/pt) | match MB (B/pt) |",
-        "|---|---|---|---|---|---|---|---|",
+        "reconstruct MB (B/pt) | match MB (B/pt) | query MB (B/pt) | gallery MB |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         st = r["stages"]
@@ -232,10 +270,12 @@ def markdown(results, cores, voxels):
             pts = r["piece_points"][k]
             rr, re_ = st["read+render"]["peak_above_mb"][k], st["reconstruct"]["peak_above_mb"][k]
             ma = st["match"]["peak_above_mb"][k]
+            qu, ga = st["query"]["peak_above_mb"][k], st["gallery"]["peak_above_mb"][k]
             lines.append(
                 f"| {r['ranks']} | {k} | {pts / 1e6:.1f} M | {r['process_mb'][k]:.0f} | "
                 f"{rr:.0f} ({rr * 2**20 / pts:.2f}) | {st['render']['peak_above_mb'][k]:.0f} | "
-                f"{re_:.0f} ({re_ * 2**20 / pts:.2f}) | {ma:.0f} ({ma * 2**20 / pts:.2f}) |"
+                f"{re_:.0f} ({re_ * 2**20 / pts:.2f}) | {ma:.0f} ({ma * 2**20 / pts:.2f}) | "
+                f"{qu:.0f} ({qu * 2**20 / pts:.2f}) | {ga:.0f} |"
             )
     return "\n".join(lines) + "\n"
 
@@ -255,11 +295,12 @@ def main():
     tf = os.path.join(DATA, "TransferFunctions", "bonsai_tree.json")
     view_text, moved_text, view_path = views(args.work)
     target_png = target(args.build, volume_json, tf, view_path, args.work)
+    model = bundle(args.build, volume_json, args.work)
     meta = json.load(open(volume_json))
     voxels = meta["dims"][0] * meta["dims"][1] * meta["dims"][2]
     results = []
     for ranks in args.ranks:
-        r = run(ranks, args, vti, tf, view_text, moved_text, target_png)
+        r = run(ranks, args, vti, tf, view_text, moved_text, target_png, model)
         r["iterations"] = args.iterations
         r["match_iterations"] = args.match_iterations
         results.append(r)
