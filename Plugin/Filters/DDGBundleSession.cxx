@@ -1,4 +1,5 @@
-// DDGBundleSession.cxx: the input's version and volume for Core's bundle session cache.
+// DDGBundleSession.cxx: the input's version and volume for Core's bundle session cache; a
+// filter's gallery in one process or over the ranks' pieces.
 #include "DDGBundleSession.h"
 
 #include "DDGVolumeAdaptor.h"
@@ -20,6 +21,29 @@ DesignGallery& galleryFor(BundleSessionCache& cache, const std::string& modelDir
     .get(modelDirectory, static_cast<std::uint64_t>(version),
       [&] { return toCoreVolume(input, array); })
     .gallery();
+}
+
+void FilterGallery::run(const RankGroup* ranks, vtkImageData* input, vtkDataArray* array,
+  const int wholeExtent[6], const std::string& bundleDir,
+  const std::function<void(DesignGallery& gallery)>& work)
+{
+  if (!ranks)
+  {
+    work(galleryFor(Sessions, bundleDir, input, array));
+    return;
+  }
+  const RankVolume& volume = Pieces.get(*ranks, input, array, wholeExtent);
+  renderForFirstRank(*ranks, volume,
+    [&](const RanksTableRender& render)
+    {
+      struct Use // the space renders through this request only
+      {
+        RanksDesignVolume& space;
+        ~Use() { space.use(nullptr, nullptr); }
+      } use{ *Space };
+      Space->use(&volume, &render);
+      work(Sessions.get(bundleDir, Pieces.fingerprint(), Space).gallery());
+    });
 }
 
 } // namespace ddg

@@ -4,7 +4,11 @@
 #pragma once
 
 #include "DDGFiltersModule.h" // export macro
+#include "DDGPieces.h"
 #include "Gallery/BundleSession.h"
+
+#include <functional>
+#include <memory>
 
 #include <string>
 
@@ -19,5 +23,25 @@ namespace ddg
 /// missing outline, not a volume).
 DDGFILTERS_EXPORT DesignGallery& galleryFor(BundleSessionCache& cache,
   const std::string& modelDirectory, vtkImageData* input, vtkDataArray* array);
+
+/// The gallery of a filter's bundle, kept between its executions: in one process over the
+/// input volume (galleryFor), under MPI over the ranks' pieces.
+class DDGFILTERS_EXPORT FilterGallery
+{
+public:
+  /// Runs `work` with the gallery of `bundleDir` for `input`'s `array`. With `ranks` (a
+  /// collective request; `wholeExtent` the input's whole extent) `work` runs on the first rank,
+  /// while the other ranks render their pieces of its designs (renderForFirstRank): the pieces
+  /// and the whole's fingerprint (RankVolumeCache), the bundle refused when it belongs to another
+  /// volume. A failure anywhere reaches every rank (RankGroup::step).
+  void run(const RankGroup* ranks, vtkImageData* input, vtkDataArray* array,
+    const int wholeExtent[6], const std::string& bundleDir,
+    const std::function<void(DesignGallery& gallery)>& work);
+
+private:
+  BundleSessionCache Sessions; // one process, or the first rank's over the pieces
+  RankVolumeCache Pieces;
+  std::shared_ptr<RanksDesignVolume> Space = std::make_shared<RanksDesignVolume>();
+};
 
 } // namespace ddg

@@ -525,22 +525,4 @@ ParaViewTransfer2DMapping RanksDesignVolume::paraviewMapping2D(const View& view)
   return firstCaster().paraviewMapping2D(view);
 }
 
-void RankGallery::run(const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array,
-  const int wholeExtent[6], const std::string& bundleDir,
-  const std::function<void(DesignGallery& gallery)>& work)
-{
-  const RankVolume& volume = Pieces.get(ranks, piece, array, wholeExtent);
-  renderForFirstRank(ranks, volume,
-    [&](const RanksTableRender& render)
-    {
-      struct Use // the space renders through this request only
-      {
-        RanksDesignVolume& space;
-        ~Use() { space.use(nullptr, nullptr); }
-      } use{ *Space };
-      Space->use(&volume, &render);
-      work(Sessions.get(bundleDir, Pieces.fingerprint(), Space).gallery());
-    });
-}
-
 } // namespace ddg

@@ -7,7 +7,6 @@
 #include "DDGRanks.h"
 
 #include "Design/DesignSpace.h"
-#include "Gallery/BundleSession.h"
 #include "Gallery/DesignVolume.h"
 #include "Gallery/Gallery.h"
 #include "Render/DifferentiableRenderer.h"
@@ -126,25 +125,6 @@ private:
   const RayCaster& firstCaster() const;
   const RankVolume* Volume = nullptr;
   const RanksTableRender* Render = nullptr;
-};
-
-/// A bundle's gallery over a filter's pieces under MPI: the pieces and fingerprint
-/// (RankVolumeCache), the bundle's session on the first rank (kept while the bundle, the
-/// fingerprint and the pieces' volume stay), its renders over the ranks.
-class DDGFILTERS_EXPORT RankGallery
-{
-public:
-  /// Collective: runs `work` on the first rank with the gallery of `bundleDir` (refused when the
-  /// bundle belongs to another volume), while the other ranks render their pieces of its
-  /// designs (renderForFirstRank). A failure anywhere reaches every rank (RankGroup::step).
-  void run(const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array,
-    const int wholeExtent[6], const std::string& bundleDir,
-    const std::function<void(DesignGallery& gallery)>& work);
-
-private:
-  RankVolumeCache Pieces;
-  BundleSessionCache Sessions;
-  std::shared_ptr<RanksDesignVolume> Space = std::make_shared<RanksDesignVolume>();
 };
 
 } // namespace ddg

@@ -30,8 +30,7 @@ vtkStandardNewMacro(vtkDDGDesign);
 
 struct vtkDDGDesign::Internals
 {
-  ddg::BundleSessionCache Sessions;
-  ddg::RankGallery Ranked; // under MPI
+  ddg::FilterGallery Gallery; // in one process or over the ranks' pieces
 };
 
 vtkDDGDesign::vtkDDGDesign()
@@ -108,16 +107,8 @@ int vtkDDGDesign::PieceGhostLevels()
 void vtkDDGDesign::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  if (const ddg::RankGroup* ranks = this->Ranks())
-  {
-    this->Internal->Ranked.run(*ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
-      [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
-    return;
-  }
-  if (this->ModelDirectory.empty())
-    throw ddg::Error("no ModelDirectory set");
-  this->Run(
-    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array), outputVector);
+  this->Internal->Gallery.run(this->Ranks(), input, array, this->InputWholeExtent(),
+    this->ModelDirectory, [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
 }
 
 void vtkDDGDesign::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)

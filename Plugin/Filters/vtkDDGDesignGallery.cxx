@@ -26,8 +26,7 @@ vtkStandardNewMacro(vtkDDGDesignGallery);
 
 struct vtkDDGDesignGallery::Internals
 {
-  ddg::BundleSessionCache Sessions;
-  ddg::RankGallery Ranked; // under MPI
+  ddg::FilterGallery Gallery; // in one process or over the ranks' pieces
 };
 
 vtkDDGDesignGallery::vtkDDGDesignGallery()
@@ -79,14 +78,8 @@ int vtkDDGDesignGallery::PieceGhostLevels()
 void vtkDDGDesignGallery::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  if (const ddg::RankGroup* ranks = this->Ranks())
-  {
-    this->Internal->Ranked.run(*ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
-      [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
-    return;
-  }
-  this->Run(
-    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array), outputVector);
+  this->Internal->Gallery.run(this->Ranks(), input, array, this->InputWholeExtent(),
+    this->ModelDirectory, [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
 }
 
 void vtkDDGDesignGallery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)

@@ -1,6 +1,6 @@
 // vtkDDGQuery.cxx: converts the input, runs ddg::DesignGallery::query, returns the preview image
 // and the designs table; under MPI the first rank runs the query, its gallery rendering over
-// every rank's piece (DDGPieces.h, RankGallery).
+// every rank's piece (DDGBundleSession.h, FilterGallery).
 #include "vtkDDGQuery.h"
 
 #include "DDGBundleSession.h"
@@ -35,8 +35,7 @@ vtkStandardNewMacro(vtkDDGQuery);
 
 struct vtkDDGQuery::Internals
 {
-  ddg::BundleSessionCache Sessions;
-  ddg::RankGallery Ranked; // under MPI
+  ddg::FilterGallery Gallery; // in one process or over the ranks' pieces
 };
 
 namespace
@@ -142,16 +141,8 @@ int vtkDDGQuery::PieceGhostLevels()
 void vtkDDGQuery::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  if (const ddg::RankGroup* ranks = this->Ranks())
-  {
-    this->Internal->Ranked.run(*ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
-      [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
-    return;
-  }
-  if (this->ModelDirectory.empty())
-    throw ddg::Error("no ModelDirectory set");
-  this->Run(
-    ddg::galleryFor(this->Internal->Sessions, this->ModelDirectory, input, array), outputVector);
+  this->Internal->Gallery.run(this->Ranks(), input, array, this->InputWholeExtent(),
+    this->ModelDirectory, [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
 }
 
 void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)
