@@ -353,9 +353,15 @@ Image renderDesign(const RayCaster& caster, const std::vector<GaussianPrimitive>
 {
   if (tf.empty())
     return Image(view.width, view.height, 4, 0.0f);
-  const DesignTable table = designTable(tf, dimensions, caster.dataRange(), gradientRange);
-  return dimensions == 2 ? caster.render(table.twoD, view, options)
-                         : caster.render(table.oneD, view, options);
+  return renderTable(
+    caster, designTable(tf, dimensions, caster.dataRange(), gradientRange), view, options);
+}
+
+Image renderTable(
+  const RayCaster& caster, const DesignTable& table, const View& view, const RenderOptions& options)
+{
+  return table.dimensions == 2 ? caster.render(table.twoD, view, options)
+                               : caster.render(table.oneD, view, options);
 }
 
 DesignTable designTable(const std::vector<GaussianPrimitive>& tf, int dimensions,

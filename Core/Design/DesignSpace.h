@@ -154,6 +154,9 @@ struct DesignTable
 };
 DesignTable designTable(const std::vector<GaussianPrimitive>& tf, int dimensions,
   const std::array<double, 2>& valueRange, const std::array<double, 2>& gradientRange);
+/// `table` ray cast at `view` by `caster` (its 1D or 2D table).
+Image renderTable(const RayCaster& caster, const DesignTable& table, const View& view,
+  const RenderOptions& options = {});
 
 /// The auxiliary TF (one grey primitive per region at the viewport opacity).
 std::vector<GaussianPrimitive> auxiliaryPrimitives(

@@ -29,7 +29,7 @@ std::array<double, 6> LocalDesignVolume::bounds() const
 
 Image LocalDesignVolume::render(const DesignTable& table, const View& view) const
 {
-  return table.dimensions == 2 ? Caster.render(table.twoD, view) : Caster.render(table.oneD, view);
+  return renderTable(Caster, table, view);
 }
 
 double LocalDesignVolume::opacityUnitDistance(const View& view) const

@@ -255,11 +255,6 @@ Image compositeOnRanks(const RankGroup& ranks, const RankVolume& volume, const V
   return compositeBricks(each, where, view.width, view.height);
 }
 
-Image renderTable(const RayCaster& caster, const DesignTable& table, const View& view)
-{
-  return table.dimensions == 2 ? caster.render(table.twoD, view) : caster.render(table.oneD, view);
-}
-
 // A render request of the first rank: the view and the table's shape (its entries follow).
 std::string requestText(const DesignTable& t, const View& view)
 {

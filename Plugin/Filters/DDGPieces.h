@@ -8,7 +8,6 @@
 
 #include "Design/DesignSpace.h"
 #include "Gallery/DesignVolume.h"
-#include "Gallery/Gallery.h"
 #include "Render/DifferentiableRenderer.h"
 #include "Render/RayCaster.h"
 #include "Volume/VolumeBrick.h"
