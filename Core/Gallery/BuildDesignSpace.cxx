@@ -105,31 +105,46 @@ void setBundleVolume(const fs::path& bundleJson, const std::string& fingerprint)
   j["volume"] = fingerprint;
   writeFileAtomic(bundleJson.string(), j.dump(2), "bundle index");
 }
+
+void checkBuildOptions(const std::string& bundleDir, const BuildOptions& o)
+{
+  if (bundleDir.empty())
+    throw Error("building a design space needs an output bundle directory");
+  if (o.budgetMinutes < 0 || (o.budgetMinutes > 0 && o.budgetMinutes < 1))
+    throw Error("a build budget is at least 1 minute");
+}
 } // namespace
 
 BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFile,
   const std::string& bundleDir, const BuildOptions& options,
   const std::function<bool(const std::string&, double)>& progress)
 {
-  const auto start = Clock::now();
-  BuildOptions o = options;
-  if (bundleDir.empty())
-    throw Error("building a design space needs an output bundle directory");
-  if (o.budgetMinutes < 0 || (o.budgetMinutes > 0 && o.budgetMinutes < 1))
-    throw Error("a build budget is at least 1 minute");
-  checkBuildVolume(original);
-  // 0. the volume the design space is built on, and the plan
-  int factor = 1;
-  if (o.maxDesignVoxels < 1)
+  checkBuildOptions(bundleDir, options);
+  if (options.maxDesignVoxels < 1)
     throw Error("the design space's voxel cap (maxDesignVoxels) must be positive");
-  const Volume small = original.voxelCount() > o.maxDesignVoxels
-    ? designSpaceVolume(original, o.maxDesignVoxels, &factor)
-    : Volume();
-  const Volume& volume = factor > 1 ? small : original;
+  const auto start = Clock::now();
+  const DesignSpaceInput input = designSpaceInput(original, options.maxDesignVoxels);
+  return buildDesignSpace(input, volumeFile, bundleDir, options, progress, start);
+}
+
+BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& volumeFile,
+  const std::string& bundleDir, const BuildOptions& options,
+  const std::function<bool(const std::string&, double)>& progress,
+  std::chrono::steady_clock::time_point start)
+{
+  BuildOptions o = options;
+  checkBuildOptions(bundleDir, o);
+  if (input.volume.empty())
+    throw Error("the design space's volume has no values");
+  if (input.factor > 1 && input.fingerprint.empty())
+    throw Error("a downsampled design space needs its volume's fingerprint");
+  // 0. the volume the design space is built on, and the plan
+  const int factor = input.factor;
+  const Volume& volume = input.volume;
   BuildReport r;
   if (o.budgetMinutes > 0)
   {
-    r.plan = planBuild(volume, o.budgetMinutes, o.size, o.threads, o.rates);
+    r.plan = planBuild(input, o.budgetMinutes, o.size, o.threads, o.rates);
     o.count = r.plan.count;
     o.heldout = r.plan.heldout;
     o.minutes = r.plan.trainingMinutes;
@@ -227,7 +242,7 @@ BuildReport buildDesignSpace(const Volume& original, const std::string& volumeFi
     [&](double f)
     { return keepGoing("evaluation", wE + wT + (figures + (1 - figures) * f) * wV); });
   if (factor > 1)
-    setBundleVolume(staging.dir / "bundle.json", volumeFingerprint(original));
+    setBundleVolume(staging.dir / "bundle.json", input.fingerprint);
   r.savingSeconds = secondsSince(t0);
   // 4. the outline
   t0 = Clock::now();

@@ -6,6 +6,7 @@
 #include "Gallery/BuildPlan.h"
 #include "Gallery/Gallery.h"
 
+#include <chrono>
 #include <functional>
 #include <string>
 
@@ -70,5 +71,13 @@ std::string metricsToJson(const EvaluationReport& e, const TrainReport* t, std::
 BuildReport buildDesignSpace(const Volume& volume, const std::string& volumeFile,
   const std::string& bundleDir, const BuildOptions& options,
   const std::function<bool(const std::string& stage, double fraction)>& progress = {});
+
+/// The same on a design space's input already made (designSpaceInput in one process; a
+/// DesignSpaceAssembler fed the slabs of a volume split over processes): options.maxDesignVoxels
+/// is not used. `start`: when the build began (its reported total time counts from there).
+BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& volumeFile,
+  const std::string& bundleDir, const BuildOptions& options,
+  const std::function<bool(const std::string& stage, double fraction)>& progress,
+  std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now());
 
 } // namespace ddg

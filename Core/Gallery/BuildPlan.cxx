@@ -205,11 +205,19 @@ BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size, int th
   if (!(budgetMinutes >= 1))
     throw Error(
       "a build needs a budget of at least 1 minute (got " + std::to_string(budgetMinutes) + ")");
-  int factor = 1;
-  const Volume small = volume.voxelCount() > maxDesignVoxels
-    ? designSpaceVolume(volume, maxDesignVoxels, &factor)
-    : Volume();
-  const Volume& design = factor > 1 ? small : volume;
+  DesignSpaceInput in;
+  in.volume = designSpaceVolume(volume, maxDesignVoxels, &in.factor);
+  return planBuild(in, budgetMinutes, size, threads, measured);
+}
+
+BuildPlan planBuild(const DesignSpaceInput& input, double budgetMinutes, int size, int threads,
+  const BuildRates& measured)
+{
+  if (!(budgetMinutes >= 1))
+    throw Error(
+      "a build needs a budget of at least 1 minute (got " + std::to_string(budgetMinutes) + ")");
+  const Volume& design = input.volume;
+  const int factor = input.factor;
   const BuildRates rates =
     measured.measured() ? measured : measureBuildRates(design, size, threads);
   const double budget = 60 * budgetMinutes;
@@ -247,9 +255,8 @@ BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size, int th
 
 // --- the volume ----------------------------------------------------------------------------------
 
-Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* factor)
+int designSpaceFactor(const std::array<int, 3>& d, std::int64_t maxVoxels)
 {
-  const auto& d = volume.dims();
   int f = 1;
   auto voxels = [&](int g)
   {
@@ -260,30 +267,34 @@ Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* fact
   };
   while (voxels(f) > std::max<std::int64_t>(1, maxVoxels))
     ++f;
-  if (factor)
-    *factor = f;
-  if (f == 1)
-    return volume;
-  const std::array<int, 3> nd{ (d[0] + f - 1) / f, (d[1] + f - 1) / f, (d[2] + f - 1) / f };
-  std::vector<float> values(static_cast<size_t>(nd[0]) * nd[1] * nd[2]);
-  // an integer volume keeps its type (and so ParaView's normalisation of it): its averages are
-  // rounded to the nearest value of the type (half a step of the data at most)
-  const bool integral =
-    volume.originalType() != ScalarType::Float32 && volume.originalType() != ScalarType::Float64;
-  parallelFor(nd[2], 0,
-    [&](std::int64_t k, int)
+  return f;
+}
+
+namespace
+{
+// The design-space voxels of planes k0 .. k1 - 1 (of `nd`) into `values` (the whole design
+// volume's): the average of the finite points `at(a, b, c)` of each f x f x f block of the
+// volume `d`, rounded to the type's levels for an integer volume (which keeps its type, and so
+// ParaView's normalisation of it: half a step of the data at most). One code for the whole
+// volume and for slabs of it, so both give the same bits.
+template <typename At>
+void averageBlocks(const std::array<int, 3>& d, int f, const std::array<int, 3>& nd, int k0, int k1,
+  bool integral, const At& at, std::vector<float>& values)
+{
+  parallelFor(k1 - k0, 0,
+    [&](std::int64_t kk, int)
     {
+      const int k = k0 + static_cast<int>(kk);
       for (int j = 0; j < nd[1]; ++j)
         for (int i = 0; i < nd[0]; ++i)
         {
           double sum = 0;
           int n = 0;
-          for (int c = static_cast<int>(k) * f; c < std::min(d[2], static_cast<int>(k + 1) * f);
-               ++c)
+          for (int c = k * f; c < std::min(d[2], (k + 1) * f); ++c)
             for (int b = j * f; b < std::min(d[1], (j + 1) * f); ++b)
               for (int a = i * f; a < std::min(d[0], (i + 1) * f); ++a)
               {
-                const float v = volume.at(a, b, c);
+                const float v = at(a, b, c);
                 if (std::isfinite(v))
                 {
                   sum += v;
@@ -294,22 +305,115 @@ Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* fact
             n ? static_cast<float>(integral ? std::round(sum / n) : sum / n) : std::nanf("");
         }
     });
+}
+
+bool integralType(ScalarType t)
+{
+  return t != ScalarType::Float32 && t != ScalarType::Float64;
+}
+
+std::array<int, 3> reducedDims(const std::array<int, 3>& d, int f)
+{
+  return { (d[0] + f - 1) / f, (d[1] + f - 1) / f, (d[2] + f - 1) / f };
+}
+} // namespace
+
+Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* factor)
+{
+  const auto& d = volume.dims();
+  const int f = designSpaceFactor(d, maxVoxels);
+  if (factor)
+    *factor = f;
+  if (f == 1)
+    return volume;
+  const std::array<int, 3> nd = reducedDims(d, f);
+  std::vector<float> values(static_cast<size_t>(nd[0]) * nd[1] * nd[2]);
+  averageBlocks(
+    d, f, nd, 0, nd[2], integralType(volume.originalType()),
+    [&](int a, int b, int c) { return volume.at(a, b, c); }, values);
   const auto& s = volume.spacing();
   return Volume(nd, volume.origin(), { s[0] * f, s[1] * f, s[2] * f }, std::move(values),
     volume.originalType());
+}
+
+DesignSpaceInput designSpaceInput(const Volume& volume, std::int64_t maxVoxels)
+{
+  checkBuildVolume(volume);
+  DesignSpaceInput in;
+  in.volume = designSpaceVolume(volume, maxVoxels, &in.factor);
+  if (in.factor > 1)
+    in.fingerprint = volumeFingerprint(volume);
+  return in;
+}
+
+DesignSpaceAssembler::DesignSpaceAssembler(const std::array<int, 3>& dims,
+  const std::array<double, 3>& origin, const std::array<double, 3>& spacing, ScalarType type,
+  std::int64_t maxVoxels)
+  : Dims(dims)
+  , Origin(origin)
+  , Spacing(spacing)
+  , Type(type)
+  , Factor(designSpaceFactor(dims, maxVoxels))
+{
+  const std::array<int, 3> nd = reducedDims(dims, Factor);
+  Values.assign(static_cast<size_t>(nd[0]) * nd[1] * nd[2], 0.0f);
+}
+
+int DesignSpaceAssembler::slabPlanes(std::int64_t values) const
+{
+  const std::int64_t plane = static_cast<std::int64_t>(Dims[0]) * Dims[1];
+  const std::int64_t blocks = std::max<std::int64_t>(1, values / (plane * Factor));
+  return static_cast<int>(std::min<std::int64_t>(blocks * Factor, Dims[2]));
+}
+
+void DesignSpaceAssembler::add(int z0, int planes, const float* values)
+{
+  if (z0 != Next || planes < 1 || z0 + planes > Dims[2] ||
+    (z0 + planes < Dims[2] && planes % Factor != 0))
+    throw Error("the design-space volume's slabs must come in order, whole blocks of " +
+      std::to_string(Factor) + " planes");
+  const std::int64_t plane = static_cast<std::int64_t>(Dims[0]) * Dims[1];
+  if (Factor == 1)
+    std::copy_n(values, plane * planes, Values.begin() + plane * z0);
+  else
+  {
+    const std::array<int, 3> nd = reducedDims(Dims, Factor);
+    averageBlocks(
+      Dims, Factor, nd, z0 / Factor, (z0 + planes + Factor - 1) / Factor, integralType(Type),
+      [&](int a, int b, int c)
+      { return values[(static_cast<std::int64_t>(c - z0) * Dims[1] + b) * Dims[0] + a]; },
+      Values);
+  }
+  Next = z0 + planes;
+}
+
+DesignSpaceInput DesignSpaceAssembler::finish(const std::string& fingerprint)
+{
+  if (Next != Dims[2])
+    throw Error("the design-space volume is missing planes " + std::to_string(Next) + " and on");
+  DesignSpaceInput in;
+  in.factor = Factor;
+  in.fingerprint = fingerprint;
+  const std::array<double, 3> s{ Spacing[0] * Factor, Spacing[1] * Factor, Spacing[2] * Factor };
+  in.volume = Volume(reducedDims(Dims, Factor), Origin, s, std::move(Values), Type);
+  Values = {};
+  return in;
 }
 
 void checkBuildVolume(const Volume& volume)
 {
   if (volume.empty())
     throw Error("the volume has no values");
-  const auto& d = volume.dims();
+  checkBuildVolume(volume.dims(), volume.range());
+}
+
+void checkBuildVolume(const std::array<int, 3>& d, const std::array<double, 2>& r)
+{
   if (std::min({ d[0], d[1], d[2] }) < 4)
     throw Error("the volume is " + std::to_string(d[0]) + "x" + std::to_string(d[1]) + "x" +
       std::to_string(d[2]) +
       " voxels: a design space needs at least 4 voxels along each axis "
       "(this is a slice or a thin slab; volume rendering shows nothing of it)");
-  const auto& r = volume.range();
   if (!(r[1] > r[0]))
   {
     char buf[64];

@@ -5,14 +5,18 @@
 
 #include "Volume/Volume.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 namespace ddg
 {
 
 /// Volumes above this many voxels are downsampled for the design space (designSpaceVolume).
 constexpr std::int64_t kMaxDesignSpaceVoxels = 16 * 1024 * 1024;
+
+struct DesignSpaceInput; // below
 
 /// Measured costs of one build's units on this machine for one volume (wall-clock seconds with
 /// the threads the build uses, under the machine's load at the time).
@@ -73,15 +77,61 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
 /// probed.
 BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size = 64, int threads = 0,
   const BuildRates& rates = {}, std::int64_t maxDesignVoxels = kMaxDesignSpaceVoxels);
+/// The same for a design space's input already made (its volume probed as it is).
+BuildPlan planBuild(const DesignSpaceInput& input, double budgetMinutes, int size = 64,
+  int threads = 0, const BuildRates& rates = {});
 
 /// The volume the design space is built on: `volume` itself when it has at most `maxVoxels`
 /// voxels, else its box-filtered average over f x f x f blocks (f the smallest integer that
 /// brings it under the cap; spacing x f, same origin). `factor` receives f.
 Volume designSpaceVolume(const Volume& volume, std::int64_t maxVoxels, int* factor = nullptr);
 
+/// designSpaceVolume's f for a volume of `dims` points.
+int designSpaceFactor(const std::array<int, 3>& dims, std::int64_t maxVoxels);
+
+/// The volume a design space is built on, and what its bundle records of the user's volume.
+struct DesignSpaceInput
+{
+  Volume volume;           ///< designSpaceVolume's (the user's volume itself when factor is 1)
+  int factor = 1;          ///< its downsampling factor per axis
+  std::string fingerprint; ///< with factor > 1: the user's volume's volumeFingerprint
+};
+
+/// checkBuildVolume, then designSpaceVolume and the user's volume's fingerprint.
+DesignSpaceInput designSpaceInput(const Volume& volume, std::int64_t maxVoxels);
+
+/// designSpaceVolume of a volume that arrives a slab of whole point planes at a time (z
+/// ascending, x fastest; every slab but the last a multiple of factor() planes thick), e.g. from
+/// the pieces of a volume split over processes: the same volume, bit for bit, holding only the
+/// result (the design-space volume, at most maxVoxels) and the caller's slab.
+class DesignSpaceAssembler
+{
+public:
+  /// The user's volume: its points per axis, origin, spacing and scalar type.
+  DesignSpaceAssembler(const std::array<int, 3>& dims, const std::array<double, 3>& origin,
+    const std::array<double, 3>& spacing, ScalarType type, std::int64_t maxVoxels);
+  int factor() const { return Factor; }
+  /// A slab thickness of whole blocks with about `values` points (at least one block).
+  int slabPlanes(std::int64_t values) const;
+  /// The next slab: planes z0 .. z0 + planes - 1, dims[0] x dims[1] x planes values.
+  void add(int z0, int planes, const float* values);
+  /// The design-space volume once every plane came (else throws), with the user's volume's
+  /// `fingerprint` (DesignSpaceInput).
+  DesignSpaceInput finish(const std::string& fingerprint);
+
+private:
+  std::array<int, 3> Dims;
+  std::array<double, 3> Origin, Spacing;
+  ScalarType Type;
+  int Factor = 1, Next = 0;
+  std::vector<float> Values;
+};
+
 /// Refuses, with a message for the user, volumes a design space cannot be built on: a single
 /// value everywhere, or fewer than 4 voxels along an axis (a slice, not a volume).
 void checkBuildVolume(const Volume& volume);
+/// The same from the volume's points per axis and its data range.
+void checkBuildVolume(const std::array<int, 3>& dims, const std::array<double, 2>& range);
 
 /// Refuses an output folder before anything is written: a path that is a file, a folder that
 /// already holds a bundle (bundle.json) unless `overwrite`, a folder that cannot be written, or

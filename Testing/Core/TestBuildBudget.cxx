@@ -5,7 +5,8 @@
 // volume with a naive block average (exact to 1e-5); bad volumes and folders with the messages
 // the user reads, nothing written; a build cancelled at each stage leaves the folder exactly as
 // it was (listing and file contents); a downsampled build's bundle records the original
-// volume's fingerprint. No wall-clock assertions (the latency of cancel is measured by
+// volume's fingerprint; the downsampled volume assembled from slabs is designSpaceVolume's, bit
+// for bit. No wall-clock assertions (the latency of cancel is measured by
 // Testing/Benchmarks/BenchBuildCancel).
 #include "Gallery/BuildDesignSpace.h"
 
@@ -148,6 +149,54 @@ TEST(BuildBudget, DownsamplesLargeVolumesByBlockAverage)
     for (int j = 0; j < 7; ++j)
       for (int i = 0; i < 7; ++i)
         EXPECT_NEAR(d8.at(i, j, k), d.at(i, j, k), 0.5 + 1e-4);
+}
+
+// The design-space volume of a volume that arrives in slabs (a volume split over MPI ranks
+// streams its points to the first rank so): bit for bit designSpaceVolume's, for a float and an
+// 8-bit volume, downsampled (factor 3, a last slab of 1 plane) and not (factor 1); slabs out of
+// order, not whole blocks or missing are refused.
+TEST(BuildBudget, DesignSpaceFromSlabsIsTheWholes)
+{
+  const Volume f32 = blobs(22);
+  std::vector<std::uint8_t> bytes(static_cast<size_t>(f32.voxelCount()));
+  for (size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = static_cast<std::uint8_t>(f32.value(static_cast<std::int64_t>(i)) * 1.1);
+  const Volume u8 =
+    Volume::fromVector({ 22, 22, 22 }, { 1, 2, 3 }, { 0.5, 1, 2 }, bytes, ScalarType::UInt8);
+  for (const Volume* v : { &f32, &u8 })
+    for (const std::int64_t cap : { std::int64_t(1000), std::int64_t(1) << 20 })
+    {
+      int factor = 0;
+      const Volume whole = designSpaceVolume(*v, cap, &factor);
+      DesignSpaceAssembler a(v->dims(), v->origin(), v->spacing(), v->originalType(), cap);
+      ASSERT_EQ(a.factor(), factor);
+      const int planes = a.slabPlanes(22 * 22 * 7); // 6 (factor 3) or 7 planes a slab
+      EXPECT_EQ(planes % factor, 0);
+      const std::int64_t plane = 22 * 22;
+      std::vector<float> slab;
+      for (int z0 = 0; z0 < 22; z0 += planes)
+      {
+        const int n = std::min(planes, 22 - z0);
+        slab.resize(static_cast<size_t>(plane * n));
+        for (std::int64_t q = 0; q < plane * n; ++q)
+          slab[static_cast<size_t>(q)] = v->value(plane * z0 + q);
+        a.add(z0, n, slab.data());
+      }
+      const DesignSpaceInput in = a.finish("fp");
+      EXPECT_EQ(in.factor, factor);
+      EXPECT_EQ(in.fingerprint, "fp");
+      ASSERT_EQ(in.volume.dims(), whole.dims());
+      EXPECT_EQ(in.volume.originalType(), whole.originalType());
+      EXPECT_EQ(in.volume.spacing(), whole.spacing());
+      EXPECT_EQ(in.volume.origin(), whole.origin());
+      EXPECT_EQ(volumeFingerprint(in.volume), volumeFingerprint(whole)); // every value's bits
+    }
+  DesignSpaceAssembler a(f32.dims(), f32.origin(), f32.spacing(), f32.originalType(), 1000);
+  const std::vector<float> slab(22 * 22 * 6, 1.0f);
+  EXPECT_THROW(a.add(3, 3, slab.data()), Error); // out of order
+  EXPECT_THROW(a.add(0, 4, slab.data()), Error); // not whole blocks of 3 planes
+  a.add(0, 6, slab.data());
+  EXPECT_NE(message([&] { a.finish(""); }).find("missing planes 6"), std::string::npos);
 }
 
 TEST(BuildBudget, RefusesVolumesWithoutADesignSpace)
