@@ -355,8 +355,6 @@ DesignSpaceAssembler::DesignSpaceAssembler(const std::array<int, 3>& dims,
   , Type(type)
   , Factor(designSpaceFactor(dims, maxVoxels))
 {
-  const std::array<int, 3> nd = reducedDims(dims, Factor);
-  Values.assign(static_cast<size_t>(nd[0]) * nd[1] * nd[2], 0.0f);
 }
 
 int DesignSpaceAssembler::slabPlanes(std::int64_t values) const
@@ -373,11 +371,13 @@ void DesignSpaceAssembler::add(int z0, int planes, const float* values)
     throw Error("the design-space volume's slabs must come in order, whole blocks of " +
       std::to_string(Factor) + " planes");
   const std::int64_t plane = static_cast<std::int64_t>(Dims[0]) * Dims[1];
+  const std::array<int, 3> nd = reducedDims(Dims, Factor);
+  if (Values.empty()) // the result, allocated with the first slab
+    Values.assign(static_cast<size_t>(nd[0]) * nd[1] * nd[2], 0.0f);
   if (Factor == 1)
     std::copy_n(values, plane * planes, Values.begin() + plane * z0);
   else
   {
-    const std::array<int, 3> nd = reducedDims(Dims, Factor);
     averageBlocks(
       Dims, Factor, nd, z0 / Factor, (z0 + planes + Factor - 1) / Factor, integralType(Type),
       [&](int a, int b, int c)

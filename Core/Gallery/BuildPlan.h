@@ -103,7 +103,8 @@ DesignSpaceInput designSpaceInput(const Volume& volume, std::int64_t maxVoxels);
 /// designSpaceVolume of a volume that arrives a slab of whole point planes at a time (z
 /// ascending, x fastest; every slab but the last a multiple of factor() planes thick), e.g. from
 /// the pieces of a volume split over processes: the same volume, bit for bit, holding only the
-/// result (the design-space volume, at most maxVoxels) and the caller's slab.
+/// result (the design-space volume, at most maxVoxels: allocated with the first slab) and the
+/// caller's slab.
 class DesignSpaceAssembler
 {
 public:

@@ -312,7 +312,8 @@ Image renderOnRanks(
     ranks, volume, view, [&](const RayCaster& caster) { return renderTable(caster, table, view); });
 }
 
-std::string fingerprintOnRanks(const RankGroup& ranks, const RankVolume& volume)
+void streamToFirstRank(const RankGroup& ranks, const RankVolume& volume, int planes,
+  const std::function<void(int z0, int planes, const std::vector<float>& slab)>& visit)
 {
   const VolumeBrick& whole = volume.brick;
   const auto& d = whole.wholeDims;
@@ -323,9 +324,9 @@ std::string fingerprintOnRanks(const RankGroup& ranks, const RankVolume& volume)
     last = b.ownedMax[a] == d[a] - 1 ? d[a] - 1 : b.ownedMax[a] - 1;
   };
   const std::int64_t plane = static_cast<std::int64_t>(d[0]) * d[1];
-  const int slab = static_cast<int>(std::max<std::int64_t>(1, (std::int64_t(1) << 22) / plane));
-  VolumeHash hash;
+  const int slab = std::max(1, planes);
   std::vector<float> values, assembled;
+  std::string failure; // the first rank's visit's: every rank goes on to the end, then throws
   for (int z0 = 0; z0 < d[2]; z0 += slab)
   {
     const int z1 = std::min(d[2], z0 + slab) - 1; // planes z0 .. z1
@@ -370,7 +371,7 @@ std::string fingerprintOnRanks(const RankGroup& ranks, const RankVolume& volume)
         });
     }
     const std::vector<float> parts = ranks.gatherToFirst(values, counts);
-    if (ranks.rank() != 0)
+    if (ranks.rank() != 0 || !failure.empty())
       continue;
     assembled.assign(static_cast<size_t>(plane) * (z1 - z0 + 1), 0.0f);
     size_t at = 0;
@@ -380,11 +381,65 @@ std::string fingerprintOnRanks(const RankGroup& ranks, const RankVolume& volume)
           for (int x = box[0]; x <= box[1]; ++x)
             assembled[static_cast<size_t>(
               (z - z0) * plane + static_cast<std::int64_t>(y) * d[0] + x)] = parts[at++];
-    hash.add(assembled.data(), static_cast<std::int64_t>(assembled.size()));
+    try
+    {
+      visit(z0, z1 - z0 + 1, assembled);
+    }
+    catch (const std::exception& e)
+    {
+      failure = e.what();
+    }
   }
+  ranks.step(
+    [&]
+    {
+      if (!failure.empty())
+        throw Error(failure);
+    });
+}
+
+std::string fingerprintOnRanks(const RankGroup& ranks, const RankVolume& volume)
+{
+  const VolumeBrick& whole = volume.brick;
+  const auto& d = whole.wholeDims;
+  const std::int64_t plane = static_cast<std::int64_t>(d[0]) * d[1];
+  VolumeHash hash;
+  streamToFirstRank(ranks, volume,
+    static_cast<int>(std::max<std::int64_t>(1, (std::int64_t(1) << 22) / plane)),
+    [&](int, int, const std::vector<float>& slab)
+    { hash.add(slab.data(), static_cast<std::int64_t>(slab.size())); });
   if (ranks.rank() != 0)
     return std::string();
   return volumeFingerprint(d, whole.spacing, whole.wholeRange, hash.value());
+}
+
+DesignSpaceInput designSpaceInputOnRanks(
+  const RankGroup& ranks, const RankVolume& volume, std::int64_t maxVoxels)
+{
+  const VolumeBrick& whole = volume.brick;
+  // the scalar type of the ranks with a piece (the same array everywhere)
+  double type = volume.piece ? static_cast<double>(volume.piece->originalType()) : -1;
+  ranks.allMax(&type, 1);
+  ranks.step(
+    [&]
+    {
+      checkBuildVolume(whole.wholeDims, whole.wholeRange);
+      if (maxVoxels < 1)
+        throw Error("the design space's voxel cap (maxVoxels) must be positive");
+    });
+  DesignSpaceAssembler assembler(whole.wholeDims, whole.wholeOrigin, whole.spacing,
+    static_cast<ScalarType>(static_cast<int>(type)), maxVoxels);
+  VolumeHash hash;
+  streamToFirstRank(ranks, volume, assembler.slabPlanes(std::int64_t(1) << 22),
+    [&](int z0, int planes, const std::vector<float>& slab)
+    {
+      hash.add(slab.data(), static_cast<std::int64_t>(slab.size()));
+      assembler.add(z0, planes, slab.data());
+    });
+  if (ranks.rank() != 0)
+    return DesignSpaceInput();
+  return assembler.finish(
+    volumeFingerprint(whole.wholeDims, whole.spacing, whole.wholeRange, hash.value()));
 }
 
 void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,

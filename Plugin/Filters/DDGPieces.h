@@ -7,6 +7,7 @@
 #include "DDGRanks.h"
 
 #include "Design/DesignSpace.h"
+#include "Gallery/BuildPlan.h"
 #include "Gallery/DesignVolume.h"
 #include "Render/DifferentiableRenderer.h"
 #include "Render/RayCaster.h"
@@ -73,6 +74,21 @@ DDGFILTERS_EXPORT Image renderOnRanks(
 /// closed) a slab of point planes at a time (about 4 Mi values) to the first rank, which hashes
 /// them in the whole's order: no rank holds more than its piece and one slab.
 DDGFILTERS_EXPORT std::string fingerprintOnRanks(const RankGroup& ranks, const RankVolume& volume);
+
+/// Collective: every rank's owned points (VolumeBrick's ownership) sent to the first rank
+/// `planes` point planes at a time; there `visit` gets each slab in z order: planes z0 ..
+/// z0 + planes - 1 of the whole, x fastest. A failure in `visit` reaches every rank (after the
+/// last slab). What fingerprintOnRanks and designSpaceInputOnRanks stream.
+DDGFILTERS_EXPORT void streamToFirstRank(const RankGroup& ranks, const RankVolume& volume,
+  int planes, const std::function<void(int z0, int planes, const std::vector<float>& slab)>& visit);
+
+/// Collective: the design space's input of the whole volume (checkBuildVolume; the volume
+/// DesignSpaceAssembler makes of it, downsampled above `maxVoxels`; the whole's fingerprint) on
+/// the first rank, the same bits one process gives for the whole (designSpaceInput); an empty
+/// input elsewhere. The points stream to the first rank as fingerprintOnRanks's do: no rank
+/// holds more than its piece, one slab and (the first) the design-space volume.
+DDGFILTERS_EXPORT DesignSpaceInput designSpaceInputOnRanks(
+  const RankGroup& ranks, const RankVolume& volume, std::int64_t maxVoxels);
 
 /// The design renders a first rank asks for while it runs `work` (renders a table at a view over
 /// every rank's piece: renderOnRanks; the image on the first rank).

@@ -37,6 +37,14 @@ std::unique_ptr<RankGroup> RankGroup::forRequest(vtkInformation* outInfo)
   return std::unique_ptr<RankGroup>(new RankGroup(c));
 }
 
+std::unique_ptr<RankGroup> RankGroup::global()
+{
+  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
+  if (!c || c->GetNumberOfProcesses() < 2)
+    return nullptr;
+  return std::unique_ptr<RankGroup>(new RankGroup(c));
+}
+
 void RankGroup::step(const std::function<void()>& work) const
 {
   enum

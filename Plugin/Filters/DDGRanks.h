@@ -41,6 +41,9 @@ public:
   /// The group for a request whose output information is `outInfo`, or nullptr when the request
   /// is not collective (one process, or one piece asked of one rank: compute locally).
   static std::unique_ptr<RankGroup> forRequest(vtkInformation* outInfo);
+  /// Every rank of ParaView's global controller, for a proxy command that every rank runs in the
+  /// same order (pvserver runs a command on all of its ranks); nullptr in one process.
+  static std::unique_ptr<RankGroup> global();
 
   int rank() const { return Rank; }
   int size() const { return Size; }

@@ -2,6 +2,8 @@
 #include "vtkDDGBuildDesignSpace.h"
 
 #include "DDGFilterSupport.h"
+#include "DDGPieces.h"
+#include "DDGRanks.h"
 #include "DDGVolumeAdaptor.h"
 
 #include "Gallery/BuildDesignSpace.h"
@@ -14,8 +16,10 @@
 #include <vtkFieldData.h>
 #include <vtkImageData.h>
 #include <vtkInformation.h>
-#include <vtkMultiProcessController.h>
+#include <vtkInformationVector.h>
+#include <vtkNew.h>
 #include <vtkObjectFactory.h>
+#include <vtkStreamingDemandDrivenPipeline.h>
 #include <vtkStringArray.h>
 #include <vtkTable.h>
 
@@ -48,6 +52,12 @@ struct vtkDDGBuildDesignSpace::Background
   vtkMTimeType PlanInputTime = 0, InputTime = 0;
   int PlanSize = 0;
   double FiguresShown[6] = { 0, 0, 0, 0, 0, 0 };
+  // under MPI, the first rank's design-space input of the pieces last streamed (InputOnRanks:
+  // PlanBuild then StartBuild stream once), and what it was made of
+  ddg::DesignSpaceInput RanksInput;
+  vtkMTimeType RanksTime = 0;
+  vtkIdType RanksVoxels = 0;
+  std::string RanksArray;
 
   void join()
   {
@@ -96,16 +106,6 @@ void vtkDDGBuildDesignSpace::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "DesignVoxels: " << this->DesignVoxels << "\n";
 }
 
-namespace
-{
-// Whether this process builds (under MPI: the first rank only).
-bool firstRank()
-{
-  auto* controller = vtkMultiProcessController::GetGlobalController();
-  return !controller || controller->GetLocalProcessId() == 0;
-}
-} // namespace
-
 ddg::BuildOptions vtkDDGBuildDesignSpace::Options() const
 {
   ddg::BuildOptions o;
@@ -141,6 +141,75 @@ ddg::Volume vtkDDGBuildDesignSpace::InputVolume()
   return ddg::toCoreVolume(image, this->GetInputArrayToProcess(0, image));
 }
 
+ddg::DesignSpaceInput vtkDDGBuildDesignSpace::InputOnRanks(const ddg::RankGroup& ranks)
+{
+  using SDDP = vtkStreamingDemandDrivenPipeline;
+  vtkImageData* image = nullptr;
+  vtkDataArray* array = nullptr;
+  int whole[6] = { 0, -1, 0, -1, 0, -1 };
+  ranks.step(
+    [&]
+    {
+      if (this->GetNumberOfInputConnections(0) < 1)
+        throw ddg::Error("no input volume");
+      vtkAlgorithmOutput* connection = this->GetInputConnection(0, 0);
+      vtkAlgorithm* producer = connection->GetProducer();
+      const int port = connection->GetIndex();
+      vtkNew<vtkInformationVector> requests; // one per output port: this rank's piece on ours
+      requests->SetNumberOfInformationObjects(port + 1);
+      vtkInformation* request = requests->GetInformationObject(port);
+      request->Set(SDDP::UPDATE_PIECE_NUMBER(), ranks.rank());
+      request->Set(SDDP::UPDATE_NUMBER_OF_PIECES(), ranks.size());
+      request->Set(SDDP::UPDATE_NUMBER_OF_GHOST_LEVELS(), 0);
+      producer->Update(port, requests);
+      image = vtkImageData::SafeDownCast(producer->GetOutputDataObject(port));
+      if (!image)
+        throw ddg::Error("the input is not a volume (image data)");
+      producer->GetOutputInformation(port)->Get(SDDP::WHOLE_EXTENT(), whole);
+      array = this->GetInputArrayToProcess(0, image);
+    });
+  Background& w = *this->Worker;
+  const std::string arrayName = array && array->GetName() ? array->GetName() : "";
+  const vtkMTimeType time = std::max(image->GetMTime(), array ? array->GetMTime() : 0);
+  double changed =
+    time != w.RanksTime || arrayName != w.RanksArray || this->DesignVoxels != w.RanksVoxels;
+  ranks.allMax(&changed, 1); // every rank streams again when one piece changed
+  if (changed > 0)
+  {
+    w.RanksInput = ddg::DesignSpaceInput();
+    const ddg::RankVolume pieces = ddg::RankVolume::gather(ranks, image, array, whole, false);
+    w.RanksInput = ddg::designSpaceInputOnRanks(ranks, pieces, this->DesignVoxels);
+    w.RanksTime = time;
+    w.RanksArray = arrayName;
+    w.RanksVoxels = this->DesignVoxels;
+  }
+  w.InputTime = time;
+  return w.RanksInput;
+}
+
+ddg::BuildOptions vtkDDGBuildDesignSpace::CheckedOptions(
+  const ddg::RankGroup* ranks, bool checkOutput)
+{
+  ddg::BuildOptions options;
+  auto work = [&]()
+  {
+    if (this->OutputDirectory.empty() && checkOutput)
+      throw ddg::Error("no OutputDirectory set");
+    if (ranks && ranks->rank() != 0)
+      return;
+    options = this->Options();
+    // what can be refused at once is (the free disk space is checked by the build, which
+    // estimates it first)
+    if (checkOutput)
+      ddg::checkBuildOutput(this->OutputDirectory, 0, options.overwrite);
+  };
+  if (ranks)
+    ranks->step(work);
+  else
+    work();
+  return options;
+}
+
 // --- the build in the background -----------------------------------------------------------------
 
 void vtkDDGBuildDesignSpace::StartBuild()
@@ -164,24 +233,28 @@ void vtkDDGBuildDesignSpace::StartBuild()
     w.Ended = false;
     std::fill(std::begin(w.Figures), std::end(w.Figures), 0.0);
   }
-  if (!firstRank())
-  {
-    w.finish("done");
-    return;
-  }
   // the volume is copied here, on the calling thread: the thread never touches the pipeline
+  // (under MPI every rank streams its piece to the first, which builds alone: ParaView's MPI is
+  // not for threads)
+  const std::unique_ptr<ddg::RankGroup> ranks = ddg::RankGroup::global();
   ddg::Volume volume;
+  ddg::DesignSpaceInput input;
   ddg::BuildOptions options;
   try
   {
-    if (this->OutputDirectory.empty())
-      throw ddg::Error("no OutputDirectory set");
-    volume = this->InputVolume();
-    options = this->Options();
-    // what can be refused at once is (the free disk space is checked by the build, which
-    // estimates it first)
-    ddg::checkBuildVolume(volume);
-    ddg::checkBuildOutput(this->OutputDirectory, 0, options.overwrite);
+    options = this->CheckedOptions(ranks.get(), true);
+    if (ranks)
+      input = this->InputOnRanks(*ranks);
+    else
+    {
+      volume = this->InputVolume();
+      ddg::checkBuildVolume(volume);
+    }
+    if (ranks && ranks->rank() != 0)
+    {
+      w.finish("done"); // the first rank builds and reports
+      return;
+    }
     if (w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size)
       options.rates = w.PlanRates;
   }
@@ -191,19 +264,22 @@ void vtkDDGBuildDesignSpace::StartBuild()
     return;
   }
   w.Thread = std::thread(
-    [&w, volume = std::move(volume), options, dir = this->OutputDirectory]()
+    [&w, volume = std::move(volume), input = std::move(input), options,
+      dir = this->OutputDirectory]()
     {
       try
       {
-        const auto r = ddg::buildDesignSpace(volume, "", dir, options,
-          [&w](const std::string& stage, double f)
-          {
-            std::lock_guard<std::mutex> lock(w.Mutex);
-            if (stage != "done")
-              w.Stage = stage;
-            w.Fraction = f;
-            return !w.Cancel;
-          });
+        auto progress = [&w](const std::string& stage, double f)
+        {
+          std::lock_guard<std::mutex> lock(w.Mutex);
+          if (stage != "done")
+            w.Stage = stage;
+          w.Fraction = f;
+          return !w.Cancel;
+        };
+        const auto r = input.volume.empty()
+          ? ddg::buildDesignSpace(volume, "", dir, options, progress)
+          : ddg::buildDesignSpace(input, "", dir, options, progress);
         std::lock_guard<std::mutex> lock(w.Mutex);
         const double figures[6] = { r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
           r.evaluation.invariance, r.training.seconds, static_cast<double>(r.training.iterations) };
@@ -283,17 +359,32 @@ double* vtkDDGBuildDesignSpace::GetBuildFigures()
 void vtkDDGBuildDesignSpace::PlanBuild()
 {
   nlohmann::json j;
+  const std::unique_ptr<ddg::RankGroup> ranks = ddg::RankGroup::global();
   try
   {
     if (!(this->BudgetMinutes > 0))
       throw ddg::Error("no budget set (BudgetMinutes)");
-    const ddg::Volume volume = this->InputVolume();
-    ddg::checkBuildVolume(volume);
+    ddg::DesignSpaceInput input;
+    ddg::Volume volume;
+    if (ranks)
+    {
+      input = this->InputOnRanks(*ranks);
+      if (ranks->rank() != 0)
+        return; // the first rank plans
+    }
+    else
+    {
+      volume = this->InputVolume();
+      ddg::checkBuildVolume(volume);
+    }
     Background& w = *this->Worker;
     const bool again =
       w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size;
-    const ddg::BuildPlan plan = ddg::planBuild(volume, this->BudgetMinutes, this->Size, 0,
-      again ? w.PlanRates : ddg::BuildRates(), static_cast<std::int64_t>(this->DesignVoxels));
+    const ddg::BuildRates rates = again ? w.PlanRates : ddg::BuildRates();
+    const ddg::BuildPlan plan = ranks
+      ? ddg::planBuild(input, this->BudgetMinutes, this->Size, 0, rates)
+      : ddg::planBuild(volume, this->BudgetMinutes, this->Size, 0, rates,
+          static_cast<std::int64_t>(this->DesignVoxels));
     w.PlanRates = plan.rates;
     w.PlanInputTime = w.InputTime;
     w.PlanSize = this->Size;
@@ -333,16 +424,27 @@ void vtkDDGBuildDesignSpace::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   vtkTable* output = vtkTable::GetData(outputVector);
-  if (this->OutputDirectory.empty())
-    throw ddg::Error("no OutputDirectory set");
-  const ddg::Volume volume = ddg::toCoreVolume(input, array);
-  const ddg::BuildOptions o = this->Options();
-  const auto r = ddg::buildDesignSpace(volume, "", this->OutputDirectory, o,
-    [this](const std::string&, double f)
-    {
-      this->UpdateProgress(f);
-      return !this->GetAbortExecute();
-    });
+  const ddg::RankGroup* ranks = this->Ranks();
+  const ddg::BuildOptions o = this->CheckedOptions(ranks, true);
+  auto progress = [this](const std::string&, double f)
+  {
+    this->UpdateProgress(f);
+    return !this->GetAbortExecute();
+  };
+  ddg::BuildReport r;
+  if (ranks) // every rank its piece: the points stream to the first rank, which builds alone
+  {
+    const ddg::RankVolume pieces =
+      ddg::RankVolume::gather(*ranks, input, array, this->InputWholeExtent(), false);
+    const ddg::DesignSpaceInput in =
+      ddg::designSpaceInputOnRanks(*ranks, pieces, this->DesignVoxels);
+    if (ranks->rank() != 0)
+      return;
+    r = ddg::buildDesignSpace(in, "", this->OutputDirectory, o, progress);
+  }
+  else
+    r = ddg::buildDesignSpace(
+      ddg::toCoreVolume(input, array), "", this->OutputDirectory, o, progress);
   auto add = [output](const char* name, double v)
   {
     auto a = vtkSmartPointer<vtkDoubleArray>::New();

@@ -8,6 +8,11 @@
 #include "Gallery/BuildDesignSpace.h" // ddg::BuildOptions
 
 #include <memory> // for std::unique_ptr
+
+namespace ddg
+{
+class RankGroup;
+}
 #include <string> // for std::string
 
 /**
@@ -141,6 +146,9 @@ protected:
   int FillOutputPortInformation(int port, vtkInformation* info) override;
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
+  /// Under MPI every rank gets its own piece (no ghost level: the points stream to the first rank,
+  /// which builds alone).
+  int PieceGhostLevels() override { return 0; }
 
 private:
   vtkDDGBuildDesignSpace(const vtkDDGBuildDesignSpace&) = delete;
@@ -150,6 +158,13 @@ private:
   ddg::BuildOptions Options() const;
   /// The input volume, updated and converted (a copy).
   ddg::Volume InputVolume();
+  /// Collective, under MPI (every rank runs the command): every rank updates its own piece of the
+  /// input, and the first rank gets the design space's input (ddg::designSpaceInputOnRanks; empty
+  /// elsewhere). The last one is used again while no rank's piece changed.
+  ddg::DesignSpaceInput InputOnRanks(const ddg::RankGroup& ranks);
+  /// Under MPI (`ranks`), the first rank's options and output folder check, failing on every
+  /// rank together (the spec file and the folder are the first rank's).
+  ddg::BuildOptions CheckedOptions(const ddg::RankGroup* ranks, bool checkOutput);
 
   std::string OutputDirectory;
   std::string SpecFile;

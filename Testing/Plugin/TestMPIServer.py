@@ -6,12 +6,19 @@ level); the render's images are composited sort-last on the first rank; the quer
 gallery run on the first rank (the bundle checked against the whole's fingerprint, streamed to
 it slab by slab) and their design renders are composited like the render's; the reconstruction
 composites every step's rays on every rank and sums the ranks' TF gradients (DDGPieces.h); the
-match runs in step on every rank (Core's match over pieces). DDG Build Design Space needs the
-whole volume: piece 0 (rank 0) asks for the whole extent and computes, the other ranks ask for
-nothing and output empty data (DDGFilterSupport.h). What is compared with what: the client fetches (servermanager.Fetch,
-which keeps the first rank's output) the outputs of DDG Volume Render (1D; Shade with specular; a
-2D TF), DDG Query (shipped Tooth bundle and screenshot) and DDG Reconstruct Transfer Function (1D,
-20 iterations; 2D, 10 iterations) from the server, then computes the same in a builtin session:
+match runs in step on every rank (Core's match over pieces). DDG Build Design Space (in the
+pipeline and in the background, StartBuild) streams every rank's piece (no ghost level) to the
+first rank slab by slab, which assembles the design-space volume (downsampled: DesignVoxels
+2^18) and the whole's fingerprint, and builds there alone. What is compared with what: the
+client fetches (servermanager.Fetch, which keeps the first rank's output) the outputs of DDG
+Volume Render (1D; Shade with specular; a 2D TF), DDG Query (shipped Tooth bundle and screenshot)
+and DDG Reconstruct Transfer Function (1D, 20 iterations; 2D, 10 iterations) from the server,
+then computes the same in a builtin session:
+- build (16 exemplars of 16 px, 10 iterations, 20 outline designs): the bundle records the
+  whole's fingerprint (the shipped Tooth bundle's), the training exemplars' designs are the same
+  text as the builtin's (the same design volume: its feature regions and the screen's verdicts),
+  the held-out figures within BUILD_TOL (0.5 dB, 0.02 SSIM); the reader's points after it are the
+  pieces' without ghosts: no rank read the whole volume;
 - render: the same arrays, values within RENDER_TOL (1/255 + 1e-6 on the premultiplied RGBA, 1
   level on the 8-bit image; 2/255 and 2 levels for the lit 2D TF, whose lit colour is not
   clamped): each piece stops its rays at ParaView's opacity threshold (1 - 1/255) on its own,
@@ -39,14 +46,16 @@ server must exit by itself (status 0) when the client leaves; on any failure its
 
 With RANKS 4 (the distributed filters' own test): the renders and reconstructions, plus a volume with fewer
 cells than ranks (two ranks get empty pieces) and a pipeline whose piece on rank 1 has no scalars
-(rank 1 fails in a render and in Match Picture: the client reads the error from the first rank, no
-rank hangs, the server logs that error once per filter and exits).
+(rank 1 fails in a render, a query, Match Picture and a build, in the pipeline and in the
+background: the client reads the error from the first rank, no rank hangs, a failed build leaves
+no folder, the server logs that error once per filter in the pipeline and exits).
 
 Usage: pvpython TestMPIServer.py PLUGIN DATA [RANKS]
 """
 import json
 import math
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -62,6 +71,9 @@ from ddgtest import apply_and_render  # noqa: E402
 from mpiserver import Server, split_points  # noqa: E402
 
 RECONSTRUCT_TOL = 1e-3
+# a build's held-out figures (dB, SSIM): the same design volume and exemplars; the training on
+# the first rank and on the builtin process may run its threads' sums in another order
+BUILD_TOL = (0.5, 0.02)
 RENDER_TOL = 1 / 255 + 1e-6
 # 2D tables with Shade: the lit colour is not clamped to 1 (as in ParaView), so what one piece's
 # early termination leaves out (transmittance < 1/255) can weigh up to the brightest lit colour
@@ -142,11 +154,64 @@ def run_renders(remote, tooth, out):
         out[name + ":0"] = snapshot(servermanager.Fetch(render))
     # summed over the ranks: the pieces with their ghost planes (before Show, whose
     # representation asks for pieces without ghosts)
+    out["reader points"] = reader_points(tooth, remote, 1)
+    return seconds
+
+
+def reader_points(tooth, remote, ghosts):
+    """The reader's points summed over the ranks now (its data information gathered again: a
+    downstream filter's update does not refresh it) and what its pieces with `ghosts` ghost
+    levels hold (one piece in a builtin session)."""
+    tooth.SMProxy.GetOutputPort(0).InvalidateDataInformation()
     whole = tooth.GetDataInformation().DataInformation.GetExtent()
-    out["reader points"] = (
+    return (
         tooth.GetDataInformation().GetNumberOfPoints(),
-        split_points(whole, ranks if remote else 1, 1 if remote else 0),
+        split_points(whole, ranks if remote else 1, ghosts if remote else 0),
     )
+
+
+def run_builds(remote, tooth, out):
+    """DDG Build Design Space of Tooth, tiny (16 exemplars of 16 px, 10 iterations, 20 outline
+    designs) on a downsampled design volume (DesignVoxels 2^18: 103 x 94 x 161 -> 52 x 47 x 81):
+    in the pipeline (UpdatePipeline, pvpython's way) and in the background (StartBuild, the
+    panel's way). What each bundle records; the seconds."""
+    root = tempfile.mkdtemp(prefix=f"ddg_mpi_build_{'mpi' if remote else 'builtin'}_")
+    seconds = {}
+    for name in ("build", "build background"):
+        build = simple.DDGBuildDesignSpace(
+            Input=tooth,
+            OutputDirectory=os.path.join(root, name.replace(" ", "_")),
+            Count=16,
+            Size=16,
+            Iterations=10,
+            OutlineCount=20,
+            DesignVoxels=1 << 18,
+        )
+        start = time.time()
+        if name == "build":
+            build.UpdatePipeline()
+            out["build:0"] = snapshot(servermanager.Fetch(build))
+            build.UpdatePropertyInformation()
+            assert build.GetPropertyValue("LastError") == "", build.GetPropertyValue("LastError")
+        else:
+            build.SMProxy.InvokeCommand("StartBuild")
+            for _ in range(3000):
+                build.UpdatePropertyInformation()
+                if build.GetPropertyValue("BuildState") != "running":
+                    break
+                time.sleep(0.1)
+            state = build.GetPropertyValue("BuildState")
+            assert state == "done", (state, build.GetPropertyValue("BuildError"))
+        seconds[name] = time.time() - start
+        directory = build.GetPropertyValue("OutputDirectory")
+        with open(os.path.join(directory, "bundle.json")) as f:
+            out[name + ":bundle"] = json.load(f)
+        with open(os.path.join(directory, "exemplars.json")) as f:
+            out[name + ":exemplars"] = f.read()
+        # the pieces without ghost points (the build asks for none)
+        out[f"reader points after {name}"] = reader_points(tooth, remote, 0)
+        simple.Delete(build)
+    shutil.rmtree(root, ignore_errors=True)
     return seconds
 
 
@@ -154,7 +219,8 @@ def run_filters(remote):
     simple.LoadPlugin(plugin, remote=remote)
     out = {}
     tooth = simple.XMLImageDataReader(FileName=[tooth_file])
-    seconds = run_renders(remote, tooth, out)
+    seconds = run_builds(remote, tooth, out)
+    seconds.update(run_renders(remote, tooth, out))
     rec = simple.DDGReconstructTransferFunction(
         Input=tooth, TargetImageFile=shot, ViewFile=view_file, Iterations=20
     )
@@ -223,16 +289,8 @@ def run_filters(remote):
         for port in ports:
             out[f"{name}:{port}"] = snapshot(servermanager.Fetch(proxy, idx=port))
         if name in ("query", "gallery", "design"):
-            whole = tooth.GetDataInformation().DataInformation.GetExtent()
-            out[f"reader points after {name}"] = (
-                tooth.GetDataInformation().GetNumberOfPoints(),
-                split_points(whole, ranks if remote else 1, 1 if remote else 0),
-            )
-    whole = tooth.GetDataInformation().DataInformation.GetExtent()
-    out["reader points after reconstruct"] = (
-        tooth.GetDataInformation().GetNumberOfPoints(),
-        split_points(whole, ranks if remote else 1, 1 if remote else 0),
-    )
+            out[f"reader points after {name}"] = reader_points(tooth, remote, 1)
+    out["reader points after reconstruct"] = reader_points(tooth, remote, 1)
     print(report_line(remote, seconds))
     return tooth, out
 
@@ -340,7 +398,35 @@ def compare_design(mpi, builtin):
     )
 
 
+def compare_builds(mpi, builtin):
+    """The builds over the ranks against the builtin's: the bundle records the whole volume's
+    fingerprint (the shipped Tooth bundle's), the training exemplars' designs are the same text
+    (the design volume's feature regions and the screen's verdicts: the same design volume), the
+    held-out figures within BUILD_TOL (training runs on one process either way); the reader's
+    points after the build are the pieces' (no ghost level): no rank read the whole volume."""
+    with open(os.path.join(data, "Models", "tooth", "bundle.json")) as f:
+        tooth_fingerprint = json.load(f)["volume"]
+    for name in ("build", "build background"):
+        m, b = mpi[name + ":bundle"], builtin[name + ":bundle"]
+        assert m["volume"] == b["volume"] == tooth_fingerprint, (m["volume"], b["volume"])
+        assert mpi[name + ":exemplars"] == builtin[name + ":exemplars"], f"{name}: other exemplars"
+        dpsnr = abs(m["metrics"]["psnr"] - b["metrics"]["psnr"])
+        dssim = abs(m["metrics"]["ssim"] - b["metrics"]["ssim"])
+        assert dpsnr <= BUILD_TOL[0] and dssim <= BUILD_TOL[1], (name, m["metrics"], b["metrics"])
+        points, pieces = mpi[f"reader points after {name}"]
+        assert points == pieces, f"after the {name} the reader holds {points} points, not {pieces}"
+        print(
+            f"{ranks} ranks, {name}: the whole's fingerprint, the same exemplars; held-out "
+            f"{m['metrics']['psnr']:.3f} dB / {m['metrics']['ssim']:.4f} vs builtin "
+            f"{b['metrics']['psnr']:.3f} / {b['metrics']['ssim']:.4f}; reader points {points} "
+            f"(the pieces')"
+        )
+    table = mpi["build:0"]["columns"]
+    assert abs(float(table["PSNR"][0]) - mpi["build:bundle"]["metrics"]["psnr"]) < 1e-3, table
+
+
 def compare(mpi, builtin):
+    compare_builds(mpi, builtin)
     compare_renders(mpi, builtin)
     compare_designs(mpi, builtin, "query")
     compare_designs(mpi, builtin, "gallery")
@@ -484,7 +570,24 @@ def failing_rank(tooth):
     error = missing.GetProperty("LastError").GetElement(0)
     assert MISSING_BUNDLE in error, f"query without a bundle: LastError {error!r}"
     print(f"{ranks} ranks, query of a missing bundle: the client read: {error}")
-    for name, proxy in (("render", render), ("query", query), ("match", match)):
+    # a build: in the pipeline (logged like the others) and in the background (its state)
+    folder = tempfile.mkdtemp(prefix="ddg_mpi_failed_build_")
+    build = simple.DDGBuildDesignSpace(
+        Input=broken, OutputDirectory=os.path.join(folder, "bundle"), Count=16, Size=16
+    )
+    background = simple.DDGBuildDesignSpace(
+        Input=broken, OutputDirectory=os.path.join(folder, "background"), Count=16, Size=16
+    )
+    start = time.time()
+    background.SMProxy.InvokeCommand("StartBuild")
+    background.UpdatePropertyInformation()
+    state, error = (background.GetPropertyValue(k) for k in ("BuildState", "BuildError"))
+    assert state == "failed" and error.startswith(FAILED), (state, error)
+    print(
+        f"{ranks} ranks, build in the background: rank 1 failed, every rank stopped in "
+        f"{time.time() - start:.1f} s, the client read: {error}"
+    )
+    for name, proxy in (("render", render), ("query", query), ("match", match), ("build", build)):
         start = time.time()
         proxy.UpdatePipeline()
         proxy.UpdatePropertyInformation()
@@ -497,6 +600,8 @@ def failing_rank(tooth):
             f"{ranks} ranks, {name}: rank 1 failed, every rank stopped in "
             f"{time.time() - start:.1f} s, the client read: {error}"
         )
+    assert os.listdir(folder) == [], f"a failed build left {os.listdir(folder)}"
+    shutil.rmtree(folder)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -547,12 +652,13 @@ try:
             for line in errors
             if FAILED not in line and MISSING_BUNDLE not in line and "ERR| ERROR: In" not in line
         ]
-        assert len(expected) == 3 and not others, (
-            "the server should log rank 1's error once per filter (render, query, match):\n" + log
+        assert len(expected) == 4 and not others, (
+            "the server should log rank 1's error once per filter (render, query, match, build):\n"
+            + log
         )
     print(
         f"{ranks} ranks: mpiexec exited with status 0 after the client left, "
-        f"{len(expected)} error(s) logged (expected {0 if ranks == 2 else 3})"
+        f"{len(expected)} error(s) logged (expected {0 if ranks == 2 else 4})"
     )
 finally:
     server.stop()
@@ -563,6 +669,7 @@ finally:
 
 _, builtin = run_filters(remote=False)
 if ranks != 2:
+    compare_builds(mpi, builtin)
     compare_renders(mpi, builtin)
     compare_designs(mpi, builtin, "query")
     compare_designs(mpi, builtin, "gallery")
