@@ -18,6 +18,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 
 namespace ddg
 {
@@ -63,7 +64,216 @@ std::vector<std::array<double, 3>> legend(std::vector<GaussianPrimitive> tf)
   return colours;
 }
 
+json exemplarToJson(const Exemplar& e, bool twoD)
+{
+  json p = json::array();
+  for (const auto& g : e.primitives)
+    p.push_back(primitiveToJson(g, twoD));
+  json j = { { "seed", e.seed }, { "active", e.active }, { "primitives", p },
+    { "view_exp", viewJson(e.viewExp) }, { "view_view", viewJson(e.viewView) },
+    { "background", e.background } };
+  if (e.picture)
+    j["picture"] = json::parse(pictureLookToJson(*e.picture));
+  return j;
+}
+
+Exemplar exemplarFromJson(const json& e, const std::string& where)
+{
+  Exemplar x;
+  x.seed = e.at("seed").get<std::uint64_t>();
+  x.active = e.at("active").get<std::vector<int>>();
+  for (const auto& p : e.at("primitives"))
+    x.primitives.push_back(primitiveFromJson(p));
+  x.viewExp = parseView(e.at("view_exp").dump(), where);
+  x.viewView = parseView(e.at("view_view").dump(), where);
+  x.background = e.at("background").get<int>();
+  if (e.contains("picture"))
+    x.picture = parsePictureLook(e.at("picture").dump(), where);
+  return x;
+}
+
+// What rendering exemplar candidates needs, made once per generation: on this process, and on
+// a worker process from the setup message (the same volume's bits give the same bytes).
+class CandidateRenderer
+{
+public:
+  CandidateRenderer(
+    const Volume& volume, const DesignSpaceSpec& spec, int size, std::uint64_t seed, bool viewport)
+    : TheVolume(volume)
+    , Spec(spec)
+    , Size(size)
+    , Seed(seed)
+    , Viewport(viewport)
+    , Caster(volume)
+    , Corners(volume, spec.dimensions, Caster.defaultOpacityUnitDistance())
+    , GradientRange(
+        spec.dimensions == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 })
+  {
+    Options.threads = 1;
+  }
+
+  const RayCaster& caster() const { return Caster; }
+  const BoxCorners& corners() const { return Corners; }
+  int size() const { return Size; }
+  size_t recordSize() const { return recordBytes(Size); }
+
+  void setRegions(std::vector<FeatureRegion> regions)
+  {
+    Regions = std::move(regions);
+    Aux = auxiliaryPrimitives(Spec, Regions);
+  }
+
+  // what a worker needs to render candidates as this process does
+  std::string setup() const
+  {
+    json j = { { "spec", json::parse(designSpaceSpecToJson(Spec)) }, { "size", Size },
+      { "seed", Seed }, { "viewport", Viewport }, { "regions", json::array() } };
+    for (const auto& r : Regions)
+      j["regions"].push_back(regionToJson(r));
+    return j.dump();
+  }
+
+  static std::unique_ptr<CandidateRenderer> fromSetup(const Volume& volume, const std::string& text)
+  {
+    const json j = json::parse(text);
+    auto r = std::make_unique<CandidateRenderer>(volume,
+      parseDesignSpaceSpec(j.at("spec").dump(), "exemplar setup"), j.at("size").get<int>(),
+      j.at("seed").get<std::uint64_t>(), j.at("viewport").get<bool>());
+    std::vector<FeatureRegion> regions;
+    for (const auto& q : j.at("regions"))
+      regions.push_back(regionFromJson(q));
+    r->setRegions(std::move(regions));
+    return r;
+  }
+
+  // candidate `index`: its record (recordSize() bytes; left as it is when junk), the exemplar
+  // and, when screening, the verdict
+  void render(std::uint64_t index, bool screening, std::uint8_t* out, Exemplar& drawn,
+    DesignVerdict& verdict) const
+  {
+    const size_t px = static_cast<size_t>(Size) * Size;
+    auto draw = [&](const std::vector<GaussianPrimitive>& tf, const View& view)
+    { return renderDesign(Caster, tf, Spec.dimensions, GradientRange, view, Options); };
+    Exemplar e = sampleExemplar(TheVolume, Spec, Regions, Seed, index, Size);
+    const Image exp = draw(e.primitives, e.viewExp);
+    if (screening)
+    {
+      verdict = screenDesign(Caster, Corners, e.primitives, exp, e.viewExp);
+      if (verdict.junk())
+        return;
+    }
+    if (e.picture) // a user's picture of the design, framed as a query is
+    {
+      const View pv = pictureView(e.viewExp, *e.picture);
+      const Image picture =
+        drawPicture(draw(e.primitives, pv), pv, *e.picture, legend(e.primitives));
+      if (hasQueryContent(picture))
+        toBytes(prepareQueryImage(picture, Size), out);
+      else // nothing shows (a query would be refused): the clean image, no look
+        e.picture.reset();
+    }
+    if (!e.picture)
+      toBytes(compositeOverBackground(exp, e.viewExp.background), out);
+    if (Viewport)
+      toBytes(draw(Aux, e.viewView), out + 3 * px);
+    else
+      std::fill_n(out + 3 * px, 4 * px, std::uint8_t(0));
+    toBytes(draw(e.primitives, e.viewView), out + 7 * px);
+    drawn = std::move(e);
+  }
+
+  // A worker's answer to "render FIRST COUNT SCREENING": per candidate its verdict (2 bytes),
+  // its record, and its exemplar's JSON (4-byte length, text).
+  std::string answer(std::uint64_t first, int count, bool screening, int threads) const
+  {
+    const size_t rec = recordSize();
+    std::vector<std::uint8_t> records(rec * count);
+    std::vector<Exemplar> drawn(static_cast<size_t>(count));
+    std::vector<DesignVerdict> verdicts(static_cast<size_t>(count));
+    parallelFor(count, threads,
+      [&](std::int64_t q, int)
+      { render(first + q, screening, records.data() + rec * q, drawn[q], verdicts[q]); });
+    std::string out;
+    for (int q = 0; q < count; ++q)
+    {
+      out.push_back(static_cast<char>(verdicts[q].empty));
+      out.push_back(static_cast<char>(verdicts[q].flatBox));
+      out.append(reinterpret_cast<const char*>(records.data() + rec * q), rec);
+      const std::string text = exemplarToJson(drawn[q], Spec.dimensions == 2).dump();
+      const std::uint32_t n = static_cast<std::uint32_t>(text.size());
+      out.append(reinterpret_cast<const char*>(&n), sizeof(n));
+      out += text;
+    }
+    return out;
+  }
+
+  // reads answer()'s text into candidates [0, count) of the batch's arrays
+  void read(const std::string& in, int count, std::uint8_t* records, Exemplar* drawn,
+    DesignVerdict* verdicts) const
+  {
+    const size_t rec = recordSize();
+    size_t at = 0;
+    auto need = [&](size_t n)
+    {
+      if (at + n > in.size())
+        throw Error("an exemplar worker's answer is truncated");
+    };
+    for (int q = 0; q < count; ++q)
+    {
+      need(2 + rec + 4);
+      verdicts[q].empty = in[at] != 0;
+      verdicts[q].flatBox = in[at + 1] != 0;
+      std::memcpy(records + rec * q, in.data() + at + 2, rec);
+      at += 2 + rec;
+      std::uint32_t n = 0;
+      std::memcpy(&n, in.data() + at, sizeof(n));
+      at += sizeof(n);
+      need(n);
+      drawn[q] = exemplarFromJson(json::parse(in.substr(at, n)), "an exemplar worker's answer");
+      at += n;
+    }
+  }
+
+private:
+  const Volume& TheVolume;
+  DesignSpaceSpec Spec;
+  int Size;
+  std::uint64_t Seed;
+  bool Viewport;
+  RayCaster Caster;
+  BoxCorners Corners;
+  std::array<double, 2> GradientRange;
+  std::vector<FeatureRegion> Regions;
+  std::vector<GaussianPrimitive> Aux;
+  RenderOptions Options;
+};
+
 } // namespace
+
+void serveExemplars(const Volume& volume, const std::function<std::string()>& receive,
+  const std::function<void(const std::string&)>& send, int threads)
+{
+  std::unique_ptr<CandidateRenderer> renderer;
+  for (;;)
+  {
+    const std::string message = receive();
+    if (message == "end")
+      return;
+    if (message.rfind("setup ", 0) == 0)
+    {
+      renderer = CandidateRenderer::fromSetup(volume, message.substr(6));
+      continue; // no answer
+    }
+    unsigned long long first = 0;
+    int count = 0, screening = 0;
+    if (!renderer ||
+      std::sscanf(message.c_str(), "render %llu %d %d", &first, &count, &screening) != 3 ||
+      count < 0)
+      throw Error(
+        "an exemplar worker got a message it does not know: '" + message.substr(0, 40) + "'");
+    send(renderer->answer(first, count, screening != 0, threads));
+  }
+}
 
 GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& spec,
   const std::string& dir, const GenerateOptions& opt, const std::function<bool(double)>& progress)
@@ -85,24 +295,24 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
   fs::remove(fs::path(dir) / "dataset.json", ec);
   GenerateReport report;
   const bool twoD = spec.dimensions == 2;
-  const RayCaster caster(volume);
-  const BoxCorners corners(volume, spec.dimensions, caster.defaultOpacityUnitDistance());
+  CandidateRenderer renderer(volume, spec, opt.size, opt.seed, opt.viewport);
+  const RayCaster& caster = renderer.caster();
   if (!spec.regions.empty())
     report.regions = spec.regions;
   else if (opt.screen)
-    report.regions = findDesignRegions(volume, caster, corners, spec, &report.regionsLeftOut);
+    report.regions =
+      findDesignRegions(volume, caster, renderer.corners(), spec, &report.regionsLeftOut);
   else
     report.regions = twoD ? findFeatureRegions2D(volume, spec.maxRegions)
                           : findFeatureRegions(volume, spec.maxRegions);
-  const auto aux = auxiliaryPrimitives(spec, report.regions);
-  const auto gradientRange =
-    twoD ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
-  RenderOptions ropt;
-  ropt.threads = 1;
+  renderer.setRegions(report.regions);
+  ExemplarWorkers* workers = opt.workers && opt.workers->size() > 0 ? opt.workers : nullptr;
+  if (workers)
+    for (int w = 0; w < workers->size(); ++w)
+      workers->send(w, "setup " + renderer.setup());
 
   std::vector<Exemplar> items(static_cast<size_t>(opt.count));
   const size_t rec = recordBytes(opt.size);
-  const size_t px = static_cast<size_t>(opt.size) * opt.size;
   const int shards = (opt.count + opt.shardSize - 1) / opt.shardSize;
   const std::int64_t maxCandidates = 4LL * opt.count;
   std::uint64_t next = opt.firstIndex; // the next index to examine
@@ -124,8 +334,6 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
     if (!progress(std::min(1.0, static_cast<double>(done.load()) / opt.count)))
       throw Cancelled();
   };
-  auto render = [&](const std::vector<GaussianPrimitive>& tf, const View& view)
-  { return renderDesign(caster, tf, spec.dimensions, gradientRange, view, ropt); };
   try
   {
     for (int shard = 0; shard < shards; ++shard)
@@ -146,39 +354,29 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
         std::vector<Exemplar> drawn(static_cast<size_t>(batch));
         std::vector<DesignVerdict> verdicts(static_cast<size_t>(batch));
         std::vector<std::uint8_t> records(rec * batch);
-        parallelFor(batch, opt.threads,
+        // the batch's candidates: a contiguous share each for this process and every worker
+        const int processes = 1 + (workers ? workers->size() : 0);
+        auto shareStart = [&](int p)
+        { return static_cast<int>(std::int64_t(batch) * p / processes); };
+        for (int w = 1; w < processes; ++w)
+          workers->send(w - 1,
+            "render " + std::to_string(next + shareStart(w)) + " " +
+              std::to_string(shareStart(w + 1) - shareStart(w)) + " " +
+              std::to_string(screening ? 1 : 0));
+        parallelFor(shareStart(1), opt.threads,
           [&](std::int64_t q, int threadId)
           {
             tick(threadId);
-            Exemplar e = sampleExemplar(volume, spec, report.regions, opt.seed, next + q, opt.size);
-            const Image exp = render(e.primitives, e.viewExp);
-            if (screening)
-            {
-              verdicts[q] = screenDesign(caster, corners, e.primitives, exp, e.viewExp);
-              if (verdicts[q].junk())
-                return;
-            }
-            std::uint8_t* out = records.data() + rec * q;
-            if (e.picture) // a user's picture of the design, framed as a query is
-            {
-              const View pv = pictureView(e.viewExp, *e.picture);
-              const Image picture =
-                drawPicture(render(e.primitives, pv), pv, *e.picture, legend(e.primitives));
-              if (hasQueryContent(picture))
-                toBytes(prepareQueryImage(picture, opt.size), out);
-              else // nothing shows (a query would be refused): the clean image, no look
-                e.picture.reset();
-            }
-            if (!e.picture)
-              toBytes(compositeOverBackground(exp, e.viewExp.background), out);
-            if (opt.viewport)
-              toBytes(render(aux, e.viewView), out + 3 * px);
-            else
-              std::fill_n(out + 3 * px, 4 * px, std::uint8_t(0));
-            toBytes(render(e.primitives, e.viewView), out + 7 * px);
-            drawn[q] = std::move(e);
-            ++done;
+            renderer.render(next + q, screening, records.data() + rec * q, drawn[q], verdicts[q]);
+            if (!verdicts[q].junk())
+              ++done;
           });
+        for (int w = 1; w < processes; ++w)
+        {
+          const int q0 = shareStart(w);
+          renderer.read(workers->receive(w - 1), shareStart(w + 1) - q0, records.data() + rec * q0,
+            drawn.data() + q0, verdicts.data() + q0);
+        }
         // in index order: the passing candidates until the shard is full
         for (int q = 0; q < batch && have < n; ++q)
         {
@@ -238,16 +436,7 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
       j["regions"].push_back(regionToJson(r));
     j["exemplars"] = json::array();
     for (const auto& e : items)
-    {
-      json p = json::array();
-      for (const auto& g : e.primitives)
-        p.push_back(primitiveToJson(g, spec.dimensions == 2));
-      j["exemplars"].push_back({ { "seed", e.seed }, { "active", e.active }, { "primitives", p },
-        { "view_exp", viewJson(e.viewExp) }, { "view_view", viewJson(e.viewView) },
-        { "background", e.background } });
-      if (e.picture)
-        j["exemplars"].back()["picture"] = json::parse(pictureLookToJson(*e.picture));
-    }
+      j["exemplars"].push_back(exemplarToJson(e, twoD));
     writeFileAtomic((fs::path(dir) / "dataset.json").string(), j.dump() + "\n", "dataset index");
   }
   catch (...)
@@ -287,19 +476,7 @@ ExemplarDataset::ExemplarDataset(const std::string& dir)
     for (const auto& r : j.at("regions"))
       Regions.push_back(regionFromJson(r));
     for (const auto& e : j.at("exemplars"))
-    {
-      Exemplar x;
-      x.seed = e.at("seed").get<std::uint64_t>();
-      x.active = e.at("active").get<std::vector<int>>();
-      for (const auto& p : e.at("primitives"))
-        x.primitives.push_back(primitiveFromJson(p));
-      x.viewExp = parseView(e.at("view_exp").dump(), indexPath);
-      x.viewView = parseView(e.at("view_view").dump(), indexPath);
-      x.background = e.at("background").get<int>();
-      if (e.contains("picture"))
-        x.picture = parsePictureLook(e.at("picture").dump(), indexPath);
-      Items.push_back(std::move(x));
-    }
+      Items.push_back(exemplarFromJson(e, indexPath));
   }
   catch (const json::exception& e)
   {

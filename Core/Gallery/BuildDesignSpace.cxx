@@ -187,6 +187,7 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   g.volumeFile = volumeFile;
   g.screen = o.screen;
   g.viewport = false; // the decoder does not read it
+  g.workers = o.workers;
   const double trainShare = static_cast<double>(o.count) / (o.count + o.heldout);
   r.exemplars = generateExemplars(volume, o.spec, (fs::path(work) / "train").string(), g,
     [&](double f) { return keepGoing("exemplars", wE * trainShare * f); });

@@ -3,6 +3,7 @@
 // step by step, sized by the caller's time budget).
 #pragma once
 
+#include "Design/ExemplarGenerator.h"
 #include "Gallery/BuildPlan.h"
 #include "Gallery/Gallery.h"
 
@@ -40,6 +41,9 @@ struct BuildOptions
   /// plan); not measured: probed at the start [not measured]
   BuildRates rates;
   bool screen = true; ///< designs that show structure only (GenerateOptions::screen) [true]
+  /// Other processes that render a share of the exemplars (GenerateOptions::workers; not owned,
+  /// not ended: the caller sends them "end") [none]
+  ExemplarWorkers* workers = nullptr;
 };
 
 struct BuildReport

@@ -1,6 +1,7 @@
 // TestDesignSpace.cxx: feature regions on a volume with known materials, spec JSON errors,
-// deterministic generation, datasets that are truncated, corrupt, cancelled or hit a full disk,
-// and the decoder layout (targets round trip; image-loss gradient against finite differences).
+// deterministic generation (alone and with workers rendering shares), datasets that are truncated,
+// corrupt, cancelled or hit a full disk, and the decoder layout (targets round trip; image-loss
+// gradient against finite differences).
 #include "Design/DecoderLayout.h"
 #include "Design/ExemplarGenerator.h"
 
@@ -8,9 +9,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <condition_variable>
+#include <deque>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <random>
+#include <thread>
 
 #include "FileSizeLimit.h"
 
@@ -205,6 +210,123 @@ TEST(ExemplarGenerator, WithoutViewportTheSameImagesForTheDecoder)
       without.exemplars()[static_cast<size_t>(i)].viewView.width);
   }
   EXPECT_GT(viewportPixels, 0); // the viewport images that were left out are not empty
+}
+
+namespace
+{
+// Workers on threads of this process, each serving over a pair of message queues as another
+// process would over its connection (serveExemplars).
+class ThreadWorkers : public ExemplarWorkers
+{
+public:
+  ThreadWorkers(const Volume& volume, int n)
+    : Links(static_cast<size_t>(n))
+  {
+    for (auto& link : Links)
+      Threads.emplace_back(
+        [&volume, &link]
+        {
+          serveExemplars(
+            volume, [&link] { return link.in.pop(); },
+            [&link](const std::string& m) { link.out.push(m); }, 1);
+        });
+  }
+  ~ThreadWorkers() override
+  {
+    for (auto& link : Links)
+      link.in.push("end");
+    for (auto& t : Threads)
+      t.join();
+  }
+  int size() const override { return static_cast<int>(Links.size()); }
+  void send(int w, const std::string& m) override
+  {
+    Links[static_cast<size_t>(w)].in.push(m);
+    ++Messages;
+  }
+  std::string receive(int w) override { return Links[static_cast<size_t>(w)].out.pop(); }
+  int Messages = 0;
+
+private:
+  struct Queue
+  {
+    std::mutex m;
+    std::condition_variable c;
+    std::deque<std::string> q;
+    void push(const std::string& s)
+    {
+      std::lock_guard<std::mutex> lock(m);
+      q.push_back(s);
+      c.notify_one();
+    }
+    std::string pop()
+    {
+      std::unique_lock<std::mutex> lock(m);
+      c.wait(lock, [this] { return !q.empty(); });
+      std::string s = q.front();
+      q.pop_front();
+      return s;
+    }
+  };
+  struct Link
+  {
+    Queue in, out;
+  };
+  std::deque<Link> Links;
+  std::vector<std::thread> Threads;
+};
+
+std::string fileText(const std::string& path)
+{
+  std::ifstream f(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(f)), {});
+}
+} // namespace
+
+// Exemplars rendered in shares by other processes (here: threads serving as they would) are the
+// same dataset, byte for byte, as one process's: screened (batches sized by the pass rate, junk
+// passed over) and not, 1D and 2D, with users' pictures. A worker refuses a render message that
+// comes before its setup.
+TEST(ExemplarGenerator, WorkersRenderTheSameDataset)
+{
+  const Volume vol = materials();
+  for (const int dimensions : { 1, 2 })
+    for (const bool screen : { false, true })
+    {
+      DesignSpaceSpec spec;
+      spec.dimensions = dimensions;
+      spec.pictureFraction = 0.3;
+      GenerateOptions opt;
+      opt.count = 11;
+      opt.size = 16;
+      opt.shardSize = 4;
+      opt.screen = screen;
+      const std::string name = "gen_workers_" + std::to_string(dimensions) + (screen ? "s" : "");
+      const std::string alone = tempDir(name + "_alone"), shared = tempDir(name + "_shared");
+      generateExemplars(vol, spec, alone, opt);
+      ThreadWorkers workers(vol, 2);
+      opt.workers = &workers;
+      generateExemplars(vol, spec, shared, opt);
+      EXPECT_GE(workers.Messages, 2 * 4); // a setup and at least 3 batches each
+      for (const char* f :
+        { "shard-00000.bin", "shard-00001.bin", "shard-00002.bin", "dataset.json" })
+      {
+        const std::string a = fileText(alone + "/" + f);
+        EXPECT_FALSE(a.empty()) << f;
+        EXPECT_EQ(a, fileText(shared + "/" + f)) << f << " differs with workers (" << name << ")";
+      }
+    }
+  std::deque<std::string> in{ "render 0 1 0" }; // before any setup
+  EXPECT_THROW(serveExemplars(
+                 vol,
+                 [&in]
+                 {
+                   std::string m = in.front();
+                   in.pop_front();
+                   return m;
+                 },
+                 [](const std::string&) {}),
+    Error);
 }
 
 TEST(ExemplarGenerator, FullDiskLeavesNothingThatLooksValid)
