@@ -371,6 +371,7 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
             if (!verdicts[q].junk())
               ++done;
           });
+        report.workerCandidates += batch - shareStart(1);
         for (int w = 1; w < processes; ++w)
         {
           const int q0 = shareStart(w);

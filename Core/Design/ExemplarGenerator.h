@@ -71,6 +71,8 @@ struct GenerateReport
   /// box), the feature regions left out, and whether the candidates ran out (then the last
   /// exemplars were kept unscreened).
   int candidates = 0, empty = 0, flatBox = 0, regionsLeftOut = 0;
+  /// Candidates rendered by GenerateOptions::workers (the rest by this process).
+  int workerCandidates = 0;
   bool screenExhausted = false;
 };
 

@@ -193,8 +193,11 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
     [&](double f) { return keepGoing("exemplars", wE * trainShare * f); });
   g.count = o.heldout;
   g.firstIndex = 1000000;
-  generateExemplars(volume, o.spec, (fs::path(work) / "heldout").string(), g,
-    [&](double f) { return keepGoing("exemplars", wE * (trainShare + (1 - trainShare) * f)); });
+  r.workerCandidates = r.exemplars.workerCandidates;
+  r.workerCandidates += generateExemplars(volume, o.spec, (fs::path(work) / "heldout").string(), g,
+    [&](double f) {
+      return keepGoing("exemplars", wE * (trainShare + (1 - trainShare) * f));
+    }).workerCandidates;
   r.generateSeconds = secondsSince(t0);
   report("training", wE);
   const ExemplarDataset train((fs::path(work) / "train").string());

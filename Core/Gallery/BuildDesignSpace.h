@@ -51,6 +51,7 @@ struct BuildReport
   EvaluationReport evaluation; ///< on the held-out exemplars
   TrainReport training;
   GenerateReport exemplars; ///< the training exemplars' (regions, the screen's counts)
+  int workerCandidates = 0; ///< candidates (training and held-out) rendered by options.workers
   double generateSeconds = 0, outlineSeconds = 0, totalSeconds = 0;
   double evaluationSeconds = 0, savingSeconds = 0; ///< held-out figures; the bundle's files
   BuildPlan plan; ///< what was planned (the budget's plan, or the estimate of the sizes given)

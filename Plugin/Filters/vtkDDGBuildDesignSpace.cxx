@@ -1,6 +1,7 @@
 // vtkDDGBuildDesignSpace.cxx: converts the input and calls ddg::buildDesignSpace.
 #include "vtkDDGBuildDesignSpace.h"
 
+#include "DDGBuildRanks.h"
 #include "DDGFilterSupport.h"
 #include "DDGPieces.h"
 #include "DDGRanks.h"
@@ -36,8 +37,9 @@ vtkStandardNewMacro(vtkDDGBuildDesignSpace);
 // into the *Shown members, read on the calling thread only).
 struct vtkDDGBuildDesignSpace::Background
 {
-  std::thread Thread;
+  std::thread Thread; // the build (under MPI: the first rank's), or a rank's exemplar server
   std::atomic<bool> Cancel{ false };
+  std::atomic<bool> StopServing{ false }; // the other ranks' server: set when the filter goes
   std::mutex Mutex;
   std::string State = "idle", Stage, Error;
   double Fraction = 0;
@@ -62,6 +64,7 @@ struct vtkDDGBuildDesignSpace::Background
   void join()
   {
     this->Cancel = true;
+    this->StopServing = true;
     if (this->Thread.joinable())
       this->Thread.join();
   }
@@ -215,14 +218,21 @@ ddg::BuildOptions vtkDDGBuildDesignSpace::CheckedOptions(
 void vtkDDGBuildDesignSpace::StartBuild()
 {
   Background& w = *this->Worker;
+  // under MPI every rank runs this command: they agree on whether the first rank is building
+  const std::unique_ptr<ddg::RankGroup> ranks = ddg::RankGroup::global();
+  double running = 0;
   {
     std::lock_guard<std::mutex> lock(w.Mutex);
-    if (w.State == "running")
-      return;
+    running = w.State == "running";
   }
-  if (w.Thread.joinable())
+  if (ranks)
+    ranks->allMax(&running, 1);
+  if (running > 0)
+    return;
+  if (w.Thread.joinable()) // a finished build; on the other ranks, the server its end ended
     w.Thread.join();
   w.Cancel = false;
+  w.StopServing = false;
   {
     std::lock_guard<std::mutex> lock(w.Mutex);
     w.State = "running";
@@ -233,27 +243,44 @@ void vtkDDGBuildDesignSpace::StartBuild()
     w.Ended = false;
     std::fill(std::begin(w.Figures), std::end(w.Figures), 0.0);
   }
-  // the volume is copied here, on the calling thread: the thread never touches the pipeline
-  // (under MPI every rank streams its piece to the first, which builds alone: ParaView's MPI is
-  // not for threads)
-  const std::unique_ptr<ddg::RankGroup> ranks = ddg::RankGroup::global();
+  // the volume is copied here, on the calling thread: the thread never touches the pipeline.
+  // Under MPI every rank streams its piece to the first, which builds on its thread while the
+  // other ranks render shares of the exemplars on theirs (over their own connections: ParaView's
+  // MPI is not for threads)
   ddg::Volume volume;
   ddg::DesignSpaceInput input;
   ddg::BuildOptions options;
+  std::shared_ptr<ddg::ExemplarWorkers> workers;
   try
   {
     options = this->CheckedOptions(ranks.get(), true);
     if (ranks)
+    {
       input = this->InputOnRanks(*ranks);
+      ddg::BuildCrew crew = ddg::buildCrewOnRanks(*ranks, input);
+      if (ranks->rank() != 0)
+      {
+        w.Thread = std::thread(
+          [&w, serve = std::move(crew.serve)]()
+          {
+            try
+            {
+              serve(w.StopServing);
+            }
+            catch (const std::exception&) // the first rank's build reports
+            {
+            }
+          });
+        w.finish("done"); // the first rank builds and reports
+        return;
+      }
+      workers = std::move(crew.workers);
+      options.workers = workers.get();
+    }
     else
     {
       volume = this->InputVolume();
       ddg::checkBuildVolume(volume);
-    }
-    if (ranks && ranks->rank() != 0)
-    {
-      w.finish("done"); // the first rank builds and reports
-      return;
     }
     if (w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size)
       options.rates = w.PlanRates;
@@ -264,8 +291,8 @@ void vtkDDGBuildDesignSpace::StartBuild()
     return;
   }
   w.Thread = std::thread(
-    [&w, volume = std::move(volume), input = std::move(input), options,
-      dir = this->OutputDirectory]()
+    [&w, volume = std::move(volume), input = std::move(input), options, workers,
+      dir = this->OutputDirectory]() mutable
     {
       try
       {
@@ -280,6 +307,7 @@ void vtkDDGBuildDesignSpace::StartBuild()
         const auto r = input.volume.empty()
           ? ddg::buildDesignSpace(volume, "", dir, options, progress)
           : ddg::buildDesignSpace(input, "", dir, options, progress);
+        workers.reset(); // the other ranks' servers end
         std::lock_guard<std::mutex> lock(w.Mutex);
         const double figures[6] = { r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
           r.evaluation.invariance, r.training.seconds, static_cast<double>(r.training.iterations) };
@@ -287,12 +315,15 @@ void vtkDDGBuildDesignSpace::StartBuild()
       }
       catch (const ddg::Cancelled&)
       {
+        workers.reset();
         w.finish("cancelled");
         return;
       }
       catch (const std::exception& e)
       {
-        w.finish("failed", e.what());
+        workers.reset();
+        // a rank's connection that broke while cancelling is the cancel's
+        w.finish(w.Cancel ? "cancelled" : "failed", w.Cancel ? "" : e.what());
         return;
       }
       w.finish("done");
@@ -438,9 +469,17 @@ void vtkDDGBuildDesignSpace::Execute(
       ddg::RankVolume::gather(*ranks, input, array, this->InputWholeExtent(), false);
     const ddg::DesignSpaceInput in =
       ddg::designSpaceInputOnRanks(*ranks, pieces, this->DesignVoxels);
+    // the other ranks render shares of the exemplars until the first rank's build ends
+    ddg::BuildCrew crew = ddg::buildCrewOnRanks(*ranks, in);
     if (ranks->rank() != 0)
+    {
+      const std::atomic<bool> never{ false };
+      crew.serve(never);
       return;
-    r = ddg::buildDesignSpace(in, "", this->OutputDirectory, o, progress);
+    }
+    ddg::BuildOptions withRanks = o;
+    withRanks.workers = crew.workers.get();
+    r = ddg::buildDesignSpace(in, "", this->OutputDirectory, withRanks, progress);
   }
   else
     r = ddg::buildDesignSpace(
@@ -462,4 +501,9 @@ void vtkDDGBuildDesignSpace::Execute(
   dir->SetName("ModelDirectory");
   dir->InsertNextValue(this->OutputDirectory);
   output->GetFieldData()->AddArray(dir);
+  // under MPI: the exemplar candidates the other ranks rendered
+  auto elsewhere = vtkSmartPointer<vtkDoubleArray>::New();
+  elsewhere->SetName("OtherRanksCandidates");
+  elsewhere->InsertNextValue(r.workerCandidates);
+  output->GetFieldData()->AddArray(elsewhere);
 }

@@ -25,7 +25,8 @@ class RankGroup;
  * OutlineCount, Seed: see ddg::BuildOptions.
  *
  * Output: a one-row vtkTable of the bundle's figures on its held-out exemplars ("PSNR",
- * "SSIM", "EMD", "Invariance", "TrainingSeconds", "Iterations"); field data "ModelDirectory".
+ * "SSIM", "EMD", "Invariance", "TrainingSeconds", "Iterations"); field data "ModelDirectory"
+ * and "OtherRanksCandidates" (under MPI: the exemplar candidates the other ranks rendered).
  * Progress covers the stages; Abort cancels (no bundle.json written). Bad input gives one
  * error and an empty output.
  *
@@ -35,6 +36,14 @@ class RankGroup;
  * it to stop (it does within ~0.5 s: no bundle left). PlanBuild() fills BuildPlan with what a
  * BudgetMinutes build of the input would cost. Deleting the filter cancels and joins the
  * thread.
+ *
+ * Under MPI (`mpiexec -np N pvserver`), in the pipeline and in the background alike: every rank
+ * takes its own piece (no ghost level) and streams its points to the first rank slab by slab,
+ * which assembles the design-space volume (downsampled above DesignVoxels) and the whole's
+ * fingerprint: no rank holds the whole volume. Every rank then gets the design-space volume, and
+ * the other ranks render their shares of every batch of exemplar candidates (DDGBuildRanks.h)
+ * while the first rank renders its own, trains, evaluates and writes the outline alone. The
+ * bundle is the one a single process builds (the same exemplars, bit for bit).
  */
 class DDGFILTERS_EXPORT vtkDDGBuildDesignSpace : public vtkDDGAlgorithm
 {
@@ -147,7 +156,7 @@ protected:
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
   /// Under MPI every rank gets its own piece (no ghost level: the points stream to the first rank,
-  /// which builds alone).
+  /// which builds with the others rendering shares of the exemplars).
   int PieceGhostLevels() override { return 0; }
 
 private:

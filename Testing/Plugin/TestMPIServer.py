@@ -9,14 +9,16 @@ composites every step's rays on every rank and sums the ranks' TF gradients (DDG
 match runs in step on every rank (Core's match over pieces). DDG Build Design Space (in the
 pipeline and in the background, StartBuild) streams every rank's piece (no ghost level) to the
 first rank slab by slab, which assembles the design-space volume (downsampled: DesignVoxels
-2^18) and the whole's fingerprint, and builds there alone. What is compared with what: the
+2^18) and the whole's fingerprint; every rank then gets that volume and the other ranks render
+shares of the exemplar candidates over their TCP links to the first, which trains alone. What is compared with what: the
 client fetches (servermanager.Fetch, which keeps the first rank's output) the outputs of DDG
 Volume Render (1D; Shade with specular; a 2D TF), DDG Query (shipped Tooth bundle and screenshot)
 and DDG Reconstruct Transfer Function (1D, 20 iterations; 2D, 10 iterations) from the server,
 then computes the same in a builtin session:
 - build (16 exemplars of 16 px, 10 iterations, 20 outline designs): the bundle records the
   whole's fingerprint (the shipped Tooth bundle's), the training exemplars' designs are the same
-  text as the builtin's (the same design volume: its feature regions and the screen's verdicts),
+  text as the builtin's (the same design volume: its feature regions and the screen's verdicts;
+  the other ranks rendered some of them: OtherRanksCandidates > 0, 0 in the builtin session),
   the held-out figures within BUILD_TOL (0.5 dB, 0.02 SSIM); the reader's points after it are the
   pieces' without ghosts: no rank read the whole volume;
 - render: the same arrays, values within RENDER_TOL (1/255 + 1e-6 on the premultiplied RGBA, 1
@@ -423,6 +425,10 @@ def compare_builds(mpi, builtin):
         )
     table = mpi["build:0"]["columns"]
     assert abs(float(table["PSNR"][0]) - mpi["build:bundle"]["metrics"]["psnr"]) < 1e-3, table
+    elsewhere = float(mpi["build:0"]["field"]["OtherRanksCandidates"][0])
+    assert elsewhere > 0, "the other ranks rendered no exemplar candidate"
+    assert float(builtin["build:0"]["field"]["OtherRanksCandidates"][0]) == 0
+    print(f"{ranks} ranks, build: the other ranks rendered {elsewhere:.0f} exemplar candidates")
 
 
 def compare(mpi, builtin):
