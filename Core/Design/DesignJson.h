@@ -1,9 +1,11 @@
-// DesignJson.h (Core-internal: included by .cxx files only): the JSON of feature regions and
-// Gaussian primitives shared by datasets (dataset.json) and model bundles. 2D regions and
-// primitives add their gradient-magnitude fields; 1D ones are written exactly as before.
+// DesignJson.h (Core-internal: included by .cxx files only): the JSON of feature regions,
+// Gaussian primitives and exemplars shared by datasets (dataset.json) and model bundles. 2D regions
+// and primitives add their gradient-magnitude fields; 1D ones are written exactly as before.
 #pragma once
 
 #include "Design/DesignSpace.h"
+#include "Design/PictureLook.h"
+#include "Render/View.h"
 
 #include <nlohmann/json.hpp>
 
@@ -67,6 +69,36 @@ inline GaussianPrimitive primitiveFromJson(const nlohmann::json& j)
   g.rgb = { rgb.at(0), rgb.at(1), rgb.at(2) };
   g.opacity = j.at("opacity").get<double>();
   return g;
+}
+
+/// An exemplar as dataset.json (and an exemplar worker's answer) holds it.
+inline nlohmann::json exemplarToJson(const Exemplar& e, bool twoD)
+{
+  nlohmann::json p = nlohmann::json::array();
+  for (const auto& g : e.primitives)
+    p.push_back(primitiveToJson(g, twoD));
+  nlohmann::json j = { { "seed", e.seed }, { "active", e.active }, { "primitives", p },
+    { "view_exp", nlohmann::json::parse(viewToJson(e.viewExp)) },
+    { "view_view", nlohmann::json::parse(viewToJson(e.viewView)) },
+    { "background", e.background } };
+  if (e.picture)
+    j["picture"] = nlohmann::json::parse(pictureLookToJson(*e.picture));
+  return j;
+}
+
+inline Exemplar exemplarFromJson(const nlohmann::json& e, const std::string& where)
+{
+  Exemplar x;
+  x.seed = e.at("seed").get<std::uint64_t>();
+  x.active = e.at("active").get<std::vector<int>>();
+  for (const auto& p : e.at("primitives"))
+    x.primitives.push_back(primitiveFromJson(p));
+  x.viewExp = parseView(e.at("view_exp").dump(), where);
+  x.viewView = parseView(e.at("view_view").dump(), where);
+  x.background = e.at("background").get<int>();
+  if (e.contains("picture"))
+    x.picture = parsePictureLook(e.at("picture").dump(), where);
+  return x;
 }
 
 } // namespace ddg

@@ -1,6 +1,8 @@
 // ExemplarGenerator.cxx: parallel rendering of exemplars, shard files, the dataset index.
 #include "Design/ExemplarGenerator.h"
 
+#include "Design/CandidateRenderer.h"
+
 #include "Design/DesignCheck.h"
 #include "Design/DesignJson.h"
 #include "Gallery/QueryImage.h"
@@ -37,243 +39,10 @@ std::string shardName(int shard)
 
 size_t recordBytes(int size)
 {
-  return static_cast<size_t>(size) * size * (3 + 4 + 4);
+  return CandidateRenderer::recordBytes(size);
 }
-
-void toBytes(const Image& img, std::uint8_t* out)
-{
-  for (size_t i = 0; i < img.pixels.size(); ++i)
-  {
-    out[i] = static_cast<std::uint8_t>(std::lround(std::clamp(img.pixels[i], 0.0f, 1.0f) * 255.0f));
-  }
-}
-
-json viewJson(const View& v)
-{
-  return json::parse(viewToJson(v));
-}
-
-// A picture's colour legend: the design's colours in the order of their values.
-std::vector<std::array<double, 3>> legend(std::vector<GaussianPrimitive> tf)
-{
-  std::sort(tf.begin(), tf.end(),
-    [](const GaussianPrimitive& a, const GaussianPrimitive& b) { return a.mean[0] < b.mean[0]; });
-  std::vector<std::array<double, 3>> colours;
-  for (const auto& g : tf)
-    colours.push_back({ g.rgb[0], g.rgb[1], g.rgb[2] });
-  return colours;
-}
-
-json exemplarToJson(const Exemplar& e, bool twoD)
-{
-  json p = json::array();
-  for (const auto& g : e.primitives)
-    p.push_back(primitiveToJson(g, twoD));
-  json j = { { "seed", e.seed }, { "active", e.active }, { "primitives", p },
-    { "view_exp", viewJson(e.viewExp) }, { "view_view", viewJson(e.viewView) },
-    { "background", e.background } };
-  if (e.picture)
-    j["picture"] = json::parse(pictureLookToJson(*e.picture));
-  return j;
-}
-
-Exemplar exemplarFromJson(const json& e, const std::string& where)
-{
-  Exemplar x;
-  x.seed = e.at("seed").get<std::uint64_t>();
-  x.active = e.at("active").get<std::vector<int>>();
-  for (const auto& p : e.at("primitives"))
-    x.primitives.push_back(primitiveFromJson(p));
-  x.viewExp = parseView(e.at("view_exp").dump(), where);
-  x.viewView = parseView(e.at("view_view").dump(), where);
-  x.background = e.at("background").get<int>();
-  if (e.contains("picture"))
-    x.picture = parsePictureLook(e.at("picture").dump(), where);
-  return x;
-}
-
-// What rendering exemplar candidates needs, made once per generation: on this process, and on
-// a worker process from the setup message (the same volume's bits give the same bytes).
-class CandidateRenderer
-{
-public:
-  CandidateRenderer(
-    const Volume& volume, const DesignSpaceSpec& spec, int size, std::uint64_t seed, bool viewport)
-    : TheVolume(volume)
-    , Spec(spec)
-    , Size(size)
-    , Seed(seed)
-    , Viewport(viewport)
-    , Caster(volume)
-    , Corners(volume, spec.dimensions, Caster.defaultOpacityUnitDistance())
-    , GradientRange(
-        spec.dimensions == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 })
-  {
-    Options.threads = 1;
-  }
-
-  const RayCaster& caster() const { return Caster; }
-  const BoxCorners& corners() const { return Corners; }
-  int size() const { return Size; }
-  size_t recordSize() const { return recordBytes(Size); }
-
-  void setRegions(std::vector<FeatureRegion> regions)
-  {
-    Regions = std::move(regions);
-    Aux = auxiliaryPrimitives(Spec, Regions);
-  }
-
-  // what a worker needs to render candidates as this process does
-  std::string setup() const
-  {
-    json j = { { "spec", json::parse(designSpaceSpecToJson(Spec)) }, { "size", Size },
-      { "seed", Seed }, { "viewport", Viewport }, { "regions", json::array() } };
-    for (const auto& r : Regions)
-      j["regions"].push_back(regionToJson(r));
-    return j.dump();
-  }
-
-  static std::unique_ptr<CandidateRenderer> fromSetup(const Volume& volume, const std::string& text)
-  {
-    const json j = json::parse(text);
-    auto r = std::make_unique<CandidateRenderer>(volume,
-      parseDesignSpaceSpec(j.at("spec").dump(), "exemplar setup"), j.at("size").get<int>(),
-      j.at("seed").get<std::uint64_t>(), j.at("viewport").get<bool>());
-    std::vector<FeatureRegion> regions;
-    for (const auto& q : j.at("regions"))
-      regions.push_back(regionFromJson(q));
-    r->setRegions(std::move(regions));
-    return r;
-  }
-
-  // candidate `index`: its record (recordSize() bytes; left as it is when junk), the exemplar
-  // and, when screening, the verdict
-  void render(std::uint64_t index, bool screening, std::uint8_t* out, Exemplar& drawn,
-    DesignVerdict& verdict) const
-  {
-    const size_t px = static_cast<size_t>(Size) * Size;
-    auto draw = [&](const std::vector<GaussianPrimitive>& tf, const View& view)
-    { return renderDesign(Caster, tf, Spec.dimensions, GradientRange, view, Options); };
-    Exemplar e = sampleExemplar(TheVolume, Spec, Regions, Seed, index, Size);
-    const Image exp = draw(e.primitives, e.viewExp);
-    if (screening)
-    {
-      verdict = screenDesign(Caster, Corners, e.primitives, exp, e.viewExp);
-      if (verdict.junk())
-        return;
-    }
-    if (e.picture) // a user's picture of the design, framed as a query is
-    {
-      const View pv = pictureView(e.viewExp, *e.picture);
-      const Image picture =
-        drawPicture(draw(e.primitives, pv), pv, *e.picture, legend(e.primitives));
-      if (hasQueryContent(picture))
-        toBytes(prepareQueryImage(picture, Size), out);
-      else // nothing shows (a query would be refused): the clean image, no look
-        e.picture.reset();
-    }
-    if (!e.picture)
-      toBytes(compositeOverBackground(exp, e.viewExp.background), out);
-    if (Viewport)
-      toBytes(draw(Aux, e.viewView), out + 3 * px);
-    else
-      std::fill_n(out + 3 * px, 4 * px, std::uint8_t(0));
-    toBytes(draw(e.primitives, e.viewView), out + 7 * px);
-    drawn = std::move(e);
-  }
-
-  // A worker's answer to "render FIRST COUNT SCREENING": per candidate its verdict (2 bytes),
-  // its record, and its exemplar's JSON (4-byte length, text).
-  std::string answer(std::uint64_t first, int count, bool screening, int threads) const
-  {
-    const size_t rec = recordSize();
-    std::vector<std::uint8_t> records(rec * count);
-    std::vector<Exemplar> drawn(static_cast<size_t>(count));
-    std::vector<DesignVerdict> verdicts(static_cast<size_t>(count));
-    parallelFor(count, threads,
-      [&](std::int64_t q, int)
-      { render(first + q, screening, records.data() + rec * q, drawn[q], verdicts[q]); });
-    std::string out;
-    for (int q = 0; q < count; ++q)
-    {
-      out.push_back(static_cast<char>(verdicts[q].empty));
-      out.push_back(static_cast<char>(verdicts[q].flatBox));
-      out.append(reinterpret_cast<const char*>(records.data() + rec * q), rec);
-      const std::string text = exemplarToJson(drawn[q], Spec.dimensions == 2).dump();
-      const std::uint32_t n = static_cast<std::uint32_t>(text.size());
-      out.append(reinterpret_cast<const char*>(&n), sizeof(n));
-      out += text;
-    }
-    return out;
-  }
-
-  // reads answer()'s text into candidates [0, count) of the batch's arrays
-  void read(const std::string& in, int count, std::uint8_t* records, Exemplar* drawn,
-    DesignVerdict* verdicts) const
-  {
-    const size_t rec = recordSize();
-    size_t at = 0;
-    auto need = [&](size_t n)
-    {
-      if (at + n > in.size())
-        throw Error("an exemplar worker's answer is truncated");
-    };
-    for (int q = 0; q < count; ++q)
-    {
-      need(2 + rec + 4);
-      verdicts[q].empty = in[at] != 0;
-      verdicts[q].flatBox = in[at + 1] != 0;
-      std::memcpy(records + rec * q, in.data() + at + 2, rec);
-      at += 2 + rec;
-      std::uint32_t n = 0;
-      std::memcpy(&n, in.data() + at, sizeof(n));
-      at += sizeof(n);
-      need(n);
-      drawn[q] = exemplarFromJson(json::parse(in.substr(at, n)), "an exemplar worker's answer");
-      at += n;
-    }
-  }
-
-private:
-  const Volume& TheVolume;
-  DesignSpaceSpec Spec;
-  int Size;
-  std::uint64_t Seed;
-  bool Viewport;
-  RayCaster Caster;
-  BoxCorners Corners;
-  std::array<double, 2> GradientRange;
-  std::vector<FeatureRegion> Regions;
-  std::vector<GaussianPrimitive> Aux;
-  RenderOptions Options;
-};
 
 } // namespace
-
-void serveExemplars(const Volume& volume, const std::function<std::string()>& receive,
-  const std::function<void(const std::string&)>& send, int threads)
-{
-  std::unique_ptr<CandidateRenderer> renderer;
-  for (;;)
-  {
-    const std::string message = receive();
-    if (message == "end")
-      return;
-    if (message.rfind("setup ", 0) == 0)
-    {
-      renderer = CandidateRenderer::fromSetup(volume, message.substr(6));
-      continue; // no answer
-    }
-    unsigned long long first = 0;
-    int count = 0, screening = 0;
-    if (!renderer ||
-      std::sscanf(message.c_str(), "render %llu %d %d", &first, &count, &screening) != 3 ||
-      count < 0)
-      throw Error(
-        "an exemplar worker got a message it does not know: '" + message.substr(0, 40) + "'");
-    send(renderer->answer(first, count, screening != 0, threads));
-  }
-}
 
 GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& spec,
   const std::string& dir, const GenerateOptions& opt, const std::function<bool(double)>& progress)
@@ -355,29 +124,16 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
         std::vector<DesignVerdict> verdicts(static_cast<size_t>(batch));
         std::vector<std::uint8_t> records(rec * batch);
         // the batch's candidates: a contiguous share each for this process and every worker
-        const int processes = 1 + (workers ? workers->size() : 0);
-        auto shareStart = [&](int p)
-        { return static_cast<int>(std::int64_t(batch) * p / processes); };
-        for (int w = 1; w < processes; ++w)
-          workers->send(w - 1,
-            "render " + std::to_string(next + shareStart(w)) + " " +
-              std::to_string(shareStart(w + 1) - shareStart(w)) + " " +
-              std::to_string(screening ? 1 : 0));
-        parallelFor(shareStart(1), opt.threads,
+        renderer.exemplars(next, batch, screening, workers, opt.threads, records.data(),
+          drawn.data(), verdicts.data(),
           [&](std::int64_t q, int threadId)
           {
-            tick(threadId);
-            renderer.render(next + q, screening, records.data() + rec * q, drawn[q], verdicts[q]);
             if (!verdicts[q].junk())
               ++done;
+            tick(threadId);
           });
-        report.workerCandidates += batch - shareStart(1);
-        for (int w = 1; w < processes; ++w)
-        {
-          const int q0 = shareStart(w);
-          renderer.read(workers->receive(w - 1), shareStart(w + 1) - q0, records.data() + rec * q0,
-            drawn.data() + q0, verdicts.data() + q0);
-        }
+        if (workers)
+          report.workerCandidates += batch - batch / (1 + workers->size());
         // in index order: the passing candidates until the shard is full
         for (int q = 0; q < batch && have < n; ++q)
         {

@@ -1,6 +1,7 @@
 // ExemplarGenerator.h: renders design exemplars into compact binary shards plus a JSON index.
 #pragma once
 
+#include "Design/CandidateRenderer.h"
 #include "Design/DesignSpace.h"
 #include "Image/Image.h"
 #include "Render/RayCaster.h"
@@ -12,29 +13,6 @@
 
 namespace ddg
 {
-
-/// Processes besides this one that render exemplar candidates for generateExemplars, each
-/// holding the same volume, bit for bit (the ranks of `mpiexec -np N pvserver`: the plugin's
-/// DDGBuildRanks.h). Each gets a contiguous share of every batch of candidates, this process the
-/// first; the messages are Core's (serveExemplars answers them), the transport the implementer's.
-class ExemplarWorkers
-{
-public:
-  virtual ~ExemplarWorkers() = default;
-  /// The workers (0: this process renders alone).
-  virtual int size() const = 0;
-  /// Sends `message` to worker w (without waiting for its answer).
-  virtual void send(int worker, const std::string& message) = 0;
-  /// Worker w's answer to its last render message (waits; throws ddg::Error when it stopped).
-  virtual std::string receive(int worker) = 0;
-};
-
-/// A worker's side: answers generateExemplars's messages from another process with `volume` (a
-/// "setup" per generation, then batches of candidates, rendered by `threads` threads, 0 = all
-/// cores) until the message "end". The exemplars are the ones this process would render itself.
-/// Throws ddg::Error for a message it does not know, and what `receive` or `send` throw.
-void serveExemplars(const Volume& volume, const std::function<std::string()>& receive,
-  const std::function<void(const std::string&)>& send, int threads = 0);
 
 /// Options (defaults in brackets).
 struct GenerateOptions

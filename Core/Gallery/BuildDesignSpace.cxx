@@ -253,8 +253,8 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   report("outline", wE + wT + wV);
   const auto set = buildOutlineLatents(
     model, volume, o.outlineCount, o.seed, 0, o.threads,
-    [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - wE - wT - wV) * f); },
-    o.screen);
+    [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - wE - wT - wV) * f); }, o.screen,
+    o.workers);
   writeLatentSet(set, outlineFile(staging.dir.string()));
   r.outlineSeconds = secondsSince(t0);
   report("outline", 1.0);

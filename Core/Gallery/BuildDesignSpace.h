@@ -41,8 +41,9 @@ struct BuildOptions
   /// plan); not measured: probed at the start [not measured]
   BuildRates rates;
   bool screen = true; ///< designs that show structure only (GenerateOptions::screen) [true]
-  /// Other processes that render a share of the exemplars (GenerateOptions::workers; not owned,
-  /// not ended: the caller sends them "end") [none]
+  /// Other processes that render shares of the exemplars and of the outline's designs
+  /// (GenerateOptions::workers, buildOutlineLatents; not owned, not ended: the caller sends them
+  /// "end") [none]
   ExemplarWorkers* workers = nullptr;
 };
 

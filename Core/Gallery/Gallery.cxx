@@ -23,7 +23,7 @@ namespace ddg
 
 LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volume, int count,
   std::uint64_t seed, std::uint64_t firstIndex, int threads,
-  const std::function<bool(double)>& progress, bool screen)
+  const std::function<bool(double)>& progress, bool screen, ExemplarWorkers* workers)
 {
   if (count < 3)
     throw Error("an outline needs at least 3 designs (got " + std::to_string(count) + ")");
@@ -31,19 +31,18 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
   const auto& regions = model.regions();
   if (regions.empty())
     throw Error("the model has no feature regions (load it from a bundle)");
-  const RayCaster caster(volume);
-  const auto gradientRange =
-    spec.dimensions == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 };
   const int s = model.config().imageSize;
-  RenderOptions ropt;
-  ropt.threads = 1;
+  CandidateRenderer renderer(volume, spec, s, seed, false);
+  renderer.setRegions(regions);
+  if (workers)
+    for (int w = 0; w < workers->size(); ++w)
+      workers->send(w, "setup " + renderer.setup());
   LatentSet set;
   set.dim = model.config().latent;
   set.seed = seed;
   set.values.resize(static_cast<size_t>(count) * set.dim);
   // screened: candidates up to 4 x count, then the rest as drawn (as generateExemplars does)
   const std::int64_t maxCandidates = 4LL * count;
-  const BoxCorners corners(volume, spec.dimensions, caster.defaultOpacityUnitDistance());
   std::int64_t examined = 0;
   std::uint64_t next = firstIndex;
   double shown = 0; // the fraction reported
@@ -53,23 +52,12 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
     const bool screening = screen && examined < maxCandidates;
     const int n = std::min(chunk, count - set.count());
     std::vector<Image> images(n);
-    std::vector<char> junk(n, 0);
-    // rendered in slices of 64 with a progress call after each (cancel within ~0.5 s on large
-    // volumes); analysed 512 at a time
+    // rendered in slices of 64 (shared with the workers) with a progress call after each (cancel
+    // within ~0.5 s on large volumes); analysed 512 at a time; junk is left as an empty image
     for (int part = 0; part < n; part += 64)
     {
-      parallelFor(std::min(64, n - part), threads,
-        [&](std::int64_t p, int)
-        {
-          const std::int64_t q = part + p;
-          const Exemplar e = sampleExemplar(volume, spec, regions, seed, next + q, s);
-          const Image rgba =
-            renderDesign(caster, e.primitives, spec.dimensions, gradientRange, e.viewExp, ropt);
-          if (screening && screenDesign(caster, corners, e.primitives, rgba, e.viewExp).junk())
-            junk[q] = 1;
-          else
-            images[q] = compositeOverBackground(rgba, e.viewExp.background);
-        });
+      renderer.outline(
+        next + part, std::min(64, n - part), screening, workers, threads, images.data() + part);
       // (monotonic: designs passed over make a batch add less than it rendered)
       shown = std::max(
         shown, std::min(1.0, (set.count() + 0.95 * (part + std::min(64, n - part))) / count));
@@ -80,7 +68,7 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
     for (int q = 0; q < n; ++q)
     {
       examined += screening;
-      if (!junk[q])
+      if (!images[q].pixels.empty())
       {
         kept.push_back(std::move(images[q]));
         set.indices.push_back(next + q);

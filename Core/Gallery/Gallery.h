@@ -2,6 +2,7 @@
 // generated designs, thumbnails at the current view, query by image, explicit TFs of designs.
 #pragma once
 
+#include "Design/CandidateRenderer.h"
 #include "Gallery/DesignVolume.h"
 #include "Gallery/Edit.h"
 #include "Gallery/Navigation.h"
@@ -26,9 +27,11 @@ namespace ddg
 /// fraction done and may cancel (throws ddg::Cancelled). With `screen`, designs whose image is
 /// empty or a flat box (DesignCheck.h) are passed over for the next index, as
 /// GenerateOptions::screen does, so a screened build's outline holds its training exemplars.
+/// `workers` (not owned) render shares of every slice of candidates (the same latents).
 LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volume, int count,
   std::uint64_t seed = 1, std::uint64_t firstIndex = 0, int threads = 0,
-  const std::function<bool(double)>& progress = {}, bool screen = false);
+  const std::function<bool(double)>& progress = {}, bool screen = false,
+  ExemplarWorkers* workers = nullptr);
 
 /// The file of a bundle's outline latents.
 std::string outlineFile(const std::string& bundleDir);

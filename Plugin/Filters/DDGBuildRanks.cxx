@@ -31,7 +31,8 @@ void sendMessage(vtkSocket* socket, const std::string& message)
   const std::uint64_t n = message.size();
   bool ok = socket->Send(&n, sizeof(n)) != 0;
   for (std::uint64_t at = 0; ok && at < n; at += kChunk)
-    ok = socket->Send(message.data() + at, static_cast<int>(std::min<std::uint64_t>(kChunk, n - at))) != 0;
+    ok = socket->Send(
+           message.data() + at, static_cast<int>(std::min<std::uint64_t>(kChunk, n - at))) != 0;
   if (!ok)
     throw Error("the build's connection to another rank broke (it stopped?)");
 }
@@ -123,9 +124,10 @@ BuildCrew buildCrewOnRanks(const RankGroup& ranks, const DesignSpaceInput& input
   if (ranks.rank() == 0)
   {
     const Volume& v = input.volume;
-    header = nlohmann::json{ { "dims", v.dims() }, { "origin", v.origin() },
-      { "spacing", v.spacing() }, { "type", static_cast<int>(v.originalType()) } }
-               .dump();
+    header = nlohmann::json{
+      { "dims", v.dims() }, { "origin", v.origin() }, { "spacing", v.spacing() },
+      { "type", static_cast<int>(v.originalType()) }
+    }.dump();
     values.resize(static_cast<size_t>(v.voxelCount()));
     for (std::int64_t i = 0; i < v.voxelCount(); ++i)
       values[static_cast<size_t>(i)] = v.value(i);

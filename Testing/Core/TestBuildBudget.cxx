@@ -15,6 +15,7 @@
 
 #include "FileSizeLimit.h"
 #include "TempDir.h"
+#include "ThreadWorkers.h"
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -309,6 +310,37 @@ TEST(BuildBudget, BuildsIntoAFolderAndRecordsTheOriginalVolume)
   o.overwrite = true;
   EXPECT_NO_THROW(buildDesignSpace(v, "", dir.string(), o));
   EXPECT_TRUE(fs::exists(dir / "notes.txt"));
+}
+
+// A build whose exemplars and outline designs are rendered in shares by workers (other
+// processes under MPI; threads here) writes the same bundle: the training exemplars' designs, the
+// training latents and the outline, byte for byte.
+TEST(BuildBudget, WorkersBuildTheSameBundle)
+{
+  const Volume v = blobs();
+  const fs::path alone = fs::path(ddg::testing::tempDir()) / "built_alone";
+  const fs::path shared = fs::path(ddg::testing::tempDir()) / "built_shared";
+  fs::remove_all(alone);
+  fs::remove_all(shared);
+  BuildOptions o = tiny();
+  const BuildReport a = buildDesignSpace(v, "", alone.string(), o);
+  EXPECT_EQ(a.workerCandidates, 0);
+  ddg::testing::ThreadWorkers workers(v, 2);
+  o.workers = &workers;
+  const BuildReport b = buildDesignSpace(v, "", shared.string(), o);
+  EXPECT_GT(b.workerCandidates, 0);
+  EXPECT_GE(workers.Messages, 2 * 3); // each: three setups (training, held-out, outline) at least
+  auto text = [](const fs::path& f)
+  {
+    std::ifstream in(f, std::ios::binary);
+    return std::string((std::istreambuf_iterator<char>(in)), {});
+  };
+  for (const char* f : { "exemplars.json", "latents.bin", "outline.bin" })
+  {
+    EXPECT_FALSE(text(alone / f).empty()) << f;
+    EXPECT_EQ(text(alone / f), text(shared / f)) << f << " differs with workers";
+  }
+  EXPECT_DOUBLE_EQ(a.evaluation.psnr, b.evaluation.psnr);
 }
 
 TEST(BuildBudget, AFullDiskDuringTheBuildLeavesTheFolderAsItWas)

@@ -6,16 +6,14 @@
 #include "Design/ExemplarGenerator.h"
 
 #include "TempDir.h"
+#include "ThreadWorkers.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <condition_variable>
 #include <deque>
 #include <filesystem>
 #include <fstream>
-#include <mutex>
 #include <random>
-#include <thread>
 
 #include "FileSizeLimit.h"
 
@@ -214,68 +212,6 @@ TEST(ExemplarGenerator, WithoutViewportTheSameImagesForTheDecoder)
 
 namespace
 {
-// Workers on threads of this process, each serving over a pair of message queues as another
-// process would over its connection (serveExemplars).
-class ThreadWorkers : public ExemplarWorkers
-{
-public:
-  ThreadWorkers(const Volume& volume, int n)
-    : Links(static_cast<size_t>(n))
-  {
-    for (auto& link : Links)
-      Threads.emplace_back(
-        [&volume, &link]
-        {
-          serveExemplars(
-            volume, [&link] { return link.in.pop(); },
-            [&link](const std::string& m) { link.out.push(m); }, 1);
-        });
-  }
-  ~ThreadWorkers() override
-  {
-    for (auto& link : Links)
-      link.in.push("end");
-    for (auto& t : Threads)
-      t.join();
-  }
-  int size() const override { return static_cast<int>(Links.size()); }
-  void send(int w, const std::string& m) override
-  {
-    Links[static_cast<size_t>(w)].in.push(m);
-    ++Messages;
-  }
-  std::string receive(int w) override { return Links[static_cast<size_t>(w)].out.pop(); }
-  int Messages = 0;
-
-private:
-  struct Queue
-  {
-    std::mutex m;
-    std::condition_variable c;
-    std::deque<std::string> q;
-    void push(const std::string& s)
-    {
-      std::lock_guard<std::mutex> lock(m);
-      q.push_back(s);
-      c.notify_one();
-    }
-    std::string pop()
-    {
-      std::unique_lock<std::mutex> lock(m);
-      c.wait(lock, [this] { return !q.empty(); });
-      std::string s = q.front();
-      q.pop_front();
-      return s;
-    }
-  };
-  struct Link
-  {
-    Queue in, out;
-  };
-  std::deque<Link> Links;
-  std::vector<std::thread> Threads;
-};
-
 std::string fileText(const std::string& path)
 {
   std::ifstream f(path, std::ios::binary);
@@ -304,7 +240,7 @@ TEST(ExemplarGenerator, WorkersRenderTheSameDataset)
       const std::string name = "gen_workers_" + std::to_string(dimensions) + (screen ? "s" : "");
       const std::string alone = tempDir(name + "_alone"), shared = tempDir(name + "_shared");
       generateExemplars(vol, spec, alone, opt);
-      ThreadWorkers workers(vol, 2);
+      ddg::testing::ThreadWorkers workers(vol, 2);
       opt.workers = &workers;
       generateExemplars(vol, spec, shared, opt);
       EXPECT_GE(workers.Messages, 2 * 4); // a setup and at least 3 batches each
@@ -316,7 +252,7 @@ TEST(ExemplarGenerator, WorkersRenderTheSameDataset)
         EXPECT_EQ(a, fileText(shared + "/" + f)) << f << " differs with workers (" << name << ")";
       }
     }
-  std::deque<std::string> in{ "render 0 1 0" }; // before any setup
+  std::deque<std::string> in{ "exemplars 0 1 0" }; // before any setup
   EXPECT_THROW(serveExemplars(
                  vol,
                  [&in]

@@ -210,6 +210,8 @@ def run_builds(remote, tooth, out):
             out[name + ":bundle"] = json.load(f)
         with open(os.path.join(directory, "exemplars.json")) as f:
             out[name + ":exemplars"] = f.read()
+        with open(os.path.join(directory, "outline.bin"), "rb") as f:
+            out[name + ":outline"] = f.read()
         # the pieces without ghost points (the build asks for none)
         out[f"reader points after {name}"] = reader_points(tooth, remote, 0)
         simple.Delete(build)
@@ -417,8 +419,11 @@ def compare_builds(mpi, builtin):
         assert dpsnr <= BUILD_TOL[0] and dssim <= BUILD_TOL[1], (name, m["metrics"], b["metrics"])
         points, pieces = mpi[f"reader points after {name}"]
         assert points == pieces, f"after the {name} the reader holds {points} points, not {pieces}"
+        outline = "the same" if mpi[name + ":outline"] == builtin[name + ":outline"] else "other"
         print(
-            f"{ranks} ranks, {name}: the whole's fingerprint, the same exemplars; held-out "
+            f"{ranks} ranks, {name}: the whole's fingerprint, the same exemplars, {outline} "
+            f"outline latents (rendered in shares; the training's threads may sum in another "
+            f"order); held-out "
             f"{m['metrics']['psnr']:.3f} dB / {m['metrics']['ssim']:.4f} vs builtin "
             f"{b['metrics']['psnr']:.3f} / {b['metrics']['ssim']:.4f}; reader points {points} "
             f"(the pieces')"

@@ -1,0 +1,290 @@
+// CandidateRenderer.cxx: one candidate's renders, a batch in shares, the workers' messages.
+#include "Design/CandidateRenderer.h"
+
+#include "Design/DesignJson.h"
+#include "Gallery/QueryImage.h"
+
+#include "Common/Error.h"
+#include "Common/Parallel.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+
+namespace ddg
+{
+namespace
+{
+using nlohmann::json;
+
+void toBytes(const Image& img, std::uint8_t* out)
+{
+  for (size_t i = 0; i < img.pixels.size(); ++i)
+  {
+    out[i] = static_cast<std::uint8_t>(std::lround(std::clamp(img.pixels[i], 0.0f, 1.0f) * 255.0f));
+  }
+}
+
+// A picture's colour legend: the design's colours in the order of their values.
+std::vector<std::array<double, 3>> legend(std::vector<GaussianPrimitive> tf)
+{
+  std::sort(tf.begin(), tf.end(),
+    [](const GaussianPrimitive& a, const GaussianPrimitive& b) { return a.mean[0] < b.mean[0]; });
+  std::vector<std::array<double, 3>> colours;
+  for (const auto& g : tf)
+    colours.push_back({ g.rgb[0], g.rgb[1], g.rgb[2] });
+  return colours;
+}
+
+// The share of candidates [0, count) of process p of `processes` (this one is 0).
+int shareStart(int count, int p, int processes)
+{
+  return static_cast<int>(static_cast<std::int64_t>(count) * p / processes);
+}
+
+// Sends every worker its share's message; returns the number of processes.
+int sendShares(ExemplarWorkers* workers, const char* kind, std::uint64_t first, int count,
+  bool screening)
+{
+  const int processes = 1 + (workers ? workers->size() : 0);
+  for (int w = 1; w < processes; ++w)
+  {
+    const int q0 = shareStart(count, w, processes), q1 = shareStart(count, w + 1, processes);
+    workers->send(w - 1,
+      std::string(kind) + " " + std::to_string(first + q0) + " " + std::to_string(q1 - q0) + " " +
+        (screening ? "1" : "0"));
+  }
+  return processes;
+}
+
+// Reads a worker's answer in order.
+struct Reader
+{
+  const std::string& in;
+  size_t at = 0;
+  const char* take(size_t n)
+  {
+    if (at + n > in.size())
+      throw Error("an exemplar worker's answer is truncated");
+    const char* p = in.data() + at;
+    at += n;
+    return p;
+  }
+};
+} // namespace
+
+CandidateRenderer::CandidateRenderer(
+  const Volume& volume, const DesignSpaceSpec& spec, int size, std::uint64_t seed, bool viewport)
+  : TheVolume(volume)
+  , Spec(spec)
+  , Size(size)
+  , Seed(seed)
+  , Viewport(viewport)
+  , Caster(volume)
+  , Corners(volume, spec.dimensions, Caster.defaultOpacityUnitDistance())
+  , GradientRange(
+      spec.dimensions == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0.0, 1.0 })
+{
+  Options.threads = 1;
+}
+
+size_t CandidateRenderer::recordBytes(int size)
+{
+  return static_cast<size_t>(size) * size * (3 + 4 + 4);
+}
+
+void CandidateRenderer::setRegions(std::vector<FeatureRegion> regions)
+{
+  Regions = std::move(regions);
+  Aux = auxiliaryPrimitives(Spec, Regions);
+}
+
+std::string CandidateRenderer::setup() const
+{
+  json j = { { "spec", json::parse(designSpaceSpecToJson(Spec)) }, { "size", Size },
+    { "seed", Seed }, { "viewport", Viewport }, { "regions", json::array() } };
+  for (const auto& r : Regions)
+    j["regions"].push_back(regionToJson(r));
+  return j.dump();
+}
+
+std::unique_ptr<CandidateRenderer> CandidateRenderer::fromSetup(
+  const Volume& volume, const std::string& text)
+{
+  const json j = json::parse(text);
+  auto r = std::make_unique<CandidateRenderer>(volume,
+    parseDesignSpaceSpec(j.at("spec").dump(), "exemplar setup"), j.at("size").get<int>(),
+    j.at("seed").get<std::uint64_t>(), j.at("viewport").get<bool>());
+  std::vector<FeatureRegion> regions;
+  for (const auto& q : j.at("regions"))
+    regions.push_back(regionFromJson(q));
+  r->setRegions(std::move(regions));
+  return r;
+}
+
+void CandidateRenderer::renderExemplar(std::uint64_t index, bool screening, std::uint8_t* out,
+  Exemplar& drawn, DesignVerdict& verdict) const
+{
+  const size_t px = static_cast<size_t>(Size) * Size;
+  auto draw = [&](const std::vector<GaussianPrimitive>& tf, const View& view)
+  { return renderDesign(Caster, tf, Spec.dimensions, GradientRange, view, Options); };
+  Exemplar e = sampleExemplar(TheVolume, Spec, Regions, Seed, index, Size);
+  const Image exp = draw(e.primitives, e.viewExp);
+  if (screening)
+  {
+    verdict = screenDesign(Caster, Corners, e.primitives, exp, e.viewExp);
+    if (verdict.junk())
+      return;
+  }
+  if (e.picture) // a user's picture of the design, framed as a query is
+  {
+    const View pv = pictureView(e.viewExp, *e.picture);
+    const Image picture =
+      drawPicture(draw(e.primitives, pv), pv, *e.picture, legend(e.primitives));
+    if (hasQueryContent(picture))
+      toBytes(prepareQueryImage(picture, Size), out);
+    else // nothing shows (a query would be refused): the clean image, no look
+      e.picture.reset();
+  }
+  if (!e.picture)
+    toBytes(compositeOverBackground(exp, e.viewExp.background), out);
+  if (Viewport)
+    toBytes(draw(Aux, e.viewView), out + 3 * px);
+  else
+    std::fill_n(out + 3 * px, 4 * px, std::uint8_t(0));
+  toBytes(draw(e.primitives, e.viewView), out + 7 * px);
+  drawn = std::move(e);
+}
+
+bool CandidateRenderer::renderOutline(std::uint64_t index, bool screening, Image& rgb) const
+{
+  const Exemplar e = sampleExemplar(TheVolume, Spec, Regions, Seed, index, Size);
+  const Image rgba =
+    renderDesign(Caster, e.primitives, Spec.dimensions, GradientRange, e.viewExp, Options);
+  if (screening && screenDesign(Caster, Corners, e.primitives, rgba, e.viewExp).junk())
+    return false;
+  rgb = compositeOverBackground(rgba, e.viewExp.background);
+  return true;
+}
+
+void CandidateRenderer::exemplars(std::uint64_t first, int count, bool screening,
+  ExemplarWorkers* workers, int threads, std::uint8_t* records, Exemplar* drawn,
+  DesignVerdict* verdicts, const std::function<void(std::int64_t, int)>& each) const
+{
+  const size_t rec = recordBytes(Size);
+  const int processes = sendShares(workers, "exemplars", first, count, screening);
+  parallelFor(shareStart(count, 1, processes), threads,
+    [&](std::int64_t q, int threadId)
+    {
+      renderExemplar(first + q, screening, records + rec * q, drawn[q], verdicts[q]);
+      if (each)
+        each(q, threadId);
+    });
+  for (int w = 1; w < processes; ++w)
+  {
+    const std::string in = workers->receive(w - 1);
+    Reader r{ in };
+    for (int q = shareStart(count, w, processes); q < shareStart(count, w + 1, processes); ++q)
+    {
+      const char* v = r.take(2);
+      verdicts[q].empty = v[0] != 0;
+      verdicts[q].flatBox = v[1] != 0;
+      std::memcpy(records + rec * q, r.take(rec), rec);
+      std::uint32_t n = 0;
+      std::memcpy(&n, r.take(sizeof(n)), sizeof(n));
+      const char* text = r.take(n);
+      drawn[q] = exemplarFromJson(json::parse(text, text + n), "an exemplar worker's answer");
+    }
+  }
+}
+
+void CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
+  ExemplarWorkers* workers, int threads, Image* images) const
+{
+  const int processes = sendShares(workers, "outline", first, count, screening);
+  parallelFor(shareStart(count, 1, processes), threads,
+    [&](std::int64_t q, int)
+    {
+      if (!renderOutline(first + q, screening, images[q]))
+        images[q] = Image();
+    });
+  const size_t floats = static_cast<size_t>(Size) * Size * 3;
+  for (int w = 1; w < processes; ++w)
+  {
+    const std::string in = workers->receive(w - 1);
+    Reader r{ in };
+    for (int q = shareStart(count, w, processes); q < shareStart(count, w + 1, processes); ++q)
+    {
+      images[q] = Image();
+      if (*r.take(1) == 0)
+        continue; // junk
+      images[q] = Image(Size, Size, 3);
+      std::memcpy(images[q].pixels.data(), r.take(floats * sizeof(float)), floats * sizeof(float));
+    }
+  }
+}
+
+std::string CandidateRenderer::answer(const std::string& request, int threads) const
+{
+  char kind[16] = { 0 };
+  unsigned long long first = 0;
+  int count = 0, screening = 0;
+  if (std::sscanf(request.c_str(), "%15s %llu %d %d", kind, &first, &count, &screening) != 4 ||
+    count < 0 || (std::strcmp(kind, "exemplars") != 0 && std::strcmp(kind, "outline") != 0))
+    throw Error("an exemplar worker got a message it does not know: '" + request.substr(0, 40) +
+      "'");
+  std::string out;
+  if (std::strcmp(kind, "outline") == 0)
+  {
+    std::vector<Image> images(static_cast<size_t>(count));
+    outline(first, count, screening != 0, nullptr, threads, images.data());
+    for (const Image& im : images)
+    {
+      out.push_back(im.pixels.empty() ? 0 : 1);
+      out.append(reinterpret_cast<const char*>(im.pixels.data()), im.pixels.size() * sizeof(float));
+    }
+    return out;
+  }
+  const size_t rec = recordBytes(Size);
+  std::vector<std::uint8_t> records(rec * count);
+  std::vector<Exemplar> drawn(static_cast<size_t>(count));
+  std::vector<DesignVerdict> verdicts(static_cast<size_t>(count));
+  exemplars(first, count, screening != 0, nullptr, threads, records.data(), drawn.data(),
+    verdicts.data(), {});
+  for (int q = 0; q < count; ++q)
+  {
+    out.push_back(static_cast<char>(verdicts[q].empty));
+    out.push_back(static_cast<char>(verdicts[q].flatBox));
+    out.append(reinterpret_cast<const char*>(records.data() + rec * q), rec);
+    const std::string text = exemplarToJson(drawn[q], Spec.dimensions == 2).dump();
+    const std::uint32_t n = static_cast<std::uint32_t>(text.size());
+    out.append(reinterpret_cast<const char*>(&n), sizeof(n));
+    out += text;
+  }
+  return out;
+}
+
+void serveExemplars(const Volume& volume, const std::function<std::string()>& receive,
+  const std::function<void(const std::string&)>& send, int threads)
+{
+  std::unique_ptr<CandidateRenderer> renderer;
+  for (;;)
+  {
+    const std::string message = receive();
+    if (message == "end")
+      return;
+    if (message.rfind("setup ", 0) == 0)
+    {
+      renderer = CandidateRenderer::fromSetup(volume, message.substr(6));
+      continue; // no answer
+    }
+    if (!renderer)
+      throw Error("an exemplar worker got '" + message.substr(0, 40) + "' before its setup");
+    send(renderer->answer(message, threads));
+  }
+}
+
+} // namespace ddg
