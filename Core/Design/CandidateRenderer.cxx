@@ -46,8 +46,8 @@ int shareStart(int count, int p, int processes)
 }
 
 // Sends every worker its share's message; returns the number of processes.
-int sendShares(ExemplarWorkers* workers, const char* kind, std::uint64_t first, int count,
-  bool screening)
+int sendShares(
+  ExemplarWorkers* workers, const char* kind, std::uint64_t first, int count, bool screening)
 {
   const int processes = 1 + (workers ? workers->size() : 0);
   for (int w = 1; w < processes; ++w)
@@ -142,8 +142,7 @@ void CandidateRenderer::renderExemplar(std::uint64_t index, bool screening, std:
   if (e.picture) // a user's picture of the design, framed as a query is
   {
     const View pv = pictureView(e.viewExp, *e.picture);
-    const Image picture =
-      drawPicture(draw(e.primitives, pv), pv, *e.picture, legend(e.primitives));
+    const Image picture = drawPicture(draw(e.primitives, pv), pv, *e.picture, legend(e.primitives));
     if (hasQueryContent(picture))
       toBytes(prepareQueryImage(picture, Size), out);
     else // nothing shows (a query would be refused): the clean image, no look
@@ -234,8 +233,8 @@ std::string CandidateRenderer::answer(const std::string& request, int threads) c
   int count = 0, screening = 0;
   if (std::sscanf(request.c_str(), "%15s %llu %d %d", kind, &first, &count, &screening) != 4 ||
     count < 0 || (std::strcmp(kind, "exemplars") != 0 && std::strcmp(kind, "outline") != 0))
-    throw Error("an exemplar worker got a message it does not know: '" + request.substr(0, 40) +
-      "'");
+    throw Error(
+      "an exemplar worker got a message it does not know: '" + request.substr(0, 40) + "'");
   std::string out;
   if (std::strcmp(kind, "outline") == 0)
   {

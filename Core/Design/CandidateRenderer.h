@@ -48,10 +48,11 @@ void serveExemplars(const Volume& volume, const std::function<std::string()>& re
 class CandidateRenderer
 {
 public:
-  CandidateRenderer(const Volume& volume, const DesignSpaceSpec& spec, int size, std::uint64_t seed,
-    bool viewport);
+  CandidateRenderer(
+    const Volume& volume, const DesignSpaceSpec& spec, int size, std::uint64_t seed, bool viewport);
   /// A worker's, from setup()'s text.
-  static std::unique_ptr<CandidateRenderer> fromSetup(const Volume& volume, const std::string& text);
+  static std::unique_ptr<CandidateRenderer> fromSetup(
+    const Volume& volume, const std::string& text);
 
   /// Bytes of one exemplar record at `size` pixels (RGB at V_exp, viewport and truth RGBA).
   static size_t recordBytes(int size);

@@ -180,6 +180,7 @@ ddg::DesignSpaceInput vtkDDGBuildDesignSpace::InputOnRanks(const ddg::RankGroup&
   if (changed > 0)
   {
     w.RanksInput = ddg::DesignSpaceInput();
+    w.RanksTime = 0; // nothing kept until the streaming succeeds
     const ddg::RankVolume pieces = ddg::RankVolume::gather(ranks, image, array, whole, false);
     w.RanksInput = ddg::designSpaceInputOnRanks(ranks, pieces, this->DesignVoxels);
     w.RanksTime = time;
@@ -190,21 +191,19 @@ ddg::DesignSpaceInput vtkDDGBuildDesignSpace::InputOnRanks(const ddg::RankGroup&
   return w.RanksInput;
 }
 
-ddg::BuildOptions vtkDDGBuildDesignSpace::CheckedOptions(
-  const ddg::RankGroup* ranks, bool checkOutput)
+ddg::BuildOptions vtkDDGBuildDesignSpace::CheckedOptions(const ddg::RankGroup* ranks)
 {
   ddg::BuildOptions options;
   auto work = [&]()
   {
-    if (this->OutputDirectory.empty() && checkOutput)
+    if (this->OutputDirectory.empty())
       throw ddg::Error("no OutputDirectory set");
     if (ranks && ranks->rank() != 0)
       return;
     options = this->Options();
     // what can be refused at once is (the free disk space is checked by the build, which
     // estimates it first)
-    if (checkOutput)
-      ddg::checkBuildOutput(this->OutputDirectory, 0, options.overwrite);
+    ddg::checkBuildOutput(this->OutputDirectory, 0, options.overwrite);
   };
   if (ranks)
     ranks->step(work);
@@ -253,7 +252,7 @@ void vtkDDGBuildDesignSpace::StartBuild()
   std::shared_ptr<ddg::ExemplarWorkers> workers;
   try
   {
-    options = this->CheckedOptions(ranks.get(), true);
+    options = this->CheckedOptions(ranks.get());
     if (ranks)
     {
       input = this->InputOnRanks(*ranks);
@@ -456,7 +455,7 @@ void vtkDDGBuildDesignSpace::Execute(
 {
   vtkTable* output = vtkTable::GetData(outputVector);
   const ddg::RankGroup* ranks = this->Ranks();
-  const ddg::BuildOptions o = this->CheckedOptions(ranks, true);
+  const ddg::BuildOptions o = this->CheckedOptions(ranks);
   auto progress = [this](const std::string&, double f)
   {
     this->UpdateProgress(f);

@@ -171,9 +171,9 @@ private:
   /// input, and the first rank gets the design space's input (ddg::designSpaceInputOnRanks; empty
   /// elsewhere). The last one is used again while no rank's piece changed.
   ddg::DesignSpaceInput InputOnRanks(const ddg::RankGroup& ranks);
-  /// Under MPI (`ranks`), the first rank's options and output folder check, failing on every
-  /// rank together (the spec file and the folder are the first rank's).
-  ddg::BuildOptions CheckedOptions(const ddg::RankGroup* ranks, bool checkOutput);
+  /// The build's options and the output folder's check (under MPI, `ranks`: the first rank's,
+  /// failing on every rank together: the spec file and the folder are the first rank's).
+  ddg::BuildOptions CheckedOptions(const ddg::RankGroup* ranks);
 
   std::string OutputDirectory;
   std::string SpecFile;

@@ -19,6 +19,12 @@ the plugin loaded on the server, then on the volume read by XMLImageDataReader:
                 build --budget 1`: its bundle checked against the whole's fingerprint, the
                 picture analyzed, the design's preview and other lighting rendered at the view);
   gallery       DDG Design Gallery: 16 thumbnails of 128 x 128 at the view.
+  build         DDG Build Design Space (--build-count exemplars of 64 px, 200 held out,
+                --build-iterations training steps, --build-outline outline designs; the design
+                volume: the volume downsampled 2x per axis under the 16 Mi voxel cap): with more
+                ranks every rank streams its piece to the first, every rank gets the design
+                volume and the others render shares of the exemplars and outline designs; the
+                training and the analyzer's passes stay on the first rank.
 With one rank the filters compute as one process (no pieces: ParaView's pipeline asks for the
 whole volume); with more, every rank renders its own piece (one ghost level) and the images or
 the reconstruction's rays are composited sort-last (Documentation/Rendering.md).
@@ -150,6 +156,7 @@ def bundle(build, volume_json, work):
 
 def run(ranks, args, vti, tf, view_text, moved_text, target_png, model):
     import paraview.simple as simple
+    from paraview import servermanager
 
     plugin = os.path.join(
         args.build, "lib", "paraview-5.11", "plugins", "DesignGallery", "DesignGallery.so"
@@ -187,6 +194,14 @@ def run(ranks, args, vti, tf, view_text, moved_text, target_png, model):
         gallery = simple.DDGDesignGallery(
             Input=reader, ModelDirectory=model, ViewJSON=view_text, Count=16, ThumbnailSize=128
         )
+        build = simple.DDGBuildDesignSpace(
+            Input=reader,
+            OutputDirectory=os.path.join(args.work, f"built_{ranks}"),
+            Overwrite=1,
+            Count=args.build_count,
+            Iterations=args.build_iterations,
+            OutlineCount=args.build_outline,
+        )
 
         def stage(name, proxy, change=None):
             before = {}
@@ -215,10 +230,15 @@ def run(ranks, args, vti, tf, view_text, moved_text, target_png, model):
         stage("match", match)
         stage("query", query)
         stage("gallery", gallery)
+        stage("build", build)
+        fetched = servermanager.Fetch(build)
+        result["build_other_ranks_candidates"] = (
+            fetched.GetFieldData().GetArray("OtherRanksCandidates").GetValue(0)
+        )
         extent = reader.GetDataInformation().DataInformation.GetExtent()
         boxes = split_boxes(extent, ranks)
         result["piece_points"] = [piece_points(extent, box, 1 if ranks > 1 else 0) for box in boxes]
-        del reader, render, rec, match, query, gallery
+        del reader, render, rec, match, query, gallery, build
         simple.Disconnect()
         simple.Connect()
         server.process.wait(timeout=60)
@@ -239,9 +259,13 @@ def markdown(results, cores, voxels):
         f"Match Picture: the render as the picture, the camera searched near its view, "
         f"{results[0]['match_iterations']} steps.",
         "",
+        f"Build: {results[0]['build_count']} exemplars of 64 px (+200 held out), "
+        f"{results[0]['build_iterations']} training steps, {results[0]['build_outline']} outline "
+        "designs; candidates the other ranks rendered in brackets.",
+        "",
         "| ranks | read+render s | render s | reconstruct s | match s | query s | gallery s | "
-        "speed-up (render, reconstruct, match, query, gallery) |",
-        "|---|---|---|---|---|---|---|---|",
+        "build s | speed-up (render, reconstruct, match, query, gallery, build) |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         st = r["stages"]
@@ -249,11 +273,13 @@ def markdown(results, cores, voxels):
             f"| {r['ranks']} | {st['read+render']['seconds']:.2f} | {st['render']['seconds']:.2f} "
             f"| {st['reconstruct']['seconds']:.2f} | {st['match']['seconds']:.1f} "
             f"| {st['query']['seconds']:.2f} | {st['gallery']['seconds']:.2f} "
+            f"| {st['build']['seconds']:.1f} ({r['build_other_ranks_candidates']:.0f}) "
             f"| {base['render'] / st['render']['seconds']:.2f}, "
             f"{base['reconstruct'] / st['reconstruct']['seconds']:.2f}, "
             f"{base['match'] / st['match']['seconds']:.2f}, "
             f"{base['query'] / st['query']['seconds']:.2f}, "
-            f"{base['gallery'] / st['gallery']['seconds']:.2f} |"
+            f"{base['gallery'] / st['gallery']['seconds']:.2f}, "
+            f"{base['build'] / st['build']['seconds']:.2f} |"
         )
     lines += [
         "",
@@ -261,8 +287,8 @@ def markdown(results, cores, voxels):
         "and the peak resident set size above the stage's start (MB; bytes per piece point).",
         "",
         "| ranks | rank | piece points | process MB | read+render MB (B/pt) | render MB | "
-        "reconstruct MB (B/pt) | match MB (B/pt) | query MB (B/pt) | gallery MB |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "reconstruct MB (B/pt) | match MB (B/pt) | query MB (B/pt) | gallery MB | build MB |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in results:
         st = r["stages"]
@@ -275,7 +301,8 @@ def markdown(results, cores, voxels):
                 f"| {r['ranks']} | {k} | {pts / 1e6:.1f} M | {r['process_mb'][k]:.0f} | "
                 f"{rr:.0f} ({rr * 2**20 / pts:.2f}) | {st['render']['peak_above_mb'][k]:.0f} | "
                 f"{re_:.0f} ({re_ * 2**20 / pts:.2f}) | {ma:.0f} ({ma * 2**20 / pts:.2f}) | "
-                f"{qu:.0f} ({qu * 2**20 / pts:.2f}) | {ga:.0f} |"
+                f"{qu:.0f} ({qu * 2**20 / pts:.2f}) | {ga:.0f} | "
+                f"{st['build']['peak_above_mb'][k]:.0f} |"
             )
     return "\n".join(lines) + "\n"
 
@@ -288,6 +315,9 @@ def main():
     parser.add_argument("--ranks", type=int, nargs="+", default=[1, 2, 4])
     parser.add_argument("--iterations", type=int, default=30)
     parser.add_argument("--match-iterations", type=int, default=100)
+    parser.add_argument("--build-count", type=int, default=512)
+    parser.add_argument("--build-iterations", type=int, default=50)
+    parser.add_argument("--build-outline", type=int, default=2000)
     args = parser.parse_args()
     os.makedirs(args.work, exist_ok=True)
     volume_json = make_volume(args.work, FACTORS)
@@ -303,6 +333,9 @@ def main():
         r = run(ranks, args, vti, tf, view_text, moved_text, target_png, model)
         r["iterations"] = args.iterations
         r["match_iterations"] = args.match_iterations
+        r["build_count"] = args.build_count
+        r["build_iterations"] = args.build_iterations
+        r["build_outline"] = args.build_outline
         results.append(r)
     md = markdown(results, os.cpu_count(), voxels)
     print(md)
