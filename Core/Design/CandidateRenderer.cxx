@@ -2,6 +2,7 @@
 #include "Design/CandidateRenderer.h"
 
 #include "Design/DesignJson.h"
+#include "Design/DesignSpace.h"
 #include "Gallery/QueryImage.h"
 
 #include "Common/Error.h"
@@ -39,6 +40,31 @@ std::vector<std::array<double, 3>> legend(std::vector<GaussianPrimitive> tf)
   return colours;
 }
 
+// The head of a worker's answer to a message: the message itself, then a newline ("error
+// MESSAGE" instead when the worker failed).
+std::string answerHead(const std::string& request)
+{
+  return "answer " + request + "\n";
+}
+
+// Checks that `in` answers `request` (throws the worker's error, or one for an answer to
+// another message); returns where its body starts.
+size_t answerBody(const std::string& in, const std::string& request)
+{
+  if (in.rfind("error ", 0) == 0)
+    throw Error(in.substr(6));
+  const std::string head = answerHead(request);
+  if (in.compare(0, head.size(), head) != 0)
+    throw Error("an exemplar worker answered another message than '" + request + "'");
+  return head.size();
+}
+
+// A render message: "KIND FIRST COUNT SCREENING".
+std::string shareMessage(const char* kind, std::uint64_t first, int count, bool screening)
+{
+  return std::string(kind) + " " + std::to_string(first) + " " + std::to_string(count) + " " +
+    (screening ? "1" : "0");
+}
 // The share of candidates [0, count) of process p of `processes` (this one is 0).
 int shareStart(int count, int p, int processes)
 {
@@ -53,9 +79,7 @@ int sendShares(
   for (int w = 1; w < processes; ++w)
   {
     const int q0 = shareStart(count, w, processes), q1 = shareStart(count, w + 1, processes);
-    workers->send(w - 1,
-      std::string(kind) + " " + std::to_string(first + q0) + " " + std::to_string(q1 - q0) + " " +
-        (screening ? "1" : "0"));
+    workers->send(w - 1, shareMessage(kind, first + q0, q1 - q0, screening));
   }
   return processes;
 }
@@ -64,7 +88,12 @@ int sendShares(
 struct Reader
 {
   const std::string& in;
-  size_t at = 0;
+  size_t at;
+  void done() const
+  {
+    if (at != in.size())
+      throw Error("an exemplar worker's answer is longer than its candidates");
+  }
   const char* take(size_t n)
   {
     if (at + n > in.size())
@@ -105,7 +134,8 @@ void CandidateRenderer::setRegions(std::vector<FeatureRegion> regions)
 std::string CandidateRenderer::setup() const
 {
   json j = { { "spec", json::parse(designSpaceSpecToJson(Spec)) }, { "size", Size },
-    { "seed", Seed }, { "viewport", Viewport }, { "regions", json::array() } };
+    { "seed", Seed }, { "viewport", Viewport }, { "regions", json::array() },
+    { "volume", volumeFingerprint(TheVolume) } };
   for (const auto& r : Regions)
     j["regions"].push_back(regionToJson(r));
   return j.dump();
@@ -114,15 +144,25 @@ std::string CandidateRenderer::setup() const
 std::unique_ptr<CandidateRenderer> CandidateRenderer::fromSetup(
   const Volume& volume, const std::string& text)
 {
-  const json j = json::parse(text);
-  auto r = std::make_unique<CandidateRenderer>(volume,
-    parseDesignSpaceSpec(j.at("spec").dump(), "exemplar setup"), j.at("size").get<int>(),
-    j.at("seed").get<std::uint64_t>(), j.at("viewport").get<bool>());
-  std::vector<FeatureRegion> regions;
-  for (const auto& q : j.at("regions"))
-    regions.push_back(regionFromJson(q));
-  r->setRegions(std::move(regions));
-  return r;
+  try
+  {
+    const json j = json::parse(text);
+    if (j.at("volume").get<std::string>() != volumeFingerprint(volume))
+      throw Error("this process's design-space volume (" + volumeFingerprint(volume) +
+        ") is not the first process's (" + j.at("volume").get<std::string>() + ")");
+    auto r = std::make_unique<CandidateRenderer>(volume,
+      parseDesignSpaceSpec(j.at("spec").dump(), "exemplar setup"), j.at("size").get<int>(),
+      j.at("seed").get<std::uint64_t>(), j.at("viewport").get<bool>());
+    std::vector<FeatureRegion> regions;
+    for (const auto& q : j.at("regions"))
+      regions.push_back(regionFromJson(q));
+    r->setRegions(std::move(regions));
+    return r;
+  }
+  catch (const json::exception& e)
+  {
+    throw Error(std::string("an exemplar worker's setup is not readable: ") + e.what());
+  }
 }
 
 void CandidateRenderer::renderExemplar(std::uint64_t index, bool screening, std::uint8_t* out,
@@ -184,9 +224,10 @@ void CandidateRenderer::exemplars(std::uint64_t first, int count, bool screening
     });
   for (int w = 1; w < processes; ++w)
   {
+    const int q0 = shareStart(count, w, processes), q1 = shareStart(count, w + 1, processes);
     const std::string in = workers->receive(w - 1);
-    Reader r{ in };
-    for (int q = shareStart(count, w, processes); q < shareStart(count, w + 1, processes); ++q)
+    Reader r{ in, answerBody(in, shareMessage("exemplars", first + q0, q1 - q0, screening)) };
+    for (int q = q0; q < q1; ++q)
     {
       const char* v = r.take(2);
       verdicts[q].empty = v[0] != 0;
@@ -195,8 +236,16 @@ void CandidateRenderer::exemplars(std::uint64_t first, int count, bool screening
       std::uint32_t n = 0;
       std::memcpy(&n, r.take(sizeof(n)), sizeof(n));
       const char* text = r.take(n);
-      drawn[q] = exemplarFromJson(json::parse(text, text + n), "an exemplar worker's answer");
+      try
+      {
+        drawn[q] = exemplarFromJson(json::parse(text, text + n), "an exemplar worker's answer");
+      }
+      catch (const json::exception& e)
+      {
+        throw Error(std::string("an exemplar worker's answer is not readable: ") + e.what());
+      }
     }
+    r.done();
   }
 }
 
@@ -213,9 +262,10 @@ void CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
   const size_t floats = static_cast<size_t>(Size) * Size * 3;
   for (int w = 1; w < processes; ++w)
   {
+    const int q0 = shareStart(count, w, processes), q1 = shareStart(count, w + 1, processes);
     const std::string in = workers->receive(w - 1);
-    Reader r{ in };
-    for (int q = shareStart(count, w, processes); q < shareStart(count, w + 1, processes); ++q)
+    Reader r{ in, answerBody(in, shareMessage("outline", first + q0, q1 - q0, screening)) };
+    for (int q = q0; q < q1; ++q)
     {
       images[q] = Image();
       if (*r.take(1) == 0)
@@ -223,6 +273,7 @@ void CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
       images[q] = Image(Size, Size, 3);
       std::memcpy(images[q].pixels.data(), r.take(floats * sizeof(float)), floats * sizeof(float));
     }
+    r.done();
   }
 }
 
@@ -235,7 +286,7 @@ std::string CandidateRenderer::answer(const std::string& request, int threads) c
     count < 0 || (std::strcmp(kind, "exemplars") != 0 && std::strcmp(kind, "outline") != 0))
     throw Error(
       "an exemplar worker got a message it does not know: '" + request.substr(0, 40) + "'");
-  std::string out;
+  std::string out = answerHead(request);
   if (std::strcmp(kind, "outline") == 0)
   {
     std::vector<Image> images(static_cast<size_t>(count));
@@ -270,6 +321,7 @@ void serveExemplars(const Volume& volume, const std::function<std::string()>& re
   const std::function<void(const std::string&)>& send, int threads)
 {
   std::unique_ptr<CandidateRenderer> renderer;
+  std::string failed; // why the last setup failed: the answer to its batches
   for (;;)
   {
     const std::string message = receive();
@@ -277,12 +329,33 @@ void serveExemplars(const Volume& volume, const std::function<std::string()>& re
       return;
     if (message.rfind("setup ", 0) == 0)
     {
-      renderer = CandidateRenderer::fromSetup(volume, message.substr(6));
+      renderer.reset();
+      failed.clear();
+      try
+      {
+        renderer = CandidateRenderer::fromSetup(volume, message.substr(6));
+      }
+      catch (const std::exception& e)
+      {
+        failed = e.what();
+      }
       continue; // no answer
     }
-    if (!renderer)
-      throw Error("an exemplar worker got '" + message.substr(0, 40) + "' before its setup");
-    send(renderer->answer(message, threads));
+    // a failure is the answer (the coordinator reports it): the worker goes on serving
+    std::string answer;
+    try
+    {
+      if (!renderer)
+        throw Error(failed.empty()
+            ? "an exemplar worker got '" + message.substr(0, 40) + "' before its setup"
+            : failed);
+      answer = renderer->answer(message, threads);
+    }
+    catch (const std::exception& e)
+    {
+      answer = std::string("error ") + e.what();
+    }
+    send(answer);
   }
 }
 

@@ -37,7 +37,8 @@ void sendMessage(vtkSocket* socket, const std::string& message)
     throw Error("the build's connection to another rank broke (it stopped?)");
 }
 
-// The next message; with `stop`, waits in steps of 0.5 s and gives up when it is set.
+// The next message; with `stop`, waits in steps of 1 s and gives up when it is set. (VTK's select
+// reads the milliseconds below a second as microseconds: whole seconds wait as long as asked.)
 std::string receiveMessage(vtkSocket* socket, const std::atomic<bool>* stop)
 {
   if (stop)
@@ -48,7 +49,7 @@ std::string receiveMessage(vtkSocket* socket, const std::atomic<bool>* stop)
     {
       if (*stop)
         throw Cancelled();
-      const int selected = one->SelectSockets(500);
+      const int selected = one->SelectSockets(1000);
       if (selected < 0)
         throw Error("the build's connection to the first rank broke");
       if (selected > 0)
@@ -89,7 +90,14 @@ public:
   int size() const override { return static_cast<int>(Sockets.size()); }
   void send(int worker, const std::string& message) override
   {
-    sendMessage(Sockets[static_cast<size_t>(worker)], message);
+    try
+    {
+      sendMessage(Sockets[static_cast<size_t>(worker)], message);
+    }
+    catch (const Error& e)
+    {
+      throw Error("rank " + std::to_string(worker + 1) + ": " + e.what());
+    }
   }
   std::string receive(int worker) override
   {
@@ -121,17 +129,20 @@ BuildCrew buildCrewOnRanks(const RankGroup& ranks, const DesignSpaceInput& input
   // 1. the design-space volume on every rank (the same bits: the same exemplars)
   std::string header;
   std::vector<float> values;
-  if (ranks.rank() == 0)
-  {
-    const Volume& v = input.volume;
-    header = nlohmann::json{
-      { "dims", v.dims() }, { "origin", v.origin() }, { "spacing", v.spacing() },
-      { "type", static_cast<int>(v.originalType()) }
-    }.dump();
-    values.resize(static_cast<size_t>(v.voxelCount()));
-    for (std::int64_t i = 0; i < v.voxelCount(); ++i)
-      values[static_cast<size_t>(i)] = v.value(i);
-  }
+  ranks.step( // the first rank's copy may fail (memory): every rank stops with it
+    [&]
+    {
+      if (ranks.rank() != 0)
+        return;
+      const Volume& v = input.volume;
+      header = nlohmann::json{
+        { "dims", v.dims() }, { "origin", v.origin() }, { "spacing", v.spacing() },
+        { "type", static_cast<int>(v.originalType()) }
+      }.dump();
+      values.resize(static_cast<size_t>(v.voxelCount()));
+      for (std::int64_t i = 0; i < v.voxelCount(); ++i)
+        values[static_cast<size_t>(i)] = v.value(i);
+    });
   header = ranks.broadcast(header);
   ranks.broadcast(values);
   std::shared_ptr<Volume> volume;

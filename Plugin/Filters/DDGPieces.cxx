@@ -436,10 +436,15 @@ DesignSpaceInput designSpaceInputOnRanks(
       hash.add(slab.data(), static_cast<std::int64_t>(slab.size()));
       assembler.add(z0, planes, slab.data());
     });
-  if (ranks.rank() != 0)
-    return DesignSpaceInput();
-  return assembler.finish(
-    volumeFingerprint(whole.wholeDims, whole.spacing, whole.wholeRange, hash.value()));
+  DesignSpaceInput input;
+  ranks.step( // the first rank's volume may fail (memory): every rank stops with it
+    [&]
+    {
+      if (ranks.rank() == 0)
+        input = assembler.finish(
+          volumeFingerprint(whole.wholeDims, whole.spacing, whole.wholeRange, hash.value()));
+    });
+  return input;
 }
 
 void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,

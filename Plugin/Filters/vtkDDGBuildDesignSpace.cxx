@@ -289,44 +289,52 @@ void vtkDDGBuildDesignSpace::StartBuild()
     w.finish("failed", e.what());
     return;
   }
-  w.Thread = std::thread(
-    [&w, volume = std::move(volume), input = std::move(input), options, workers,
-      dir = this->OutputDirectory]() mutable
-    {
-      try
+  try
+  {
+    w.Thread = std::thread(
+      [&w, volume = std::move(volume), input = std::move(input), options, workers,
+        dir = this->OutputDirectory]() mutable
       {
-        auto progress = [&w](const std::string& stage, double f)
+        try
         {
+          auto progress = [&w](const std::string& stage, double f)
+          {
+            std::lock_guard<std::mutex> lock(w.Mutex);
+            if (stage != "done")
+              w.Stage = stage;
+            w.Fraction = f;
+            return !w.Cancel;
+          };
+          const auto r = input.volume.empty()
+            ? ddg::buildDesignSpace(volume, "", dir, options, progress)
+            : ddg::buildDesignSpace(input, "", dir, options, progress);
+          workers.reset(); // the other ranks' servers end
           std::lock_guard<std::mutex> lock(w.Mutex);
-          if (stage != "done")
-            w.Stage = stage;
-          w.Fraction = f;
-          return !w.Cancel;
-        };
-        const auto r = input.volume.empty()
-          ? ddg::buildDesignSpace(volume, "", dir, options, progress)
-          : ddg::buildDesignSpace(input, "", dir, options, progress);
-        workers.reset(); // the other ranks' servers end
-        std::lock_guard<std::mutex> lock(w.Mutex);
-        const double figures[6] = { r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
-          r.evaluation.invariance, r.training.seconds, static_cast<double>(r.training.iterations) };
-        std::copy(std::begin(figures), std::end(figures), w.Figures);
-      }
-      catch (const ddg::Cancelled&)
-      {
-        workers.reset();
-        w.finish("cancelled");
-        return;
-      }
-      catch (const std::exception& e)
-      {
-        workers.reset();
-        // a rank's connection that broke while cancelling is the cancel's
-        w.finish(w.Cancel ? "cancelled" : "failed", w.Cancel ? "" : e.what());
-        return;
-      }
-      w.finish("done");
-    });
+          const double figures[6] = { r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
+            r.evaluation.invariance, r.training.seconds,
+            static_cast<double>(r.training.iterations) };
+          std::copy(std::begin(figures), std::end(figures), w.Figures);
+        }
+        catch (const ddg::Cancelled&)
+        {
+          workers.reset();
+          w.finish("cancelled");
+          return;
+        }
+        catch (const std::exception& e)
+        {
+          workers.reset();
+          // a rank's connection that broke while cancelling is the cancel's
+          w.finish(w.Cancel ? "cancelled" : "failed", w.Cancel ? "" : e.what());
+          return;
+        }
+        w.finish("done");
+      });
+  }
+  catch (const std::exception& e) // no thread (the system's limit): nothing started
+  {
+    w.finish("failed", e.what());
+  }
 }
 
 void vtkDDGBuildDesignSpace::CancelBuild()

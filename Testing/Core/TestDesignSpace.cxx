@@ -221,8 +221,9 @@ std::string fileText(const std::string& path)
 
 // Exemplars rendered in shares by other processes (here: threads serving as they would) are the
 // same dataset, byte for byte, as one process's: screened (batches sized by the pass rate, junk
-// passed over) and not, 1D and 2D, with users' pictures. A worker refuses a render message that
-// comes before its setup.
+// passed over) and not, 1D and 2D, with users' pictures. A worker answers a message it cannot
+// serve (before its setup, unreadable) with its reason; one that holds another volume refuses
+// the setup, and the generation fails with that reason.
 TEST(ExemplarGenerator, WorkersRenderTheSameDataset)
 {
   const Volume vol = materials();
@@ -252,17 +253,41 @@ TEST(ExemplarGenerator, WorkersRenderTheSameDataset)
         EXPECT_EQ(a, fileText(shared + "/" + f)) << f << " differs with workers (" << name << ")";
       }
     }
-  std::deque<std::string> in{ "exemplars 0 1 0" }; // before any setup
-  EXPECT_THROW(serveExemplars(
-                 vol,
-                 [&in]
-                 {
-                   std::string m = in.front();
-                   in.pop_front();
-                   return m;
-                 },
-                 [](const std::string&) {}),
-    Error);
+  // a worker answers what it cannot do with its reason and goes on serving
+  std::deque<std::string> in{ "exemplars 0 1 0", "outline 0 x", "end" };
+  std::vector<std::string> out;
+  serveExemplars(
+    vol,
+    [&in]
+    {
+      std::string m = in.front();
+      in.pop_front();
+      return m;
+    },
+    [&out](const std::string& m) { out.push_back(m); });
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_EQ(out[0].rfind("error ", 0), 0u);
+  EXPECT_NE(out[0].find("before its setup"), std::string::npos);
+  EXPECT_EQ(out[1].rfind("error ", 0), 0u);
+  // a worker holding another volume refuses the setup: the generation fails with its reason
+  std::vector<float> other(static_cast<size_t>(vol.voxelCount()), 5.0f);
+  other[0] = 1.0f;
+  const Volume otherVolume(vol.dims(), vol.origin(), vol.spacing(), other);
+  ddg::testing::ThreadWorkers wrong(otherVolume, 1);
+  GenerateOptions opt;
+  opt.count = 4;
+  opt.size = 16;
+  opt.workers = &wrong;
+  try
+  {
+    generateExemplars(vol, DesignSpaceSpec{}, tempDir("gen_wrong_worker"), opt);
+    ADD_FAILURE() << "a worker with another volume was used";
+  }
+  catch (const Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("is not the first process's"), std::string::npos)
+      << e.what();
+  }
 }
 
 TEST(ExemplarGenerator, FullDiskLeavesNothingThatLooksValid)
