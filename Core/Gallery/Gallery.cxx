@@ -360,6 +360,10 @@ TransferFunctionFile DesignGallery::explicitTransferFunction(
     return primitivesToTransferFunction(visible, dims, valueRange, gradientRange, "ddg design");
   }
   // the U-Net's image has no TF: reconstruct one from it at this view
+  if (!Space->caster())
+    throw Error("a U-Net bundle's transfer function is reconstructed from its image over the "
+                "whole volume in one process, and here the volume is split over the MPI ranks: "
+                "use a decoder bundle (ddg build, ddg train and the panel's Build... make them)");
   const DifferentiableRenderer diff(volume());
   ReconstructionOptions opt;
   opt.twoD = dims == 2;
