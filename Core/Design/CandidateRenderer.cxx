@@ -103,6 +103,23 @@ struct Reader
     return p;
   }
 };
+
+// Reads every worker's answer to its share (sent by sendShares): `each(reader, q)` takes
+// candidate q's bytes, in order; returns the candidates the workers rendered.
+int readShares(ExemplarWorkers* workers, const char* kind, std::uint64_t first, int count,
+  bool screening, int processes, const std::function<void(Reader&, int)>& each)
+{
+  for (int w = 1; w < processes; ++w)
+  {
+    const int q0 = shareStart(count, w, processes), q1 = shareStart(count, w + 1, processes);
+    const std::string in = workers->receive(w - 1);
+    Reader r{ in, answerBody(in, shareMessage(kind, first + q0, q1 - q0, screening)) };
+    for (int q = q0; q < q1; ++q)
+      each(r, q);
+    r.done();
+  }
+  return count - shareStart(count, 1, processes);
+}
 } // namespace
 
 CandidateRenderer::CandidateRenderer(
@@ -139,6 +156,15 @@ std::string CandidateRenderer::setup() const
   for (const auto& r : Regions)
     j["regions"].push_back(regionToJson(r));
   return j.dump();
+}
+
+void CandidateRenderer::setUpWorkers(ExemplarWorkers* workers) const
+{
+  if (!workers)
+    return;
+  const std::string message = "setup " + setup();
+  for (int w = 0; w < workers->size(); ++w)
+    workers->send(w, message);
 }
 
 std::unique_ptr<CandidateRenderer> CandidateRenderer::fromSetup(
@@ -209,7 +235,7 @@ bool CandidateRenderer::renderOutline(std::uint64_t index, bool screening, Image
   return true;
 }
 
-void CandidateRenderer::exemplars(std::uint64_t first, int count, bool screening,
+int CandidateRenderer::exemplars(std::uint64_t first, int count, bool screening,
   ExemplarWorkers* workers, int threads, std::uint8_t* records, Exemplar* drawn,
   DesignVerdict* verdicts, const std::function<void(std::int64_t, int)>& each) const
 {
@@ -222,34 +248,25 @@ void CandidateRenderer::exemplars(std::uint64_t first, int count, bool screening
       if (each)
         each(q, threadId);
     });
-  for (int w = 1; w < processes; ++w)
-  {
-    const int q0 = shareStart(count, w, processes), q1 = shareStart(count, w + 1, processes);
-    const std::string in = workers->receive(w - 1);
-    Reader r{ in, answerBody(in, shareMessage("exemplars", first + q0, q1 - q0, screening)) };
-    for (int q = q0; q < q1; ++q)
+  // a worker's candidate: its verdict, record and whether it kept its user's picture (dropped
+  // when nothing shows in it); the exemplar itself is drawn again here (the same volume, spec,
+  // regions and seed)
+  return readShares(workers, "exemplars", first, count, screening, processes,
+    [&](Reader& r, int q)
     {
-      const char* v = r.take(2);
+      const char* v = r.take(3);
       verdicts[q].empty = v[0] != 0;
       verdicts[q].flatBox = v[1] != 0;
       std::memcpy(records + rec * q, r.take(rec), rec);
-      std::uint32_t n = 0;
-      std::memcpy(&n, r.take(sizeof(n)), sizeof(n));
-      const char* text = r.take(n);
-      try
-      {
-        drawn[q] = exemplarFromJson(json::parse(text, text + n), "an exemplar worker's answer");
-      }
-      catch (const json::exception& e)
-      {
-        throw Error(std::string("an exemplar worker's answer is not readable: ") + e.what());
-      }
-    }
-    r.done();
-  }
+      if (verdicts[q].junk())
+        return;
+      drawn[q] = sampleExemplar(TheVolume, Spec, Regions, Seed, first + q, Size);
+      if (v[2] == 0)
+        drawn[q].picture.reset();
+    });
 }
 
-void CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
+int CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
   ExemplarWorkers* workers, int threads, Image* images) const
 {
   const int processes = sendShares(workers, "outline", first, count, screening);
@@ -259,22 +276,16 @@ void CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
       if (!renderOutline(first + q, screening, images[q]))
         images[q] = Image();
     });
-  const size_t floats = static_cast<size_t>(Size) * Size * 3;
-  for (int w = 1; w < processes; ++w)
-  {
-    const int q0 = shareStart(count, w, processes), q1 = shareStart(count, w + 1, processes);
-    const std::string in = workers->receive(w - 1);
-    Reader r{ in, answerBody(in, shareMessage("outline", first + q0, q1 - q0, screening)) };
-    for (int q = q0; q < q1; ++q)
+  const size_t bytes = static_cast<size_t>(Size) * Size * 3 * sizeof(float);
+  return readShares(workers, "outline", first, count, screening, processes,
+    [&](Reader& r, int q)
     {
       images[q] = Image();
       if (*r.take(1) == 0)
-        continue; // junk
+        return; // junk
       images[q] = Image(Size, Size, 3);
-      std::memcpy(images[q].pixels.data(), r.take(floats * sizeof(float)), floats * sizeof(float));
-    }
-    r.done();
-  }
+      std::memcpy(images[q].pixels.data(), r.take(bytes), bytes);
+    });
 }
 
 std::string CandidateRenderer::answer(const std::string& request, int threads) const
@@ -308,11 +319,8 @@ std::string CandidateRenderer::answer(const std::string& request, int threads) c
   {
     out.push_back(static_cast<char>(verdicts[q].empty));
     out.push_back(static_cast<char>(verdicts[q].flatBox));
+    out.push_back(static_cast<char>(drawn[q].picture.has_value()));
     out.append(reinterpret_cast<const char*>(records.data() + rec * q), rec);
-    const std::string text = exemplarToJson(drawn[q], Spec.dimensions == 2).dump();
-    const std::uint32_t n = static_cast<std::uint32_t>(text.size());
-    out.append(reinterpret_cast<const char*>(&n), sizeof(n));
-    out += text;
   }
   return out;
 }

@@ -63,6 +63,8 @@ public:
   void setRegions(std::vector<FeatureRegion> regions);
   /// What a worker needs to render candidates as this process does.
   std::string setup() const;
+  /// Sends `workers` (may be null) the setup: before the first batch of each generation.
+  void setUpWorkers(ExemplarWorkers* workers) const;
 
   /// Exemplar candidate `index`: its record (left as it is when junk), the exemplar and, when
   /// screening, the verdict.
@@ -76,11 +78,12 @@ public:
   /// `threads` threads, `each(q, threadId)` after each of its candidates; it may throw, e.g.
   /// Cancelled) and by `workers` (may be null), into the arrays at q = index - first:
   /// exemplars (records, drawn, verdicts), or outline images (images; junk: an empty image).
-  void exemplars(std::uint64_t first, int count, bool screening, ExemplarWorkers* workers,
+  /// Returns the candidates the workers rendered.
+  int exemplars(std::uint64_t first, int count, bool screening, ExemplarWorkers* workers,
     int threads, std::uint8_t* records, Exemplar* drawn, DesignVerdict* verdicts,
     const std::function<void(std::int64_t q, int threadId)>& each) const;
-  void outline(std::uint64_t first, int count, bool screening, ExemplarWorkers* workers,
-    int threads, Image* images) const;
+  int outline(std::uint64_t first, int count, bool screening, ExemplarWorkers* workers, int threads,
+    Image* images) const;
 
   /// A worker's answer to a message ("exemplars FIRST COUNT SCREENING" or "outline ...").
   std::string answer(const std::string& request, int threads) const;

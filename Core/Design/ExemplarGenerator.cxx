@@ -37,11 +37,6 @@ std::string shardName(int shard)
   return buf;
 }
 
-size_t recordBytes(int size)
-{
-  return CandidateRenderer::recordBytes(size);
-}
-
 } // namespace
 
 GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& spec,
@@ -75,13 +70,10 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
     report.regions = twoD ? findFeatureRegions2D(volume, spec.maxRegions)
                           : findFeatureRegions(volume, spec.maxRegions);
   renderer.setRegions(report.regions);
-  ExemplarWorkers* workers = opt.workers && opt.workers->size() > 0 ? opt.workers : nullptr;
-  if (workers)
-    for (int w = 0; w < workers->size(); ++w)
-      workers->send(w, "setup " + renderer.setup());
+  renderer.setUpWorkers(opt.workers);
 
   std::vector<Exemplar> items(static_cast<size_t>(opt.count));
-  const size_t rec = recordBytes(opt.size);
+  const size_t rec = CandidateRenderer::recordBytes(opt.size);
   const int shards = (opt.count + opt.shardSize - 1) / opt.shardSize;
   const std::int64_t maxCandidates = 4LL * opt.count;
   std::uint64_t next = opt.firstIndex; // the next index to examine
@@ -124,16 +116,14 @@ GenerateReport generateExemplars(const Volume& volume, const DesignSpaceSpec& sp
         std::vector<DesignVerdict> verdicts(static_cast<size_t>(batch));
         std::vector<std::uint8_t> records(rec * batch);
         // the batch's candidates: a contiguous share each for this process and every worker
-        renderer.exemplars(next, batch, screening, workers, opt.threads, records.data(),
-          drawn.data(), verdicts.data(),
+        report.workerCandidates += renderer.exemplars(next, batch, screening, opt.workers,
+          opt.threads, records.data(), drawn.data(), verdicts.data(),
           [&](std::int64_t q, int threadId)
           {
             if (!verdicts[q].junk())
               ++done;
             tick(threadId);
           });
-        if (workers)
-          report.workerCandidates += batch - batch / (1 + workers->size());
         // in index order: the passing candidates until the shard is full
         for (int q = 0; q < batch && have < n; ++q)
         {
@@ -250,7 +240,7 @@ ExemplarDataset::ExemplarDataset(const std::string& dir)
     const int n = std::min(ShardSize, Count - s * ShardSize);
     std::error_code ec;
     const auto bytes = fs::file_size(path, ec);
-    if (ec || bytes != 24 + recordBytes(Size) * n)
+    if (ec || bytes != 24 + CandidateRenderer::recordBytes(Size) * n)
     {
       throw Error("dataset shard '" + path + "' is missing or truncated");
     }
@@ -277,7 +267,7 @@ void ExemplarDataset::load(int i, std::vector<std::uint8_t>& rgbExp,
   const int shard = i / ShardSize, q = i % ShardSize;
   const size_t px = static_cast<size_t>(Size) * Size;
   std::ifstream in((fs::path(Dir) / shardName(shard)).string(), std::ios::binary);
-  in.seekg(static_cast<std::streamoff>(24 + recordBytes(Size) * q));
+  in.seekg(static_cast<std::streamoff>(24 + CandidateRenderer::recordBytes(Size) * q));
   rgbExp.resize(3 * px);
   viewport.resize(4 * px);
   truth.resize(4 * px);

@@ -34,9 +34,7 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
   const int s = model.config().imageSize;
   CandidateRenderer renderer(volume, spec, s, seed, false);
   renderer.setRegions(regions);
-  if (workers)
-    for (int w = 0; w < workers->size(); ++w)
-      workers->send(w, "setup " + renderer.setup());
+  renderer.setUpWorkers(workers);
   LatentSet set;
   set.dim = model.config().latent;
   set.seed = seed;

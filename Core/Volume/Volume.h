@@ -100,7 +100,7 @@ public:
       static_cast<std::int64_t>(Dims[0]) *
         (static_cast<std::int64_t>(j) + static_cast<std::int64_t>(Dims[1]) * k));
   }
-  /// Every value as float (a copy of 4 bytes per voxel: for tests and small volumes).
+  /// Every value as float (a copy of 4 bytes per voxel).
   std::vector<float> floatValues() const;
 
   /// [min, max] of the finite values (the "data range" ParaView maps transfer functions over).

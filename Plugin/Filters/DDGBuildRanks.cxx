@@ -90,28 +90,29 @@ public:
   int size() const override { return static_cast<int>(Sockets.size()); }
   void send(int worker, const std::string& message) override
   {
-    try
-    {
-      sendMessage(Sockets[static_cast<size_t>(worker)], message);
-    }
-    catch (const Error& e)
-    {
-      throw Error("rank " + std::to_string(worker + 1) + ": " + e.what());
-    }
+    onRank(worker, [&](vtkClientSocket* s) { sendMessage(s, message); });
   }
   std::string receive(int worker) override
   {
+    std::string message;
+    onRank(worker, [&](vtkClientSocket* s) { message = receiveMessage(s, nullptr); });
+    return message;
+  }
+
+private:
+  // Runs `f` on worker's connection; its failure names the worker's rank.
+  template <class F>
+  void onRank(int worker, const F& f)
+  {
     try
     {
-      return receiveMessage(Sockets[static_cast<size_t>(worker)], nullptr);
+      f(Sockets[static_cast<size_t>(worker)]);
     }
     catch (const Error& e)
     {
       throw Error("rank " + std::to_string(worker + 1) + ": " + e.what());
     }
   }
-
-private:
   std::vector<vtkSmartPointer<vtkClientSocket>> Sockets;
 };
 
@@ -139,9 +140,7 @@ BuildCrew buildCrewOnRanks(const RankGroup& ranks, const DesignSpaceInput& input
         { "dims", v.dims() }, { "origin", v.origin() }, { "spacing", v.spacing() },
         { "type", static_cast<int>(v.originalType()) }
       }.dump();
-      values.resize(static_cast<size_t>(v.voxelCount()));
-      for (std::int64_t i = 0; i < v.voxelCount(); ++i)
-        values[static_cast<size_t>(i)] = v.value(i);
+      values = v.floatValues();
     });
   header = ranks.broadcast(header);
   ranks.broadcast(values);

@@ -25,7 +25,7 @@ struct DDGFILTERS_EXPORT BuildCrew
   /// their connections); null elsewhere.
   std::unique_ptr<ExemplarWorkers> workers;
   /// The other ranks': answers the first rank's messages (serveExemplars, every core) until it
-  /// ends them, its connection closes or `stop` is set (checked every 0.5 s); any thread.
+  /// ends them, its connection closes or `stop` is set (checked every second); any thread.
   /// Throws ddg::Error when the connection broke. Empty on the first rank.
   std::function<void(const std::atomic<bool>& stop)> serve;
 };

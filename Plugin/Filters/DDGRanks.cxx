@@ -25,16 +25,15 @@ RankGroup::RankGroup(vtkMultiProcessController* controller)
 
 std::unique_ptr<RankGroup> RankGroup::forRequest(vtkInformation* outInfo)
 {
-  vtkMultiProcessController* c = vtkMultiProcessController::GetGlobalController();
-  if (!c || c->GetNumberOfProcesses() < 2 || !outInfo ||
+  std::unique_ptr<RankGroup> ranks = global();
+  if (!ranks || !outInfo ||
     !outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) ||
     !outInfo->Has(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()))
     return nullptr;
-  if (outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) !=
-      c->GetNumberOfProcesses() ||
-    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) != c->GetLocalProcessId())
+  if (outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_NUMBER_OF_PIECES()) != ranks->size() ||
+    outInfo->Get(vtkStreamingDemandDrivenPipeline::UPDATE_PIECE_NUMBER()) != ranks->rank())
     return nullptr;
-  return std::unique_ptr<RankGroup>(new RankGroup(c));
+  return ranks;
 }
 
 std::unique_ptr<RankGroup> RankGroup::global()

@@ -55,9 +55,8 @@ struct vtkDDGBuildDesignSpace::Background
   int PlanSize = 0;
   double FiguresShown[6] = { 0, 0, 0, 0, 0, 0 };
   // under MPI, the first rank's design-space input of the pieces last streamed (InputOnRanks:
-  // PlanBuild then StartBuild stream once), and what it was made of
+  // PlanBuild then StartBuild stream once), and what it was made of (with InputTime)
   ddg::DesignSpaceInput RanksInput;
-  vtkMTimeType RanksTime = 0;
   vtkIdType RanksVoxels = 0;
   std::string RanksArray;
 
@@ -175,19 +174,18 @@ ddg::DesignSpaceInput vtkDDGBuildDesignSpace::InputOnRanks(const ddg::RankGroup&
   const std::string arrayName = array && array->GetName() ? array->GetName() : "";
   const vtkMTimeType time = std::max(image->GetMTime(), array ? array->GetMTime() : 0);
   double changed =
-    time != w.RanksTime || arrayName != w.RanksArray || this->DesignVoxels != w.RanksVoxels;
+    time != w.InputTime || arrayName != w.RanksArray || this->DesignVoxels != w.RanksVoxels;
   ranks.allMax(&changed, 1); // every rank streams again when one piece changed
   if (changed > 0)
   {
     w.RanksInput = ddg::DesignSpaceInput();
-    w.RanksTime = 0; // nothing kept until the streaming succeeds
+    w.InputTime = 0; // nothing kept until the streaming succeeds
     const ddg::RankVolume pieces = ddg::RankVolume::gather(ranks, image, array, whole, false);
     w.RanksInput = ddg::designSpaceInputOnRanks(ranks, pieces, this->DesignVoxels);
-    w.RanksTime = time;
+    w.InputTime = time;
     w.RanksArray = arrayName;
     w.RanksVoxels = this->DesignVoxels;
   }
-  w.InputTime = time;
   return w.RanksInput;
 }
 
@@ -249,7 +247,7 @@ void vtkDDGBuildDesignSpace::StartBuild()
   ddg::Volume volume;
   ddg::DesignSpaceInput input;
   ddg::BuildOptions options;
-  std::shared_ptr<ddg::ExemplarWorkers> workers;
+  std::unique_ptr<ddg::ExemplarWorkers> workers;
   try
   {
     options = this->CheckedOptions(ranks.get());
@@ -292,9 +290,10 @@ void vtkDDGBuildDesignSpace::StartBuild()
   try
   {
     w.Thread = std::thread(
-      [&w, volume = std::move(volume), input = std::move(input), options, workers,
-        dir = this->OutputDirectory]() mutable
+      [&w, volume = std::move(volume), input = std::move(input), options,
+        workers = std::move(workers), dir = this->OutputDirectory]() mutable
       {
+        std::string state = "done", error;
         try
         {
           auto progress = [&w](const std::string& stage, double f)
@@ -308,7 +307,6 @@ void vtkDDGBuildDesignSpace::StartBuild()
           const auto r = input.volume.empty()
             ? ddg::buildDesignSpace(volume, "", dir, options, progress)
             : ddg::buildDesignSpace(input, "", dir, options, progress);
-          workers.reset(); // the other ranks' servers end
           std::lock_guard<std::mutex> lock(w.Mutex);
           const double figures[6] = { r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
             r.evaluation.invariance, r.training.seconds,
@@ -317,18 +315,16 @@ void vtkDDGBuildDesignSpace::StartBuild()
         }
         catch (const ddg::Cancelled&)
         {
-          workers.reset();
-          w.finish("cancelled");
-          return;
+          state = "cancelled";
         }
         catch (const std::exception& e)
         {
-          workers.reset();
           // a rank's connection that broke while cancelling is the cancel's
-          w.finish(w.Cancel ? "cancelled" : "failed", w.Cancel ? "" : e.what());
-          return;
+          state = w.Cancel ? "cancelled" : "failed";
+          error = w.Cancel ? "" : e.what();
         }
-        w.finish("done");
+        workers.reset(); // the other ranks' servers end
+        w.finish(state, error);
       });
   }
   catch (const std::exception& e) // no thread (the system's limit): nothing started

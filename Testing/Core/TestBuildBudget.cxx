@@ -8,6 +8,7 @@
 // volume's fingerprint; the downsampled volume assembled from slabs is designSpaceVolume's, bit
 // for bit. No wall-clock assertions (the latency of cancel is measured by
 // Testing/Benchmarks/BenchBuildCancel).
+#include "Common/FileUtil.h"
 #include "Gallery/BuildDesignSpace.h"
 
 #include "Design/DesignSpace.h"
@@ -330,11 +331,7 @@ TEST(BuildBudget, WorkersBuildTheSameBundle)
   const BuildReport b = buildDesignSpace(v, "", shared.string(), o);
   EXPECT_GT(b.workerCandidates, 0);
   EXPECT_GE(workers.Messages, 2 * 3); // each: three setups (training, held-out, outline) at least
-  auto text = [](const fs::path& f)
-  {
-    std::ifstream in(f, std::ios::binary);
-    return std::string((std::istreambuf_iterator<char>(in)), {});
-  };
+  auto text = [](const fs::path& f) { return readTextFile(f.string(), "bundle file"); };
   for (const char* f : { "exemplars.json", "latents.bin", "outline.bin" })
   {
     EXPECT_FALSE(text(alone / f).empty()) << f;

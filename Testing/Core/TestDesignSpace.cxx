@@ -2,6 +2,7 @@
 // deterministic generation (alone and with workers rendering shares), datasets that are truncated,
 // corrupt, cancelled or hit a full disk, and the decoder layout (targets round trip; image-loss
 // gradient against finite differences).
+#include "Common/FileUtil.h"
 #include "Design/DecoderLayout.h"
 #include "Design/ExemplarGenerator.h"
 
@@ -214,8 +215,7 @@ namespace
 {
 std::string fileText(const std::string& path)
 {
-  std::ifstream f(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(f)), {});
+  return readTextFile(path, "dataset file");
 }
 } // namespace
 

@@ -20,7 +20,7 @@ import time
 import paraview.simple as simple
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ddgtest import start_pvserver, stop_pvserver  # noqa: E402
+from ddgtest import start_pvserver, stop_pvserver, wait_for_build as wait  # noqa: E402
 
 plugin, testdata, outdir = sys.argv[1:4]
 remote = "--server" in sys.argv[4:]
@@ -33,22 +33,6 @@ simple.LoadPlugin(plugin, remote=remote)
 
 def info(proxy, name):
     return proxy.GetPropertyValue(name)
-
-
-def wait(proxy, until=lambda p: info(p, "BuildState") != "running", polls=6000):
-    """Polls the build every 0.1 s (at most `polls` times) until `until`; returns the stages
-    and fractions seen."""
-    stages, fractions = [], []
-    for _ in range(polls):
-        proxy.UpdatePropertyInformation()
-        stage = info(proxy, "BuildStage")
-        if stage and (not stages or stages[-1] != stage):
-            stages.append(stage)
-        fractions.append(info(proxy, "BuildProgress"))
-        if until(proxy):
-            return stages, fractions
-        time.sleep(0.1)
-    raise RuntimeError("the build did not end")
 
 
 def new_build(volume, directory, **props):

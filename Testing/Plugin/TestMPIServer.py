@@ -69,7 +69,7 @@ import paraview.simple as simple
 from vtkmodules.util.numpy_support import vtk_to_numpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from ddgtest import apply_and_render  # noqa: E402
+from ddgtest import apply_and_render, wait_for_build  # noqa: E402
 from mpiserver import Server, split_points  # noqa: E402
 
 RECONSTRUCT_TOL = 1e-3
@@ -197,11 +197,7 @@ def run_builds(remote, tooth, out):
             assert build.GetPropertyValue("LastError") == "", build.GetPropertyValue("LastError")
         else:
             build.SMProxy.InvokeCommand("StartBuild")
-            for _ in range(3000):
-                build.UpdatePropertyInformation()
-                if build.GetPropertyValue("BuildState") != "running":
-                    break
-                time.sleep(0.1)
+            wait_for_build(build, polls=3000)
             state = build.GetPropertyValue("BuildState")
             assert state == "done", (state, build.GetPropertyValue("BuildError"))
         seconds[name] = time.time() - start

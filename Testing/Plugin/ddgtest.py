@@ -1,6 +1,7 @@
 """Helpers shared by the plugin's pvpython tests."""
 import json
 import os
+import time
 
 from paraview import servermanager
 import paraview.simple as simple
@@ -99,3 +100,21 @@ def stop_pvserver(server):
             print(rest)
             raise SystemExit("pvserver crashed")
         print("pvserver exit status", server.returncode)
+
+
+def wait_for_build(proxy, until=None, polls=6000):
+    """Polls a DDG Build Design Space proxy every 0.1 s (at most `polls` times) until `until(proxy)`
+    (default: its BuildState is no longer "running"); returns the stages and fractions seen."""
+    if until is None:
+        until = lambda p: p.GetPropertyValue("BuildState") != "running"  # noqa: E731
+    stages, fractions = [], []
+    for _ in range(polls):
+        proxy.UpdatePropertyInformation()
+        stage = proxy.GetPropertyValue("BuildStage")
+        if stage and (not stages or stages[-1] != stage):
+            stages.append(stage)
+        fractions.append(proxy.GetPropertyValue("BuildProgress"))
+        if until(proxy):
+            return stages, fractions
+        time.sleep(0.1)
+    raise RuntimeError("the build did not end")
