@@ -266,7 +266,7 @@ int CandidateRenderer::exemplars(std::uint64_t first, int count, bool screening,
     });
 }
 
-int CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
+void CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
   ExemplarWorkers* workers, int threads, Image* images) const
 {
   const int processes = sendShares(workers, "outline", first, count, screening);
@@ -277,7 +277,7 @@ int CandidateRenderer::outline(std::uint64_t first, int count, bool screening,
         images[q] = Image();
     });
   const size_t bytes = static_cast<size_t>(Size) * Size * 3 * sizeof(float);
-  return readShares(workers, "outline", first, count, screening, processes,
+  readShares(workers, "outline", first, count, screening, processes,
     [&](Reader& r, int q)
     {
       images[q] = Image();

@@ -78,12 +78,12 @@ public:
   /// `threads` threads, `each(q, threadId)` after each of its candidates; it may throw, e.g.
   /// Cancelled) and by `workers` (may be null), into the arrays at q = index - first:
   /// exemplars (records, drawn, verdicts), or outline images (images; junk: an empty image).
-  /// Returns the candidates the workers rendered.
+  /// exemplars() returns the candidates the workers rendered.
   int exemplars(std::uint64_t first, int count, bool screening, ExemplarWorkers* workers,
     int threads, std::uint8_t* records, Exemplar* drawn, DesignVerdict* verdicts,
     const std::function<void(std::int64_t q, int threadId)>& each) const;
-  int outline(std::uint64_t first, int count, bool screening, ExemplarWorkers* workers, int threads,
-    Image* images) const;
+  void outline(std::uint64_t first, int count, bool screening, ExemplarWorkers* workers,
+    int threads, Image* images) const;
 
   /// A worker's answer to a message ("exemplars FIRST COUNT SCREENING" or "outline ...").
   std::string answer(const std::string& request, int threads) const;

@@ -331,11 +331,12 @@ TEST(BuildBudget, WorkersBuildTheSameBundle)
   const BuildReport b = buildDesignSpace(v, "", shared.string(), o);
   EXPECT_GT(b.workerCandidates, 0);
   EXPECT_GE(workers.Messages, 2 * 3); // each: three setups (training, held-out, outline) at least
-  auto text = [](const fs::path& f) { return readTextFile(f.string(), "bundle file"); };
   for (const char* f : { "exemplars.json", "latents.bin", "outline.bin" })
   {
-    EXPECT_FALSE(text(alone / f).empty()) << f;
-    EXPECT_EQ(text(alone / f), text(shared / f)) << f << " differs with workers";
+    const std::string own = readTextFile((alone / f).string(), "bundle file");
+    EXPECT_FALSE(own.empty()) << f;
+    EXPECT_EQ(own, readTextFile((shared / f).string(), "bundle file"))
+      << f << " differs with workers";
   }
   EXPECT_DOUBLE_EQ(a.evaluation.psnr, b.evaluation.psnr);
 }
