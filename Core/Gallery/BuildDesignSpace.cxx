@@ -24,10 +24,10 @@ std::string metricsToJson(const EvaluationReport& e, const TrainReport* t, std::
   std::snprintf(buf, sizeof(buf),
     "{\"heldout_count\": %d, \"psnr\": %.4f, \"ssim\": %.5f, \"emd\": %.5f, \"invariance\": %.4f, "
     "\"analyzer_ms\": %.3f, \"renderer_ms\": %.3f, \"parameters\": %lld, \"train_iterations\": %d, "
-    "\"train_seconds\": %.1f, \"train_exemplars_per_second\": %.2f}",
+    "\"train_seconds\": %.1f, \"train_exemplars_per_second\": %.2f, \"image_rays\": %d}",
     e.count, e.psnr, e.ssim, e.emd, e.invariance, e.analyzerMs, e.rendererMs,
     static_cast<long long>(parameters), t ? t->iterations : 0, t ? t->seconds : 0.0,
-    t ? t->exemplarsPerSecond : 0.0);
+    t ? t->exemplarsPerSecond : 0.0, t ? t->imageRays : 0);
   return buf;
 }
 
@@ -217,6 +217,9 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   t.maxIterations = o.iterations;
   t.cosineSchedule = true; // over the iterations when given, else over the time budget
   t.imageWeight = 100;
+  // bounded by minutes, its steps go where they buy most (Documentation/DesignSpaces.md);
+  // with a fixed iteration count it repeats to the byte
+  t.adaptiveRays = o.iterations == 0;
   t.otherViewFraction = o.otherViewFraction;
   t.seed = o.seed;
   t.threads = o.threads;

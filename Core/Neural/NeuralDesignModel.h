@@ -53,6 +53,12 @@ struct TrainOptions
   /// analyzer). 0 = TF-parameter regression only. Needs attachVolume() first [0].
   double imageWeight = 0;
   int imageRays = 512; ///< [512]
+  /// With the image loss: time the image loss and the rest of the step over the first steps of
+  /// this call (kAdaptiveRaysFrom to kAdaptiveRaysTo), then cast adaptiveImageRays(imageRays,
+  /// ...) rays per exemplar, so that a training bounded by minutes spends no more on the image
+  /// loss than on the rest of a step (TrainReport::imageRays says how many). It depends on the
+  /// machine's timing: leave it off where a training must repeat to the byte [false].
+  bool adaptiveRays = false;
   /// Share of the analyzer's images that are the exemplar at its other view: the ground truth at
   /// V_view composed over black or white (drawn with it), instead of the image at V_exp. Both
   /// views are drawn alike, so this doubles the pictures of a design the analyzer learns from
@@ -88,7 +94,16 @@ struct TrainReport
   double seconds = 0;
   double exemplarsPerSecond = 0;
   bool cancelled = false;
+  int imageRays = 0; ///< image-loss rays per exemplar at the end (0: no image loss)
 };
+
+/// The steps of a train() call timed by TrainOptions::adaptiveRays: [from, to) after its start.
+constexpr int kAdaptiveRaysFrom = 5, kAdaptiveRaysTo = 25;
+
+/// The image-loss rays of a training with TrainOptions::adaptiveRays, from the seconds its
+/// timed steps spent in the image loss and on the rest: maxRays x min(1, rest / image), rounded
+/// to maxRays over the nearest power of two (in log), and at least maxRays / 4 (and 1).
+int adaptiveImageRays(int maxRays, double imageSeconds, double restSeconds);
 
 /// Image-quality figures of a model on held-out exemplars (neural render vs. ground truth,
 /// both over a mid-grey background, 8 bit) and of its analyzer's viewpoint invariance.

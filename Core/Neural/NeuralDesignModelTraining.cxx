@@ -31,7 +31,8 @@ using Clock = std::chrono::steady_clock;
 struct StepLosses
 {
   torch::Tensor lossG, lossD, l1;
-  double image = 0; ///< decoder: mean image L1 through the ray caster
+  double image = 0;        ///< decoder: mean image L1 through the ray caster
+  double imageSeconds = 0; ///< ... and the seconds it took
 };
 
 // What differs between the model kinds: the data a step needs, the modules and optimizers
@@ -57,6 +58,9 @@ public:
   /// analyzer input is x (N x 3 x S x S in [-1, 1]).
   virtual StepLosses step(const std::vector<std::int64_t>& idx, const torch::Tensor& sel,
     const torch::Tensor& x, int iteration) = 0;
+  /// Image-loss rays per exemplar (0: no image loss), and setting them from the next step.
+  virtual int imageRays() const { return 0; }
+  virtual void setImageRays(int) {}
 };
 
 // Adam as the paper trains with it (beta1 0.5, beta2 0.999).
@@ -184,8 +188,12 @@ public:
       throw Error("the training data belongs to another volume than the attached one");
     In.Fingerprint = data.fingerprint();
     ImageLoss = opt.imageWeight > 0;
+    Rays = opt.imageRays;
     Outputs = In.Layout.outputs();
   }
+
+  int imageRays() const override { return ImageLoss ? Rays : 0; }
+  void setImageRays(int rays) override { Rays = rays; }
 
   void prepare(int n, int s) override
   {
@@ -230,7 +238,9 @@ public:
     out.lossG = bce + out.l1;
     if (ImageLoss)
     {
+      const auto t0 = Clock::now();
       out.image = imageLoss(idx, sq, iteration, out.lossG);
+      out.imageSeconds = std::chrono::duration<double>(Clock::now() - t0).count();
     }
     out.lossD = torch::zeros({});
     OptG->zero_grad();
@@ -260,7 +270,7 @@ private:
         const auto i = static_cast<size_t>(idx[static_cast<size_t>(b)]);
         std::mt19937_64 pick(Opt.seed * 0x9E3779B97F4A7C15ull +
           static_cast<std::uint64_t>(iteration) * 4096 + static_cast<std::uint64_t>(b));
-        std::vector<int> pixels(static_cast<size_t>(Opt.imageRays));
+        std::vector<int> pixels(static_cast<size_t>(Rays));
         for (int& p : pixels)
           p = static_cast<int>(pick() % static_cast<std::uint64_t>(s * s));
         losses[static_cast<size_t>(b)] = In.Layout.imageLoss(*In.Diff,
@@ -276,6 +286,7 @@ private:
   const TrainOptions& Opt;
   std::unique_ptr<torch::optim::Adam> OptG;
   bool ImageLoss = false;
+  int Rays = 512; // image-loss rays per exemplar (Opt.imageRays, or adapted)
   int Outputs = 7;
   int Size = 0;
   torch::Tensor Params;            // N x regions x outputs: the exemplars' TF targets
@@ -390,6 +401,7 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   const int startIteration = iteration;
   constexpr auto kReportEvery = std::chrono::milliseconds(250);
   auto lastReport = start;
+  double timedImage = 0, timedStep = 0; // adaptiveRays: the timed steps' seconds
   while (true)
   {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
@@ -418,8 +430,21 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     }
     const auto sel = torch::tensor(idx, torch::kInt64);
     const auto x = analyzerInput(rgb, other, sel, opt, iteration).div(127.5).sub(1.0);
+    const auto stepStart = Clock::now();
     const StepLosses losses = strategy->step(idx, sel, x, iteration);
     ++iteration;
+    if (opt.adaptiveRays && strategy->imageRays() > 0)
+    {
+      const int done = iteration - startIteration; // steps of this call
+      if (done > kAdaptiveRaysFrom && done <= kAdaptiveRaysTo)
+      {
+        timedImage += losses.imageSeconds;
+        timedStep += std::chrono::duration<double>(Clock::now() - stepStart).count();
+      }
+      if (done == kAdaptiveRaysTo)
+        strategy->setImageRays(
+          adaptiveImageRays(opt.imageRays, timedImage, std::max(0.0, timedStep - timedImage)));
+    }
     if (!opt.checkpoint.empty() && iteration % opt.checkpointEvery == 0)
       saveCheckpoint();
     // every 10 iterations, and at least every 0.25 s (cancel stays within ~0.3 s)
@@ -451,12 +476,24 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   if (!opt.checkpoint.empty() && !report.cancelled)
     saveCheckpoint();
   report.iterations = iteration;
+  report.imageRays = strategy->imageRays();
   report.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   report.exemplarsPerSecond =
     (iteration - startIteration) * static_cast<double>(opt.batch) / std::max(1e-9, report.seconds);
   for (auto& m : modules)
     m.second->eval();
   return report;
+}
+
+int adaptiveImageRays(int maxRays, double imageSeconds, double restSeconds)
+{
+  if (maxRays < 1)
+    throw Error("adaptive image-loss rays need at least one ray to start from");
+  const int floor = std::max(1, maxRays / 4);
+  if (!(imageSeconds > 0) || !(restSeconds >= 0) || restSeconds >= imageSeconds)
+    return maxRays;
+  const double halvings = std::round(-std::log2(std::max(restSeconds / imageSeconds, 1e-9)));
+  return std::max(floor, static_cast<int>(maxRays / std::pow(2.0, halvings)));
 }
 
 } // namespace ddg

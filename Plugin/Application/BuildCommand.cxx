@@ -78,13 +78,13 @@ int runBuild(BuildArgs a)
   if (!a.quiet)
     std::printf("planned (%s):\n%s", a.o.budgetMinutes > 0 ? "budget" : "estimate",
       r.plan.describe().c_str());
-  std::printf("built %s in %.1f min: %d exemplars %.0f s, training %d iterations in %.0f s, "
-              "evaluation %.0f s + saving %.0f s, outline %d designs %.0f s; "
+  std::printf("built %s in %.1f min: %d exemplars %.0f s, training %d iterations in %.0f s "
+              "(%d image-loss rays), evaluation %.0f s + saving %.0f s, outline %d designs %.0f s; "
               "held-out %d: PSNR %.2f dB, SSIM %.4f, EMD %.3f, invariance %.3f\n",
     a.out.c_str(), r.totalSeconds / 60, r.plan.count, r.generateSeconds, r.training.iterations,
-    r.training.seconds, r.evaluationSeconds, r.savingSeconds, r.plan.outlineCount, r.outlineSeconds,
-    r.evaluation.count, r.evaluation.psnr, r.evaluation.ssim, r.evaluation.emd,
-    r.evaluation.invariance);
+    r.training.seconds, r.training.imageRays, r.evaluationSeconds, r.savingSeconds,
+    r.plan.outlineCount, r.outlineSeconds, r.evaluation.count, r.evaluation.psnr, r.evaluation.ssim,
+    r.evaluation.emd, r.evaluation.invariance);
   const auto& x = r.exemplars;
   if (a.o.screen)
     std::printf(
@@ -123,8 +123,9 @@ ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
   build->add_option("--minutes", ba->o.minutes, "Training budget (default 5)")
     ->check(CLI::PositiveNumber);
   build
-    ->add_option(
-      "--iterations", ba->o.iterations, "Training iterations (default 0: the budget decides)")
+    ->add_option("--iterations", ba->o.iterations,
+      "Training iterations (default 0: the budget decides; the image loss's rays are then "
+      "adapted to what a step costs, while a fixed count keeps 512 and repeats to the byte)")
     ->check(CLI::NonNegativeNumber);
   build->add_option("--outline", ba->o.outlineCount, "Outline designs (default 10000)")
     ->check(CLI::Range(3, 10000000));

@@ -31,7 +31,7 @@ struct TrainArgs
   double otherView = 0;
   std::uint64_t seed = 1;
   int checkCount = 100;
-  bool resume = false, quiet = false, cosine = false;
+  bool resume = false, quiet = false, cosine = false, adaptiveRays = false;
   std::string volume;
 };
 
@@ -67,6 +67,7 @@ int runTrain(const TrainArgs& a)
   opt.resume = a.resume;
   opt.imageWeight = a.kind == "decoder" ? a.imageWeight : 0.0;
   opt.imageRays = a.imageRays;
+  opt.adaptiveRays = a.adaptiveRays;
   opt.otherViewFraction = a.otherView;
   opt.cosineSchedule = a.cosine;
   // the decoder ray casts its TFs: the volume given, or the one the data was generated from
@@ -98,8 +99,8 @@ int runTrain(const TrainArgs& a)
       }
       return true;
     });
-  std::printf("trained %d iterations in %.1f s (%.1f exemplars/s)\n", report.iterations,
-    report.seconds, report.exemplarsPerSecond);
+  std::printf("trained %d iterations in %.1f s (%.1f exemplars/s, %d image-loss rays)\n",
+    report.iterations, report.seconds, report.exemplarsPerSecond, report.imageRays);
   ddg::EvaluationReport e;
   std::string metrics = ddg::metricsToJson(e, &report, model.parameterCount());
   if (heldout)
@@ -154,6 +155,10 @@ ddg::cli::Command ddg::cli::addTrainCommand(CLI::App& app)
       "Decoder: random pixels per exemplar in the "
       "image loss (default 512)")
     ->check(CLI::Range(1, 1 << 20));
+  train->add_flag("--adaptive-rays", ta->adaptiveRays,
+    "Decoder: time the image loss and the rest of a step over steps 6-25, then cast --image-rays "
+    "x min(1, rest / image) rays (to a power of two, at least a quarter), as ddg build does "
+    "when bounded by minutes: the image loss costs no more than the rest of a step");
   train
     ->add_option("--other-view", ta->otherView,
       "Share of the analyzer's images taken from each exemplar's other view (its ground truth "

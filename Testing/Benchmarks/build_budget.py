@@ -56,6 +56,7 @@ def run_one(args, volume, budget):
             "heldout": metrics["heldout_count"],
             "train_minutes": round(metrics["train_seconds"] / 60, 2),
             "train_iterations": metrics["train_iterations"],
+            "image_rays": metrics.get("image_rays", 512),  # bundles before it was recorded: 512
         }
     )
     sheet = os.path.join(args.out, f"outline_{volume}.png") if budget == args.sheet_budget else ""
@@ -95,8 +96,8 @@ def run_one(args, volume, budget):
 def render(out_dir, results):
     rows = sorted(results, key=lambda e: (e["volume"], e["budget_minutes"]))
     lines = [
-        "| volume | budget (min) | build (min) | training (min) | held-out PSNR (dB) | SSIM | "
-        "outline: empty + flat box of checked | boundary faces hazy |",
+        "| volume | budget (min) | build (min) | training (min), iterations, image-loss rays | "
+        "held-out PSNR (dB) | SSIM | outline: empty + flat box of checked | boundary faces hazy |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for e in rows:
@@ -109,7 +110,8 @@ def render(out_dir, results):
         junk = e.get("outline_empty", 0) + e.get("outline_flat_box", 0)
         lines.append(
             f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']:.1f} | "
-            f"{e['train_minutes']:.1f} | {e['psnr']:.2f} | {e['ssim']:.3f} | "
+            f"{e['train_minutes']:.1f}, {e.get('train_iterations', '—')}, {e.get('image_rays', 512)} | "
+            f"{e['psnr']:.2f} | {e['ssim']:.3f} | "
             f"{junk} of {e.get('outline_checked', 0)} ({e.get('outline_empty', 0)} empty, "
             f"{e.get('outline_flat_box', 0)} flat box) | {e.get('outline_hazy_faces', 0)} |"
         )

@@ -321,3 +321,36 @@ TEST(NeuralModel, FullDiskKeepsThePreviousCheckpointAndNoHalfBundle)
   NeuralDesignModel again(tiny(), 4);
   EXPECT_EQ(again.train(dataset(), t).iterations, 4);
 }
+
+TEST(NeuralModel, AdaptiveImageRaysFollowWhatAStepCosts)
+{
+  // maxRays x min(1, rest / image), to maxRays over a power of two, at least a quarter
+  EXPECT_EQ(adaptiveImageRays(512, 1.0, 2.0), 512); // the image loss is the cheaper part
+  EXPECT_EQ(adaptiveImageRays(512, 1.0, 1.0), 512);
+  EXPECT_EQ(adaptiveImageRays(512, 1.3, 1.0), 512); // 0.77: nearest is 2^0
+  EXPECT_EQ(adaptiveImageRays(512, 2.0, 1.0), 256);
+  EXPECT_EQ(adaptiveImageRays(512, 62.0, 21.0), 128); // the chest (Documentation/DesignSpaces.md)
+  EXPECT_EQ(adaptiveImageRays(512, 100.0, 1.0), 128); // never under a quarter
+  EXPECT_EQ(adaptiveImageRays(512, 0.0, 1.0), 512);   // nothing timed: unchanged
+  EXPECT_EQ(adaptiveImageRays(2, 100.0, 1.0), 1);
+  EXPECT_THROW(adaptiveImageRays(0, 1.0, 1.0), Error);
+
+  NetworkConfig c = tiny();
+  c.kind = "decoder";
+  c.regions = static_cast<int>(dataset().regions().size());
+  auto rays = [&](int iterations, double weight, bool adaptive)
+  {
+    NeuralDesignModel m(c, 3);
+    m.attachVolume(blobs());
+    TrainOptions t = quick(iterations);
+    t.imageWeight = weight;
+    t.imageRays = 64;
+    t.adaptiveRays = adaptive;
+    return m.train(dataset(), t).imageRays;
+  };
+  EXPECT_EQ(rays(kAdaptiveRaysTo + 5, 0.0, true), 0); // no image loss
+  EXPECT_EQ(rays(kAdaptiveRaysTo + 5, 100.0, false), 64);
+  EXPECT_EQ(rays(kAdaptiveRaysTo - 1, 100.0, true), 64); // stopped before the timed steps ended
+  const int adapted = rays(kAdaptiveRaysTo + 5, 100.0, true);
+  EXPECT_TRUE(adapted == 64 || adapted == 32 || adapted == 16) << adapted;
+}
