@@ -286,7 +286,7 @@ private:
   const TrainOptions& Opt;
   std::unique_ptr<torch::optim::Adam> OptG;
   bool ImageLoss = false;
-  int Rays = 512; // image-loss rays per exemplar (Opt.imageRays, or adapted)
+  int Rays = 0; // image-loss rays per exemplar (Opt.imageRays, or adapted)
   int Outputs = 7;
   int Size = 0;
   torch::Tensor Params;            // N x regions x outputs: the exemplars' TF targets
@@ -402,6 +402,7 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   constexpr auto kReportEvery = std::chrono::milliseconds(250);
   auto lastReport = start;
   double timedImage = 0, timedStep = 0; // adaptiveRays: the timed steps' seconds
+  const bool adaptRays = opt.adaptiveRays && strategy->imageRays() > 0;
   while (true)
   {
     const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
@@ -433,7 +434,7 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     const auto stepStart = Clock::now();
     const StepLosses losses = strategy->step(idx, sel, x, iteration);
     ++iteration;
-    if (opt.adaptiveRays && strategy->imageRays() > 0)
+    if (adaptRays)
     {
       const int done = iteration - startIteration; // steps of this call
       if (done > kAdaptiveRaysFrom && done <= kAdaptiveRaysTo)

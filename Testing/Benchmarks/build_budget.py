@@ -56,7 +56,7 @@ def run_one(args, volume, budget):
             "heldout": metrics["heldout_count"],
             "train_minutes": round(metrics["train_seconds"] / 60, 2),
             "train_iterations": metrics["train_iterations"],
-            "image_rays": metrics.get("image_rays", 512),  # bundles before it was recorded: 512
+            "image_rays": metrics["image_rays"],
         }
     )
     sheet = os.path.join(args.out, f"outline_{volume}.png") if budget == args.sheet_budget else ""
