@@ -75,22 +75,17 @@ def query(ddg, bundle, volume, image):
     return s1, d1
 
 
+def record(folder, case, shows, name, **figures):
+    """One picture checked against one design space or volume (`name`)."""
+    return dict(set=folder, case=case, picture=shows, bundle=name, same=shows == name, **figures)
+
+
 def run_queries(args, bundles, spacing, folders, own_only):
     rows = []
     for folder, case, shows, image in pictures(folders):
         for name in [shows] if own_only else list(bundles):
             s1, d1 = query(args.ddg, bundles[name], name, image)
-            rows.append(
-                dict(
-                    set=folder,
-                    case=case,
-                    picture=shows,
-                    bundle=name,
-                    same=shows == name,
-                    s1=s1,
-                    s2=d1 / spacing[name],
-                )
-            )
+            rows.append(record(folder, case, shows, name, s1=s1, s2=d1 / spacing[name]))
             print(
                 "query %-14s %-7s -> %-7s S1 %6.2f dB  S2 %5.2f"
                 % (case, shows, name, s1, rows[-1]["s2"]),
@@ -123,17 +118,10 @@ def run_matches(args, volumes, folders):
             if proc.returncode != 0 and not refused:
                 raise SystemExit("%s failed: %s" % (" ".join(cmd), proc.stderr[-400:]))
             found = re.search(r"differs from it by ([0-9.]+) dB", proc.stderr)
+            seconds = round(time.time() - start, 1)
+            best_db = float(found.group(1)) if found else None
             rows.append(
-                dict(
-                    set=folder,
-                    case=case,
-                    picture=shows,
-                    volume=name,
-                    same=shows == name,
-                    refused=refused,
-                    seconds=round(time.time() - start, 1),
-                    best_db=float(found.group(1)) if found else None,
-                )
+                record(folder, case, shows, name, refused=refused, seconds=seconds, best_db=best_db)
             )
             print(
                 "match %-14s %-7s -> %-7s %s"
