@@ -21,6 +21,7 @@
 #include <numeric>
 #include <random>
 #include <sstream>
+#include <tuple>
 
 namespace ddg
 {
@@ -527,10 +528,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
         o.initial1D = init;
       auto r =
         reconstructTransferFunction(renderer, { makeTarget(c.view(start), workImage, W, H) }, o);
-      const size_t tail = std::min<size_t>(10, r.loss.size());
-      double loss = 0;
-      for (size_t k = r.loss.size() - tail; k < r.loss.size(); ++k)
-        loss += r.loss[k] / static_cast<double>(tail);
+      const double loss = tailLoss(r);
       return std::make_pair(std::move(r), loss);
     };
     // the image loss of a TF at a camera (the reconstruction's: L1 over the compared pixels,
@@ -641,24 +639,54 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     // quarter of a percent in distance and pan)
     {
       ReconstructionOptions o = sopt;
-      o.initial1D = winner->tf.table1D;
       o.iterations = o.patience = 120;
       o.raysPerIteration = 1024;
       o.bins = opt.reconstruction.bins;
       o.render.sampleDistance = opt.reconstruction.render.sampleDistance;
-      for (int round = 0; round < 3; ++round)
+      auto fitAt = [&](const CameraParams& c, const ReconstructionOptions& how)
       {
-        winner->tf = reconstructTransferFunction(
-          renderer, { makeTarget(best.view(start), workImage, W, H) }, o);
-        const CameraParams before = best;
-        best = refine(winner->tf, best, 150, o.render); // fine rims need full sampling
-        o.initial1D = winner->tf.table1D;
-        o.iterations = o.patience = 60; // warm: a shorter refit
-        // again while the camera still moves (a better TF places it better, and back)
-        if (orientationDistance(before.view(start), best.view(start)) < 0.25 &&
-          std::abs(before.logZoom - best.logZoom) < 0.0025 &&
-          std::hypot(before.panX - best.panX, before.panY - best.panY) < 0.0025)
-          break;
+        return reconstructTransferFunction(
+          renderer, { makeTarget(c.view(start), workImage, W, H) }, how);
+      };
+      // up to `rounds` of a fit (the first of `steps`) and the camera refined with it
+      auto polish = [&](CameraParams c, const TransferTable1D& init, int rounds, int steps)
+      {
+        ReconstructionOptions p = o;
+        p.initial1D = init;
+        p.iterations = p.patience = steps;
+        ReconstructionResult tf;
+        for (int round = 0; round < rounds; ++round)
+        {
+          tf = fitAt(c, p);
+          const CameraParams before = c;
+          c = refine(tf, c, 150, p.render); // fine rims need full sampling
+          p.initial1D = tf.table1D;
+          p.iterations = p.patience = 60; // warm: a shorter refit
+          // again while the camera still moves (a better TF places it better, and back)
+          if (orientationDistance(before.view(start), c.view(start)) < 0.25 &&
+            std::abs(before.logZoom - c.logZoom) < 0.0025 &&
+            std::hypot(before.panX - c.panX, before.panY - c.panY) < 0.0025)
+            break;
+        }
+        return std::make_pair(c, std::move(tf));
+      };
+      std::tie(best, winner->tf) = polish(best, winner->tf.table1D, 3, 120);
+      // the other projection (an unknown camera): the winner's twin in parallel projection,
+      // framed alike at the focal point, its camera refined once with a warm refit; then both
+      // refitted from the winner's TF with the same steps, the twin polished and kept when its
+      // loss is lower (else the winner stays as polished). ParaView draws either; silhouettes
+      // hardly tell them apart, a settled camera's colours do
+      if (!opt.view)
+      {
+        CameraParams twin = best;
+        twin.parallel = true;
+        twin.logZoom += std::log(std::cos(start.camera.viewAngle * M_PI / 360.0));
+        twin = polish(twin, winner->tf.table1D, 1, 60).first;
+        ReconstructionOptions p = o;
+        p.initial1D = winner->tf.table1D;
+        p.iterations = p.patience = 60;
+        if (auto b = fitAt(twin, p); tailLoss(b) < tailLoss(fitAt(best, p)))
+          std::tie(best, winner->tf) = polish(twin, b.table1D, 3, 60); // settled as the winner
       }
     }
     // the overlap: at the level whose silhouette fits best (a colours' camera kept its seed's)

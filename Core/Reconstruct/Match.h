@@ -1,10 +1,10 @@
 // Match.h: a transfer function and a camera from a picture as users have it — a screenshot of
 // ParaView's GUI, a figure — whose camera, framing and background nobody wrote down. The
 // background is estimated (uniform or ParaView's vertical gradient), overlays (orientation
-// axes, scalar bar, text) are masked out, the camera (azimuth, elevation, roll, distance, pan)
-// is estimated from ParaView's reset camera by silhouettes and by the picture's colours (an
-// emission model of each camera's rays), and the differentiable reconstruction then fits the TF
-// with empty space kept transparent.
+// axes, scalar bar, text) are masked out, the camera (azimuth, elevation, roll, distance, pan,
+// and perspective or parallel projection) is estimated from ParaView's reset camera by
+// silhouettes and by the picture's colours (an emission model of each camera's rays), and the
+// differentiable reconstruction then fits the TF with empty space kept transparent.
 #pragma once
 
 #include "Image/Image.h"
@@ -154,8 +154,10 @@ struct MatchResult
   /// design) at the found camera: the "before" [0 when no initial TF was given].
   double initialPSNR = 0;
   std::array<double, 3> orbit{ 0, 0, 0 }; ///< azimuth, elevation, roll from the reset camera (deg)
-  double zoom = 1;                        ///< distance factor from the reset camera
-  std::array<double, 2> pan{ 0, 0 };      ///< pan right, up, in view heights at the focal point
+  /// distance factor from the reset camera (view.camera.parallelProjection: its parallel scale
+  /// divided by zoom)
+  double zoom = 1;
+  std::array<double, 2> pan{ 0, 0 }; ///< pan right, up, in view heights at the focal point
   /// Seconds per stage: background and masks, camera search, the final fit, and in all (lighting
   /// estimated: summed over every lighting matched).
   double backgroundSeconds = 0, cameraSeconds = 0, fitSeconds = 0, seconds = 0;
@@ -192,8 +194,8 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& pi
 
 /// The view `base` (ParaView's reset camera, say) moved as a user does: orbit about the focal
 /// point (azimuth about base's view up, then elevation), roll about the view direction (degrees,
-/// as vtkCamera::Roll), dolly by `zoom` (distance / zoom), then pan by (right, up) view heights
-/// at the focal point (focal point and position move together).
+/// as vtkCamera::Roll), dolly by `zoom` (distance / zoom; the parallel scale / zoom too), then
+/// pan by (right, up) view heights at the focal point (focal point and position move together).
 View cameraMove(const View& base, double azimuth, double elevation, double roll, double zoom,
   std::array<double, 2> pan);
 

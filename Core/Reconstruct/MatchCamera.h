@@ -30,11 +30,15 @@ struct CameraParams
   double score = 0;
   double colour = -1;       ///< the emission model's residual, once computed
   bool fromColours = false; ///< found by the colours' screening (not by silhouettes)
+  /// Parallel projection, at the base's parallel scale (the reset camera's: the bounding
+  /// sphere's radius); false: the base's projection.
+  bool parallel = false;
 
   View view(const View& base) const
   {
-    return cameraMove(
-      base, az, std::clamp(el, -89.0, 89.0), roll, std::exp(logZoom), { panX, panY });
+    View b = base;
+    b.camera.parallelProjection = b.camera.parallelProjection || parallel;
+    return cameraMove(b, az, std::clamp(el, -89.0, 89.0), roll, std::exp(logZoom), { panX, panY });
   }
 };
 

@@ -58,8 +58,13 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& pi
   std::optional<MatchResult> best;
   double second = -std::numeric_limits<double>::infinity();
   double stage[4] = { 0, 0, 0, 0 }; // seconds of every lighting's match, summed
+  MatchResult::CameraStages cameraStages;
   auto consider = [&](MatchResult r, const std::string& name)
   {
+    cameraStages.silhouettes += r.cameraStages.silhouettes;
+    cameraStages.colours += r.cameraStages.colours;
+    cameraStages.candidates += r.cameraStages.candidates;
+    cameraStages.polish += r.cameraStages.polish;
     stage[0] += r.backgroundSeconds;
     stage[1] += r.cameraSeconds;
     stage[2] += r.fitSeconds;
@@ -118,6 +123,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& pi
   best->cameraSeconds = stage[1];
   best->fitSeconds = stage[2];
   best->seconds = stage[3];
+  best->cameraStages = cameraStages;
   return *best;
 }
 

@@ -196,6 +196,15 @@ double median(std::vector<double> v)
   return v[k];
 }
 
+double tailLoss(const ReconstructionResult& r)
+{
+  const size_t tail = std::min<size_t>(10, r.loss.size());
+  double loss = 0;
+  for (size_t k = r.loss.size() - tail; k < r.loss.size(); ++k)
+    loss += r.loss[k] / static_cast<double>(tail);
+  return loss;
+}
+
 // --- silhouettes of the volume -------------------------------------------------------------
 
 Moments moments(const Mask& m, const Mask* care)

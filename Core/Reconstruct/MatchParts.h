@@ -61,6 +61,8 @@ Mask fillHoles(const Mask& in);
 /// Connected parts (8-neighbourhood): label per pixel (-1 = unset) and areas.
 std::vector<int> components(const Mask& mask, std::vector<int>& area);
 double median(std::vector<double> v);
+/// A fit's final loss: the mean of its last 10 steps' losses.
+double tailLoss(const ReconstructionResult& r);
 
 // Area, centroid and principal axis of a mask's set pixels (where care is set).
 struct Moments

@@ -195,9 +195,10 @@ int runMatch(const ReconstructArgs& a)
   if (m.cameraEstimated)
   {
     std::printf("camera: azimuth %.1f, elevation %.1f, roll %.1f, zoom %.3f, pan %+.3f %+.3f "
-                "(from %s); silhouette overlap %.3f\n",
+                "(from %s), %s projection; silhouette overlap %.3f\n",
       m.orbit[0], m.orbit[1], m.orbit[2], m.zoom, m.pan[0], m.pan[1],
-      a.views.empty() ? "ParaView's reset camera" : "the given view", m.overlap);
+      a.views.empty() ? "ParaView's reset camera" : "the given view",
+      m.view.camera.parallelProjection ? "parallel" : "perspective", m.overlap);
   }
   else
   {
@@ -210,10 +211,13 @@ int runMatch(const ReconstructArgs& a)
   }
   std::printf("overlays masked: %.2f %% of the picture\n",
     100.0 * overlay / static_cast<double>(m.masks.overlay.pixels.size()));
-  std::printf("%s after %d steps; fit PSNR %.2f dB; %.2f s (background %.2f, camera %.2f, fit "
-              "%.2f; load %.0f ms); wrote %s\n",
+  const auto& cs = m.cameraStages;
+  std::printf("%s after %d steps; fit PSNR %.2f dB; %.2f s (background %.2f, camera %.2f "
+              "[silhouettes %.2f, colours %.2f, candidates %.2f, polish %.2f], fit %.2f; load "
+              "%.0f ms); wrote %s\n",
     m.tf.converged ? "converged" : "did NOT converge (iteration limit)", m.tf.iterations, m.fitPSNR,
-    m.seconds, m.backgroundSeconds, m.cameraSeconds, m.fitSeconds, tLoad, a.out.c_str());
+    m.seconds, m.backgroundSeconds, m.cameraSeconds, cs.silhouettes, cs.colours, cs.candidates,
+    cs.polish, m.fitSeconds, tLoad, a.out.c_str());
   if (!a.outImage.empty())
   {
     const ddg::Image render = ddg::renderResult(renderer.caster(), m.tf, m.view, {});

@@ -117,6 +117,7 @@ void pqDDGDesignGalleryDock::showMatch()
     return;
   }
   const QJsonObject lighting = m.View.value("lighting").toObject();
+  const bool parallel = m.View.value("camera").toObject().value("parallel_projection").toBool();
   const QString lit = !lighting.value("shade").toBool() ? tr("unlit")
     : lighting.value("specular").toDouble() > 0
     ? tr("Shade on, Specular %1").arg(lighting.value("specular").toDouble(), 0, 'f', 1)
@@ -131,7 +132,8 @@ void pqDDGDesignGalleryDock::showMatch()
       .arg(m.PSNRAfter, 0, 'f', 1)
       .arg(m.FitPSNR, 0, 'f', 1)
       .arg(m.Iterations)
-      .arg(m.CameraEstimated ? tr("estimated") : tr("given (the current one)"))
+      .arg((m.CameraEstimated ? tr("estimated") : tr("given (the current one)")) +
+        (parallel ? tr(", parallel projection") : QString()))
       .arg(m.Overlap, 0, 'f', 2)
       .arg(t(0), 0, 'f', 1)
       .arg(t(1), 0, 'f', 1)
@@ -209,6 +211,7 @@ void pqDDGDesignGalleryDock::applyMatch()
   if (view)
     view->render();
   const bool shade = m.View.value("lighting").toObject().value("shade").toBool();
+  const bool parallel = m.View.value("camera").toObject().value("parallel_projection").toBool();
   if (m.Carried)
   {
     this->setStatus(tr("Applied the look carried over from another volume's picture to '%1'%2; "
@@ -220,5 +223,8 @@ void pqDDGDesignGalleryDock::applyMatch()
     tr("Applied the match to '%1'%2%3; Shade %4 as in the picture (Edit > Undo "
        "takes it back).")
       .arg(this->Source->getSMName(), note,
-        moveCamera ? tr(" with the picture's camera") : QString(), shade ? tr("on") : tr("off")));
+        moveCamera ? (parallel ? tr(" with the picture's camera (parallel projection)")
+                               : tr(" with the picture's camera"))
+                   : QString(),
+        shade ? tr("on") : tr("off")));
 }

@@ -112,7 +112,9 @@ class Match:
             and of the found TF, overlay pixels left out.
         background: ((r, g, b) bottom, (r, g, b) top) in [0, 1]; gradient: True for a gradient.
         orbit: (azimuth, elevation, roll) in degrees from ParaView's reset camera; zoom: the
-            distance factor; pan: (right, up) in view heights.
+            distance factor (and the parallel scale's divisor); pan: (right, up) in view
+            heights. The projection, perspective or parallel (estimated when the camera is),
+            is the view's ``camera["parallel_projection"]``.
         timings: seconds per stage, dict with "background", "camera", "fit", "total".
         crop: (x, y, width, height), the part of the picture matched (inside a letterbox; the
             whole picture otherwise): ``view``, ``image`` and the masks are its size.

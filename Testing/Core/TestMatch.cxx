@@ -258,6 +258,7 @@ TEST(Match, PiecesMatchAsTheWholeVolume)
       return true;
     });
   EXPECT_GT(previews, 0);
+  EXPECT_FALSE(whole.view.camera.parallelProjection); // drawn in perspective: not matched parallel
   for (int n : { 2, 3 })
   {
     std::vector<MatchResult> each(static_cast<size_t>(n));

@@ -2,7 +2,8 @@
 // it (the palette's background, a rolled, panned and zoomed camera nobody wrote down, a corner
 // overlay) gives back the camera and a TF that renders like the true TF at other views, over
 // black and over white (no haze); with the camera given, an arrow drawn over the tooth is masked
-// as an outlier and the same holds. A translucent CT head seen from the front, whose silhouette
+// as an outlier and the same holds. A picture in parallel projection is matched in parallel
+// projection. A translucent CT head seen from the front, whose silhouette
 // is alike from most directions, is oriented by its colours.
 #include "DDGVolumeAdaptor.h"
 
@@ -113,6 +114,29 @@ TEST(Match, ToothScreenshotAtItsCameraWithAnArrowOverIt)
   const double db = otherViewsPSNR(renderer, c, m.tf);
   std::printf("fit %.2f dB, other views %.2f dB, %.2f s\n", m.fitPSNR, db, m.seconds);
   EXPECT_GE(db, kOtherViewsDb);
+}
+
+TEST(Match, ParallelProjectionSideView)
+{
+  // the tooth from the side in parallel projection (ParaView's Camera Parallel Projection, as the
+  // shipped Screenshots/tooth_cool_warm_side.png): no perspective camera fits the silhouette of
+  // the long root (the search over perspective alone refused that screenshot at 23.9 dB)
+  const std::string data = DDG_DATA_DIR;
+  Case c{ readVolumeFile(data + "/Volumes/tooth.vti"), {}, {}, {} };
+  const RayCaster caster(c.vol);
+  c.table = caster.paraviewTable(readPreset(data + "/TransferFunctions/tooth_cool_warm.json"));
+  View parallel = defaultView(c.vol, 320, 240);
+  parallel.camera.parallelProjection = true;
+  c.truth = cameraMove(parallel, -75, -8, 4, 1.25, { 0.02, 0.01 });
+  c.picture = compositeOverBackground(caster.render(c.table, c.truth), c.truth.background);
+  const DifferentiableRenderer renderer(c.vol);
+  MatchOptions opt;
+  opt.lighting = Lighting{}; // unlit, as drawn (the lighting's estimate has tests of its own)
+  const auto m = matchPicture(renderer, c.picture, opt);
+  EXPECT_TRUE(m.view.camera.parallelProjection);
+  EXPECT_NEAR(
+    m.view.camera.parallelScale, c.truth.camera.parallelScale, 0.02 * c.truth.camera.parallelScale);
+  expectCameraAndLook(renderer, c, m);
 }
 
 TEST(Match, TranslucentHeadOrientedByItsColours)

@@ -49,12 +49,19 @@ def draw_camera(seed):
     }
 
 
-def place_camera(scene, moves):
-    """The scene's camera moved from ParaView's reset camera by draw_camera's moves."""
+def place_camera(scene, moves, parallel=False):
+    """The scene's camera moved from ParaView's reset camera by draw_camera's moves; with
+    ``parallel``, in parallel projection (ParaView's Camera Parallel Projection, its scale the
+    reset camera's), where the zoom is the mouse wheel's: the parallel scale divided by it."""
     cam = scene.orbit(moves["azimuth"], moves["elevation"])
     cam.Roll(moves["roll"])
+    if parallel:
+        scene.view.CameraParallelProjection = 1
     scene.pan(*moves["pan"])
-    cam.Dolly(moves["zoom"])
+    if parallel:
+        cam.Zoom(moves["zoom"])
+    else:
+        cam.Dolly(moves["zoom"])
 
 
 def load_cases(path, names=None):
@@ -81,7 +88,7 @@ def make_case(case, data_dir, out_dir):
     scene = VolumeScene(volume, case["size"], gui_look=True, lighting=case.get("lighting"))
     try:
         scene.apply(preset)
-        place_camera(scene, moves)
+        place_camera(scene, moves, case.get("projection") == "parallel")
         image = os.path.join(case_dir, "screenshot." + case["format"])
         options = {"Quality": JPEG_QUALITY} if case["format"] == "jpg" else {}
         scene.screenshot(image, **options)

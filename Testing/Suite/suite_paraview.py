@@ -119,7 +119,10 @@ class VolumeScene:
         direction = np.array(cam.GetDirectionOfProjection())
         view_up = np.array(cam.GetViewUp())
         side = np.cross(direction, view_up)
-        height = 2.0 * cam.GetDistance() * math.tan(math.radians(cam.GetViewAngle()) / 2.0)
+        if cam.GetParallelProjection():
+            height = 2.0 * cam.GetParallelScale()
+        else:
+            height = 2.0 * cam.GetDistance() * math.tan(math.radians(cam.GetViewAngle()) / 2.0)
         shift = (right * side + up * view_up) * height
         cam.SetFocalPoint(*(np.array(cam.GetFocalPoint()) + shift))
         cam.SetPosition(*(np.array(cam.GetPosition()) + shift))
