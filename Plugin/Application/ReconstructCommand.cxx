@@ -392,7 +392,8 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     ->required();
   reconstruct->add_option("--view", rc->views,
     "View JSON of each target, in the same order. One target: optional — without it the camera "
-    "(azimuth, elevation, roll, distance, pan from ParaView's reset camera) is estimated; with "
+    "(azimuth, elevation, roll, distance, pan from ParaView's reset camera; perspective or "
+    "parallel projection) is estimated; with "
     "it the view's camera is used as is (or searched near it with --estimate-view). Several "
     "targets, or --mask: required, exact");
   reconstruct
