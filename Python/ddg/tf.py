@@ -192,8 +192,8 @@ def match(
     transparent.
 
     ``camera``: None (default) estimates it from ParaView's reset camera (azimuth, elevation,
-    roll, distance, pan; perspective or parallel projection); "current" takes the active render view's camera (the picture was taken
-    from it); a view JSON file path or dict gives it. ``refine_camera`` searches from a given
+    roll, distance, pan; perspective or parallel projection); "current" takes the active render
+    view's camera (the picture was taken from it); a view JSON file path or dict gives it. ``refine_camera`` searches from a given
     camera instead of taking it as is. ``initial``: the TF the fit starts from (a Design, e.g.
     ``query(image)``'s, a preset dict or file; 1D); None: grey. ``iterations``: the final fit's
     maximum steps (default: the filter's, 500; it stops once converged). ``minimum_overlap``:
