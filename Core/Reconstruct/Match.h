@@ -167,6 +167,12 @@ struct MatchResult
   struct CameraStages
   {
     double silhouettes = 0, colours = 0, candidates = 0, polish = 0;
+    CameraStages& operator+=(const CameraStages& o)
+    {
+      silhouettes += o.silhouettes, colours += o.colours, candidates += o.candidates;
+      polish += o.polish;
+      return *this;
+    }
   } cameraStages;
 };
 

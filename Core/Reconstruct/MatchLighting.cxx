@@ -61,10 +61,7 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& pi
   MatchResult::CameraStages cameraStages;
   auto consider = [&](MatchResult r, const std::string& name)
   {
-    cameraStages.silhouettes += r.cameraStages.silhouettes;
-    cameraStages.colours += r.cameraStages.colours;
-    cameraStages.candidates += r.cameraStages.candidates;
-    cameraStages.polish += r.cameraStages.polish;
+    cameraStages += r.cameraStages;
     stage[0] += r.backgroundSeconds;
     stage[1] += r.cameraSeconds;
     stage[2] += r.fitSeconds;

@@ -111,7 +111,7 @@ pqDDGDesignGalleryDock::pqDDGDesignGalleryDock(QWidget* parent)
       }
       if (this->State->thumbnailsOutdated(
             this->State->currentView(pqDDGDesignState::ThumbnailSize)))
-        this->State->refreshOutline();
+        this->State->refreshOutline(false); // the status line keeps its message
     });
   auto watchView = [this, cameraTimer](pqView* view)
   {

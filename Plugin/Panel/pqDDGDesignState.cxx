@@ -166,7 +166,7 @@ bool pqDDGDesignState::ready(bool needDesign)
 
 // --- the outline ---------------------------------------------------------------------------------
 
-void pqDDGDesignState::refreshOutline()
+void pqDDGDesignState::refreshOutline(bool announce)
 {
   const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (!this->ready())
@@ -243,10 +243,11 @@ void pqDDGDesignState::refreshOutline()
     this->Boxes.last() = outline.Box;
   }
   Q_EMIT this->outlineChanged(outline);
-  this->report(tr("%1 designs of '%2'; %3 thumbnails. Click one, or query with a picture.")
-                 .arg(outline.Points.size())
-                 .arg(this->volumeName())
-                 .arg(outline.ThumbnailRows.size()));
+  if (announce)
+    this->report(tr("%1 designs of '%2'; %3 thumbnails. Click one, or query with a picture.")
+                   .arg(outline.Points.size())
+                   .arg(this->volumeName())
+                   .arg(outline.ThumbnailRows.size()));
 }
 
 void pqDDGDesignState::drillIn(const QRectF& box)

@@ -153,8 +153,10 @@ public:
   bool hasVolume();
 
   // --- the outline ---------------------------------------------------------------------------
-  /// Renders the thumbnails of the outline part shown (outlineChanged or a message).
-  void refreshOutline();
+  /// Renders the thumbnails of the outline part shown (outlineChanged or a message). `announce`
+  /// false (thumbnails drawn again for a moved camera): the status line says nothing on success,
+  /// so the last message (e.g. what Apply did) stays.
+  void refreshOutline(bool announce = true);
   void drillIn(const QRectF& box);
   void back();
   void resample();

@@ -182,6 +182,19 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       .arg(d.Preview.width())
       .arg(d.Preview.height()));
   check(state.lastMessage().startsWith("Design ready"), "pick message: " + state.lastMessage());
+  // the thumbnails drawn again for a moved camera (the panel's camera timer): the outline
+  // comes again, the status line keeps its last message (e.g. what Apply did)
+  {
+    const qsizetype said = messages.size();
+    outline = {};
+    state.refreshOutline(false);
+    check(outline.ThumbnailRows.size() == 32 && messages.size() == said &&
+        state.lastMessage().startsWith("Design ready"),
+      QString("quiet refresh: %1 thumbnails, %2 new messages, last '%3'")
+        .arg(outline.ThumbnailRows.size())
+        .arg(messages.size() - said)
+        .arg(state.lastMessage()));
+  }
   state.pin();
 
   // --- a chart is refused: the message says why, the design stays ---

@@ -1,9 +1,12 @@
 """Builds the suite of realistic screenshots (issue 17, item 5) with ParaView itself.
 
-For every case of cases.json (volume, TF, size, format, seed) it writes, under OUT/<case>/:
+For every case of cases.json (volume, TF, size, format, seed; optional: "lighting", a view
+JSON's lighting object, the Volume representation then lit with it; "projection": "parallel",
+ParaView's Camera Parallel Projection) it writes, under OUT/<case>/:
   screenshot.png|jpg  ParaView's File > Save Screenshot with the default GUI look: the default
                       palette's background (0.32, 0.34, 0.43), the orientation axes in the corner,
-                      the Volume representation unlit, the true TF; JPEG at quality 85
+                      the Volume representation unlit (unless the case is lit), the true TF;
+                      JPEG at quality 85
   true_tf.json        the case's preset (a copy of Testing/Suite/TransferFunctions/<tf>.json)
   true_view.json      the true camera as the project's view JSON (size, palette background)
   case.json           volume, image, true TF, true view, size, format, seed, drawn camera
