@@ -48,9 +48,11 @@ def run_one(args, volume, budget):
     if proc.returncode != 0:
         entry["error"] = (proc.stderr or proc.stdout).strip()[-400:]
         return entry
-    metrics = json.load(open(os.path.join(bundle, "bundle.json")))["metrics"]
+    recorded = json.load(open(os.path.join(bundle, "bundle.json")))
+    metrics = recorded["metrics"]
     entry.update(
         {
+            "exemplars": recorded.get("training_exemplars"),
             "psnr": metrics["psnr"],
             "ssim": metrics["ssim"],
             "heldout": metrics["heldout_count"],
@@ -96,21 +98,22 @@ def run_one(args, volume, budget):
 def render(out_dir, results):
     rows = sorted(results, key=lambda e: (e["volume"], e["budget_minutes"]))
     lines = [
-        "| volume | budget (min) | build (min) | training (min), iterations, image-loss rays | "
-        "held-out PSNR (dB) | SSIM | outline: empty + flat box of checked | boundary faces hazy |",
-        "|---|---|---|---|---|---|---|---|",
+        "| volume | budget (min) | build (min) | exemplars | training (min), iterations, "
+        "image-loss rays | held-out PSNR (dB) | SSIM | outline: empty + flat box of checked | "
+        "boundary faces hazy |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for e in rows:
         if "error" in e:
             lines.append(
                 f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']} | "
-                f"failed: {e['error'][:80]} | | | | |"
+                f"failed: {e['error'][:80]} | | | | | |"
             )
             continue
         junk = e.get("outline_empty", 0) + e.get("outline_flat_box", 0)
         lines.append(
             f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']:.1f} | "
-            f"{e['train_minutes']:.1f}, {e.get('train_iterations', '—')}, {e.get('image_rays', 512)} | "
+            f"{e.get('exemplars') or '—'} | {e['train_minutes']:.1f}, {e.get('train_iterations', '—')}, {e.get('image_rays', 512)} | "
             f"{e['psnr']:.2f} | {e['ssim']:.3f} | "
             f"{junk} of {e.get('outline_checked', 0)} ({e.get('outline_empty', 0)} empty, "
             f"{e.get('outline_flat_box', 0)} flat box) | {e.get('outline_hazy_faces', 0)} |"
