@@ -597,8 +597,8 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
       r.level = c.level;
       return r;
     };
-    // every candidate: a short fit; the two best: the camera refined on the picture's colours
-    // with that TF, refitted, and refined once more; the lowest loss wins
+    // every candidate: a short fit; the best ones (below): the camera refined on the picture's
+    // colours with that TF, refitted, and refined once more; the lowest loss wins
     struct Scored
     {
       CameraParams camera;
@@ -614,8 +614,13 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     }
     std::sort(
       fits.begin(), fits.end(), [](const Scored& a, const Scored& b) { return a.loss < b.loss; });
-    // the runner-up is refined too unless the best is clearly better
-    fits.resize(fits.size() > 1 && fits[1].loss < 1.25 * fits[0].loss ? 2 : 1);
+    // refined: every candidate within 10 % of the best short fit, up to 4 (views of a translucent
+    // object fit alike at first), and the runner-up unless the best is 25 % better
+    size_t refined = 1;
+    while (refined < std::min<size_t>(fits.size(), 4) && fits[refined].loss < 1.1 * fits[0].loss)
+      ++refined;
+    fits.resize(
+      std::max<size_t>(refined, fits.size() > 1 && fits[1].loss < 1.25 * fits[0].loss ? 2 : 1));
     for (size_t i = 0; i < fits.size(); ++i)
     {
       // a hop first (MatchCamera.h), judged with the short fit's TF
