@@ -193,12 +193,13 @@ def match(
 
     ``camera``: None (default) estimates it from ParaView's reset camera (azimuth, elevation,
     roll, distance, pan; perspective or parallel projection); "current" takes the active render
-    view's camera (the picture was taken from it); a view JSON file path or dict gives it. ``refine_camera`` searches from a given
-    camera instead of taking it as is. ``initial``: the TF the fit starts from (a Design, e.g.
-    ``query(image)``'s, a preset dict or file; 1D); None: grey. ``iterations``: the final fit's
-    maximum steps (default: the filter's, 500; it stops once converged). ``minimum_overlap``:
-    below this silhouette IoU (default 0.6) no camera explains the picture. ``background``: the
-    picture's background (r, g, b) in [0, 1]; None (default): estimated (uniform or gradient).
+    view's camera (the picture was taken from it); a view JSON file path or dict gives it.
+    ``refine_camera`` searches from a given camera instead of taking it as is. ``initial``: the
+    TF the fit starts from (a Design, e.g. ``query(image)``'s, a preset dict or file; 1D); None:
+    grey. ``iterations``: the final fit's maximum steps (default: the filter's, 500; it stops
+    once converged). ``minimum_overlap``: below this silhouette IoU (default 0.6) no camera
+    explains the picture. ``background``: the picture's background (r, g, b) in [0, 1]; None
+    (default): estimated (uniform or gradient).
 
     Returns a ``Match``: ``.tf`` (preset dict, for ``apply``/``export``), ``.view`` (the
     camera as a view JSON dict, for ``set_camera`` or ``apply(tf, camera=...)``), and the

@@ -113,7 +113,8 @@ def render(out_dir, results):
         junk = e.get("outline_empty", 0) + e.get("outline_flat_box", 0)
         lines.append(
             f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']:.1f} | "
-            f"{e.get('exemplars') or '—'} | {e['train_minutes']:.1f}, {e.get('train_iterations', '—')}, {e.get('image_rays', 512)} | "
+            f"{e.get('exemplars') or '—'} | {e['train_minutes']:.1f}, "
+            f"{e.get('train_iterations', '—')}, {e.get('image_rays', 512)} | "
             f"{e['psnr']:.2f} | {e['ssim']:.3f} | "
             f"{junk} of {e.get('outline_checked', 0)} ({e.get('outline_empty', 0)} empty, "
             f"{e.get('outline_flat_box', 0)} flat box) | {e.get('outline_hazy_faces', 0)} |"
