@@ -184,26 +184,27 @@ struct DifferentiableRendererT<S>::Internals
       });
   }
 
-  // Shade on: the lit colour of sample kk (in steps) of the ray e + kk st, from its table colour
-  // c, clamped to [0, 1] in 1D (ParaView clamps it there, not in 2D); with dLit, also
-  // d(lit)/d(c) per channel (0 where the clamp cuts, or black).
+  // Shade on: the light sums of sample kk (in steps) of the ray e + kk st (Render/Lighting.h);
+  // zeros where no light reaches (a zero gradient), which shade() turns into black.
   template <typename T>
-  void lightColour(const Setup& s, const T* v, GradientStencil::Cell<S>& cell, const S e[3],
-    const S st[3], S kk, const S c[4], double col[3], double* dLit) const
+  void lightSumsAt(const Setup& s, const T* v, GradientStencil::Cell<S>& cell, const S e[3],
+    const S st[3], S kk, S diff[3], S spec[3]) const
   {
     const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
-    S grad[3], diff[3], spec[3], lit[3];
+    S grad[3];
     Stencil.at(v, x, cell, grad);
     if (!sampleLightSums(s.kit, s.frame, grad, x, diff, spec))
-    {
       for (int ch = 0; ch < 3; ++ch)
-      {
-        col[ch] = 0;
-        if (dLit)
-          dLit[ch] = 0;
-      }
-      return;
-    }
+        diff[ch] = spec[ch] = S(0);
+  }
+
+  // The lit colour of a sample from its light sums and table colour c, clamped to [0, 1] in 1D
+  // (ParaView clamps it there, not in 2D); with dLit, also d(lit)/d(c) per channel (0 where the
+  // clamp cuts, or no light reaches).
+  void shade(const Setup& s, const S diff[3], const S spec[3], const S c[4], double col[3],
+    double* dLit) const
+  {
+    S lit[3];
     litColour(s.kit, diff, spec, c, lit);
     for (int ch = 0; ch < 3; ++ch)
     {
@@ -231,8 +232,10 @@ struct DifferentiableRendererT<S>::Internals
       r.alpha = 0;
       r.samples.clear();
     }
-    constexpr int channels = TwoD ? 2 : 1; // stored floats per sample
-    std::atomic<std::int64_t> budget{ 0 };
+    constexpr int channels = TwoD ? 2 : 1; // stored values per sample
+    // and, Shade on, the sample's light sums (diffuse, specular) after them
+    const int stride = channels + (s.lit ? kLightFloats : 0);
+    std::atomic<std::int64_t> budget{ 0 }, lightBudget{ 0 };
     // Per thread, the values of the ray being marched; the record takes the marched part.
     const int threads = resolveThreadCount(opt.threads, static_cast<std::int64_t>((n + 63) / 64));
     std::vector<std::vector<float>> scratch(static_cast<size_t>(threads));
@@ -261,8 +264,8 @@ struct DifferentiableRendererT<S>::Internals
             if constexpr (std::is_same_v<S, float>)
             {
               auto& buffer = scratch[static_cast<size_t>(threadId)];
-              buffer.resize(std::max(
-                buffer.size(), static_cast<size_t>(seg.kLast - seg.kFirst + 1) * channels));
+              buffer.resize(
+                std::max(buffer.size(), static_cast<size_t>(seg.kLast - seg.kFirst + 1) * stride));
               store = buffer.data();
             }
             const S e[3] = { static_cast<S>(seg.e[0]), static_cast<S>(seg.e[1]),
@@ -291,10 +294,10 @@ struct DifferentiableRendererT<S>::Internals
               {
                 for (int l = l0; l < n; ++l)
                 {
-                  store[channels * (k0 + l - seg.kFirst)] = static_cast<float>(value[l]);
+                  store[stride * (k0 + l - seg.kFirst)] = static_cast<float>(value[l]);
                   if constexpr (TwoD)
                   {
-                    store[channels * (k0 + l - seg.kFirst) + 1] = static_cast<float>(gradient[l]);
+                    store[stride * (k0 + l - seg.kFirst) + 1] = static_cast<float>(gradient[l]);
                   }
                 }
               }
@@ -308,8 +311,21 @@ struct DifferentiableRendererT<S>::Internals
                 {
                   double col[3] = { c[0], c[1], c[2] };
                   if (s.lit)
-                    lightColour(s, Values.v, cell, e, st, static_cast<S>(j) + static_cast<S>(k), c,
-                      col, nullptr);
+                  {
+                    S diff[3], spec[3];
+                    lightSumsAt(
+                      s, Values.v, cell, e, st, static_cast<S>(j) + static_cast<S>(k), diff, spec);
+                    if (store)
+                    {
+                      float* light = store + stride * (k - seg.kFirst) + channels;
+                      for (int ch = 0; ch < 3; ++ch)
+                      {
+                        light[ch] = static_cast<float>(diff[ch]);
+                        light[3 + ch] = static_cast<float>(spec[ch]);
+                      }
+                    }
+                    shade(s, diff, spec, c, col, nullptr);
+                  }
                   adjoint::blend(C, A, col, static_cast<double>(c[3]));
                   if (A > static_cast<double>(s.termination))
                   {
@@ -328,10 +344,28 @@ struct DifferentiableRendererT<S>::Internals
             rec.alpha = A;
             if (store)
             {
-              const std::int64_t used = (k - seg.kFirst + 1) * channels;
-              if (budget.fetch_add(used, std::memory_order_relaxed) + used <= kRecordBudget)
+              // Kept while the call's totals stay within their budgets (one for the values, one
+              // for the light sums): the values and light sums, else the values alone (the
+              // backward pass relights), else nothing (it re-interpolates too).
+              const std::int64_t samples = k - seg.kFirst + 1;
+              auto reserve = [&](std::atomic<std::int64_t>& total, std::int64_t used)
               {
-                rec.samples.assign(store, store + used);
+                if (total.fetch_add(used, std::memory_order_relaxed) + used <= kRecordBudget)
+                  return true;
+                total.fetch_sub(used, std::memory_order_relaxed);
+                return false;
+              };
+              const bool values = reserve(budget, samples * channels);
+              if (values && stride > channels && reserve(lightBudget, samples * kLightFloats))
+              {
+                rec.samples.assign(store, store + samples * stride);
+              }
+              else if (values)
+              {
+                rec.samples.resize(static_cast<size_t>(samples * channels));
+                for (std::int64_t i = 0; i < samples; ++i)
+                  for (int ch = 0; ch < channels; ++ch)
+                    rec.samples[static_cast<size_t>(i * channels + ch)] = store[i * stride + ch];
               }
               else
               {
@@ -386,7 +420,8 @@ struct DifferentiableRendererT<S>::Internals
             S* dTable = local[static_cast<size_t>(threadId)].data();
             GradientStencil::Cell<S> litCell; // the ray's last cell (Shade)
             // One sample of the replay, from the last to the first.
-            auto replay = [&](S value, S gradient, std::int64_t k)
+            // light: the sample's light sums kept by the forward pass (Shade on), or null
+            auto replay = [&](S value, S gradient, std::int64_t k, const float* light)
             {
               S c[4];
               typename Classifier<S, TwoD>::Coord coord;
@@ -398,8 +433,19 @@ struct DifferentiableRendererT<S>::Internals
               double col[3] = { c[0], c[1], c[2] };
               double dLit[3] = { 1, 1, 1 }; // d(lit colour) / d(table colour), per channel
               if (s.lit && a > 0)
-                lightColour(
-                  s, Values.v, litCell, e, st, static_cast<S>(j) + static_cast<S>(k), c, col, dLit);
+              {
+                S diff[3], spec[3];
+                if (light)
+                  for (int ch = 0; ch < 3; ++ch)
+                  {
+                    diff[ch] = static_cast<S>(light[ch]);
+                    spec[ch] = static_cast<S>(light[3 + ch]);
+                  }
+                else
+                  lightSumsAt(
+                    s, Values.v, litCell, e, st, static_cast<S>(j) + static_cast<S>(k), diff, spec);
+                shade(s, diff, spec, c, col, dLit);
+              }
               double g_c[3] = { 0, 0, 0 }, g_a = 0;
               adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);
               for (int ch = 0; ch < 3; ++ch)
@@ -412,14 +458,19 @@ struct DifferentiableRendererT<S>::Internals
             const std::int64_t kStop = std::min<std::int64_t>(rec.lastSample, seg.kLast);
             const std::int64_t kFirst = seg.kFirst;
             constexpr int channels = TwoD ? 2 : 1;
-            if (rec.samples.size() == static_cast<size_t>(kStop - kFirst + 1) * channels)
+            // the record holds values and light sums, the values alone, or nothing (forward)
+            const int kept = static_cast<int>(rec.samples.size() /
+              static_cast<size_t>(std::max<std::int64_t>(1, kStop - kFirst + 1)));
+            const int stride = s.lit && kept == channels + kLightFloats ? kept : channels;
+            if (rec.samples.size() == static_cast<size_t>(kStop - kFirst + 1) * stride)
             {
-              // The values the forward pass kept.
+              // The values (and light sums) the forward pass kept.
               const float* v = rec.samples.data(); // from sample kFirst
               for (std::int64_t k = kStop; k >= kFirst; --k)
               {
-                const float* w = v + channels * (k - kFirst);
-                replay(static_cast<S>(w[0]), TwoD ? static_cast<S>(w[channels - 1]) : S(0), k);
+                const float* w = v + stride * (k - kFirst);
+                replay(static_cast<S>(w[0]), TwoD ? static_cast<S>(w[channels - 1]) : S(0), k,
+                  stride > channels ? w + channels : nullptr);
               }
               return;
             }
@@ -439,7 +490,7 @@ struct DifferentiableRendererT<S>::Internals
               for (int l = static_cast<int>(std::min<std::int64_t>(kB - 1, kStop - k0)); l >= l0;
                    --l)
               {
-                replay(value[l], TwoD ? gradient[l] : S(0), k0 + l);
+                replay(value[l], TwoD ? gradient[l] : S(0), k0 + l, nullptr);
               }
             }
           });

@@ -40,14 +40,17 @@ namespace ddg
 /// instead of interpolating the volume again (the interpolation's scattered memory reads are
 /// the largest cost of a pass over sparse random rays). Rays beyond the budget, and the double
 /// renderer, keep constant memory and re-interpolate. Both give the same values bit for bit,
-/// hence the same gradients.
+/// hence the same gradients. Shade on, the record also keeps each sample's light sums (24 more
+/// bytes), so that the backward pass does not light the samples a second time (the per-point
+/// gradients and the light kit cost more than the rest of both passes).
 ///
 /// Shade on (view.lighting.shade): each sample's table colour is lit as RayCaster lights it
 /// (Render/Lighting.h; clamped to [0, 1] with 1D tables, not with 2D ones, as ParaView does);
 /// the lighting depends on the volume's gradient and the camera, not on the table, so the
 /// backward pass scales the colour gradient by Diffuse x the sample's diffuse light sum (0 where
-/// the 1D clamp cuts or no light reaches), recomputed in the replay from the per-point gradients
-/// (GradientStencil, Render/Lighting.h).
+/// the 1D clamp cuts or no light reaches), kept by the forward pass in the record or, where it
+/// kept none, recomputed in the replay from the per-point gradients (GradientStencil,
+/// Render/Lighting.h).
 ///
 /// Tables: `table` is a dense RGBA table of `width` entries over [min, max] in data values, with
 /// UNCORRECTED opacity and ParaView's lookup convention (TransferTable1D). Gradients are with
@@ -74,7 +77,8 @@ struct RayRecord
   std::int32_t firstSample = 0; ///< index of the first (0; a piece's first owned sample)
   double alpha = 0;             ///< final accumulated opacity, in double for the inversion
   /// Interpolated value of samples firstSample .. lastSample (2D: value, gradient magnitude per
-  /// sample), or empty: the backward pass then re-interpolates. Kept by the float renderer only.
+  /// sample; Shade on, then the kLightFloats light sums, kept where the table opacity is not 0),
+  /// or empty: the backward pass then re-interpolates (and relights). Float renderer only.
   std::vector<float> samples;
   /// Pieces: the opacity of the pieces in front of this one on the ray and the composite
   /// (C, A) of those behind it (compositePixels).
@@ -87,6 +91,9 @@ struct VolumeBrick;
 
 /// Most sample values (floats) one forward call keeps in its records (32 MB).
 constexpr std::int64_t kRecordBudget = std::int64_t(1) << 23;
+/// Shade on: floats a record keeps per sample after its value(s): the light sums (diffuse and
+/// specular RGB), which depend on the volume and the camera, not on the table.
+constexpr int kLightFloats = 6;
 
 /// S is float (production) or double (gradient checks).
 template <typename S>

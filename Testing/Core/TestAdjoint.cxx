@@ -500,74 +500,81 @@ TEST(DifferentiableRenderer, FloatForwardMatchesRayCasterShade)
 
 TEST(DifferentiableRenderer, StoredSamplesGiveTheReplaysGradients)
 {
-  // The float renderer's forward pass keeps each sample's interpolated value(s) in the ray
-  // records and the backward pass reads them instead of interpolating again. Compared, 1D and
-  // 2D, early termination on: the gradients from stored values against those from the same
-  // records emptied of them (re-interpolation): equal bit for bit; and the float gradients
-  // against the double renderer's (which always re-interpolates): relative 1e-4 of the largest.
+  // The float renderer's forward pass keeps each sample's interpolated value(s) (and, Shade
+  // on, its light sums) in the ray records and the backward pass reads them instead of
+  // interpolating (and lighting) again. Compared, 1D and 2D, unlit and lit, early termination
+  // on: the gradients from stored values against those from the same records emptied of them
+  // (re-interpolation): equal bit for bit; and the float gradients against the double
+  // renderer's (which always re-interpolates): relative 1e-4 of the largest.
   const Volume vol = testVolume();
   const DifferentiableRenderer renderer(vol);
   const DifferentiableRendererT<double> exact(vol);
-  const View view = testView(vol, 16, 12);
-  RenderOptions opt;
-  opt.threads = 1; // bit for bit: with more, rays land in per-thread sums in varying order
-  const std::vector<double> weights =
-    randomWeights(static_cast<size_t>(view.width) * view.height * 4, 22);
-  const std::vector<float> weightsF(weights.begin(), weights.end());
-  const std::array<double, 2> vr{ vol.range()[0], vol.range()[1] }, gr{ 0.0, 40.0 };
-  for (const bool twoD : { false, true })
+  for (const bool lit : { false, true })
   {
-    const int w = twoD ? 8 : 16, h = twoD ? 6 : 1;
-    const std::vector<double> table = randomTable(w * h, 0.05, 0.9, 21);
-    const std::vector<float> tableF(table.begin(), table.end());
-    auto run = [&](auto& r, const auto& t, const auto& dRGBA, auto& rec, auto& grad, bool fwd)
+    View view = testView(vol, 16, 12);
+    view.lighting.shade = lit;
+    RenderOptions opt;
+    opt.threads = 1; // bit for bit: with more, rays land in per-thread sums in varying order
+    const std::vector<double> weights =
+      randomWeights(static_cast<size_t>(view.width) * view.height * 4, 22);
+    const std::vector<float> weightsF(weights.begin(), weights.end());
+    const std::array<double, 2> vr{ vol.range()[0], vol.range()[1] }, gr{ 0.0, 40.0 };
+    for (const bool twoD : { false, true })
     {
-      std::vector<std::decay_t<decltype(t[0])>> rgba;
-      if (fwd && twoD)
-        r.forward2D(t.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
-      else if (fwd)
-        r.forward(t.data(), w, vr[0], vr[1], view, opt, {}, rgba, rec);
-      if (twoD)
-        r.backward2D(t.data(), w, h, vr, gr, view, opt, {}, rec, dRGBA, grad);
-      else
-        r.backward(t.data(), w, vr[0], vr[1], view, opt, {}, rec, dRGBA, grad);
-    };
-    std::vector<RayRecord> rec;
-    std::vector<float> stored(table.size(), 0.0f), replayed(table.size(), 0.0f);
-    run(renderer, tableF, weightsF, rec, stored, true);
-    int hits = 0;
-    for (const auto& r : rec)
-    {
-      if (r.lastSample >= 0)
+      const int w = twoD ? 8 : 16, h = twoD ? 6 : 1;
+      const std::vector<double> table = randomTable(w * h, 0.05, 0.9, 21);
+      const std::vector<float> tableF(table.begin(), table.end());
+      auto run = [&](auto& r, const auto& t, const auto& dRGBA, auto& rec, auto& grad, bool fwd)
       {
-        ++hits;
-        ASSERT_EQ(r.samples.size(), static_cast<size_t>(r.lastSample + 1) * (twoD ? 2 : 1));
-      }
-      else
+        std::vector<std::decay_t<decltype(t[0])>> rgba;
+        if (fwd && twoD)
+          r.forward2D(t.data(), w, h, vr, gr, view, opt, {}, rgba, rec);
+        else if (fwd)
+          r.forward(t.data(), w, vr[0], vr[1], view, opt, {}, rgba, rec);
+        if (twoD)
+          r.backward2D(t.data(), w, h, vr, gr, view, opt, {}, rec, dRGBA, grad);
+        else
+          r.backward(t.data(), w, vr[0], vr[1], view, opt, {}, rec, dRGBA, grad);
+      };
+      std::vector<RayRecord> rec;
+      std::vector<float> stored(table.size(), 0.0f), replayed(table.size(), 0.0f);
+      run(renderer, tableF, weightsF, rec, stored, true);
+      int hits = 0;
+      for (const auto& r : rec)
       {
-        ASSERT_TRUE(r.samples.empty());
+        if (r.lastSample >= 0)
+        {
+          ++hits;
+          ASSERT_EQ(r.samples.size(),
+            static_cast<size_t>(r.lastSample + 1) * ((twoD ? 2 : 1) + (lit ? kLightFloats : 0)));
+        }
+        else
+        {
+          ASSERT_TRUE(r.samples.empty());
+        }
       }
-    }
-    ASSERT_GT(hits, 20);
-    std::vector<RayRecord> bare = rec;
-    for (auto& r : bare)
-      r.samples.clear();
-    run(renderer, tableF, weightsF, bare, replayed, false);
-    for (size_t i = 0; i < stored.size(); ++i)
-    {
-      ASSERT_EQ(stored[i], replayed[i])
-        << "2D " << twoD << " entry " << i / 4 << " channel " << i % 4;
-    }
-    std::vector<RayRecord> recD;
-    std::vector<double> gradD(table.size(), 0.0);
-    run(exact, table, weights, recD, gradD, true);
-    double scale = 0;
-    for (double g : gradD)
-      scale = std::max(scale, std::abs(g));
-    ASSERT_GT(scale, 0.0);
-    for (size_t i = 0; i < stored.size(); ++i)
-    {
-      EXPECT_NEAR(stored[i], gradD[i], 1e-4 * scale) << "2D " << twoD << " entry " << i / 4;
+      ASSERT_GT(hits, 20);
+      std::vector<RayRecord> bare = rec;
+      for (auto& r : bare)
+        r.samples.clear();
+      run(renderer, tableF, weightsF, bare, replayed, false);
+      for (size_t i = 0; i < stored.size(); ++i)
+      {
+        ASSERT_EQ(stored[i], replayed[i])
+          << "2D " << twoD << " lit " << lit << " entry " << i / 4 << " channel " << i % 4;
+      }
+      std::vector<RayRecord> recD;
+      std::vector<double> gradD(table.size(), 0.0);
+      run(exact, table, weights, recD, gradD, true);
+      double scale = 0;
+      for (double g : gradD)
+        scale = std::max(scale, std::abs(g));
+      ASSERT_GT(scale, 0.0);
+      for (size_t i = 0; i < stored.size(); ++i)
+      {
+        EXPECT_NEAR(stored[i], gradD[i], 1e-4 * scale)
+          << "2D " << twoD << " lit " << lit << " entry " << i / 4;
+      }
     }
   }
 }
