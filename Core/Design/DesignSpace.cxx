@@ -606,11 +606,21 @@ View orbitView(const std::array<double, 6>& bounds, int size, double azimuthDeg,
   return v;
 }
 
+namespace
+{
+constexpr std::uint64_t kSeedStride = 0x9E3779B97F4A7C15ull; // Exemplar::seed = seed x it + index
+}
+
+std::uint64_t exemplarIndex(const Exemplar& exemplar, std::uint64_t seed)
+{
+  return exemplar.seed - seed * kSeedStride;
+}
+
 Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size)
 {
   Exemplar e;
-  e.seed = seed * 0x9E3779B97F4A7C15ull + index;
+  e.seed = seed * kSeedStride + index;
   std::mt19937_64 rng(e.seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   auto in = [&](const std::array<double, 2>& r) { return r[0] + (r[1] - r[0]) * u(rng); };

@@ -123,6 +123,8 @@ struct Exemplar
 /// after the lighting, the same way).
 Exemplar sampleExemplar(const Volume& volume, const DesignSpaceSpec& spec,
   const std::vector<FeatureRegion>& regions, std::uint64_t seed, std::uint64_t index, int size);
+/// The index of an exemplar drawn by sampleExemplar with `seed` (unsigned arithmetic: exact).
+std::uint64_t exemplarIndex(const Exemplar& exemplar, std::uint64_t seed);
 
 /// The view the exemplars use: ParaView's reset camera (defaultView, size x size) orbited by
 /// azimuth (about +y) and elevation, +y up, zoomed (distance and parallel scale / zoom).

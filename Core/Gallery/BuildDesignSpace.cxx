@@ -142,9 +142,10 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   const int factor = input.factor;
   const Volume& volume = input.volume;
   BuildReport r;
+  const bool outlineRendered = o.spec.pictureFraction > 0; // outlineFromExemplars renders then
   if (o.budgetMinutes > 0)
   {
-    r.plan = planBuild(input, o.budgetMinutes, o.size, o.threads, o.rates);
+    r.plan = planBuild(input, o.budgetMinutes, o.size, o.threads, o.rates, outlineRendered);
     o.count = r.plan.count;
     o.heldout = r.plan.heldout;
     o.minutes = r.plan.trainingMinutes;
@@ -157,7 +158,7 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   if (o.budgetMinutes <= 0)
     r.plan = estimateBuild(volume.dims(), factor,
       o.rates.measured() ? o.rates : measureBuildRates(volume, o.size, o.threads, 4), o.count,
-      o.heldout, o.outlineCount, o.size, o.minutes);
+      o.heldout, o.outlineCount, o.size, o.minutes, outlineRendered);
   r.plan.downsample = factor;
   checkBuildOutput(bundleDir, r.plan.diskBytes, o.overwrite);
   // stage weights from the estimate: the overall fraction grows about linearly with time
@@ -254,8 +255,8 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   // 4. the outline
   t0 = Clock::now();
   report("outline", wE + wT + wV);
-  const auto set = buildOutlineLatents(
-    model, volume, o.outlineCount, o.seed, 0, o.threads,
+  const auto set = outlineFromExemplars(
+    model, volume, train, o.outlineCount, o.seed, o.threads,
     [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - wE - wT - wV) * f); }, o.screen,
     o.workers);
   writeLatentSet(set, outlineFile(staging.dir.string()));

@@ -170,9 +170,20 @@ BuildRates measureBuildRates(const Volume& volume, int size, int threads, int pr
   return r;
 }
 
+namespace
+{
+// The outline's seconds: the analyzer for every design, a render for those that are not training
+// exemplars (all of them when outlineRendered).
+double outlineCost(const BuildRates& rates, int outline, int count, bool outlineRendered)
+{
+  const int rendered = outlineRendered ? outline : std::max(0, outline - count);
+  return rendered * rates.renderSeconds + outline * rates.analyzeBatchSeconds;
+}
+} // namespace
+
 BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
   const BuildRates& rates, int count, int heldout, int outlineCount, int size,
-  double trainingMinutes)
+  double trainingMinutes, bool outlineRendered)
 {
   BuildPlan p;
   p.count = count;
@@ -188,7 +199,7 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
   p.trainingSeconds = 60 * trainingMinutes;
   p.evaluationSeconds = heldout * (render1 + 2 * rates.analyzeSeconds + rates.figureSeconds) +
     kLatencySamples * (render1 + rates.analyzeSeconds) + count * rates.analyzeBatchSeconds;
-  p.outlineSeconds = outlineCount * (rates.renderSeconds + rates.analyzeBatchSeconds);
+  p.outlineSeconds = outlineCost(rates, outlineCount, count, outlineRendered);
   p.totalSeconds = kOverheadSeconds + p.exemplarSeconds + p.trainingSeconds + p.evaluationSeconds +
     p.outlineSeconds;
   // the bundle: weights (~1.4 MB at width 16), training latents (half floats) and TF
@@ -200,18 +211,18 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
 }
 
 BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size, int threads,
-  const BuildRates& measured, std::int64_t maxDesignVoxels)
+  const BuildRates& measured, std::int64_t maxDesignVoxels, bool outlineRendered)
 {
   if (!(budgetMinutes >= 1))
     throw Error(
       "a build needs a budget of at least 1 minute (got " + std::to_string(budgetMinutes) + ")");
   DesignSpaceInput in;
   in.volume = designSpaceVolume(volume, maxDesignVoxels, &in.factor);
-  return planBuild(in, budgetMinutes, size, threads, measured);
+  return planBuild(in, budgetMinutes, size, threads, measured, outlineRendered);
 }
 
 BuildPlan planBuild(const DesignSpaceInput& input, double budgetMinutes, int size, int threads,
-  const BuildRates& measured)
+  const BuildRates& measured, bool outlineRendered)
 {
   if (!(budgetMinutes >= 1))
     throw Error(
@@ -232,8 +243,9 @@ BuildPlan planBuild(const DesignSpaceInput& input, double budgetMinutes, int siz
   int heldout = std::clamp(count / 10, 50, 200);
   auto rest = [&]()
   {
-    return target - outline * perOutline - count * (perExemplar + rates.analyzeBatchSeconds) -
-      heldout * (perExemplar + perFigure) - latency;
+    return target - outlineCost(rates, outline, count, outlineRendered) -
+      count * (perExemplar + rates.analyzeBatchSeconds) - heldout * (perExemplar + perFigure) -
+      latency;
   };
   // a large volume's renders are slow: shrink the exemplars and the outline (to their minima)
   // until training keeps at least 35 % of the budget
@@ -247,8 +259,8 @@ BuildPlan planBuild(const DesignSpaceInput& input, double budgetMinutes, int siz
   while (rest() < 0.35 * target && heldout > 50)
     heldout = std::max(50, heldout * 4 / 5);
   const double training = std::max(0.1 * target, rest());
-  BuildPlan p =
-    estimateBuild(design.dims(), factor, rates, count, heldout, outline, size, training / 60);
+  BuildPlan p = estimateBuild(
+    design.dims(), factor, rates, count, heldout, outline, size, training / 60, outlineRendered);
   p.budgetMinutes = budgetMinutes;
   return p;
 }

@@ -63,23 +63,28 @@ struct BuildPlan
 /// weights). ~0.3-2 s.
 BuildRates measureBuildRates(const Volume& volume, int size = 64, int threads = 0, int probes = 16);
 
-/// The estimate of a build with the given sizes (trainingMinutes is the training budget).
+/// The estimate of a build with the given sizes (trainingMinutes is the training budget). The
+/// outline's designs up to `count` are the training exemplars, analysed from their images
+/// (outlineFromExemplars, Gallery.h), only those beyond it are rendered; with `outlineRendered`
+/// (a spec whose analyzer images are users' pictures) every one is rendered.
 BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
   const BuildRates& rates, int count, int heldout, int outlineCount, int size,
-  double trainingMinutes);
+  double trainingMinutes, bool outlineRendered = false);
 
 /// Sizes a build so that all of it, outline included, is estimated to take ~90 % of
-/// `budgetMinutes` (>= 1): outline 10 % (1 000 - 10 000 designs), exemplars ~25 % (256 - 30 000),
-/// held-out a tenth of them (50 - 200), training the rest (at least 35 % of the budget; the
-/// exemplars and outline shrink to leave it). `volume` is the user's volume (downsampled here
-/// for the probe when above maxDesignVoxels, as the build does). Throws ddg::Error for a budget
-/// under 1 minute. `rates`: measured before (the plan shown to the user is the plan built), else
-/// probed.
+/// `budgetMinutes` (>= 1): outline designs as many as 10 % of it would render (1 000 - 10 000;
+/// those that are training exemplars cost only the analyzer, estimateBuild), exemplars ~25 %
+/// (256 - 30 000), held-out a tenth of them (50 - 200), training the rest (at least 35 % of the
+/// budget; the exemplars and outline shrink to leave it). `volume` is the user's volume
+/// (downsampled here for the probe when above maxDesignVoxels, as the build does). Throws
+/// ddg::Error for a budget under 1 minute. `rates`: measured before (the plan shown to the user
+/// is the plan built), else probed. `outlineRendered` as estimateBuild.
 BuildPlan planBuild(const Volume& volume, double budgetMinutes, int size = 64, int threads = 0,
-  const BuildRates& rates = {}, std::int64_t maxDesignVoxels = kMaxDesignSpaceVoxels);
+  const BuildRates& rates = {}, std::int64_t maxDesignVoxels = kMaxDesignSpaceVoxels,
+  bool outlineRendered = false);
 /// The same for a design space's input already made (its volume probed as it is).
 BuildPlan planBuild(const DesignSpaceInput& input, double budgetMinutes, int size = 64,
-  int threads = 0, const BuildRates& rates = {});
+  int threads = 0, const BuildRates& rates = {}, bool outlineRendered = false);
 
 /// The volume the design space is built on: `volume` itself when it has at most `maxVoxels`
 /// voxels, else its box-filtered average over f x f x f blocks (f the smallest integer that

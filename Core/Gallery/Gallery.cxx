@@ -86,6 +86,45 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
   return set;
 }
 
+LatentSet outlineFromExemplars(const NeuralDesignModel& model, const Volume& volume,
+  const ExemplarDataset& training, int count, std::uint64_t seed, int threads,
+  const std::function<bool(double)>& progress, bool screen, ExemplarWorkers* workers)
+{
+  const int reused = std::min(count, training.count());
+  if (training.spec().pictureFraction > 0 || reused < 3)
+    return buildOutlineLatents(model, volume, count, seed, 0, threads, progress, screen, workers);
+  if (model.config().imageSize != training.size())
+    throw Error("the exemplars' images are " + std::to_string(training.size()) +
+      " pixels, the model's " + std::to_string(model.config().imageSize));
+  const double share = static_cast<double>(reused) / count; // of the progress
+  LatentSet set;
+  set.dim = model.config().latent;
+  set.seed = seed;
+  const int chunk = 512;
+  for (int first = 0; first < reused; first += chunk)
+  {
+    std::vector<Image> images;
+    for (int i = first; i < std::min(reused, first + chunk); ++i)
+    {
+      images.push_back(training.images(i).rgbExp);
+      set.indices.push_back(exemplarIndex(training.exemplars()[static_cast<size_t>(i)], seed));
+    }
+    const auto z = model.analyzeBatch(images);
+    set.values.insert(set.values.end(), z.begin(), z.end());
+    if (progress && !progress(share * set.count() / reused))
+      throw Cancelled();
+  }
+  if (count > reused)
+  {
+    const LatentSet rest = buildOutlineLatents(
+      model, volume, count - reused, seed, set.indices.back() + 1, threads,
+      [&](double f) { return !progress || progress(share + (1 - share) * f); }, screen, workers);
+    set.values.insert(set.values.end(), rest.values.begin(), rest.values.end());
+    set.indices.insert(set.indices.end(), rest.indices.begin(), rest.indices.end());
+  }
+  return set;
+}
+
 std::string outlineFile(const std::string& bundleDir)
 {
   return (std::filesystem::path(bundleDir) / "outline.bin").string();

@@ -33,6 +33,17 @@ LatentSet buildOutlineLatents(const NeuralDesignModel& model, const Volume& volu
   const std::function<bool(double)>& progress = {}, bool screen = false,
   ExemplarWorkers* workers = nullptr);
 
+/// The outline of a build (buildOutlineLatents' designs and screening) whose first designs are its
+/// training exemplars: their latents from the analyzer images the training read (as saveBundle
+/// analyses them; no design rendered again), then, when `count` is larger, designs drawn from the
+/// index after the last exemplar's. Renders them all (buildOutlineLatents) when the exemplars'
+/// analyzer images are users' pictures (spec.pictureFraction > 0): an outline shows clean
+/// renders. Progress and cancel as buildOutlineLatents.
+LatentSet outlineFromExemplars(const NeuralDesignModel& model, const Volume& volume,
+  const ExemplarDataset& training, int count, std::uint64_t seed = 1, int threads = 0,
+  const std::function<bool(double)>& progress = {}, bool screen = false,
+  ExemplarWorkers* workers = nullptr);
+
 /// The file of a bundle's outline latents.
 std::string outlineFile(const std::string& bundleDir);
 

@@ -49,8 +49,8 @@ int runBuild(BuildArgs a)
     if (!(a.o.budgetMinutes > 0))
       throw ddg::Error("--plan needs --budget MINUTES");
     ddg::checkBuildVolume(volume);
-    const ddg::BuildPlan plan =
-      ddg::planBuild(volume, a.o.budgetMinutes, a.o.size, a.o.threads, {}, a.o.maxDesignVoxels);
+    const ddg::BuildPlan plan = ddg::planBuild(volume, a.o.budgetMinutes, a.o.size, a.o.threads, {},
+      a.o.maxDesignVoxels, a.o.spec.pictureFraction > 0);
     std::printf("plan for %g min:\n%s%s\n", a.o.budgetMinutes, plan.describe().c_str(),
       plan.toJson().c_str());
     ddg::checkBuildOutput(a.out, plan.diskBytes, a.o.overwrite);

@@ -44,9 +44,11 @@ public:
   {
     Links[static_cast<size_t>(w)].in.push(m);
     ++Messages;
+    OutlineRequests += m.rfind("outline ", 0) == 0;
   }
   std::string receive(int w) override { return Links[static_cast<size_t>(w)].out.pop(); }
   int Messages = 0;
+  int OutlineRequests = 0; ///< of them, requests to render outline designs
 
 private:
   struct Queue

@@ -10,6 +10,8 @@
 // Testing/Benchmarks/BenchBuildCancel).
 #include "Common/FileUtil.h"
 #include "Gallery/BuildDesignSpace.h"
+#include "Gallery/Gallery.h"
+#include "Gallery/Outline.h"
 
 #include "Design/DesignSpace.h"
 #include "Render/RayCaster.h"
@@ -22,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -339,6 +342,43 @@ TEST(BuildBudget, WorkersBuildTheSameBundle)
       << f << " differs with workers";
   }
   EXPECT_DOUBLE_EQ(a.evaluation.psnr, b.evaluation.psnr);
+}
+
+// The outline's first designs are the training exemplars: the build analyses the images it trained
+// on instead of rendering those designs again (workers get no outline request when the outline is
+// no larger than the training set). Indices as buildOutlineLatents draws them, latents as its
+// renders give them up to the images' 8-bit rounding; an outline larger than the training set
+// goes on with rendered designs after the last exemplar.
+TEST(BuildBudget, TheOutlineAnalysesTheTrainingExemplarsWithoutRenderingThem)
+{
+  const Volume v = blobs();
+  for (const int outline : { 12, 20 }) // the training set: 16
+  {
+    const fs::path dir =
+      fs::path(ddg::testing::tempDir()) / ("built_outline_" + std::to_string(outline));
+    fs::remove_all(dir);
+    BuildOptions o = tiny();
+    o.outlineCount = outline;
+    ddg::testing::ThreadWorkers workers(v, 2);
+    o.workers = &workers;
+    const BuildReport r = buildDesignSpace(v, "", dir.string(), o);
+    EXPECT_EQ(workers.OutlineRequests > 0, outline > o.count) << outline;
+    const LatentSet built = readLatentSet(outlineFile(dir.string()));
+    const NeuralDesignModel model = NeuralDesignModel::loadBundle(dir.string());
+    const LatentSet rendered = buildOutlineLatents(model, v, outline, o.seed, 0, 1, {}, o.screen);
+    ASSERT_EQ(built.indices, rendered.indices) << outline;
+    ASSERT_EQ(built.values.size(), rendered.values.size());
+    double scale = 0, most = 0;
+    for (size_t i = 0; i < built.values.size(); ++i)
+    {
+      scale = std::max(scale, static_cast<double>(std::abs(rendered.values[i])));
+      most = std::max(most, static_cast<double>(std::abs(built.values[i] - rendered.values[i])));
+    }
+    EXPECT_GT(scale, 0.0);
+    EXPECT_LT(most, 0.005 * scale) << outline; // 8-bit images against float renders (~4e-4)
+    std::printf("outline %d: largest latent difference %.2g of %.2g\n", outline, most, scale);
+    EXPECT_GT(r.totalSeconds, 0.0);
+  }
 }
 
 TEST(BuildBudget, AFullDiskDuringTheBuildLeavesTheFolderAsItWas)
