@@ -30,6 +30,26 @@ int resolveThreadCount(int threads, std::int64_t count)
 void parallelFor(std::int64_t count, int threads,
   const std::function<void(std::int64_t index, int threadId)>& body)
 {
+  parallelFor(count, threads, body,
+    [](int n, const std::function<void(int)>& worker)
+    {
+      std::vector<std::thread> pool;
+      pool.reserve(static_cast<size_t>(n - 1));
+      for (int t = 1; t < n; ++t)
+      {
+        pool.emplace_back(worker, t);
+      }
+      worker(0);
+      for (auto& t : pool)
+      {
+        t.join();
+      }
+    });
+}
+
+void parallelFor(std::int64_t count, int threads,
+  const std::function<void(std::int64_t index, int threadId)>& body, const ThreadLauncher& launch)
+{
   if (count <= 0)
   {
     return;
@@ -65,17 +85,7 @@ void parallelFor(std::int64_t count, int threads,
     }
   };
 
-  std::vector<std::thread> pool;
-  pool.reserve(static_cast<size_t>(n - 1));
-  for (int t = 1; t < n; ++t)
-  {
-    pool.emplace_back(worker, t);
-  }
-  worker(0);
-  for (auto& t : pool)
-  {
-    t.join();
-  }
+  launch(n, worker);
   if (firstError)
   {
     std::rethrow_exception(firstError);

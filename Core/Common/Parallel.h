@@ -18,6 +18,15 @@ int defaultThreadCount();
 void parallelFor(std::int64_t count, int threads,
   const std::function<void(std::int64_t index, int threadId)>& body);
 
+/// Runs worker(threadId) for every threadId in [0, n) at once, the calling thread being one of
+/// them, and returns when all have returned (parallelFor's workers never throw).
+using ThreadLauncher = std::function<void(int n, const std::function<void(int threadId)>& worker)>;
+
+/// parallelFor with its workers run by `launch` instead of new std::threads: e.g. on a thread
+/// pool that would otherwise spin beside them (libtorch's OpenMP threads, Neural/NeuralNetworks.h).
+void parallelFor(std::int64_t count, int threads,
+  const std::function<void(std::int64_t index, int threadId)>& body, const ThreadLauncher& launch);
+
 /// The thread count parallelFor() will actually use for `threads` (resolves 0, clamps to count).
 int resolveThreadCount(int threads, std::int64_t count);
 

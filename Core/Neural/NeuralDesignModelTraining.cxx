@@ -262,7 +262,8 @@ private:
     std::vector<double> losses(idx.size());
     const int regions = In.Config.regions;
     const int outputs = Outputs;
-    parallelFor(static_cast<std::int64_t>(idx.size()), Opt.threads,
+    parallelFor(
+      static_cast<std::int64_t>(idx.size()), Opt.threads,
       [&](std::int64_t b, int thread)
       {
         if (thread == 0 && Opt.interrupt && Opt.interrupt()) // the calling thread
@@ -276,7 +277,8 @@ private:
         losses[static_cast<size_t>(b)] = In.Layout.imageLoss(*In.Diff,
           out.data_ptr<float>() + b * regions * outputs, Data.exemplars()[i].viewView,
           Truth.data() + i * s * s * 4, pixels, grad.data_ptr<float>() + b * regions * outputs);
-      });
+      },
+      onTorchThreads);
     lossG = lossG + (Opt.imageWeight / static_cast<double>(idx.size())) * (sq * grad).sum();
     return std::accumulate(losses.begin(), losses.end(), 0.0) / losses.size();
   }

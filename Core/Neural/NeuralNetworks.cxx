@@ -5,6 +5,8 @@
 #include "Common/Error.h"
 #include "Common/Parallel.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstring>
 #include <sstream>
@@ -218,6 +220,12 @@ std::string serialized(torch::serialize::OutputArchive& ar)
 void setThreads(int threads)
 {
   at::set_num_threads(threads > 0 ? threads : defaultThreadCount());
+}
+
+void onTorchThreads(int n, const std::function<void(int threadId)>& worker)
+{
+#pragma omp parallel num_threads(n)
+  worker(omp_get_thread_num());
 }
 
 torch::Tensor imageToTensor(const Image& img, int channels)
