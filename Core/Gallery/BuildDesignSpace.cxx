@@ -215,6 +215,8 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   TrainOptions t;
   t.learningRate = 1e-3;
   t.minutes = o.minutes;
+  if (o.budgetMinutes > 0) // the exemplars' estimate from a few probes errs either way
+    t.minutes = r.plan.trainingMinutesAfter(secondsSince(start));
   t.maxIterations = o.iterations;
   t.cosineSchedule = true; // over the iterations when given, else over the time budget
   t.imageWeight = 100;
@@ -230,7 +232,7 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
     [&](const TrainProgress& p)
     {
       const double f = o.iterations > 0 ? static_cast<double>(p.iteration) / o.iterations
-                                        : p.seconds / (60 * o.minutes);
+                                        : p.seconds / (60 * t.minutes);
       trained = wE + wT * std::min(1.0, f);
       return keepGoing("training", trained);
     });

@@ -33,6 +33,9 @@ namespace
 // the datasets, saving the bundle) ~4 s.
 constexpr int kLatencySamples = 21;
 constexpr double kOverheadSeconds = 4;
+// the share of the budget a plan fills: the build's training ends when the plan has it end
+// (buildDesignSpace), so what is left covers the estimates of the stages after it
+constexpr double kBudgetShare = 0.95;
 std::int64_t exemplarBytes(int size)
 {
   // shard: RGB + 2 x RGBA; dataset.json: ~700 characters per exemplar
@@ -80,6 +83,12 @@ std::string BuildPlan::toJson() const
     designDims[1], designDims[2], downsample, 1000 * rates.exemplarSeconds,
     1000 * rates.analyzeSeconds, 1000 * rates.figureSeconds, rates.threads);
   return buf;
+}
+
+double BuildPlan::trainingMinutesAfter(double elapsedSeconds) const
+{
+  const double end = totalSeconds - evaluationSeconds - outlineSeconds;
+  return std::max(0.5 * trainingMinutes, (end - elapsedSeconds) / 60);
 }
 
 std::string BuildPlan::describe() const
@@ -232,7 +241,7 @@ BuildPlan planBuild(const DesignSpaceInput& input, double budgetMinutes, int siz
   const BuildRates rates =
     measured.measured() ? measured : measureBuildRates(design, size, threads);
   const double budget = 60 * budgetMinutes;
-  const double target = 0.9 * budget - kOverheadSeconds;
+  const double target = kBudgetShare * budget - kOverheadSeconds;
   const double perOutline = rates.renderSeconds + rates.analyzeBatchSeconds;
   const double perExemplar = rates.exemplarSeconds;
   const double render1 = rates.renderSeconds * std::max(1, rates.threads);

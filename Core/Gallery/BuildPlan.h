@@ -55,6 +55,10 @@ struct BuildPlan
   std::string toJson() const;
   /// One line per stage with its estimated minutes, and the disk use, for people.
   std::string describe() const;
+  /// A budgeted build's training minutes when its exemplars are done `elapsedSeconds` after the
+  /// build started: training ends when the plan has it end (exemplars that took longer than
+  /// estimated shorten it, faster ones lengthen it), but lasts at least half the planned minutes.
+  double trainingMinutesAfter(double elapsedSeconds) const;
 };
 
 /// Times what a build does, on `volume` (its design-space volume: downsample first) at `size`
@@ -71,7 +75,7 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
   const BuildRates& rates, int count, int heldout, int outlineCount, int size,
   double trainingMinutes, bool outlineRendered = false);
 
-/// Sizes a build so that all of it, outline included, is estimated to take ~90 % of
+/// Sizes a build so that all of it, outline included, is estimated to take ~95 % of
 /// `budgetMinutes` (>= 1): outline designs as many as 10 % of it would render (1 000 - 10 000;
 /// those that are training exemplars cost only the analyzer, estimateBuild), exemplars ~25 %
 /// (256 - 30 000), held-out a tenth of them (50 - 200), training the rest (at least 35 % of the

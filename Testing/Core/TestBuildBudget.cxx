@@ -1,7 +1,7 @@
 // TestBuildBudget.cxx: a design-space build's budget, input checks and cancel — Core's
 // planBuild, designSpaceVolume, checkBuildVolume, checkBuildOutput and buildDesignSpace on a
 // synthetic 24^3 volume of nested blobs. Compared: the plan of a larger budget with a smaller
-// one (more of everything, estimated total within 90 % + 0.5 s of the budget); the downsampled
+// one (more of everything, estimated total within 95 % + 0.5 s of the budget); the downsampled
 // volume with a naive block average (exact to 1e-5); bad volumes and folders with the messages
 // the user reads, nothing written; a build cancelled at each stage leaves the folder exactly as
 // it was (listing and file contents); a downsampled build's bundle records the original
@@ -105,7 +105,7 @@ TEST(BuildBudget, LargerBudgetsPlanMoreAndFitTheBudget)
   const BuildPlan p10 = planBuild(v, 10, 64, 1, rates);
   for (const BuildPlan* p : { &p2, &p10 })
   {
-    EXPECT_LE(p->totalSeconds, 0.9 * 60 * p->budgetMinutes + 0.5) << p->toJson();
+    EXPECT_LE(p->totalSeconds, 0.95 * 60 * p->budgetMinutes + 0.5) << p->toJson();
     EXPECT_GE(p->trainingSeconds, 0.3 * 60 * p->budgetMinutes) << p->toJson();
     EXPECT_GT(p->rates.exemplarSeconds, 0);
     EXPECT_GT(p->rates.analyzeSeconds, 0);
@@ -117,6 +117,21 @@ TEST(BuildBudget, LargerBudgetsPlanMoreAndFitTheBudget)
   EXPECT_GE(p10.outlineCount, p2.outlineCount);
   EXPECT_GT(p10.trainingMinutes, p2.trainingMinutes);
   EXPECT_NE(message([&] { planBuild(v, 0.5); }).find("at least 1 minute"), std::string::npos);
+}
+
+// A budgeted build trains until the plan's end of training: exemplars that took longer than
+// estimated shorten the training, faster ones lengthen it, down to half the planned minutes.
+TEST(BuildBudget, TrainingEndsWhenThePlanHasItEnd)
+{
+  const Volume v = blobs();
+  const BuildPlan p = planBuild(v, 10, 64, 1, measureBuildRates(v, 64, 1));
+  const double asPlanned = p.totalSeconds - p.evaluationSeconds - p.outlineSeconds -
+    p.trainingSeconds; // the overhead and the exemplars
+  EXPECT_NEAR(p.trainingMinutesAfter(asPlanned), p.trainingMinutes, 1e-9);
+  EXPECT_NEAR(p.trainingMinutesAfter(asPlanned + 30), p.trainingMinutes - 0.5, 1e-9);
+  EXPECT_NEAR(p.trainingMinutesAfter(asPlanned - 30), p.trainingMinutes + 0.5, 1e-9);
+  EXPECT_DOUBLE_EQ(
+    p.trainingMinutesAfter(asPlanned + 60 * p.trainingMinutes), 0.5 * p.trainingMinutes);
 }
 
 TEST(BuildBudget, DownsamplesLargeVolumesByBlockAverage)

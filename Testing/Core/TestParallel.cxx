@@ -49,11 +49,13 @@ TEST(Parallel, EveryIndexOnceOnEachLauncher)
   EXPECT_EQ(launched, (std::vector<int>{ 0, 1, 2 }));
   // fewer indices than threads: as many workers as indices
   launched.clear();
-  ddg::parallelFor(2, 8, [](std::int64_t, int) {}, own);
+  ddg::parallelFor(
+    2, 8, [](std::int64_t, int) {}, own);
   EXPECT_EQ(launched.size(), 2u);
   // nothing to do: the launcher is not called
   launched.clear();
-  ddg::parallelFor(0, 2, [](std::int64_t, int) {}, own);
+  ddg::parallelFor(
+    0, 2, [](std::int64_t, int) {}, own);
   EXPECT_TRUE(launched.empty());
 }
 
@@ -65,7 +67,8 @@ TEST(Parallel, ABodysExceptionReachesTheCallerThroughALauncher)
       worker(t); // one after another: the workers must not throw out of the launcher
   };
   std::atomic<int> ran{ 0 };
-  EXPECT_THROW(ddg::parallelFor(100, 2,
+  EXPECT_THROW(ddg::parallelFor(
+                 100, 2,
                  [&](std::int64_t i, int)
                  {
                    ran++;
