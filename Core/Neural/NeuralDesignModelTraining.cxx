@@ -250,9 +250,8 @@ public:
   }
 
 private:
-  // What the user sees: the decoded TF ray cast at V_view against the ground truth. The
-  // adjoint's gradient enters autograd through the surrogate sum(sq * grad), added to lossG.
-  // Returns the batch's mean image L1.
+  // What the user sees: the decoded TF ray cast at V_view against the ground truth (the batch's
+  // mean L1). The adjoint's gradient enters autograd as the surrogate sum(sq * grad) in lossG.
   double imageLoss(const std::vector<std::int64_t>& idx, const torch::Tensor& sq, int iteration,
     torch::Tensor& lossG)
   {
@@ -260,8 +259,7 @@ private:
     const auto out = sq.detach().contiguous();
     auto grad = torch::zeros_like(out);
     std::vector<double> losses(idx.size());
-    const int regions = In.Config.regions;
-    const int outputs = Outputs;
+    const int stride = In.Config.regions * Outputs; // a batch row's outputs
     parallelFor(
       static_cast<std::int64_t>(idx.size()), Opt.threads,
       [&](std::int64_t b, int thread)
@@ -275,8 +273,8 @@ private:
         for (int& p : pixels)
           p = static_cast<int>(pick() % static_cast<std::uint64_t>(s * s));
         losses[static_cast<size_t>(b)] = In.Layout.imageLoss(*In.Diff,
-          out.data_ptr<float>() + b * regions * outputs, Data.exemplars()[i].viewView,
-          Truth.data() + i * s * s * 4, pixels, grad.data_ptr<float>() + b * regions * outputs);
+          out.data_ptr<float>() + b * stride, Data.exemplars()[i].viewView,
+          Truth.data() + i * s * s * 4, pixels, grad.data_ptr<float>() + b * stride);
       },
       onTorchThreads);
     lossG = lossG + (Opt.imageWeight / static_cast<double>(idx.size())) * (sq * grad).sum();
