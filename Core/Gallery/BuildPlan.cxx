@@ -33,9 +33,6 @@ namespace
 // the datasets, saving the bundle) ~4 s.
 constexpr int kLatencySamples = 21;
 constexpr double kOverheadSeconds = 4;
-// the share of the budget a plan fills: the build's training ends when the plan has it end
-// (buildDesignSpace), so what is left covers the estimates of the stages after it
-constexpr double kBudgetShare = 0.95;
 std::int64_t exemplarBytes(int size)
 {
   // shard: RGB + 2 x RGBA; dataset.json: ~700 characters per exemplar
@@ -241,7 +238,7 @@ BuildPlan planBuild(const DesignSpaceInput& input, double budgetMinutes, int siz
   const BuildRates rates =
     measured.measured() ? measured : measureBuildRates(design, size, threads);
   const double budget = 60 * budgetMinutes;
-  const double target = kBudgetShare * budget - kOverheadSeconds;
+  const double target = kBuildBudgetShare * budget - kOverheadSeconds;
   const double perOutline = rates.renderSeconds + rates.analyzeBatchSeconds;
   const double perExemplar = rates.exemplarSeconds;
   const double render1 = rates.renderSeconds * std::max(1, rates.threads);

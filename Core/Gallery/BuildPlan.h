@@ -16,6 +16,10 @@ namespace ddg
 /// Volumes above this many voxels are downsampled for the design space (designSpaceVolume).
 constexpr std::int64_t kMaxDesignSpaceVoxels = 16 * 1024 * 1024;
 
+/// The share of a budget a plan fills (planBuild): a budgeted build's training ends when the plan
+/// has it end (buildDesignSpace), so what is left covers the estimates of the stages after it.
+constexpr double kBuildBudgetShare = 0.95;
+
 struct DesignSpaceInput; // below
 
 /// Measured costs of one build's units on this machine for one volume (wall-clock seconds with

@@ -105,7 +105,7 @@ TEST(BuildBudget, LargerBudgetsPlanMoreAndFitTheBudget)
   const BuildPlan p10 = planBuild(v, 10, 64, 1, rates);
   for (const BuildPlan* p : { &p2, &p10 })
   {
-    EXPECT_LE(p->totalSeconds, 0.95 * 60 * p->budgetMinutes + 0.5) << p->toJson();
+    EXPECT_LE(p->totalSeconds, kBuildBudgetShare * 60 * p->budgetMinutes + 0.5) << p->toJson();
     EXPECT_GE(p->trainingSeconds, 0.3 * 60 * p->budgetMinutes) << p->toJson();
     EXPECT_GT(p->rates.exemplarSeconds, 0);
     EXPECT_GT(p->rates.analyzeSeconds, 0);
