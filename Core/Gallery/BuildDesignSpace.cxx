@@ -81,10 +81,12 @@ struct Staging
       fs::remove(bundle, ec);
   }
 
-  // Moves the bundle's files into place: an older bundle.json first out, the new one last.
+  // Moves the bundle's files into place: an older bundle.json first out (and an older query key
+  // the new bundle may not have), the new one last.
   void commit(const std::string& keep)
   {
     fs::remove(bundle / "bundle.json");
+    fs::remove(queryKeyFile(bundle.string()));
     for (const auto& entry : fs::directory_iterator(dir))
       if (entry.path().filename() != "bundle.json" && entry.path().filename() != keep)
         fs::rename(entry.path(), bundle / entry.path().filename());
@@ -254,14 +256,22 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   if (factor > 1)
     setBundleVolume(staging.dir / "bundle.json", input.fingerprint);
   r.savingSeconds = secondsSince(t0);
-  // 4. the outline
+  // 4. the outline, and the query key (the training exemplars' two views)
   t0 = Clock::now();
   report("outline", wE + wT + wV);
+  const double wO = 1 - wE - wT - wV;
+  const double keyShare = 0.5;
   const auto set = outlineFromExemplars(
     model, volume, train, o.outlineCount, o.seed, o.threads,
-    [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - wE - wT - wV) * f); }, o.screen,
-    o.workers);
+    [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - keyShare) * wO * f); },
+    o.screen, o.workers);
   writeLatentSet(set, outlineFile(staging.dir.string()));
+  const QueryKey key =
+    queryKeyFromExemplars(model, train, kQueryKeyPairs, kQueryKeyComponents, o.threads,
+      [&](double f)
+      { return keepGoing("outline", wE + wT + wV + (1 - keyShare + keyShare * f) * wO); });
+  if (!key.empty()) // a build of fewer exemplars than 2 x latent has none
+    writeQueryKey(key, queryKeyFile(staging.dir.string()));
   r.outlineSeconds = secondsSince(t0);
   report("outline", 1.0);
   staging.commit(o.workDirectory.empty() ? "exemplars" : "");

@@ -5,6 +5,8 @@
 #include "Common/Parallel.h"
 #include "Design/DesignSpace.h"
 #include "Design/ExemplarGenerator.h"
+#include "Gallery/QueryImage.h"
+#include "Gallery/QueryKey.h"
 #include "Image/ImageMetrics.h"
 #include "Neural/NeuralDesignModel.h"
 
@@ -73,12 +75,13 @@ std::string BuildPlan::toJson() const
     "\"training_seconds\": %.1f, \"evaluation_seconds\": %.1f, \"outline_seconds\": %.1f, "
     "\"total_seconds\": %.1f, \"disk_bytes\": %lld, \"bundle_bytes\": %lld, "
     "\"design_dims\": [%d, %d, %d], \"downsample\": %d, \"exemplar_ms\": %.3f, "
-    "\"analyze_ms\": %.3f, \"figure_ms\": %.3f, \"threads\": %d}",
+    "\"analyze_ms\": %.3f, \"figure_ms\": %.3f, \"framed_ms\": %.3f, \"threads\": %d}",
     budgetMinutes, count, heldout, outlineCount, size, trainingMinutes, exemplarSeconds,
     trainingSeconds, evaluationSeconds, outlineSeconds, totalSeconds,
     static_cast<long long>(diskBytes), static_cast<long long>(bundleBytes), designDims[0],
     designDims[1], designDims[2], downsample, 1000 * rates.exemplarSeconds,
-    1000 * rates.analyzeSeconds, 1000 * rates.figureSeconds, rates.threads);
+    1000 * rates.analyzeSeconds, 1000 * rates.figureSeconds, 1000 * rates.framedSeconds,
+    rates.threads);
   return buf;
 }
 
@@ -95,8 +98,8 @@ std::string BuildPlan::describe() const
     minutesText(exemplarSeconds) + "\n";
   s += "training: " + minutesText(trainingSeconds) + "\n";
   s += "evaluation and saving: " + minutesText(evaluationSeconds) + "\n";
-  s +=
-    "outline: " + std::to_string(outlineCount) + " designs, " + minutesText(outlineSeconds) + "\n";
+  s += "outline: " + std::to_string(outlineCount) + " designs and the query key, " +
+    minutesText(outlineSeconds) + "\n";
   s += "total: about " + minutesText(totalSeconds) + "; disk: " + bytesText(diskBytes) +
     " while building, " + bytesText(bundleBytes) + " kept\n";
   if (downsample > 1)
@@ -151,6 +154,20 @@ BuildRates measureBuildRates(const Volume& volume, int size, int threads, int pr
     for (int i = 0; i < 3; ++i)
       (void)(psnr(a, b) + ssim(a, b) + colorHistogramEMD(a, b));
     r.figureSeconds = since(t0) / 3;
+    // the query key's other views: framed as a query is, one a thread
+    const Image large = resizeImage(a, 3 * size, 3 * size);
+    t0 = Clock::now();
+    for (int i = 0; i < 3; ++i)
+    {
+      try
+      {
+        (void)prepareQueryImage(large, size);
+      }
+      catch (const Error&) // a probe in which nothing shows frames as fast as one refused
+      {
+      }
+    }
+    r.framedSeconds = since(t0) / 3 / r.threads;
   }
   catch (...)
   {
@@ -179,11 +196,13 @@ BuildRates measureBuildRates(const Volume& volume, int size, int threads, int pr
 namespace
 {
 // The outline's seconds: the analyzer for every design, a render for those that are not training
-// exemplars (all of them when outlineRendered).
+// exemplars (all of them when outlineRendered); and the query key's pairs (framed, analysed twice).
 double outlineCost(const BuildRates& rates, int outline, int count, bool outlineRendered)
 {
   const int rendered = outlineRendered ? outline : std::max(0, outline - count);
-  return rendered * rates.renderSeconds + outline * rates.analyzeBatchSeconds;
+  const int pairs = std::min(count, kQueryKeyPairs);
+  return rendered * rates.renderSeconds + outline * rates.analyzeBatchSeconds +
+    pairs * (rates.framedSeconds + 2 * rates.analyzeBatchSeconds);
 }
 } // namespace
 

@@ -4,6 +4,7 @@
 #include "Common/Error.h"
 
 #include <chrono>
+#include <filesystem>
 
 namespace ddg
 {
@@ -26,6 +27,7 @@ BundleSession::BundleSession(
   LatentSet latents = openBundle(volumeHint);
   const auto t1 = Clock::now();
   Gallery = std::make_unique<DesignGallery>(*Model, *Vol, std::move(latents));
+  attachQueryKey();
   PcaMs = msSince(t1);
 }
 
@@ -38,7 +40,15 @@ BundleSession::BundleSession(const std::string& bundleDir, const std::string& fi
   LatentSet latents = openBundle(volumeHint);
   const auto t1 = Clock::now();
   Gallery = std::make_unique<DesignGallery>(*Model, Space, std::move(latents));
+  attachQueryKey();
   PcaMs = msSince(t1);
+}
+
+void BundleSession::attachQueryKey()
+{
+  // the query's nearest designs by the bundle's key, when it has one (older bundles do not)
+  if (std::filesystem::exists(queryKeyFile(Directory)))
+    Gallery->setQueryKey(readQueryKey(queryKeyFile(Directory)));
 }
 
 LatentSet BundleSession::openBundle(const std::string& volumeHint)

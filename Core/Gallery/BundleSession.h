@@ -45,6 +45,7 @@ public:
 
 private:
   LatentSet openBundle(const std::string& volumeHint); // the model, then the outline's latents
+  void attachQueryKey();                               // query_key.json, when the bundle has one
 
   std::string Directory, Fingerprint;
   std::unique_ptr<Volume> Vol;

@@ -13,6 +13,7 @@
 #include "TransferFunction/TransferFunction2D.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 
@@ -131,7 +132,7 @@ std::string outlineFile(const std::string& bundleDir)
 }
 
 QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline,
-  const ExemplarDataset& heldout, int count, int k)
+  const ExemplarDataset& heldout, int count, int k, const QueryKey& key)
 {
   if (count < 1 || k < 1)
     throw Error("query recall needs count >= 1 and k >= 1");
@@ -154,6 +155,8 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
   joined.values.insert(joined.values.end(), z.begin(), z.end());
   for (int i = 0; i < count; ++i)
     joined.indices.push_back(heldout.exemplars()[i].seed);
+  DesignOutline searched(std::move(joined)); // nearest rows as the gallery's query finds them
+  searched.setQueryKey(key);
   auto recall = [&](const std::vector<Image>& images)
   {
     // queried as a screenshot three times the model's size would be: upsampled, then framed
@@ -165,7 +168,7 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
     int hits = 0;
     for (int i = 0; i < count; ++i)
     {
-      const auto nn = nearestLatents(joined, q.data() + static_cast<size_t>(i) * outline.dim, k);
+      const auto nn = searched.nearest(q.data() + static_cast<size_t>(i) * outline.dim, k);
       const int want = outline.count() + i;
       hits += std::any_of(nn.begin(), nn.end(), [&](const Neighbour& n) { return n.row == want; });
     }
@@ -177,6 +180,53 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
   r.ownImage = recall(own);
   r.otherView = recall(other);
   return r;
+}
+
+QueryKey queryKeyFromExemplars(const NeuralDesignModel& model, const ExemplarDataset& data,
+  int maxPairs, int components, int threads, const std::function<bool(double)>& progress)
+{
+  const int s = model.config().imageSize, dim = model.config().latent;
+  if (data.size() != s)
+    throw Error("the exemplars' images are " + std::to_string(data.size()) +
+      " pixels, the model's " + std::to_string(s));
+  const int n = std::max(0, std::min(maxPairs, data.count()));
+  // the other view framed as a query (the costly part: ~9 ms an image), on every thread
+  std::vector<Image> own(static_cast<size_t>(n)), other(static_cast<size_t>(n));
+  std::vector<char> usable(static_cast<size_t>(n), 0);
+  std::atomic<int> done{ 0 };
+  parallelFor(n, threads,
+    [&](std::int64_t i64, int thread)
+    {
+      const auto i = static_cast<size_t>(i64);
+      if (thread == 0 && progress && !progress(0.9 * done.load() / std::max(1, n)))
+        throw Cancelled();
+      const auto im = data.images(static_cast<int>(i));
+      const Image view = compositeOverBackground(im.truth, data.exemplars()[i].viewExp.background);
+      try
+      {
+        other[i] = prepareQueryImage(resizeImage(view, 3 * s, 3 * s), s);
+        own[i] = im.rgbExp;
+        usable[i] = 1;
+      }
+      catch (const Error&) // nothing shows from the other view: a query would be refused
+      {
+      }
+      ++done;
+    });
+  std::vector<Image> ownKept, otherKept;
+  for (size_t i = 0; i < usable.size(); ++i)
+    if (usable[i])
+    {
+      ownKept.push_back(std::move(own[i]));
+      otherKept.push_back(std::move(other[i]));
+    }
+  if (static_cast<int>(ownKept.size()) < 2 * dim)
+    return {};
+  const QueryKey key =
+    fitQueryKey(model.analyzeBatch(ownKept), model.analyzeBatch(otherKept), dim, components);
+  if (progress && !progress(1.0))
+    throw Cancelled();
+  return key;
 }
 
 // ---- the gallery --------------------------------------------------------------------------

@@ -78,10 +78,21 @@ struct QueryRecall
 /// image (as buildOutlineLatents makes them) joins `outline`; then the exemplar is queried
 /// through prepareQueryImage and the analyzer, with its own image and with the other view (each
 /// upsampled to 3x the model's size first, as a larger screenshot), and
-/// counts as found when its row is among the k nearest of the joined set. Throws ddg::Error for
+/// counts as found when its row is among the k nearest of the joined set (by `key`, as the
+/// gallery's query finds them, when it is not empty). Throws ddg::Error for
 /// count < 1, k < 1, or data whose image size or volume is not the model's.
 QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline,
-  const ExemplarDataset& heldout, int count, int k = 5);
+  const ExemplarDataset& heldout, int count, int k = 5, const QueryKey& key = {});
+
+/// The query key of a model fitted on up to `maxPairs` exemplars of `data` (fitQueryKey): each
+/// exemplar's V_exp image analysed as the outline's designs are, and its ground truth at V_view
+/// over the same background framed and analysed as a query is (prepareQueryImage of it
+/// upsampled 3x, as queryRecall's other view); pictures in which nothing shows are passed over.
+/// Returns an empty key when fewer than 2 x latent pairs are usable (a model's key needs more
+/// designs than it has values). `progress(fraction)` returning false cancels (ddg::Cancelled).
+QueryKey queryKeyFromExemplars(const NeuralDesignModel& model, const ExemplarDataset& data,
+  int maxPairs = kQueryKeyPairs, int components = kQueryKeyComponents, int threads = 0,
+  const std::function<bool(double)>& progress = {});
 
 /// Regions whose primitives stay fixed while the rest changes (feature lock): `primitives` holds
 /// one primitive per feature region of the model (from the design they were locked on, opacity
@@ -128,6 +139,8 @@ public:
     NeuralDesignModel& model, std::shared_ptr<const DesignVolume> volume, LatentSet latents);
 
   const DesignOutline& outline() const { return Outline; }
+  /// A query's nearest designs by this key from now on (DesignOutline::setQueryKey).
+  void setQueryKey(QueryKey key) { Outline.setQueryKey(std::move(key)); }
   NeuralDesignModel& model() { return Model; }
   /// The volume and its ray caster (one, shared by every render of the gallery): throw
   /// ddg::Error when the volume is not in this process.

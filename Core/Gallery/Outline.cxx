@@ -252,6 +252,28 @@ std::vector<Neighbour> nearestLatents(const LatentSet& set, const float* latent,
   return all;
 }
 
+std::vector<Neighbour> DesignOutline::nearest(const float* latent, int k) const
+{
+  if (Key.empty())
+    return nearestLatents(Latents, latent, k);
+  const std::vector<float> key = Key.apply(latent, 1, Latents.dim);
+  return nearestLatents(Keys, key.data(), k);
+}
+
+void DesignOutline::setQueryKey(QueryKey key)
+{
+  LatentSet keys;
+  if (!key.empty())
+  {
+    keys.dim = key.components;
+    keys.seed = Latents.seed;
+    keys.indices = Latents.indices;
+    keys.values = key.apply(Latents.values.data(), static_cast<size_t>(count()), Latents.dim);
+  }
+  Key = std::move(key);
+  Keys = std::move(keys);
+}
+
 // ---- thumbnails ---------------------------------------------------------------------------
 
 std::vector<int> selectThumbnails(

@@ -3,6 +3,8 @@
 // outline view's navigation state as plain data.
 #pragma once
 
+#include "Gallery/QueryKey.h"
+
 #include <array>
 #include <cstdint>
 #include <string>
@@ -81,11 +83,13 @@ public:
   std::vector<float> moveAlongAxes(
     const std::vector<float>& latent, const std::vector<double>& steps) const;
 
-  /// The k rows nearest to `latent` (nearestLatents over its latents).
-  std::vector<Neighbour> nearest(const float* latent, int k) const
-  {
-    return nearestLatents(Latents, latent, k);
-  }
+  /// The k rows nearest to `latent` (nearestLatents over its latents, or over their keys when
+  /// the outline has a query key: distances are then the keys').
+  std::vector<Neighbour> nearest(const float* latent, int k) const;
+  /// Finds nearest rows by this key from now on (an empty key: by the latents). Throws
+  /// ddg::Error when the key is for another latent size.
+  void setQueryKey(QueryKey key);
+  const QueryKey& queryKey() const { return Key; }
 
 private:
   LatentSet Latents;
@@ -93,6 +97,8 @@ private:
   std::vector<double> Axes;        ///< dim x dim, row k = e_k
   std::vector<double> Eigenvalues; ///< dim, descending
   std::vector<float> Points;
+  QueryKey Key;
+  LatentSet Keys; ///< the latents' keys (Key not empty)
 };
 
 /// K thumbnails that cover `box` well: farthest-point sampling over the points inside it,

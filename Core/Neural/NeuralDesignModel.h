@@ -177,7 +177,8 @@ public:
 
   /// Writes a bundle directory: weights (model.pt), bundle.json (config, the volume's
   /// fingerprint, spec, regions, metrics json), latents.bin (float32, training latents) and
-  /// exemplars.json (their TF parameters). Atomic per file; bundle.json last. Progress gets
+  /// exemplars.json (their TF parameters); a query key of the old weights is removed
+  /// (kQueryKeyFileName). Atomic per file; bundle.json last. Progress gets
   /// the fraction of the training latents analysed (every 128) and may cancel (throws
   /// ddg::Cancelled; bundle.json is not written then).
   void saveBundle(const std::string& dir, const ExemplarDataset& training,

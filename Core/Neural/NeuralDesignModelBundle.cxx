@@ -6,6 +6,7 @@
 #include "Common/FileUtil.h"
 #include "Design/DesignJson.h"
 #include "Gallery/Outline.h"
+#include "Gallery/QueryKey.h"
 #include "Neural/NeuralDesignModelInternals.h"
 #include "Render/RayCaster.h" // ddg::Cancelled
 
@@ -45,6 +46,8 @@ void NeuralDesignModel::saveBundle(const std::string& dir, const ExemplarDataset
   // bundle.json is written last and removed first: a failed save never leaves an index that
   // describes files of another save
   fs::remove(fs::path(dir) / "bundle.json", ec);
+  // a query key fitted to other weights (Gallery/QueryKey.h) no longer holds
+  fs::remove(fs::path(dir) / kQueryKeyFileName, ec);
   // weights
   {
     torch::serialize::OutputArchive ar, a, r;

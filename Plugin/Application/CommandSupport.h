@@ -81,6 +81,7 @@ Command addFidelityCommand(CLI::App& app);
 Command addBuildCommand(CLI::App& app);
 Command addReplayCommand(CLI::App& app);
 Command addRecallCommand(CLI::App& app);
+Command addQueryKeyCommand(CLI::App& app);
 #endif
 
 } // namespace cli

@@ -36,9 +36,9 @@ int main(int argc, char** argv)
   commands.push_back(addInfoCommand(app));
   commands.push_back(addExportCommand(app));
 #ifdef DDG_WITH_TORCH
-  for (auto add :
-    { addOutlineCommand, addGalleryCommand, addQueryCommand, addNavigateCommand, addEditCommand,
-      addAnimateCommand, addFidelityCommand, addBuildCommand, addReplayCommand, addRecallCommand })
+  for (auto add : { addOutlineCommand, addGalleryCommand, addQueryCommand, addNavigateCommand,
+         addEditCommand, addAnimateCommand, addFidelityCommand, addBuildCommand, addReplayCommand,
+         addRecallCommand, addQueryKeyCommand })
     commands.push_back(add(app));
 #endif
 

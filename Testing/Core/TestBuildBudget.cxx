@@ -10,8 +10,10 @@
 // Testing/Benchmarks/BenchBuildCancel).
 #include "Common/FileUtil.h"
 #include "Gallery/BuildDesignSpace.h"
+#include "Gallery/BundleSession.h"
 #include "Gallery/Gallery.h"
 #include "Gallery/Outline.h"
+#include "Gallery/QueryKey.h"
 
 #include "Design/DesignSpace.h"
 #include "Render/RayCaster.h"
@@ -329,6 +331,34 @@ TEST(BuildBudget, BuildsIntoAFolderAndRecordsTheOriginalVolume)
   o.overwrite = true;
   EXPECT_NO_THROW(buildDesignSpace(v, "", dir.string(), o));
   EXPECT_TRUE(fs::exists(dir / "notes.txt"));
+}
+
+// A build of enough exemplars fits a query key (2 x latent view pairs at least) and the gallery
+// opened on the bundle finds nearest designs by it; rebuilt with too few for one, the old key
+// (of other weights) goes.
+TEST(BuildBudget, WritesAQueryKeyAndDropsAStaleOne)
+{
+  const Volume v = blobs();
+  const fs::path dir = fs::path(ddg::testing::tempDir()) / "keyed";
+  BuildOptions o = tiny();
+  o.count = 160;
+  o.outlineCount = 200;
+  buildDesignSpace(v, "", dir.string(), o);
+  ASSERT_TRUE(fs::exists(queryKeyFile(dir.string())));
+  const QueryKey key = readQueryKey(queryKeyFile(dir.string()));
+  EXPECT_EQ(key.dim, 64);
+  EXPECT_EQ(key.components, kQueryKeyComponents);
+  EXPECT_GE(key.pairs, 128);
+  EXPECT_LE(key.pairs, 160);
+  const BundleSession session(
+    dir.string(), volumeFingerprint(v), std::make_shared<LocalDesignVolume>(v), "");
+  EXPECT_EQ(session.gallery().outline().queryKey().matrix, key.matrix);
+  o.count = 16;
+  o.outlineCount = 20;
+  o.overwrite = true;
+  buildDesignSpace(v, "", dir.string(), o);
+  EXPECT_FALSE(fs::exists(queryKeyFile(dir.string())));
+  EXPECT_TRUE(fs::exists(dir / "bundle.json"));
 }
 
 // A build whose exemplars and outline designs are rendered in shares by workers (other
