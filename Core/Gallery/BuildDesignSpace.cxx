@@ -266,12 +266,28 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
     [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - keyShare) * wO * f); },
     o.screen, o.workers);
   writeLatentSet(set, outlineFile(staging.dir.string()));
-  const QueryKey key =
-    queryKeyFromExemplars(model, train, kQueryKeyPairs, kQueryKeyComponents, o.threads,
-      [&](double f)
-      { return keepGoing("outline", wE + wT + wV + (1 - keyShare + keyShare * f) * wO); });
-  if (!key.empty()) // a build of fewer exemplars than 2 x latent has none
-    writeQueryKey(key, queryKeyFile(staging.dir.string()));
+  try
+  {
+    const QueryKey key =
+      queryKeyFromExemplars(model, train, kQueryKeyPairs, kQueryKeyComponents, o.threads,
+        [&](double f)
+        { return keepGoing("outline", wE + wT + wV + (1 - keyShare + keyShare * f) * wO); });
+    if (!key.empty())
+    {
+      writeQueryKey(key, queryKeyFile(staging.dir.string()));
+      r.queryKeyPairs = key.pairs;
+    }
+    else
+      r.queryKeyNote = "too few exemplars show their design from both views";
+  }
+  catch (const Cancelled&)
+  {
+    throw;
+  }
+  catch (const Error& e) // the bundle works without one: queries compare latents as they are
+  {
+    r.queryKeyNote = e.what();
+  }
   r.outlineSeconds = secondsSince(t0);
   report("outline", 1.0);
   staging.commit(o.workDirectory.empty() ? "exemplars" : "");

@@ -56,6 +56,10 @@ struct BuildReport
   double generateSeconds = 0, outlineSeconds = 0, totalSeconds = 0;
   double evaluationSeconds = 0, savingSeconds = 0; ///< held-out figures; the bundle's files
   BuildPlan plan; ///< what was planned (the budget's plan, or the estimate of the sizes given)
+  /// The query key's view pairs (0: the bundle has none; queryKeyNote says why: queries then
+  /// compare latents as they are)
+  int queryKeyPairs = 0;
+  std::string queryKeyNote;
 };
 
 /// The figures of a model as bundle.json's "metrics" holds them.

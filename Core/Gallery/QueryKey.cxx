@@ -26,8 +26,7 @@ std::vector<float> QueryKey::apply(const float* latents, size_t count, int laten
   const Eigen::Map<const Matrix> m(matrix.data(), components, dim);
   const Eigen::Map<const Matrix> z(latents, static_cast<Eigen::Index>(count), dim);
   std::vector<float> out(count * static_cast<size_t>(components));
-  Eigen::Map<Matrix>(out.data(), static_cast<Eigen::Index>(count), components) =
-    z * m.transpose();
+  Eigen::Map<Matrix>(out.data(), static_cast<Eigen::Index>(count), components) = z * m.transpose();
   return out;
 }
 
@@ -43,10 +42,8 @@ QueryKey fitQueryKey(
     throw Error("a query key needs at least " + std::to_string(2 * dim) + " view pairs, not " +
       std::to_string(n));
   using Matrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const Eigen::MatrixXd zo =
-    Eigen::Map<const Matrix>(own.data(), n, dim).cast<double>();
-  const Eigen::MatrixXd zq =
-    Eigen::Map<const Matrix>(other.data(), n, dim).cast<double>();
+  const Eigen::MatrixXd zo = Eigen::Map<const Matrix>(own.data(), n, dim).cast<double>();
+  const Eigen::MatrixXd zq = Eigen::Map<const Matrix>(other.data(), n, dim).cast<double>();
   // within-design scatter (what a change of view does to the latent), whitened
   const Eigen::MatrixXd d = zo - zq;
   Eigen::MatrixXd within = d.transpose() * d / static_cast<double>(n);
@@ -54,8 +51,7 @@ QueryKey fitQueryKey(
   const Eigen::LLT<Eigen::MatrixXd> llt(within);
   if (llt.info() != Eigen::Success)
     throw Error("the query key's view pairs give no usable scatter");
-  const Eigen::MatrixXd whiten =
-    llt.matrixL().solve(Eigen::MatrixXd::Identity(dim, dim)); // L^-1
+  const Eigen::MatrixXd whiten = llt.matrixL().solve(Eigen::MatrixXd::Identity(dim, dim)); // L^-1
   // between designs: the own latents' spread in the whitened space, its largest directions
   Eigen::MatrixXd y = zo * whiten.transpose();
   y.rowwise() -= y.colwise().mean();

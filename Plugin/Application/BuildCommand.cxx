@@ -85,6 +85,11 @@ int runBuild(BuildArgs a)
     r.training.seconds, r.training.imageRays, r.evaluationSeconds, r.savingSeconds,
     r.plan.outlineCount, r.outlineSeconds, r.evaluation.count, r.evaluation.psnr, r.evaluation.ssim,
     r.evaluation.emd, r.evaluation.invariance);
+  if (r.queryKeyPairs > 0)
+    std::printf("query key: fitted on %d view pairs\n", r.queryKeyPairs);
+  else
+    std::printf(
+      "query key: none (%s); queries compare latents as they are\n", r.queryKeyNote.c_str());
   const auto& x = r.exemplars;
   if (a.o.screen)
     std::printf(

@@ -343,12 +343,13 @@ TEST(BuildBudget, WritesAQueryKeyAndDropsAStaleOne)
   BuildOptions o = tiny();
   o.count = 160;
   o.outlineCount = 200;
-  buildDesignSpace(v, "", dir.string(), o);
-  ASSERT_TRUE(fs::exists(queryKeyFile(dir.string())));
+  const BuildReport built = buildDesignSpace(v, "", dir.string(), o);
+  ASSERT_TRUE(fs::exists(queryKeyFile(dir.string()))) << built.queryKeyNote;
   const QueryKey key = readQueryKey(queryKeyFile(dir.string()));
   EXPECT_EQ(key.dim, 64);
   EXPECT_EQ(key.components, kQueryKeyComponents);
   EXPECT_GE(key.pairs, 128);
+  EXPECT_EQ(built.queryKeyPairs, key.pairs);
   EXPECT_LE(key.pairs, 160);
   const BundleSession session(
     dir.string(), volumeFingerprint(v), std::make_shared<LocalDesignVolume>(v), "");
@@ -356,8 +357,10 @@ TEST(BuildBudget, WritesAQueryKeyAndDropsAStaleOne)
   o.count = 16;
   o.outlineCount = 20;
   o.overwrite = true;
-  buildDesignSpace(v, "", dir.string(), o);
+  const BuildReport rebuilt = buildDesignSpace(v, "", dir.string(), o);
   EXPECT_FALSE(fs::exists(queryKeyFile(dir.string())));
+  EXPECT_EQ(rebuilt.queryKeyPairs, 0);
+  EXPECT_NE(rebuilt.queryKeyNote.find("too few exemplars"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "bundle.json"));
 }
 
