@@ -31,8 +31,8 @@ struct BuildRates
   double analyzeSeconds = 0;      ///< the analyzer on one image, alone (held-out figures)
   double analyzeBatchSeconds = 0; ///< ... per image in a batch (outline)
   double figureSeconds = 0;       ///< a held-out figure's PSNR, SSIM and colour-histogram EMD
-  double framedSeconds = 0;       ///< a picture framed as a query (the query key's pairs), on
-                                  ///< all threads
+  double framedSeconds = 0;       ///< a picture upsampled 3x and framed as a query (the query
+                                  ///< key's pairs; the resizes use every thread)
   int threads = 1;                ///< threads the build's parallel stages use
   bool measured() const { return exemplarSeconds > 0; }
 };
