@@ -6,7 +6,7 @@
 #   2. ddg train:    fixed iterations, seed 1, 2 threads; evaluated on the held-out set
 #   3. ddg outline:  the gallery's outline: latents of 50 000 designs (0..49 999 of seed 1, whose
 #                    first COUNT are the training exemplars), outline.bin in the bundle
-#   4. ddg query-key: the key a query's nearest designs are found by, fitted on 2 000 exemplars
+#   4. ddg query-key: the key a query's nearest designs are found by, fitted on 16 000 exemplars
 #                    (indices from 3 000 000, neither trained on nor held out), query_key.json
 # Usage: scripts/train_model.sh VOLUME [ITERATIONS] [COUNT] [SIZE] [WIDTH] [KIND] [IMAGE_WEIGHT]
 #   KIND: unet (the paper's renderer) or decoder (explicit TF, ray cast) [decoder]
@@ -81,8 +81,8 @@ $DDG train --kind "$KIND" --volume "Data/Volumes/$VOLUME.vti" --data "$WORK/trai
 if [ "$OUTLINE" != 0 ]; then
   $DDG outline --model "$WORK/bundle" --volume "Data/Volumes/$VOLUME.vti" --count "$OUTLINE" \
     --seed 1 --threads 2 --quiet
-  generate "$WORK/querykey" 2000 3000000
-  $DDG query-key --model "$WORK/bundle" --data "$WORK/querykey" --pairs 2000 --threads 2
+  generate "$WORK/querykey" 16000 3000000
+  $DDG query-key --model "$WORK/bundle" --data "$WORK/querykey" --pairs 16000 --threads 2
 fi
 rm -rf "$OUT.tmp"
 cp -r "$WORK/bundle" "$OUT.tmp"

@@ -268,10 +268,9 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   writeLatentSet(set, outlineFile(staging.dir.string()));
   try
   {
-    const QueryKey key =
-      queryKeyFromExemplars(model, train, kQueryKeyPairs, kQueryKeyComponents, o.threads,
-        [&](double f)
-        { return keepGoing("outline", wE + wT + wV + (1 - keyShare + keyShare * f) * wO); });
+    const QueryKey key = queryKeyFromExemplars(model, train, kQueryKeyPairs, o.threads,
+      [&](double f)
+      { return keepGoing("outline", wE + wT + wV + (1 - keyShare + keyShare * f) * wO); });
     if (!key.empty())
     {
       writeQueryKey(key, queryKeyFile(staging.dir.string()));

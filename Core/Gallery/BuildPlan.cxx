@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <random>
 #include <system_error>
 
 #ifndef _WIN32
@@ -75,13 +76,14 @@ std::string BuildPlan::toJson() const
     "\"training_seconds\": %.1f, \"evaluation_seconds\": %.1f, \"outline_seconds\": %.1f, "
     "\"total_seconds\": %.1f, \"disk_bytes\": %lld, \"bundle_bytes\": %lld, "
     "\"design_dims\": [%d, %d, %d], \"downsample\": %d, \"exemplar_ms\": %.3f, "
-    "\"analyze_ms\": %.3f, \"figure_ms\": %.3f, \"framed_ms\": %.3f, \"threads\": %d}",
+    "\"analyze_ms\": %.3f, \"figure_ms\": %.3f, \"framed_ms\": %.3f, \"key_fit_us\": %.3f, "
+    "\"threads\": %d}",
     budgetMinutes, count, heldout, outlineCount, size, trainingMinutes, exemplarSeconds,
     trainingSeconds, evaluationSeconds, outlineSeconds, totalSeconds,
     static_cast<long long>(diskBytes), static_cast<long long>(bundleBytes), designDims[0],
     designDims[1], designDims[2], downsample, 1000 * rates.exemplarSeconds,
     1000 * rates.analyzeSeconds, 1000 * rates.figureSeconds, 1000 * rates.framedSeconds,
-    rates.threads);
+    1e6 * rates.keyFitSeconds, rates.threads);
   return buf;
 }
 
@@ -190,19 +192,36 @@ BuildRates measureBuildRates(const Volume& volume, int size, int threads, int pr
   t0 = Clock::now();
   model.analyzeBatch(images);
   r.analyzeBatchSeconds = since(t0) / images.size();
+  // the contrastive key's training: one epoch over 512 pairs of random latents
+  std::mt19937_64 rng(1);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  std::vector<float> own(static_cast<size_t>(512) * cfg.latent), other(own.size());
+  for (size_t i = 0; i < own.size(); ++i)
+  {
+    own[i] = normal(rng);
+    other[i] = own[i] + 0.1f * normal(rng);
+  }
+  ContrastiveKeyOptions fit;
+  fit.epochs = 1;
+  t0 = Clock::now();
+  (void)fitContrastiveQueryKey(own, other, cfg.latent, fit);
+  r.keyFitSeconds = since(t0) / 512;
   return r;
 }
 
 namespace
 {
 // The outline's seconds: the analyzer for every design, a render for those that are not training
-// exemplars (all of them when outlineRendered); and the query key's pairs (framed, analysed twice).
+// exemplars (all of them when outlineRendered); and the query key's pairs (framed, analysed twice,
+// and the contrastive key's epochs over them).
 double outlineCost(const BuildRates& rates, int outline, int count, bool outlineRendered)
 {
   const int rendered = outlineRendered ? outline : std::max(0, outline - count);
   const int pairs = std::min(count, kQueryKeyPairs);
+  const double fit =
+    pairs >= kContrastiveKeyPairs ? ContrastiveKeyOptions{}.epochs * rates.keyFitSeconds : 0;
   return rendered * rates.renderSeconds + outline * rates.analyzeBatchSeconds +
-    pairs * (rates.framedSeconds + 2 * rates.analyzeBatchSeconds);
+    pairs * (rates.framedSeconds + 2 * rates.analyzeBatchSeconds + fit);
 }
 } // namespace
 

@@ -33,6 +33,7 @@ struct BuildRates
   double figureSeconds = 0;       ///< a held-out figure's PSNR, SSIM and colour-histogram EMD
   double framedSeconds = 0;       ///< a picture upsampled 3x and framed as a query (the query
                                   ///< key's pairs; the resizes use every thread)
+  double keyFitSeconds = 0;       ///< the contrastive query key's training, per pair and epoch
   int threads = 1;                ///< threads the build's parallel stages use
   bool measured() const { return exemplarSeconds > 0; }
 };

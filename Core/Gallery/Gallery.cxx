@@ -183,7 +183,7 @@ QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline
 }
 
 QueryKey queryKeyFromExemplars(const NeuralDesignModel& model, const ExemplarDataset& data,
-  int maxPairs, int components, int threads, const std::function<bool(double)>& progress)
+  int maxPairs, int threads, const std::function<bool(double)>& progress)
 {
   const int s = model.config().imageSize, dim = model.config().latent;
   if (data.size() != s)
@@ -222,11 +222,16 @@ QueryKey queryKeyFromExemplars(const NeuralDesignModel& model, const ExemplarDat
     }
   if (static_cast<int>(ownKept.size()) < 2 * dim)
     return {};
-  const QueryKey key =
-    fitQueryKey(model.analyzeBatch(ownKept), model.analyzeBatch(otherKept), dim, components);
-  if (progress && !progress(1.0))
-    throw Cancelled();
-  return key;
+  const auto zOwn = model.analyzeBatch(ownKept), zOther = model.analyzeBatch(otherKept);
+  if (static_cast<int>(ownKept.size()) < kContrastiveKeyPairs)
+  {
+    const QueryKey key = fitQueryKey(zOwn, zOther, dim, kQueryKeyComponents);
+    if (progress && !progress(1.0))
+      throw Cancelled();
+    return key;
+  }
+  return fitContrastiveQueryKey(
+    zOwn, zOther, dim, {}, [&](double f) { return !progress || progress(0.9 + 0.1 * f); });
 }
 
 // ---- the gallery --------------------------------------------------------------------------

@@ -84,15 +84,16 @@ struct QueryRecall
 QueryRecall queryRecall(const NeuralDesignModel& model, const LatentSet& outline,
   const ExemplarDataset& heldout, int count, int k = 5, const QueryKey& key = {});
 
-/// The query key of a model fitted on up to `maxPairs` exemplars of `data` (fitQueryKey): each
-/// exemplar's V_exp image analysed as the outline's designs are, and its ground truth at V_view
-/// over the same background framed and analysed as a query is (prepareQueryImage of it
-/// upsampled 3x, as queryRecall's other view); pictures in which nothing shows are passed over.
-/// Returns an empty key when fewer than 2 x latent pairs are usable (a model's key needs more
-/// designs than it has values). `progress(fraction)` returning false cancels (ddg::Cancelled).
+/// The query key of a model fitted on up to `maxPairs` exemplars of `data`: each exemplar's
+/// V_exp image analysed as the outline's designs are, and its ground truth at V_view over the
+/// same background framed and analysed as a query is (prepareQueryImage of it upsampled 3x, as
+/// queryRecall's other view); pictures in which nothing shows are passed over. The contrastive
+/// key (fitContrastiveQueryKey) from kContrastiveKeyPairs usable pairs, the linear one
+/// (fitQueryKey) below. Returns an empty key when fewer than 2 x latent pairs are usable (a
+/// model's key needs more designs than it has values). `progress(fraction)` returning false
+/// cancels (ddg::Cancelled).
 QueryKey queryKeyFromExemplars(const NeuralDesignModel& model, const ExemplarDataset& data,
-  int maxPairs = kQueryKeyPairs, int components = kQueryKeyComponents, int threads = 0,
-  const std::function<bool(double)>& progress = {});
+  int maxPairs = kQueryKeyPairs, int threads = 0, const std::function<bool(double)>& progress = {});
 
 /// Regions whose primitives stay fixed while the rest changes (feature lock): `primitives` holds
 /// one primitive per feature region of the model (from the design they were locked on, opacity

@@ -23,11 +23,54 @@ std::vector<float> QueryKey::apply(const float* latents, size_t count, int laten
     throw Error("the query key is for latents of " + std::to_string(dim) + " values, not " +
       std::to_string(latentDim) + " (another model's key)");
   using Matrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const Eigen::Map<const Matrix> m(matrix.data(), components, dim);
-  const Eigen::Map<const Matrix> z(latents, static_cast<Eigen::Index>(count), dim);
+  const auto n = static_cast<Eigen::Index>(count);
+  Matrix x = Eigen::Map<const Matrix>(latents, n, dim);
+  if (!mean.empty())
+    for (int c = 0; c < dim; ++c)
+      x.col(c) = (x.col(c).array() - mean[static_cast<size_t>(c)]) / scale[static_cast<size_t>(c)];
+  for (size_t l = 0; l < layers.size(); ++l)
+  {
+    const auto& layer = layers[l];
+    Matrix y =
+      x * Eigen::Map<const Matrix>(layer.weights.data(), layer.rows, layer.cols).transpose();
+    if (!layer.bias.empty())
+      y.rowwise() += Eigen::Map<const Eigen::RowVectorXf>(layer.bias.data(), layer.rows);
+    if (l + 1 < layers.size()) // GELU, as torch's (exact, by erf)
+      y = y.unaryExpr([](float v) { return 0.5f * v * (1.0f + std::erf(v * 0.70710678f)); });
+    x = std::move(y);
+  }
+  if (normalized)
+    x.rowwise().normalize();
   std::vector<float> out(count * static_cast<size_t>(components));
-  Eigen::Map<Matrix>(out.data(), static_cast<Eigen::Index>(count), components) = z * m.transpose();
+  Eigen::Map<Matrix>(out.data(), n, components) = x;
   return out;
+}
+
+void QueryKey::validate() const
+{
+  if (dim < 1 || layers.empty() || components != layers.back().rows)
+    throw Error("its sizes do not match");
+  if (!mean.empty() && (mean.size() != static_cast<size_t>(dim) || scale.size() != mean.size()))
+    throw Error("its standardisation does not match its latents");
+  int in = dim;
+  for (const auto& layer : layers)
+  {
+    if (layer.cols != in || layer.rows < 1 ||
+      layer.weights.size() != static_cast<size_t>(layer.rows) * layer.cols ||
+      (!layer.bias.empty() && layer.bias.size() != static_cast<size_t>(layer.rows)))
+      throw Error("its layers' sizes do not chain");
+    in = layer.rows;
+    for (const auto* values : { &layer.weights, &layer.bias })
+      for (float v : *values)
+        if (!std::isfinite(v))
+          throw Error("it holds a non-finite value");
+  }
+  for (float v : scale)
+    if (!(v > 0) || !std::isfinite(v))
+      throw Error("its scale is not positive");
+  for (float v : mean)
+    if (!std::isfinite(v))
+      throw Error("it holds a non-finite value");
 }
 
 QueryKey fitQueryKey(
@@ -62,11 +105,16 @@ QueryKey fitQueryKey(
   if (!m.allFinite())
     throw Error("the query key's fit is not finite");
   QueryKey key;
+  key.method = "lda";
   key.dim = dim;
   key.components = components;
   key.pairs = static_cast<int>(n);
-  key.matrix.resize(static_cast<size_t>(components) * dim);
-  Eigen::Map<Matrix>(key.matrix.data(), components, dim) = m.cast<float>();
+  QueryKeyLayer layer;
+  layer.rows = components;
+  layer.cols = dim;
+  layer.weights.resize(static_cast<size_t>(components) * dim);
+  Eigen::Map<Matrix>(layer.weights.data(), components, dim) = m.cast<float>();
+  key.layers.push_back(std::move(layer));
   return key;
 }
 
@@ -77,10 +125,17 @@ std::string queryKeyFile(const std::string& bundleDir)
 
 void writeQueryKey(const QueryKey& key, const std::string& path)
 {
-  if (key.empty() || key.matrix.size() != static_cast<size_t>(key.components) * key.dim)
-    throw Error("an empty or malformed query key cannot be written");
-  const nlohmann::json j = { { "format", "ddg-query-key" }, { "version", 1 }, { "dim", key.dim },
-    { "components", key.components }, { "pairs", key.pairs }, { "matrix", key.matrix } };
+  if (key.empty())
+    throw Error("an empty query key cannot be written");
+  key.validate();
+  nlohmann::json layers = nlohmann::json::array();
+  for (const auto& l : key.layers)
+    layers.push_back(
+      { { "rows", l.rows }, { "cols", l.cols }, { "weights", l.weights }, { "bias", l.bias } });
+  const nlohmann::json j = { { "format", "ddg-query-key" }, { "version", 2 },
+    { "method", key.method }, { "dim", key.dim }, { "components", key.components },
+    { "pairs", key.pairs }, { "mean", key.mean }, { "scale", key.scale }, { "layers", layers },
+    { "normalized", key.normalized } };
   writeFileAtomic(path, j.dump() + "\n", "query key");
 }
 
@@ -90,19 +145,33 @@ QueryKey readQueryKey(const std::string& path)
   try
   {
     const auto j = nlohmann::json::parse(text);
-    if (j.at("format").get<std::string>() != "ddg-query-key" || j.at("version").get<int>() != 1)
-      throw Error("not a version-1 ddg-query-key");
+    const int version = j.at("version").get<int>();
+    if (j.at("format").get<std::string>() != "ddg-query-key" || (version != 1 && version != 2))
+      throw Error("not a version-1 or -2 ddg-query-key");
     QueryKey key;
     key.dim = j.at("dim").get<int>();
     key.components = j.at("components").get<int>();
     key.pairs = j.at("pairs").get<int>();
-    key.matrix = j.at("matrix").get<std::vector<float>>();
-    if (key.dim < 1 || key.components < 1 || key.components > key.dim ||
-      key.matrix.size() != static_cast<size_t>(key.components) * key.dim)
-      throw Error("its sizes do not match");
-    for (float v : key.matrix)
-      if (!std::isfinite(v))
-        throw Error("it holds a non-finite value");
+    if (version == 1) // a linear key: one matrix
+    {
+      key.method = "lda";
+      QueryKeyLayer layer;
+      layer.rows = key.components;
+      layer.cols = key.dim;
+      layer.weights = j.at("matrix").get<std::vector<float>>();
+      key.layers.push_back(std::move(layer));
+    }
+    else
+    {
+      key.method = j.at("method").get<std::string>();
+      key.mean = j.at("mean").get<std::vector<float>>();
+      key.scale = j.at("scale").get<std::vector<float>>();
+      key.normalized = j.at("normalized").get<bool>();
+      for (const auto& l : j.at("layers"))
+        key.layers.push_back({ l.at("rows").get<int>(), l.at("cols").get<int>(),
+          l.at("weights").get<std::vector<float>>(), l.at("bias").get<std::vector<float>>() });
+    }
+    key.validate();
     return key;
   }
   catch (const std::exception& e)

@@ -347,13 +347,14 @@ TEST(BuildBudget, WritesAQueryKeyAndDropsAStaleOne)
   ASSERT_TRUE(fs::exists(queryKeyFile(dir.string()))) << built.queryKeyNote;
   const QueryKey key = readQueryKey(queryKeyFile(dir.string()));
   EXPECT_EQ(key.dim, 64);
+  EXPECT_EQ(key.method, "lda"); // under kContrastiveKeyPairs
   EXPECT_EQ(key.components, kQueryKeyComponents);
   EXPECT_GE(key.pairs, 128);
   EXPECT_EQ(built.queryKeyPairs, key.pairs);
   EXPECT_LE(key.pairs, 160);
   const BundleSession session(
     dir.string(), volumeFingerprint(v), std::make_shared<LocalDesignVolume>(v), "");
-  EXPECT_EQ(session.gallery().outline().queryKey().matrix, key.matrix);
+  EXPECT_EQ(session.gallery().outline().queryKey().layers[0].weights, key.layers[0].weights);
   o.count = 16;
   o.outlineCount = 20;
   o.overwrite = true;
@@ -362,6 +363,25 @@ TEST(BuildBudget, WritesAQueryKeyAndDropsAStaleOne)
   EXPECT_EQ(rebuilt.queryKeyPairs, 0);
   EXPECT_NE(rebuilt.queryKeyNote.find("too few exemplars"), std::string::npos);
   EXPECT_TRUE(fs::exists(dir / "bundle.json"));
+}
+
+// From kContrastiveKeyPairs usable pairs the build's key is the contrastive network.
+TEST(BuildBudget, FitsTheContrastiveKeyFromEnoughPairs)
+{
+  const Volume v = blobs();
+  const fs::path dir = fs::path(ddg::testing::tempDir()) / "keyed_contrastive";
+  fs::remove_all(dir);
+  BuildOptions o = tiny();
+  o.count = kContrastiveKeyPairs + 200;
+  o.outlineCount = o.count;
+  const BuildReport built = buildDesignSpace(v, "", dir.string(), o);
+  ASSERT_TRUE(fs::exists(queryKeyFile(dir.string()))) << built.queryKeyNote;
+  const QueryKey key = readQueryKey(queryKeyFile(dir.string()));
+  EXPECT_EQ(key.method, "contrastive");
+  EXPECT_EQ(key.components, ContrastiveKeyOptions{}.components);
+  EXPECT_GE(key.pairs, kContrastiveKeyPairs);
+  EXPECT_EQ(built.queryKeyPairs, key.pairs);
+  fs::remove_all(dir);
 }
 
 // A build whose exemplars and outline designs are rendered in shares by workers (other

@@ -1,8 +1,11 @@
-// TestQueryKey.cxx: the query key (LDA on view pairs) finds a design from another view where the
-// latents cannot, through DesignOutline's nearest; its file round-trips and bad input is refused.
+// TestQueryKey.cxx: the query keys (LDA on view pairs, and the contrastive network) find a design
+// from another view where the latents cannot, through DesignOutline's nearest; the network's
+// gradient matches finite differences; the file round-trips (version 1 still read) and bad input
+// is refused.
 #include "Common/Error.h"
 #include "Gallery/Outline.h"
 #include "Gallery/QueryKey.h"
+#include "Render/RayCaster.h" // ddg::Cancelled
 
 #include <gtest/gtest.h>
 
@@ -92,7 +95,10 @@ TEST(QueryKey, FindsDesignsFromAnotherViewWhereLatentsCannot)
   EXPECT_EQ(key.dim, 8);
   EXPECT_EQ(key.components, 4);
   EXPECT_EQ(key.pairs, 2000);
-  ASSERT_EQ(key.matrix.size(), 32u);
+  ASSERT_EQ(key.layers.size(), 1u);
+  ASSERT_EQ(key.layers[0].weights.size(), 32u);
+  EXPECT_TRUE(key.layers[0].bias.empty());
+  EXPECT_EQ(key.method, "lda");
   ddg::DesignOutline outline(setOf(test));
   const double byLatents = recall(outline, test, 5);
   outline.setQueryKey(key);
@@ -119,7 +125,7 @@ TEST(QueryKey, AppliesAsItsMatrix)
   {
     double s = 0;
     for (int c = 0; c < 8; ++c)
-      s += key.matrix[static_cast<size_t>(r) * 8 + c] * fit.own[8 + c];
+      s += key.layers[0].weights[static_cast<size_t>(r) * 8 + c] * fit.own[8 + c];
     EXPECT_NEAR(k[r], s, 1e-4);
   }
   EXPECT_THROW(key.apply(fit.own.data(), 1, 7), ddg::Error); // another model's latents
@@ -151,7 +157,8 @@ TEST(QueryKey, FileRoundTripAndCorruption)
   EXPECT_EQ(back.dim, 8);
   EXPECT_EQ(back.components, 2);
   EXPECT_EQ(back.pairs, 100);
-  EXPECT_EQ(back.matrix, key.matrix);
+  EXPECT_EQ(back.layers[0].weights, key.layers[0].weights);
+  EXPECT_EQ(back.method, "lda");
   EXPECT_THROW(ddg::writeQueryKey(ddg::QueryKey{}, path), ddg::Error);
   {
     std::ofstream(path) << R"({"format": "ddg-query-key", "version": 1, "dim": 8,
@@ -172,4 +179,119 @@ TEST(QueryKey, FileRoundTripAndCorruption)
   EXPECT_THROW(ddg::readQueryKey(path), ddg::Error);
   std::filesystem::remove_all(dir);
   EXPECT_THROW(ddg::readQueryKey(path), ddg::Error);
+}
+
+namespace
+{
+ddg::ContrastiveKeyOptions smallNetwork()
+{
+  ddg::ContrastiveKeyOptions o;
+  o.hidden = 32;
+  o.components = 8;
+  o.epochs = 30;
+  o.batch = 128;
+  return o;
+}
+} // namespace
+
+TEST(QueryKey, ContrastiveKeyFindsDesignsFromAnotherView)
+{
+  const Pairs fit = makePairs(2000, 7), test = makePairs(500, 8);
+  const ddg::QueryKey key = ddg::fitContrastiveQueryKey(fit.own, fit.other, 8, smallNetwork());
+  EXPECT_EQ(key.method, "contrastive");
+  EXPECT_EQ(key.components, 8);
+  EXPECT_EQ(key.pairs, 2000);
+  ASSERT_EQ(key.layers.size(), 3u);
+  ddg::DesignOutline outline(setOf(test));
+  const double byLatents = recall(outline, test, 5);
+  outline.setQueryKey(key);
+  const double byKey = recall(outline, test, 5);
+  EXPECT_LT(byLatents, 0.2);
+  EXPECT_GT(byKey, 0.9);
+  // unit-length keys
+  const auto k = key.apply(test.own.data(), 3, 8);
+  for (int r = 0; r < 3; ++r)
+  {
+    double s = 0;
+    for (int c = 0; c < 8; ++c)
+      s += k[static_cast<size_t>(r) * 8 + c] * k[static_cast<size_t>(r) * 8 + c];
+    EXPECT_NEAR(s, 1.0, 1e-5);
+  }
+  // the same seed, the same key; cancelled through progress
+  const ddg::QueryKey again = ddg::fitContrastiveQueryKey(fit.own, fit.other, 8, smallNetwork());
+  EXPECT_EQ(again.layers[2].weights, key.layers[2].weights);
+  EXPECT_THROW(ddg::fitContrastiveQueryKey(
+                 fit.own, fit.other, 8, smallNetwork(), [](double f) { return f < 0.5; }),
+    ddg::Cancelled);
+  const Pairs few = makePairs(15, 9);
+  EXPECT_THROW(ddg::fitContrastiveQueryKey(few.own, few.other, 8), ddg::Error);
+  auto bad = smallNetwork();
+  bad.temperature = 0;
+  EXPECT_THROW(ddg::fitContrastiveQueryKey(fit.own, fit.other, 8, bad), ddg::Error);
+}
+
+TEST(QueryKey, ContrastiveGradientMatchesFiniteDifferences)
+{
+  const Pairs p = makePairs(64, 10);
+  auto o = smallNetwork();
+  o.epochs = 2; // a trained (not initial) network, its GELUs off zero
+  o.batch = 16;
+  ddg::QueryKey key = ddg::fitContrastiveQueryKey(p.own, p.other, 8, o);
+  const int batch = 12;
+  std::vector<std::vector<float>> grad;
+  ddg::contrastiveKeyLoss(key, p.own.data(), p.other.data(), batch, 0.1, &grad);
+  ASSERT_EQ(grad.size(), 3u);
+  std::mt19937_64 rng(11);
+  int checked = 0;
+  for (size_t l = 0; l < key.layers.size(); ++l)
+    for (int trial = 0; trial < 12; ++trial)
+    {
+      auto& layer = key.layers[l];
+      const size_t nw = layer.weights.size();
+      const size_t i = rng() % (nw + layer.bias.size());
+      float& w = i < nw ? layer.weights[i] : layer.bias[i - nw];
+      const float saved = w, h = 1e-2f;
+      w = saved + h;
+      const double up = ddg::contrastiveKeyLoss(key, p.own.data(), p.other.data(), batch, 0.1, {});
+      w = saved - h;
+      const double down =
+        ddg::contrastiveKeyLoss(key, p.own.data(), p.other.data(), batch, 0.1, {});
+      w = saved;
+      const double fd = (up - down) / (2 * h);
+      EXPECT_NEAR(grad[l][i], fd, 2e-3 + 0.03 * std::abs(fd)) << "layer " << l << " entry " << i;
+      ++checked;
+    }
+  EXPECT_EQ(checked, 36);
+}
+
+TEST(QueryKey, ContrastiveFileRoundTripAndVersionOne)
+{
+  const Pairs p = makePairs(200, 12);
+  auto o = smallNetwork();
+  o.epochs = 2;
+  const ddg::QueryKey key = ddg::fitContrastiveQueryKey(p.own, p.other, 8, o);
+  const auto dir = std::filesystem::temp_directory_path() / "ddg-test-query-key-net";
+  std::filesystem::create_directories(dir);
+  const std::string path = ddg::queryKeyFile(dir.string());
+  ddg::writeQueryKey(key, path);
+  const ddg::QueryKey back = ddg::readQueryKey(path);
+  EXPECT_EQ(back.method, "contrastive");
+  EXPECT_TRUE(back.normalized);
+  EXPECT_EQ(back.mean, key.mean);
+  EXPECT_EQ(back.apply(p.other.data(), 5, 8), key.apply(p.other.data(), 5, 8));
+  {
+    std::ofstream(path) << R"({"format": "ddg-query-key", "version": 1, "dim": 2,
+      "components": 1, "pairs": 100, "matrix": [2, 3]})";
+  }
+  const ddg::QueryKey linear = ddg::readQueryKey(path);
+  const float z[2] = { 1, 10 };
+  EXPECT_EQ(linear.method, "lda");
+  EXPECT_EQ(linear.apply(z, 1, 2), std::vector<float>{ 32 });
+  {
+    std::ofstream(path) << R"({"format": "ddg-query-key", "version": 2, "method": "contrastive",
+      "dim": 2, "components": 1, "pairs": 100, "mean": [0, 0], "scale": [1, 0],
+      "layers": [{"rows": 1, "cols": 2, "weights": [2, 3], "bias": [1]}], "normalized": true})";
+  }
+  EXPECT_THROW(ddg::readQueryKey(path), ddg::Error); // a zero scale
+  std::filesystem::remove_all(dir);
 }
