@@ -260,7 +260,9 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   t0 = Clock::now();
   report("outline", wE + wT + wV);
   const double wO = 1 - wE - wT - wV;
-  const double keyShare = 0.5;
+  const double keyShare = r.plan.outlineSeconds > 0
+    ? std::clamp(r.plan.queryKeySeconds / r.plan.outlineSeconds, 0.0, 1.0)
+    : 0.5;
   const auto set = outlineFromExemplars(
     model, volume, train, o.outlineCount, o.seed, o.threads,
     [&](double f) { return keepGoing("outline", wE + wT + wV + (1 - keyShare) * wO * f); },

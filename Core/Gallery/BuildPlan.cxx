@@ -211,17 +211,23 @@ BuildRates measureBuildRates(const Volume& volume, int size, int threads, int pr
 
 namespace
 {
-// The outline's seconds: the analyzer for every design, a render for those that are not training
-// exemplars (all of them when outlineRendered); and the query key's pairs (framed, analysed twice,
-// and the contrastive key's epochs over them).
-double outlineCost(const BuildRates& rates, int outline, int count, bool outlineRendered)
+// The query key's seconds: its pairs framed and analysed twice, and the contrastive key's
+// epochs over them.
+double queryKeyCost(const BuildRates& rates, int count)
 {
-  const int rendered = outlineRendered ? outline : std::max(0, outline - count);
   const int pairs = std::min(count, kQueryKeyPairs);
   const double fit =
     pairs >= kContrastiveKeyPairs ? ContrastiveKeyOptions{}.epochs * rates.keyFitSeconds : 0;
+  return pairs * (rates.framedSeconds + 2 * rates.analyzeBatchSeconds + fit);
+}
+
+// The outline's seconds: the analyzer for every design, a render for those that are not training
+// exemplars (all of them when outlineRendered); and the query key.
+double outlineCost(const BuildRates& rates, int outline, int count, bool outlineRendered)
+{
+  const int rendered = outlineRendered ? outline : std::max(0, outline - count);
   return rendered * rates.renderSeconds + outline * rates.analyzeBatchSeconds +
-    pairs * (rates.framedSeconds + 2 * rates.analyzeBatchSeconds + fit);
+    queryKeyCost(rates, count);
 }
 } // namespace
 
@@ -244,6 +250,7 @@ BuildPlan estimateBuild(const std::array<int, 3>& designDims, int downsample,
   p.evaluationSeconds = heldout * (render1 + 2 * rates.analyzeSeconds + rates.figureSeconds) +
     kLatencySamples * (render1 + rates.analyzeSeconds) + count * rates.analyzeBatchSeconds;
   p.outlineSeconds = outlineCost(rates, outlineCount, count, outlineRendered);
+  p.queryKeySeconds = queryKeyCost(rates, count);
   p.totalSeconds = kOverheadSeconds + p.exemplarSeconds + p.trainingSeconds + p.evaluationSeconds +
     p.outlineSeconds;
   // the bundle: weights (~1.4 MB at width 16), training latents (half floats) and TF

@@ -51,6 +51,7 @@ struct BuildPlan
   /// (held-out figures, and saving the bundle: the training exemplars' latents), outline; and
   /// their sum with a fixed overhead.
   double exemplarSeconds = 0, trainingSeconds = 0, evaluationSeconds = 0, outlineSeconds = 0;
+  double queryKeySeconds = 0; ///< the query key's part of outlineSeconds
   double totalSeconds = 0;
   std::int64_t diskBytes = 0;      ///< peak disk use (exemplar shards + the bundle)
   std::int64_t bundleBytes = 0;    ///< what stays (the bundle)

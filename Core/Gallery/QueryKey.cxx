@@ -3,6 +3,8 @@
 
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
+#include "Common/Parallel.h"
+#include "Gallery/QueryKeyGelu.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -22,27 +24,36 @@ std::vector<float> QueryKey::apply(const float* latents, size_t count, int laten
   if (latentDim != dim)
     throw Error("the query key is for latents of " + std::to_string(dim) + " values, not " +
       std::to_string(latentDim) + " (another model's key)");
-  using Matrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-  const auto n = static_cast<Eigen::Index>(count);
-  Matrix x = Eigen::Map<const Matrix>(latents, n, dim);
-  if (!mean.empty())
-    for (int c = 0; c < dim; ++c)
-      x.col(c) = (x.col(c).array() - mean[static_cast<size_t>(c)]) / scale[static_cast<size_t>(c)];
-  for (size_t l = 0; l < layers.size(); ++l)
-  {
-    const auto& layer = layers[l];
-    Matrix y =
-      x * Eigen::Map<const Matrix>(layer.weights.data(), layer.rows, layer.cols).transpose();
-    if (!layer.bias.empty())
-      y.rowwise() += Eigen::Map<const Eigen::RowVectorXf>(layer.bias.data(), layer.rows);
-    if (l + 1 < layers.size()) // GELU, as torch's (exact, by erf)
-      y = y.unaryExpr([](float v) { return 0.5f * v * (1.0f + std::erf(v * 0.70710678f)); });
-    x = std::move(y);
-  }
-  if (normalized)
-    x.rowwise().normalize();
+  using Matrix = QueryKeyMatrix;
   std::vector<float> out(count * static_cast<size_t>(components));
-  Eigen::Map<Matrix>(out.data(), n, components) = x;
+  // in blocks of rows, on every core (an outline's 50 000 latents at bundle load)
+  constexpr std::int64_t kBlock = 2048;
+  const auto blocks = static_cast<std::int64_t>((count + kBlock - 1) / kBlock);
+  parallelFor(blocks, blocks > 1 ? 0 : 1,
+    [&](std::int64_t b, int)
+    {
+      const auto first = b * kBlock;
+      const auto n = std::min<std::int64_t>(kBlock, static_cast<std::int64_t>(count) - first);
+      Matrix x = Eigen::Map<const Matrix>(latents + first * dim, n, dim);
+      if (!mean.empty())
+        for (int c = 0; c < dim; ++c)
+          x.col(c) =
+            (x.col(c).array() - mean[static_cast<size_t>(c)]) / scale[static_cast<size_t>(c)];
+      for (size_t l = 0; l < layers.size(); ++l)
+      {
+        const auto& layer = layers[l];
+        Matrix y =
+          x * Eigen::Map<const Matrix>(layer.weights.data(), layer.rows, layer.cols).transpose();
+        if (!layer.bias.empty())
+          y.rowwise() += Eigen::Map<const Eigen::RowVectorXf>(layer.bias.data(), layer.rows);
+        if (l + 1 < layers.size())
+          geluInPlace(y);
+        x = std::move(y);
+      }
+      if (normalized)
+        x.rowwise().normalize();
+      Eigen::Map<Matrix>(out.data() + first * components, n, components) = x;
+    });
   return out;
 }
 

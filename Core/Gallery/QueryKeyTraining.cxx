@@ -4,6 +4,7 @@
 #include "Gallery/QueryKey.h"
 
 #include "Common/Error.h"
+#include "Gallery/QueryKeyGelu.h"
 #include "Render/RayCaster.h" // ddg::Cancelled
 
 #include <Eigen/Core>
@@ -19,20 +20,8 @@ namespace ddg
 namespace
 {
 
-using RMat = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RMat = QueryKeyMatrix;
 using CMap = Eigen::Map<const RMat>;
-
-float gelu(float v)
-{
-  return 0.5f * v * (1.0f + std::erf(v * 0.70710678f));
-}
-
-float geluDerivative(float v)
-{
-  const float cdf = 0.5f * (1.0f + std::erf(v * 0.70710678f));
-  const float pdf = 0.39894228f * std::exp(-0.5f * v * v);
-  return cdf + v * pdf;
-}
 
 // One pass of a batch through the key's layers (already standardised input), kept for backward.
 struct Pass
@@ -56,7 +45,10 @@ void forward(const QueryKey& key, RMat x, Pass& p)
     y.rowwise() += Eigen::Map<const Eigen::RowVectorXf>(layer.bias.data(), layer.rows);
     p.pre[l] = y;
     if (l + 1 < n)
-      x = y.unaryExpr(&gelu);
+    {
+      geluInPlace(y);
+      x = std::move(y);
+    }
   }
   p.norm = p.pre.back().rowwise().norm().cwiseMax(1e-12f);
   p.key = p.norm.cwiseInverse().asDiagonal() * p.pre.back();
@@ -79,7 +71,7 @@ void backward(
     if (l == 0)
       break;
     const RMat dIn = dy * CMap(layer.weights.data(), layer.rows, layer.cols);
-    dy = dIn.array() * p.pre[l - 1].unaryExpr(&geluDerivative).array();
+    dy = dIn.array() * geluDerivative(p.pre[l - 1]).array();
   }
 }
 
@@ -116,8 +108,8 @@ RMat standardised(const QueryKey& key, const float* z, int count)
 {
   RMat x = CMap(z, count, key.dim);
   for (int c = 0; c < key.dim; ++c)
-    x.col(c) = (x.col(c).array() - key.mean[static_cast<size_t>(c)]) /
-      key.scale[static_cast<size_t>(c)];
+    x.col(c) =
+      (x.col(c).array() - key.mean[static_cast<size_t>(c)]) / key.scale[static_cast<size_t>(c)];
   return x;
 }
 
