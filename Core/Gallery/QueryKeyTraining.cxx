@@ -1,10 +1,12 @@
 // QueryKeyTraining.cxx: the contrastive query key's training — the network's forward and
-// backward pass and AdamW in Eigen (a few hundred thousand weights: Eigen's products are several
-// times faster here than libtorch's linear layers on Debian's reference BLAS).
+// backward pass in Eigen (a few hundred thousand weights: Eigen's products are several times
+// faster here than libtorch's linear layers on Debian's reference BLAS), stepped by Core's Adam
+// with decoupled weight decay (AdamW).
 #include "Gallery/QueryKey.h"
 
 #include "Common/Error.h"
 #include "Gallery/QueryKeyGelu.h"
+#include "Numerics/Adam.h"
 #include "Render/RayCaster.h" // ddg::Cancelled
 
 #include <Eigen/Core>
@@ -192,13 +194,16 @@ QueryKey fitContrastiveQueryKey(const std::vector<float>& own, const std::vector
     in = rows;
   }
   const RMat xa = standardised(key, own.data(), n), xb = standardised(key, other.data(), n);
-  // AdamW (decoupled weight decay), betas 0.9 / 0.999
-  std::vector<std::vector<float>> m(key.layers.size()), v(key.layers.size()), grad;
-  for (size_t l = 0; l < key.layers.size(); ++l)
+  // AdamW: Core's Adam on every weight and bias in one vector, with decoupled weight decay
+  std::vector<double> theta, flatGrad;
+  for (const auto& l : key.layers)
   {
-    m[l].assign(key.layers[l].weights.size() + key.layers[l].bias.size(), 0.0f);
-    v[l] = m[l];
+    theta.insert(theta.end(), l.weights.begin(), l.weights.end());
+    theta.insert(theta.end(), l.bias.begin(), l.bias.end());
   }
+  flatGrad.resize(theta.size());
+  Adam adam({}, theta.size());
+  std::vector<std::vector<float>> grad;
   const int perEpoch = n / batch;
   const double steps = static_cast<double>(o.epochs) * perEpoch;
   std::vector<int> order(static_cast<size_t>(n));
@@ -221,21 +226,18 @@ QueryKey fitContrastiveQueryKey(const std::vector<float>& own, const std::vector
       batchLoss(key, ba, bb, o.temperature, &grad);
       const double lr = o.learningRate * 0.5 * (1 + std::cos(M_PI * t / steps));
       ++t;
-      const double c1 = 1 - std::pow(0.9, t), c2 = 1 - std::pow(0.999, t);
-      for (size_t l = 0; l < key.layers.size(); ++l)
-      {
-        auto& layer = key.layers[l];
-        const size_t nw = layer.weights.size();
-        for (size_t i = 0; i < grad[l].size(); ++i)
-        {
-          float& p = i < nw ? layer.weights[i] : layer.bias[i - nw];
-          const float g = grad[l][i];
-          m[l][i] = 0.9f * m[l][i] + 0.1f * g;
-          v[l][i] = 0.999f * v[l][i] + 0.001f * g * g;
-          p -= static_cast<float>(lr * o.weightDecay) * p;
-          p -= static_cast<float>(lr * (m[l][i] / c1) / (std::sqrt(v[l][i] / c2) + 1e-8));
-        }
-      }
+      size_t at = 0;
+      for (const auto& g : grad)
+        at = static_cast<size_t>(
+          std::copy(g.begin(), g.end(), flatGrad.begin() + at) - flatGrad.begin());
+      for (double& p : theta)
+        p -= lr * o.weightDecay * p;
+      adam.step(theta, flatGrad, lr);
+      at = 0;
+      for (auto& l : key.layers)
+        for (auto* values : { &l.weights, &l.bias })
+          for (float& v : *values)
+            v = static_cast<float>(theta[at++]);
     }
   }
   key.validate();
