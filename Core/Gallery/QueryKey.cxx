@@ -34,18 +34,10 @@ std::vector<float> QueryKey::apply(const float* latents, size_t count, int laten
     {
       const auto first = b * kBlock;
       const auto n = std::min<std::int64_t>(kBlock, static_cast<std::int64_t>(count) - first);
-      Matrix x = Eigen::Map<const Matrix>(latents + first * dim, n, dim);
-      if (!mean.empty())
-        for (int c = 0; c < dim; ++c)
-          x.col(c) =
-            (x.col(c).array() - mean[static_cast<size_t>(c)]) / scale[static_cast<size_t>(c)];
+      Matrix x = standardisedLatents(*this, latents + first * dim, n);
       for (size_t l = 0; l < layers.size(); ++l)
       {
-        const auto& layer = layers[l];
-        Matrix y =
-          x * Eigen::Map<const Matrix>(layer.weights.data(), layer.rows, layer.cols).transpose();
-        if (!layer.bias.empty())
-          y.rowwise() += Eigen::Map<const Eigen::RowVectorXf>(layer.bias.data(), layer.rows);
+        Matrix y = layerOutput(layers[l], x);
         if (l + 1 < layers.size())
           geluInPlace(y);
         x = std::move(y);

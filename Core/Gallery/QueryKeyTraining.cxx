@@ -41,10 +41,8 @@ void forward(const QueryKey& key, RMat x, Pass& p)
   p.pre.assign(n, RMat());
   for (size_t l = 0; l < n; ++l)
   {
-    const auto& layer = key.layers[l];
     p.in[l] = std::move(x);
-    RMat y = p.in[l] * CMap(layer.weights.data(), layer.rows, layer.cols).transpose();
-    y.rowwise() += Eigen::Map<const Eigen::RowVectorXf>(layer.bias.data(), layer.rows);
+    RMat y = layerOutput(key.layers[l], p.in[l]);
     p.pre[l] = y;
     if (l + 1 < n)
     {
@@ -106,15 +104,6 @@ double infoNce(const RMat& a, const RMat& b, double temperature, RMat& da, RMat&
   return loss / static_cast<double>(n);
 }
 
-RMat standardised(const QueryKey& key, const float* z, int count)
-{
-  RMat x = CMap(z, count, key.dim);
-  for (int c = 0; c < key.dim; ++c)
-    x.col(c) =
-      (x.col(c).array() - key.mean[static_cast<size_t>(c)]) / key.scale[static_cast<size_t>(c)];
-  return x;
-}
-
 double batchLoss(const QueryKey& key, const RMat& own, const RMat& other, double temperature,
   std::vector<std::vector<float>>* grad)
 {
@@ -145,8 +134,8 @@ double contrastiveKeyLoss(const QueryKey& key, const float* own, const float* ot
   for (const auto& l : key.layers)
     if (l.bias.size() != static_cast<size_t>(l.rows))
       throw Error("the contrastive loss needs a bias in every layer");
-  return batchLoss(
-    key, standardised(key, own, batch), standardised(key, other, batch), temperature, gradient);
+  return batchLoss(key, standardisedLatents(key, own, batch),
+    standardisedLatents(key, other, batch), temperature, gradient);
 }
 
 QueryKey fitContrastiveQueryKey(const std::vector<float>& own, const std::vector<float>& other,
@@ -193,7 +182,8 @@ QueryKey fitContrastiveQueryKey(const std::vector<float>& own, const std::vector
     key.layers.push_back(std::move(l));
     in = rows;
   }
-  const RMat xa = standardised(key, own.data(), n), xb = standardised(key, other.data(), n);
+  const RMat xa = standardisedLatents(key, own.data(), n),
+             xb = standardisedLatents(key, other.data(), n);
   // AdamW: Core's Adam on every weight and bias in one vector, with decoupled weight decay
   std::vector<double> theta, flatGrad;
   for (const auto& l : key.layers)
