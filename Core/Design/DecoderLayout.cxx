@@ -90,10 +90,13 @@ std::vector<float> DecoderLayout::targets(const Exemplar& e) const
 
 template <typename S>
 double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, const float* o,
-  const View& view, const std::uint8_t* truth, const std::vector<int>& pixels, float* grad) const
+  const View& view, const std::uint8_t* truth, const std::vector<int>& pixels, float* grad,
+  double sampleScale) const
 {
   if (pixels.empty())
     throw Error("the image loss needs at least one pixel");
+  if (!(sampleScale > 0))
+    throw Error("the image loss's sample scale must be positive");
   const int n = static_cast<int>(regions.size()), m = outputs();
   const auto range = renderer.caster().dataRange();
   constexpr int kWidth = 256, kHeight = 64; // as renderDesign
@@ -114,6 +117,8 @@ double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, cons
   const std::vector<S> table(rgbaTable.begin(), rgbaTable.end());
   RenderOptions ropt;
   ropt.threads = 1; // callers parallelize over exemplars
+  if (sampleScale != 1.0)
+    ropt.sampleDistance = sampleScale * renderer.caster().defaultSampleDistance();
   std::vector<S> rgba, dRGBA(4 * pixels.size()),
     dTable(4 * static_cast<size_t>(kWidth) * height, S(0));
   std::vector<RayRecord> records;
@@ -165,8 +170,8 @@ double DecoderLayout::imageLoss(const DifferentiableRendererT<S>& renderer, cons
 }
 
 template double DecoderLayout::imageLoss<float>(const DifferentiableRendererT<float>&, const float*,
-  const View&, const std::uint8_t*, const std::vector<int>&, float*) const;
+  const View&, const std::uint8_t*, const std::vector<int>&, float*, double) const;
 template double DecoderLayout::imageLoss<double>(const DifferentiableRendererT<double>&,
-  const float*, const View&, const std::uint8_t*, const std::vector<int>&, float*) const;
+  const float*, const View&, const std::uint8_t*, const std::vector<int>&, float*, double) const;
 
 } // namespace ddg

@@ -51,10 +51,12 @@ struct DecoderLayout
   /// scaled by the soft activity sigmoid(logit), rasterized as renderDesign does, ray cast at
   /// `view` for the listed pixels; loss = mean |rendered - truth| over pixels x 4 channels.
   /// Writes d(loss)/d(o) into grad (size() values) through the renderer's adjoint and the
-  /// rasterization adjoint.
+  /// rasterization adjoint. The rays sample every sampleScale x ParaView's sample distance
+  /// (opacity corrected as the ray caster does; 1: the truth's own step).
   template <typename S>
   double imageLoss(const DifferentiableRendererT<S>& renderer, const float* o, const View& view,
-    const std::uint8_t* truth, const std::vector<int>& pixels, float* grad) const;
+    const std::uint8_t* truth, const std::vector<int>& pixels, float* grad,
+    double sampleScale = 1.0) const;
 };
 
 } // namespace ddg

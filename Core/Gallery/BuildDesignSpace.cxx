@@ -226,6 +226,7 @@ BuildReport buildDesignSpace(const DesignSpaceInput& input, const std::string& v
   // with a fixed iteration count it repeats to the byte
   t.adaptiveRays = o.iterations == 0;
   t.otherViewFraction = o.otherViewFraction;
+  t.imageSampleScale = o.imageSampleScale;
   t.seed = o.seed;
   t.threads = o.threads;
   double trained = wE; // the overall fraction at the last report

@@ -28,6 +28,8 @@ struct BuildOptions
   /// share of the analyzer's training images from each exemplar's other view
   /// (TrainOptions::otherViewFraction; Documentation/DesignSpaces.md) [0.5]
   double otherViewFraction = 0.5;
+  /// the image loss's sample distance over ParaView's (TrainOptions::imageSampleScale) [1]
+  double imageSampleScale = 1.0;
   std::uint64_t seed = 1;    ///< [1]
   int threads = 0;           ///< 0 = all cores
   std::string workDirectory; ///< exemplars go here ["" = a staging folder, removed after]

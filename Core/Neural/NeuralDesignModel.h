@@ -53,6 +53,10 @@ struct TrainOptions
   /// analyzer). 0 = TF-parameter regression only. Needs attachVolume() first [0].
   double imageWeight = 0;
   int imageRays = 512; ///< [512]
+  /// The image loss's rays sample every imageSampleScale x ParaView's sample distance (opacity
+  /// corrected): its truths are 64-pixel images, which a step of a voxel resolves as well as
+  /// ParaView's half voxel, at half the samples [1: the truths' own step]
+  double imageSampleScale = 1.0;
   /// With the image loss: time the image loss and the rest of the step over the first steps of
   /// this call (kAdaptiveRaysFrom to kAdaptiveRaysTo), then cast adaptiveImageRays(imageRays,
   /// ...) rays per exemplar, so that a training bounded by minutes spends no more on the image

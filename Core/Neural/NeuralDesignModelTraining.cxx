@@ -272,9 +272,10 @@ private:
         std::vector<int> pixels(static_cast<size_t>(Rays));
         for (int& p : pixels)
           p = static_cast<int>(pick() % static_cast<std::uint64_t>(s * s));
-        losses[static_cast<size_t>(b)] = In.Layout.imageLoss(*In.Diff,
-          out.data_ptr<float>() + b * stride, Data.exemplars()[i].viewView,
-          Truth.data() + i * s * s * 4, pixels, grad.data_ptr<float>() + b * stride);
+        losses[static_cast<size_t>(b)] =
+          In.Layout.imageLoss(*In.Diff, out.data_ptr<float>() + b * stride,
+            Data.exemplars()[i].viewView, Truth.data() + i * s * s * 4, pixels,
+            grad.data_ptr<float>() + b * stride, Opt.imageSampleScale);
       },
       onTorchThreads);
     lossG = lossG + (Opt.imageWeight / static_cast<double>(idx.size())) * (sq * grad).sum();
@@ -311,6 +312,8 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
     strategy = std::make_unique<DecoderTraining>(*In, data, opt);
   else
     strategy = std::make_unique<UNetTraining>(*In, data, opt);
+  if (!(opt.imageSampleScale > 0))
+    throw Error("the image loss's sample scale must be positive");
   if (opt.imageWeight < 0 || opt.imageRays < 1)
     throw Error("training needs an image weight >= 0 and at least one ray per exemplar");
   if (!(opt.otherViewFraction >= 0 && opt.otherViewFraction <= 1))

@@ -141,6 +141,10 @@ ddg::cli::Command ddg::cli::addBuildCommand(CLI::App& app)
       "Share of the analyzer's training images taken from each exemplar's other view (its "
       "ground truth over black or white) instead of its image at V_exp (default 0.5)")
     ->check(CLI::Range(0.0, 1.0));
+  build
+    ->add_option("--image-sample-scale", ba->o.imageSampleScale,
+      "The training image loss's sample distance over ParaView's (opacity corrected; default 1)")
+    ->check(CLI::Range(0.25, 8.0));
   build->add_option("--seed", ba->o.seed, "Seed (default 1)");
   build->add_option("--threads", ba->o.threads, "Threads (default 0: all cores)");
   build

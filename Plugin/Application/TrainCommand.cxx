@@ -28,6 +28,7 @@ struct TrainArgs
   double minutes = 10, lr = 0, lambda = 1000, dropout = 0.5, imageWeight = 100;
   int width = 16, latent = 64, batch = 16, threads = 0, maxIterations = 0, evalCount = 1000;
   int imageRays = 512;
+  double imageSampleScale = 1;
   double otherView = 0;
   std::uint64_t seed = 1;
   int checkCount = 100;
@@ -67,6 +68,7 @@ int runTrain(const TrainArgs& a)
   opt.resume = a.resume;
   opt.imageWeight = a.kind == "decoder" ? a.imageWeight : 0.0;
   opt.imageRays = a.imageRays;
+  opt.imageSampleScale = a.imageSampleScale;
   opt.adaptiveRays = a.adaptiveRays;
   opt.otherViewFraction = a.otherView;
   opt.cosineSchedule = a.cosine;
@@ -155,6 +157,11 @@ ddg::cli::Command ddg::cli::addTrainCommand(CLI::App& app)
       "Decoder: random pixels per exemplar in the "
       "image loss (default 512)")
     ->check(CLI::Range(1, 1 << 20));
+  train
+    ->add_option("--image-sample-scale", ta->imageSampleScale,
+      "Decoder: the image loss's sample distance over ParaView's (opacity corrected; default 1: "
+      "the ground truths' own step)")
+    ->check(CLI::Range(0.25, 8.0));
   train->add_flag("--adaptive-rays", ta->adaptiveRays,
     "Decoder: time the image loss and the rest of a step over steps 6-25, then cast --image-rays "
     "x min(1, rest / image) rays (to a power of two, at least a quarter), as ddg build does "

@@ -360,7 +360,7 @@ TEST(DecoderLayout, TargetsDecodeBackToTheExemplar)
 // adjoint and the output squashing, against central differences of the loss (double renderer,
 // h = 2e-4 on float outputs; tolerance 0.2 % of the largest derivative + 2 % relative, for the
 // L1 kinks), for 1D and 2D design spaces.
-void checkImageLossGradient(int dimensions)
+void checkImageLossGradient(int dimensions, double sampleScale = 1.0)
 {
   const Volume vol = materials();
   DecoderLayout layout;
@@ -391,8 +391,16 @@ void checkImageLossGradient(int dimensions)
     o[k] = c == 0 ? 4 * u(rng) - 2 : (c == 1 || c == 7 ? 2 * u(rng) - 1 : u(rng));
   }
   std::vector<float> grad(o.size()), scratch(o.size());
-  const double loss = layout.imageLoss(renderer, o.data(), view, truth.data(), pixels, grad.data());
+  const double loss =
+    layout.imageLoss(renderer, o.data(), view, truth.data(), pixels, grad.data(), sampleScale);
   EXPECT_GT(loss, 0.0);
+  if (sampleScale != 1.0) // the coarser step is taken: another loss, close to the fine one's
+  {
+    const double fine =
+      layout.imageLoss(renderer, o.data(), view, truth.data(), pixels, scratch.data());
+    EXPECT_NE(loss, fine);
+    EXPECT_NEAR(loss, fine, 0.1 * fine);
+  }
   std::vector<double> fd(o.size());
   for (size_t k = 0; k < o.size(); ++k)
   {
@@ -401,7 +409,8 @@ void checkImageLossGradient(int dimensions)
     {
       auto q = o;
       q[k] += delta;
-      return layout.imageLoss(renderer, q.data(), view, truth.data(), pixels, scratch.data());
+      return layout.imageLoss(
+        renderer, q.data(), view, truth.data(), pixels, scratch.data(), sampleScale);
     };
     fd[k] = (at(h) - at(-h)) / (2.0 * h);
   }
@@ -428,6 +437,12 @@ TEST(DecoderLayout, ImageLossGradientMatchesFiniteDifferences)
 TEST(DecoderLayout, ImageLossGradientMatchesFiniteDifferences2D)
 {
   checkImageLossGradient(2);
+}
+
+// The build's image loss samples every 2 x ParaView's step: its adjoint is checked alike.
+TEST(DecoderLayout, ImageLossAtACoarserStepMatchesFiniteDifferences)
+{
+  checkImageLossGradient(1, 2.0);
 }
 
 TEST(DesignSpace, FindsMaterialsAndBoundariesIn2D)

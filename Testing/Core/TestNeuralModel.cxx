@@ -139,6 +139,9 @@ TEST(NeuralModel, TrainingOnTheOtherViewLowersTheError)
   EXPECT_GT(after, before + 1.0) << "PSNR before " << before << " after " << after;
   t.otherViewFraction = 1.5;
   EXPECT_THROW(m.train(dataset(), t), Error);
+  t.otherViewFraction = 0;
+  t.imageSampleScale = 0; // the image loss's step: refused before any step
+  EXPECT_THROW(m.train(dataset(), t), Error);
 }
 
 TEST(NeuralModel, TheUNetRefusesDataWithoutViewports)
