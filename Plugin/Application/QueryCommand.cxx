@@ -32,6 +32,7 @@ struct QueryArgs
 {
   std::string model, volume, image, view, outPreview, outTF, outInput, format = "paraview", history;
   int neighbours = 5;
+  bool noKey = false;
 };
 
 int runQuery(const QueryArgs& a)
@@ -39,6 +40,9 @@ int runQuery(const QueryArgs& a)
   const auto t0 = Clock::now();
   const auto session = openBundle(a.model, a.volume);
   ddg::DesignGallery& g = session->gallery();
+  if (a.noKey)
+    g.setQueryKey({});
+  const bool keyed = !g.outline().queryKey().empty();
   const ddg::View view = ddg::readView(a.view);
   const ddg::Image image = ddg::readImage(a.image);
   const double loadMs = msSince(t0);
@@ -50,8 +54,9 @@ int runQuery(const QueryArgs& a)
   for (size_t i = 0; i < r.neighbours.size(); ++i)
   {
     const auto& n = r.neighbours[i];
-    std::printf("  neighbour %zu: design row %d (index %llu), latent distance %.4f\n", i + 1, n.row,
-      static_cast<unsigned long long>(g.outline().latents().indices[n.row]), n.distance);
+    std::printf("  neighbour %zu: design row %d (index %llu), %s distance %.4f\n", i + 1, n.row,
+      static_cast<unsigned long long>(g.outline().latents().indices[n.row]),
+      keyed ? "key" : "latent", n.distance);
   }
   if (!r.warning.empty())
     std::fprintf(stderr, "warning: %s\n", r.warning.c_str());
@@ -106,6 +111,9 @@ ddg::cli::Command ddg::cli::addQueryCommand(CLI::App& app)
     "Start a history file that replays this path (ddg edit --history, ddg replay)");
   query->add_option("--neighbours", qa->neighbours, "Nearest designs listed (default 5)")
     ->check(CLI::Range(0, 1000));
+  query->add_flag("--no-key", qa->noKey,
+    "Find the nearest designs by the latents as they are, not by the bundle's query key "
+    "(query_key.json); the distances printed say which (key or latent)");
   return { query, [qa] { return runQuery(*qa); } };
 }
 #endif

@@ -69,6 +69,7 @@ def volume_file(name):
 def query(ddg, bundle, volume, image):
     view = os.path.join(ROOT, "Data", "Views", volume + "_oblique.json")
     cmd = [ddg, "query", "--model", bundle, "--volume", volume_file(volume), "--image", image]
+    cmd += ["--no-key"]  # S2 is a latent distance, over the latents' spacing
     out = subprocess.run(cmd + ["--view", view], capture_output=True, text=True, check=True)
     d1 = float(re.search(r"neighbour 1: .*latent distance ([0-9.]+)", out.stdout).group(1))
     s1 = float(re.search(r"against the picture: ([-0-9.]+) dB", out.stdout).group(1))

@@ -3,7 +3,8 @@
 # image and with its image from another view. The own-image query must find it among the 5
 # nearest in >= 90 % of the cases (issue 5's bar); the other view is printed. A bundle with a
 # query key (query_key.json) must find more designs from the other view by it than by the
-# latents as they are (--no-key), and at least 50 % of them (issue 20's bar).
+# latents as they are (--no-key), and at least 50 % of them (issue 20's bar); `ddg query` then
+# lists a picture's neighbours by key distance (by latent distance with --no-key).
 #   cmake -DDDG=... -DVOLUME=... -DBUNDLE=... -DWORK=... -P CheckRecall.cmake
 file(READ "${BUNDLE}/bundle.json" bundle)
 string(JSON size GET "${bundle}" architecture image_size)
@@ -41,4 +42,22 @@ if(EXISTS "${BUNDLE}/query_key.json")
     message(FATAL_ERROR "the query key found ${other} % of the designs from another view "
       "among the 5 nearest (bar: 50 %)")
   endif()
+  # ddg query finds a picture's nearest designs by the key, and says so (--no-key: the latents)
+  get_filename_component(name "${VOLUME}" NAME_WE)
+  get_filename_component(data "${VOLUME}" DIRECTORY)
+  get_filename_component(data "${data}" DIRECTORY)
+  file(GLOB pictures "${data}/Screenshots/${name}_*.png")
+  list(GET pictures 0 picture)
+  foreach(space key latent)
+    set(flag "")
+    if(space STREQUAL "latent")
+      set(flag --no-key)
+    endif()
+    execute_process(COMMAND ${DDG} query --model ${BUNDLE} --volume ${VOLUME} --image ${picture}
+      --view ${data}/Views/${name}_oblique.json ${flag}
+      RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+    if(NOT code EQUAL 0 OR NOT out MATCHES "neighbour 1: design row [0-9]+ .index [0-9]+., ${space} distance")
+      message(FATAL_ERROR "ddg query ${flag} should list its neighbours by ${space} distance:\n${out}${err}")
+    endif()
+  endforeach()
 endif()
