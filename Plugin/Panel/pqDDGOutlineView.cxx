@@ -16,6 +16,29 @@ namespace
 constexpr int kMargin = 6;
 }
 
+/// Covers the outline view above its thumbnails and paints its marks; mouse events pass through.
+class pqDDGOutlineMarks : public QWidget
+{
+public:
+  explicit pqDDGOutlineMarks(pqDDGOutlineView* view)
+    : QWidget(view)
+    , View(view)
+  {
+    this->setAttribute(Qt::WA_TransparentForMouseEvents);
+    this->setAttribute(Qt::WA_NoSystemBackground);
+  }
+
+protected:
+  void paintEvent(QPaintEvent*) override
+  {
+    QPainter p(this);
+    this->View->paintMarks(p);
+  }
+
+private:
+  pqDDGOutlineView* View;
+};
+
 pqDDGOutlineView::pqDDGOutlineView(QWidget* parent)
   : QWidget(parent)
 {
@@ -27,6 +50,8 @@ pqDDGOutlineView::pqDDGOutlineView(QWidget* parent)
   this->HoverLabel->setFrameShape(QFrame::Box);
   this->HoverLabel->setScaledContents(true);
   this->HoverLabel->hide();
+  this->Marks = new pqDDGOutlineMarks(this);
+  this->Marks->setObjectName("outlineMarks");
 }
 
 void pqDDGOutlineView::setPoints(const QVector<QPointF>& points)
@@ -67,6 +92,7 @@ void pqDDGOutlineView::setThumbnails(const QVector<int>& rows, const QVector<QIm
     this->ThumbButtons[k]->setChecked(rows[k] == this->Selected);
   }
   this->placeThumbnails();
+  this->Marks->raise();
   this->HoverLabel->raise();
   this->update();
 }
@@ -118,6 +144,7 @@ bool pqDDGOutlineView::eventFilter(QObject* object, QEvent* event)
 void pqDDGOutlineView::resizeEvent(QResizeEvent* e)
 {
   QWidget::resizeEvent(e);
+  this->Marks->setGeometry(this->rect());
   this->placeThumbnails();
 }
 
@@ -217,9 +244,23 @@ void pqDDGOutlineView::paintEvent(QPaintEvent*)
       dots.push_back(s);
   }
   p.drawPoints(dots.data(), static_cast<int>(dots.size()));
+} // Marks, a child over the whole view, is repainted with it
+
+void pqDDGOutlineView::paintMarks(QPainter& p) const
+{
+  if (this->Points.isEmpty())
+    return;
   p.setRenderHint(QPainter::Antialiasing);
-  p.setPen(QPen(QColor(0, 120, 255), 2));
   p.setBrush(Qt::NoBrush);
+  if (this->QueryShown) // the query's nearest designs (by the bundle's query key when it has one)
+  {                     // can lie far from its mark on this plane: a line ties each to it
+    p.setPen(QPen(QColor(0, 120, 255, 140), 1, Qt::DashLine));
+    const QPointF q = this->toScreen(this->QueryPosition);
+    for (int row : this->Neighbours)
+      if (row >= 0 && row < this->Points.size())
+        p.drawLine(q, this->toScreen(this->Points[row]));
+  }
+  p.setPen(QPen(QColor(0, 120, 255), 2));
   for (int row : this->Neighbours)
     if (row >= 0 && row < this->Points.size())
       p.drawEllipse(this->toScreen(this->Points[row]), 5, 5);

@@ -12,6 +12,7 @@
 #include <QWidget>
 
 class QLabel;
+class QPainter;
 class QToolButton;
 
 class pqDDGOutlineView : public QWidget
@@ -63,6 +64,10 @@ private:
   int nearestRow(const QPointF& s) const;
   void placeThumbnails();
   void showHover(int k);
+  /// The query's mark, its neighbours, the selection and the band: painted by Marks, a child
+  /// above the thumbnails (they would hide a mark that lies under one), under the hover preview.
+  void paintMarks(QPainter& p) const;
+  friend class pqDDGOutlineMarks;
 
   QVector<QPointF> Points;
   QVector<int> ThumbRows;
@@ -70,6 +75,7 @@ private:
   /// One button per thumbnail ("thumb0", "thumb1", ...: clickable, focusable, testable).
   QVector<QToolButton*> ThumbButtons;
   QLabel* HoverLabel;
+  QWidget* Marks;
   QRectF Box{ 0, 0, 1, 1 };
   bool QueryShown = false;
   QPointF QueryPosition;
