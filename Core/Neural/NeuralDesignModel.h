@@ -54,8 +54,10 @@ struct TrainOptions
   double imageWeight = 0;
   int imageRays = 512; ///< [512]
   /// The image loss's rays sample every imageSampleScale x ParaView's sample distance (opacity
-  /// corrected): its truths are 64-pixel images, which a step of a voxel resolves as well as
-  /// ParaView's half voxel, at half the samples [1: the truths' own step]
+  /// corrected): its truths are 64-pixel images, which a step of a voxel resolves about as well
+  /// as ParaView's half voxel, at half the samples. With adaptiveRays the timed steps sample at
+  /// ParaView's step and the scale applies after them: the rays are chosen as without it, and
+  /// what the coarser march saves goes to more steps [1: the truths' own step]
   double imageSampleScale = 1.0;
   /// With the image loss: time the image loss and the rest of the step over the first steps of
   /// this call (kAdaptiveRaysFrom to kAdaptiveRaysTo), then cast adaptiveImageRays(imageRays,

@@ -61,6 +61,8 @@ public:
   /// Image-loss rays per exemplar (0: no image loss), and setting them from the next step.
   virtual int imageRays() const { return 0; }
   virtual void setImageRays(int) {}
+  /// The image loss's sample distance over ParaView's, from the next step.
+  virtual void setImageSampleScale(double) {}
 };
 
 // Adam as the paper trains with it (beta1 0.5, beta2 0.999).
@@ -189,11 +191,13 @@ public:
     In.Fingerprint = data.fingerprint();
     ImageLoss = opt.imageWeight > 0;
     Rays = opt.imageRays;
+    SampleScale = opt.adaptiveRays ? 1.0 : opt.imageSampleScale; // the rays are timed at 1
     Outputs = In.Layout.outputs();
   }
 
   int imageRays() const override { return ImageLoss ? Rays : 0; }
   void setImageRays(int rays) override { Rays = rays; }
+  void setImageSampleScale(double scale) override { SampleScale = scale; }
 
   void prepare(int n, int s) override
   {
@@ -272,10 +276,9 @@ private:
         std::vector<int> pixels(static_cast<size_t>(Rays));
         for (int& p : pixels)
           p = static_cast<int>(pick() % static_cast<std::uint64_t>(s * s));
-        losses[static_cast<size_t>(b)] =
-          In.Layout.imageLoss(*In.Diff, out.data_ptr<float>() + b * stride,
-            Data.exemplars()[i].viewView, Truth.data() + i * s * s * 4, pixels,
-            grad.data_ptr<float>() + b * stride, Opt.imageSampleScale);
+        losses[static_cast<size_t>(b)] = In.Layout.imageLoss(*In.Diff,
+          out.data_ptr<float>() + b * stride, Data.exemplars()[i].viewView,
+          Truth.data() + i * s * s * 4, pixels, grad.data_ptr<float>() + b * stride, SampleScale);
       },
       onTorchThreads);
     lossG = lossG + (Opt.imageWeight / static_cast<double>(idx.size())) * (sq * grad).sum();
@@ -287,7 +290,8 @@ private:
   const TrainOptions& Opt;
   std::unique_ptr<torch::optim::Adam> OptG;
   bool ImageLoss = false;
-  int Rays = 0; // image-loss rays per exemplar (Opt.imageRays, or adapted)
+  int Rays = 0;           // image-loss rays per exemplar (Opt.imageRays, or adapted)
+  double SampleScale = 1; // Opt.imageSampleScale, once the adaptive rays are chosen
   int Outputs = 7;
   int Size = 0;
   torch::Tensor Params;            // N x regions x outputs: the exemplars' TF targets
@@ -446,8 +450,11 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
         timedStep += std::chrono::duration<double>(Clock::now() - stepStart).count();
       }
       if (done == kAdaptiveRaysTo)
+      {
         strategy->setImageRays(
           adaptiveImageRays(opt.imageRays, timedImage, std::max(0.0, timedStep - timedImage)));
+        strategy->setImageSampleScale(opt.imageSampleScale);
+      }
     }
     if (!opt.checkpoint.empty() && iteration % opt.checkpointEvery == 0)
       saveCheckpoint();

@@ -357,3 +357,30 @@ TEST(NeuralModel, AdaptiveImageRaysFollowWhatAStepCosts)
   const int adapted = rays(kAdaptiveRaysTo + 5, 100.0, true);
   EXPECT_TRUE(adapted == 64 || adapted == 32 || adapted == 16) << adapted;
 }
+
+// The image loss's coarser march (TrainOptions::imageSampleScale) changes what a step teaches,
+// and with adaptive rays the timed steps march at ParaView's step: up to the last of them the
+// weights are those of a training without it, to the byte.
+TEST(NeuralModel, TheImageLossMarchesCoarserAfterTheTimedSteps)
+{
+  NetworkConfig c = tiny();
+  c.kind = "decoder";
+  c.regions = static_cast<int>(dataset().regions().size());
+  Image probe(16, 16, 3);
+  for (size_t k = 0; k < probe.pixels.size(); ++k)
+    probe.pixels[k] = static_cast<float>(k % 7) / 7.0f;
+  auto latent = [&](int iterations, double scale, bool adaptive)
+  {
+    NeuralDesignModel m(c, 3);
+    m.attachVolume(blobs());
+    TrainOptions t = quick(iterations);
+    t.imageWeight = 100;
+    t.imageRays = 64;
+    t.adaptiveRays = adaptive;
+    t.imageSampleScale = scale;
+    m.train(dataset(), t);
+    return m.analyze(probe);
+  };
+  EXPECT_NE(latent(5, 1.0, false), latent(5, 2.0, false));
+  EXPECT_EQ(latent(kAdaptiveRaysTo, 1.0, true), latent(kAdaptiveRaysTo, 2.0, true));
+}

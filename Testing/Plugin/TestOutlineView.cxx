@@ -57,8 +57,9 @@ int main(int argc, char** argv)
   int red = 0;
   for (int dy = -6; dy <= 6; ++dy)
     red += isQueryRed(shot.pixel(mark + QPoint(dy, dy))) ? 1 : 0;
-  check(red >= 5, "the query's mark is drawn above the thumbnail that covers it (" +
-      std::to_string(red) + " red pixels on its diagonal)");
+  check(red >= 5,
+    "the query's mark is drawn above the thumbnail that covers it (" + std::to_string(red) +
+      " red pixels on its diagonal)");
   // the dashed line from the mark to neighbour 2 (far right): blue along its middle, well
   // outside the thumbnail and before the neighbour's circle
   int blue = 0;
@@ -71,8 +72,9 @@ int main(int argc, char** argv)
       found = found || isNeighbourBlue(shot.pixel(q + QPoint(0, dy)));
     blue += found ? 1 : 0;
   }
-  check(blue >= 8, "a dashed line ties the mark to a neighbour far from it (" +
-      std::to_string(blue) + " blue points of 41)");
+  check(blue >= 8,
+    "a dashed line ties the mark to a neighbour far from it (" + std::to_string(blue) +
+      " blue points of 41)");
 
   int clicked = -1;
   QObject::connect(&view, &pqDDGOutlineView::rowClicked, [&](int row) { clicked = row; });
@@ -84,7 +86,8 @@ int main(int argc, char** argv)
     // itself, with no dot within 12 pixels, would pick nothing)
     QTest::mouseClick(view.windowHandle(), Qt::LeftButton, Qt::NoModifier, mark);
     QApplication::processEvents();
-    check(clicked == 3, "a click on the mark over the thumbnail picks the thumbnail's row (got " +
+    check(clicked == 3,
+      "a click on the mark over the thumbnail picks the thumbnail's row (got " +
         std::to_string(clicked) + ")");
   }
   return Failures == 0 ? 0 : 1;
