@@ -496,15 +496,4 @@ TrainReport NeuralDesignModel::train(const ExemplarDataset& data, const TrainOpt
   return report;
 }
 
-int adaptiveImageRays(int maxRays, double imageSeconds, double restSeconds)
-{
-  if (maxRays < 1)
-    throw Error("adaptive image-loss rays need at least one ray to start from");
-  const int floor = std::max(1, maxRays / 4);
-  if (!(imageSeconds > 0) || !(restSeconds >= 0) || restSeconds >= imageSeconds)
-    return maxRays;
-  const double halvings = std::round(-std::log2(std::max(restSeconds / imageSeconds, 1e-9)));
-  return std::max(floor, static_cast<int>(maxRays / std::pow(2.0, halvings)));
-}
-
 } // namespace ddg

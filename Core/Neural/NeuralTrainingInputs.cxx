@@ -1,8 +1,12 @@
 // NeuralTrainingInputs.cxx: what the analyzer sees in training — the images at V_exp, some of
-// them replaced by the exemplar's other view (TrainOptions::otherViewFraction).
+// them replaced by the exemplar's other view (TrainOptions::otherViewFraction) — and how many
+// rays the image loss casts (adaptiveImageRays).
 #include "Neural/NeuralDesignModelInternals.h"
 
+#include "Common/Error.h"
+
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 namespace ddg
@@ -21,6 +25,17 @@ std::vector<int> otherViewDraw(int count, double fraction, std::uint64_t seed, i
       o = background;
   }
   return out;
+}
+
+int adaptiveImageRays(int maxRays, double imageSeconds, double restSeconds)
+{
+  if (maxRays < 1)
+    throw Error("adaptive image-loss rays need at least one ray to start from");
+  const int floor = std::max(1, maxRays / 4);
+  if (!(imageSeconds > 0) || !(restSeconds >= 0) || restSeconds >= imageSeconds)
+    return maxRays;
+  const double halvings = std::round(-std::log2(std::max(restSeconds / imageSeconds, 1e-9)));
+  return std::max(floor, static_cast<int>(maxRays / std::pow(2.0, halvings)));
 }
 
 namespace neural

@@ -15,6 +15,17 @@ at 28 dB / 0.90 drawn).
       --work /tmp/budget --out Documentation/Results/build_budget
 
   --render-only re-renders the markdown and chart from the JSON.
+
+With --suite (folders written by Testing/Suite/make_suite.py) each bundle also answers the
+realistic screenshots of its volume: the query alone (`baseline.py --methods query` with the
+bundle in place of the shipped one), scored at the canonical views against the true TF; the
+table gains its mean and lowest PSNR and the chart a third panel, query accuracy against the
+build's minutes, one line per analyzer width (issue 20: query accuracy against model size and
+training minutes). --build-args "--budget 5 --width 8" gives another width; entries are kept
+per volume, budget and options.
+
+  /usr/bin/python3 Testing/Benchmarks/build_budget.py --volumes tooth --budgets 2 5 10 \
+      --suite build/suite/cases build/suite/cases_holdout --out Documentation/Results/query_budget
 """
 import argparse
 import json
@@ -29,12 +40,57 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(os.path.dirname(HERE))
 
 
+def options_of(args, budget):
+    return shlex.split(args.build_args) if args.build_args else ["--budget", f"{budget:g}"]
+
+
+def tag_of(volume, budget, options):
+    extra = [o.lstrip("-") for o in options if o not in ("--budget", f"{budget:g}")]
+    return "_".join([volume, f"{budget:g}min"] + extra)
+
+
+def query_suite(args, volume, bundle, tag):
+    """The query alone with `bundle` on every case of `volume` in the --suite folders: the
+    canonical-view PSNR per case (Testing/Suite/baseline.py, pvpython under Xvfb)."""
+    models = os.path.join(args.work, "models_" + tag)
+    subprocess.run(["rm", "-rf", models], check=True)
+    os.makedirs(models)
+    os.symlink(os.path.abspath(bundle), os.path.join(models, volume))
+    scores = {}
+    for suite in args.suite:
+        with open(os.path.join(suite, "suite.json")) as f:
+            cases = [json.load(open(c)) for c in json.load(f)["cases"]]
+        names = [c["name"] for c in cases if os.path.basename(c["volume"]) == volume + ".vti"]
+        if not names:
+            continue
+        out = os.path.join(args.work, "query_" + tag + "_" + os.path.basename(suite.rstrip("/")))
+        cmd = [os.path.join(ROOT, "scripts", "with-xvfb.sh"), args.pvpython]
+        cmd += [os.path.join(ROOT, "Testing", "Suite", "baseline.py"), "--suite", suite]
+        cmd += [
+            "--ddg",
+            args.ddg,
+            "--out",
+            out,
+            "--models",
+            models,
+            "--methods",
+            "query",
+        ]
+        for n in names:
+            cmd += ["--case", n]
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL)
+        with open(os.path.join(out, "baseline.json")) as f:
+            for record in json.load(f)["cases"]:
+                scores[record["name"]] = record["methods"]["query"]["psnr"]
+    return scores
+
+
 def run_one(args, volume, budget):
     vol = os.path.join(ROOT, "Data", "Volumes", volume + ".vti")
-    bundle = os.path.join(args.work, f"{volume}_{budget:g}min")
+    options = options_of(args, budget)
+    bundle = os.path.join(args.work, tag_of(volume, budget, options))
     if os.path.exists(bundle):
         subprocess.run(["rm", "-rf", bundle], check=True)
-    options = shlex.split(args.build_args) if args.build_args else ["--budget", f"{budget:g}"]
     cmd = [args.ddg, "build", "--volume", vol, "--out", bundle, "--quiet"] + options
     t0 = time.time()
     proc = subprocess.run(cmd, capture_output=True, text=True)
@@ -59,8 +115,12 @@ def run_one(args, volume, budget):
             "train_minutes": round(metrics["train_seconds"] / 60, 2),
             "train_iterations": metrics["train_iterations"],
             "image_rays": metrics["image_rays"],
+            "width": recorded["architecture"]["width"],
+            "parameters": recorded.get("parameters"),
         }
     )
+    if args.suite:
+        entry["query_psnr"] = query_suite(args, volume, bundle, tag_of(volume, budget, options))
     sheet = os.path.join(args.out, f"outline_{volume}.png") if budget == args.sheet_budget else ""
     vcmd = [
         args.ddg,
@@ -80,7 +140,8 @@ def run_one(args, volume, budget):
         vcmd += ["--outline-sheet", sheet]
     out = subprocess.run(vcmd, capture_output=True, text=True, check=True).stdout
     m = re.search(
-        r"outline: (\d+) of (\d+) designs .*?: (\d+) empty, (\d+) flat box .*?; " r"(\d+) give", out
+        r"outline: (\d+) of (\d+) designs .*?: (\d+) empty, (\d+) flat box .*?; " r"(\d+) give",
+        out,
     )
     if m:
         checked, _, empty, box, hazy = (int(g) for g in m.groups())
@@ -119,6 +180,30 @@ def render(out_dir, results):
             f"{junk} of {e.get('outline_checked', 0)} ({e.get('outline_empty', 0)} empty, "
             f"{e.get('outline_flat_box', 0)} flat box) | {e.get('outline_hazy_faces', 0)} |"
         )
+    queried = [e for e in rows if e.get("query_psnr")]
+    if queried:
+        names = sorted({n for e in queried for n in e["query_psnr"]})
+        lines += [
+            "",
+            "The query alone on the realistic screenshots (canonical-view PSNR against the true "
+            "TF, dB):",
+            "",
+            "| volume | build options | analyzer width, parameters | build (min) | training "
+            "iterations | " + " | ".join(names) + " | mean | lowest |",
+            "|---|---|---|---|---|" + "---|" * (len(names) + 2),
+        ]
+        for e in queried:
+            got = [e["query_psnr"].get(n) for n in names]
+            valid = [v for v in got if v is not None]
+            cells = ["—" if v is None else f"{v:.2f}" for v in got]
+            mean = f"{sum(valid) / len(valid):.2f}" if valid else "—"
+            low = f"{min(valid):.2f}" if valid else "—"
+            lines.append(
+                f"| {e['volume']} | `{e['options']}` | {e.get('width')}, {e.get('parameters')} | "
+                f"{e['build_minutes']:.1f} | {e.get('train_iterations')} | "
+                + " | ".join(cells)
+                + f" | {mean} | {low} |"
+            )
     options = sorted({e["options"] for e in rows})
     text = (
         "# Design spaces per time budget (`Testing/Benchmarks/build_budget.py`)\n\n"
@@ -136,18 +221,37 @@ def render(out_dir, results):
         import matplotlib.pyplot as plt
     except ImportError:
         return
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    for volume in sorted({e["volume"] for e in rows}):
-        pts = [e for e in rows if e["volume"] == volume and "psnr" in e]
+    panels = [(28, "held-out PSNR (dB)"), (0.9, "held-out SSIM")]
+    if queried:
+        panels.append((28, "query alone, realistic screenshots (dB)"))
+    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4))
+    # one line per volume; with the query's panel, per volume and analyzer width
+    groups = sorted({(e["volume"], (e.get("width") or 16) if queried else 0) for e in rows})
+    for volume, width in groups:
+        pts = [
+            e
+            for e in rows
+            if e["volume"] == volume
+            and "psnr" in e
+            and (not queried or (e.get("width") or 16) == width)
+        ]
+        pts.sort(key=lambda e: e["build_minutes"])
+        label = f"{volume}, width {width}" if queried else volume
         xs = [e["build_minutes"] for e in pts]
-        axes[0].plot(xs, [e["psnr"] for e in pts], "o-", label=volume)
-        axes[1].plot(xs, [e["ssim"] for e in pts], "o-", label=volume)
-    for ax, bar, name in ((axes[0], 28, "held-out PSNR (dB)"), (axes[1], 0.9, "held-out SSIM")):
+        axes[0].plot(xs, [e["psnr"] for e in pts], "o-", label=label)
+        axes[1].plot(xs, [e["ssim"] for e in pts], "o-", label=label)
+        q = [e for e in pts if e.get("query_psnr")]
+        if queried and q:
+            qx = [e["build_minutes"] for e in q]
+            means = [sum(e["query_psnr"].values()) / len(e["query_psnr"]) for e in q]
+            axes[2].plot(qx, means, "o-", label=label + ", mean")
+            axes[2].plot(qx, [min(e["query_psnr"].values()) for e in q], "v:", label="lowest")
+    for ax, (bar, name) in zip(axes, panels):
         ax.axhline(bar, color="grey", ls="--", lw=1)
         ax.set_xlabel("whole build (minutes, 2 cores)")
         ax.set_ylabel(name)
         ax.grid(alpha=0.3)
-    axes[1].legend(fontsize=8)
+    axes[-1].legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(os.path.join(out_dir, "build_budget.png"), dpi=90)
 
@@ -156,17 +260,24 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--ddg", default=os.path.join(ROOT, "build", "bin", "ddg"))
     p.add_argument(
-        "--volumes", nargs="+", default=["bonsai", "headsq", "chest", "mri", "neghip", "ironprot"]
+        "--volumes",
+        nargs="+",
+        default=["bonsai", "headsq", "chest", "mri", "neghip", "ironprot"],
     )
     p.add_argument("--budgets", nargs="+", type=float, default=[2, 10, 30])
     p.add_argument("--build-args", default="", help="ddg build options instead of --budget")
     p.add_argument("--outline-check", type=int, default=200)
     p.add_argument(
-        "--sheet-budget", type=float, default=10, help="the budget whose outline sheets are written"
+        "--sheet-budget",
+        type=float,
+        default=10,
+        help="the budget whose outline sheets are written",
     )
     p.add_argument("--work", default="/tmp/ddg_build_budget")
     p.add_argument("--out", default=os.path.join(ROOT, "Documentation", "Results", "build_budget"))
     p.add_argument("--render-only", action="store_true")
+    p.add_argument("--suite", nargs="*", default=[], help="make_suite.py folders to query")
+    p.add_argument("--pvpython", default="/usr/bin/pvpython")
     args = p.parse_args()
     os.makedirs(args.out, exist_ok=True)
     os.makedirs(args.work, exist_ok=True)
@@ -177,8 +288,9 @@ def main():
             for budget in args.budgets:
                 entry = run_one(args, volume, budget)
                 print(json.dumps(entry), flush=True)
+                key = (volume, budget, entry["options"])
                 results = [
-                    e for e in results if (e["volume"], e["budget_minutes"]) != (volume, budget)
+                    e for e in results if (e["volume"], e["budget_minutes"], e["options"]) != key
                 ] + [entry]
                 with open(path, "w") as f:
                     json.dump(results, f, indent=1)

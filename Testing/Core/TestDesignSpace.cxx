@@ -439,7 +439,8 @@ TEST(DecoderLayout, ImageLossGradientMatchesFiniteDifferences2D)
   checkImageLossGradient(2);
 }
 
-// The build's image loss samples every 2 x ParaView's step: its adjoint is checked alike.
+// A training's image loss can sample every 2 x ParaView's step (--image-sample-scale): its
+// adjoint is checked alike.
 TEST(DecoderLayout, ImageLossAtACoarserStepMatchesFiniteDifferences)
 {
   checkImageLossGradient(1, 2.0);
