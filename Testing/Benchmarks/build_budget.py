@@ -227,7 +227,7 @@ def render(out_dir, results):
     fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4))
     # one line per volume; with the query's panel, per volume and analyzer width
     groups = sorted({(e["volume"], (e.get("width") or 16) if queried else 0) for e in rows})
-    for volume, width in groups:
+    for g, (volume, width) in enumerate(groups):
         pts = [
             e
             for e in rows
@@ -238,14 +238,15 @@ def render(out_dir, results):
         pts.sort(key=lambda e: e["build_minutes"])
         label = f"{volume}, width {width}" if queried else volume
         xs = [e["build_minutes"] for e in pts]
-        axes[0].plot(xs, [e["psnr"] for e in pts], "o-", label=label)
-        axes[1].plot(xs, [e["ssim"] for e in pts], "o-", label=label)
+        axes[0].plot(xs, [e["psnr"] for e in pts], "o-", color=f"C{g}", label=label)
+        axes[1].plot(xs, [e["ssim"] for e in pts], "o-", color=f"C{g}", label=label)
         q = [e for e in pts if e.get("query_psnr")]
         if queried and q:
             qx = [e["build_minutes"] for e in q]
             means = [sum(e["query_psnr"].values()) / len(e["query_psnr"]) for e in q]
-            axes[2].plot(qx, means, "o-", label=label + ", mean")
-            axes[2].plot(qx, [min(e["query_psnr"].values()) for e in q], "v:", label="lowest")
+            lows = [min(e["query_psnr"].values()) for e in q]
+            axes[2].plot(qx, means, "o-", color=f"C{g}", label=label + ", mean")
+            axes[2].plot(qx, lows, "v:", color=f"C{g}", label=label + ", lowest case")
     for ax, (bar, name) in zip(axes, panels):
         ax.axhline(bar, color="grey", ls="--", lw=1)
         ax.set_xlabel("whole build (minutes, 2 cores)")
