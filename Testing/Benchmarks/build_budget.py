@@ -88,7 +88,8 @@ def query_suite(args, volume, bundle, tag):
 def run_one(args, volume, budget):
     vol = os.path.join(ROOT, "Data", "Volumes", volume + ".vti")
     options = options_of(args, budget)
-    bundle = os.path.join(args.work, tag_of(volume, budget, options))
+    tag = tag_of(volume, budget, options)
+    bundle = os.path.join(args.work, tag)
     if os.path.exists(bundle):
         subprocess.run(["rm", "-rf", bundle], check=True)
     cmd = [args.ddg, "build", "--volume", vol, "--out", bundle, "--quiet"] + options
@@ -120,7 +121,7 @@ def run_one(args, volume, budget):
         }
     )
     if args.suite:
-        entry["query_psnr"] = query_suite(args, volume, bundle, tag_of(volume, budget, options))
+        entry["query_psnr"] = query_suite(args, volume, bundle, tag)
     sheet = os.path.join(args.out, f"outline_{volume}.png") if budget == args.sheet_budget else ""
     vcmd = [
         args.ddg,
