@@ -357,4 +357,28 @@ Image tileImages(const std::vector<Image>& images, int columns, int gap, float b
   return sheet;
 }
 
+Image tileRenders(
+  const std::vector<const Image*>& renders, int columns, int rows, int cell, int gap)
+{
+  if (columns < 1 || rows < 1 || cell < 1 || gap < 0)
+    throw Error("a sheet of renders needs columns, rows and a cell size >= 1 and a gap >= 0");
+  if (renders.size() > static_cast<size_t>(columns) * static_cast<size_t>(rows))
+    throw Error("a sheet of " + std::to_string(columns * rows) + " cells cannot hold " +
+      std::to_string(renders.size()) + " renders");
+  Image sheet(columns * (cell + gap) + gap, rows * (cell + gap) + gap, 4, 0.0f);
+  for (size_t k = 0; k < renders.size(); ++k)
+  {
+    const Image& r = *renders[k];
+    if (r.width != cell || r.height != cell || r.channels != 4)
+      throw Error("a render of the sheet is " + std::to_string(r.width) + " x " +
+        std::to_string(r.height) + " x " + std::to_string(r.channels) + ", not " +
+        std::to_string(cell) + " x " + std::to_string(cell) + " RGBA");
+    const int x0 = gap + static_cast<int>(k % columns) * (cell + gap);
+    const int y0 = gap + static_cast<int>(k / columns) * (cell + gap);
+    for (int y = 0; y < cell; ++y)
+      std::copy_n(&r.pixels[static_cast<size_t>(y) * cell * 4], cell * 4, &sheet.at(x0, y0 + y, 0));
+  }
+  return sheet;
+}
+
 } // namespace ddg

@@ -100,4 +100,12 @@ Image toChannels(const Image& image, int channels);
 Image tileImages(
   const std::vector<Image>& images, int columns, int gap = 2, float background = 1.0f);
 
+/// A sheet of premultiplied RGBA renders (thumbnails) to compose over a view's background:
+/// `columns` x `rows` cells of cell x cell pixels, filled row by row from the top, `gap` pixels
+/// between and around them; the gaps and the unused cells are transparent. Throws ddg::Error
+/// for more renders than cells, a render that is not cell x cell RGBA, or columns, rows or cell
+/// < 1.
+Image tileRenders(
+  const std::vector<const Image*>& renders, int columns, int rows, int cell, int gap = 2);
+
 } // namespace ddg

@@ -8,6 +8,9 @@
 #include "DDGPieces.h"
 #include "DDGVolumeAdaptor.h"
 
+#include "Gallery/Gallery.h"
+#include "Image/Image.h"
+
 #include <vtkAlgorithmOutput.h>
 #include <vtkDataSetAttributes.h>
 #include <vtkDoubleArray.h>
@@ -103,21 +106,15 @@ void vtkDDGDesignGallery::Run(ddg::DesignGallery& gallery, vtkInformationVector*
 
   // the sheet: cells row by row, top row first
   const int cols = this->columns(), gridRows = (this->Count + cols - 1) / cols;
-  const int gap = 2, cell = this->ThumbnailSize;
-  ddg::Image canvas(cols * (cell + gap) + gap, gridRows * (cell + gap) + gap, 4, 0.0f);
+  std::vector<const ddg::Image*> cells;
   for (size_t k = 0; k < rows.size(); ++k)
   {
-    const ddg::Image& t = gallery.thumbnail(rows[k], view);
-    const int x0 = gap + static_cast<int>(k % cols) * (cell + gap);
-    const int y0 = gap + static_cast<int>(k / cols) * (cell + gap);
-    for (int y = 0; y < cell; ++y)
-      for (int x = 0; x < cell; ++x)
-        for (int c = 0; c < 4; ++c)
-          canvas.at(x0 + x, y0 + y, c) = t.at(x, y, c);
+    cells.push_back(&gallery.thumbnail(rows[k], view)); // the cache keeps one view's renders
     this->UpdateProgress(static_cast<double>(k + 1) / rows.size());
     if (this->GetAbortExecute())
       throw ddg::Cancelled();
   }
+  const ddg::Image canvas = ddg::tileRenders(cells, cols, gridRows, this->ThumbnailSize);
   ddg::toVTKImage(canvas, view.background, sheet);
 
   auto column = [designs](vtkDataArray* a, const char* name)

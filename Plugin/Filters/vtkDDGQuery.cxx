@@ -11,6 +11,7 @@
 
 #include "Gallery/Export.h"
 #include "Gallery/Gallery.h"
+#include "Image/Image.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
 #include <vtkAlgorithmOutput.h>
@@ -40,6 +41,8 @@ struct vtkDDGQuery::Internals
 
 namespace
 {
+constexpr size_t kMaxNeighbourThumbnails = 64; // port 2: a strip, not a second gallery
+
 // The query's outputs: the preview and the designs table (rows, latent, position, the picture's
 // figure, a warning, the explicit TF and, 2D, ParaView's boxes).
 void writeQuery(const ddg::QueryResult& r, const ddg::DesignOutline& outline,
@@ -106,7 +109,7 @@ void writeQuery(const ddg::QueryResult& r, const ddg::DesignOutline& outline,
 vtkDDGQuery::vtkDDGQuery()
   : Internal(new Internals)
 {
-  this->SetNumberOfOutputPorts(2);
+  this->SetNumberOfOutputPorts(3);
 }
 
 vtkDDGQuery::~vtkDDGQuery() = default;
@@ -120,11 +123,12 @@ void vtkDDGQuery::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ViewJSON: " << this->ViewJSON << "\n";
   os << indent << "ImageData: " << this->ImageData.size() << " characters\n";
   os << indent << "Neighbours: " << this->Neighbours << "\n";
+  os << indent << "ThumbnailSize: " << this->ThumbnailSize << "\n";
 }
 
 int vtkDDGQuery::FillOutputPortInformation(int port, vtkInformation* info)
 {
-  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 0 ? "vtkImageData" : "vtkTable");
+  info->Set(vtkDataObject::DATA_TYPE_NAME(), port == 1 ? "vtkTable" : "vtkImageData");
   return 1;
 }
 
@@ -158,5 +162,16 @@ void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputV
     tf.is2D ? ddg::paraViewTransferFunction2DJson(gallery.space().paraviewMapping2D(view), tf.tf2D)
             : "",
     view, vtkImageData::GetData(outputVector, 0), vtkTable::GetData(outputVector, 1));
+  const size_t shown = std::min<size_t>(r.neighbours.size(), kMaxNeighbourThumbnails);
+  if (this->ThumbnailSize > 0 && shown > 0) // the nearest designs as the outline shows them
+  {
+    ddg::View at = view;
+    at.width = at.height = this->ThumbnailSize;
+    std::vector<const ddg::Image*> cells;
+    for (size_t k = 0; k < shown; ++k)
+      cells.push_back(&gallery.thumbnail(r.neighbours[k].row, at));
+    ddg::toVTKImage(ddg::tileRenders(cells, static_cast<int>(shown), 1, this->ThumbnailSize),
+      view.background, vtkImageData::GetData(outputVector, 2));
+  }
   this->UpdateProgress(1.0);
 }

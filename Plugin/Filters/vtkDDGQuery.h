@@ -27,6 +27,9 @@
  * rendered volume, e.g. a photograph: the design is a guess; also a VTK warning) and "Preset"
  * (the design's explicit TF as a ParaView preset JSON string; 2D models: "TransferFunction2D").
  * A picture of lines or text (a chart) is refused.
+ * Output port 2 ("Neighbour Thumbnails"): with ThumbnailSize > 0, the nearest designs'
+ * thumbnails at the view's camera (ThumbnailSize square), in the table's order in one row, 2
+ * pixels between and around them ("Image" RGB over the view's background, "RGBA"); else empty.
  *
  * The bundle and its outline are loaded once per ModelDirectory and input. Bad input (missing
  * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one
@@ -82,6 +85,13 @@ public:
   vtkGetMacro(Neighbours, int);
   ///@}
 
+  ///@{
+  /// Side of the nearest designs' thumbnails (output port 2), at most 64 of them; 0: none.
+  /// (default: 0)
+  vtkSetClampMacro(ThumbnailSize, int, 0, 512);
+  vtkGetMacro(ThumbnailSize, int);
+  ///@}
+
 protected:
   vtkDDGQuery();
   ~vtkDDGQuery() override;
@@ -105,6 +115,7 @@ private:
   std::string ViewJSON;
   std::string ImageData;
   int Neighbours = 5;
+  int ThumbnailSize = 0;
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

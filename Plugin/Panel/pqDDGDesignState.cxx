@@ -84,6 +84,7 @@ void pqDDGDesignState::clearModel()
   this->Queried = false;
   this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
   this->QueryNeighbours.clear();
+  this->QueryThumbnails.clear();
   this->LastMatch = Match();
   Q_EMIT this->modelCleared();
   Q_EMIT this->matchChanged();
@@ -283,72 +284,6 @@ void pqDDGDesignState::setShownBox(const QRectF& box)
 }
 
 // --- designs -------------------------------------------------------------------------------------
-
-void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
-{
-  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
-  if (!this->hasVolume())
-    return;
-  if (this->hasMatch() || !this->QueryPicture.isEmpty())
-  {
-    this->QueryPicture.clear(); // a new picture: the match of the last one goes
-    this->LastMatch = Match();
-    Q_EMIT this->matchChanged();
-  }
-  if (!this->Loaded) // no design space: the picture is what Match fits, from grey
-  {
-    this->QueryPicture = imageFile;
-    this->QueryName = name;
-    this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
-    this->report(tr("No model for this volume: Match fits a transfer function (and the camera) "
-                    "to '%1' without one. Build or Load a model to browse designs like it.")
-                   .arg(name));
-    Q_EMIT this->queryDone();
-    return;
-  }
-  vtkSMPropertyHelper(this->QueryProxy, "ImageData").Set(imageFile.toBase64().constData());
-  const QJsonObject view = this->currentView(PreviewSide);
-  vtkSMPropertyHelper(this->QueryProxy, "ViewJSON")
-    .Set(ddgpanel::jsonText(view).toUtf8().constData());
-  vtkSMPropertyHelper(this->QueryProxy, "Neighbours").Set(5);
-  this->QueryProxy->UpdateVTKObjects();
-  this->QueryProxy->UpdatePipeline();
-  vtkSmartPointer<vtkTable> table = vtkTable::SafeDownCast(ddgpanel::fetch(this->QueryProxy, 1));
-  vtkSMPropertyHelper(this->QueryProxy, "ImageData").Set(""); // do not keep megabytes around
-  this->QueryProxy->UpdateVTKObjects();
-  if (!table)
-  {
-    this->report(tr("The query failed: %1").arg(ddgpanel::lastError(this->QueryProxy)), true);
-    return;
-  }
-  QVector<int> neighbours;
-  vtkDataArray* rows = vtkDataArray::SafeDownCast(table->GetColumnByName("Row"));
-  for (vtkIdType i = 0; rows && i < rows->GetNumberOfTuples(); ++i)
-    neighbours.push_back(static_cast<int>(rows->GetTuple1(i)));
-  const QJsonArray position = ddgpanel::fieldNumbers(table, "Position");
-  const QJsonArray latent = ddgpanel::fieldNumbers(table, "Latent");
-  this->Queried = position.size() == 2;
-  if (this->Queried)
-  {
-    this->QueryPosition = QPointF(position[0].toDouble(), position[1].toDouble());
-    this->QueryNeighbours = neighbours;
-    Q_EMIT this->queried(this->QueryPosition, neighbours);
-  }
-  if (this->setSteps(QJsonArray{ latentStep(latent, name) }))
-  {
-    this->QueryPicture = imageFile; // what Match fits
-    this->QueryName = name;
-    const QJsonArray against = ddgpanel::fieldNumbers(table, "PicturePSNR");
-    this->QueryPSNR =
-      against.isEmpty() ? std::numeric_limits<double>::quiet_NaN() : against[0].toDouble();
-    const QJsonArray lit = ddgpanel::fieldNumbers(table, "PictureLit");
-    this->QueryLit = !lit.isEmpty() && lit[0].toDouble() != 0;
-    const QString warning = ddgpanel::fieldText(table, "Warning");
-    if (!warning.isEmpty()) // the filter's VTK warning is in Output Messages already
-      this->report(tr("Query with '%1': %2.").arg(name, warning));
-    Q_EMIT this->queryDone();
-  }
-}
 
 void pqDDGDesignState::pick(int row)
 {

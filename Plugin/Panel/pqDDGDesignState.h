@@ -100,6 +100,7 @@ public:
   static constexpr int PreviewSide = 192;
   static constexpr int ThumbnailCount = 32;
   static constexpr int ThumbnailSize = 64;
+  static constexpr int QueryNeighbourCount = 5; ///< a query's nearest designs shown
 
   explicit pqDDGDesignState(QObject* parent = nullptr);
   ~pqDDGDesignState() override;
@@ -255,8 +256,10 @@ Q_SIGNALS:
   void outlineChanged(const pqDDGDesignState::Outline& outline);
   /// The outline could not be shown (`message` says why; the model is not usable).
   void outlineFailed(const QString& message);
-  /// A query landed at `position` with its nearest outline rows.
-  void queried(const QPointF& position, const QVector<int>& neighbours);
+  /// A query landed at `position` with its nearest outline rows and their thumbnails (at the
+  /// view's camera and lighting; fewer or none when they could not be rendered).
+  void queried(
+    const QPointF& position, const QVector<int>& neighbours, const QVector<QImage>& thumbnails);
   /// A new path starts (the axes sliders go back to 0).
   void pathStarted();
   /// A kept design came back whose last step moved along the axes by `steps` (the sliders).
@@ -293,6 +296,7 @@ private:
     bool Queried = false;
     QPointF QueryPosition;
     QVector<int> QueryNeighbours;
+    QVector<QImage> QueryThumbnails;
     Match LastMatch;
   };
   /// Keeps the loaded volume's state (setVolume to another volume).
@@ -336,5 +340,6 @@ private:
   bool QueryLit = false;
   QPointF QueryPosition;
   QVector<int> QueryNeighbours;
+  QVector<QImage> QueryThumbnails;
   Match LastMatch;
 };

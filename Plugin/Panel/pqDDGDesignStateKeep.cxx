@@ -84,6 +84,7 @@ void pqDDGDesignState::keepVolumeState()
   k.Queried = this->Queried;
   k.QueryPosition = this->QueryPosition;
   k.QueryNeighbours = this->QueryNeighbours;
+  k.QueryThumbnails = this->QueryThumbnails;
   k.LastMatch = this->LastMatch;
   this->KeptStates.insert(keyOf(this->Source), k);
 }
@@ -117,8 +118,9 @@ void pqDDGDesignState::restoreVolumeState(Kept& kept)
   this->Queried = kept.Queried;
   this->QueryPosition = kept.QueryPosition;
   this->QueryNeighbours = kept.QueryNeighbours;
+  this->QueryThumbnails = kept.QueryThumbnails;
   if (this->Queried)
-    Q_EMIT this->queried(this->QueryPosition, this->QueryNeighbours);
+    Q_EMIT this->queried(this->QueryPosition, this->QueryNeighbours, this->QueryThumbnails);
   this->Locked = kept.Locked;
   this->LockSteps = kept.LockSteps;
   if (!kept.Steps.isEmpty() && this->setSteps(kept.Steps))

@@ -12,6 +12,8 @@
 #include <QFileInfo>
 #include <QImage>
 #include <QImageReader>
+#include <QPixmap>
+#include <QToolButton>
 
 #include <algorithm>
 
@@ -27,6 +29,44 @@ pqDDGQueryBox::pqDDGQueryBox(QWidget* parent)
 }
 
 pqDDGQueryBox::~pqDDGQueryBox() = default;
+
+void pqDDGQueryBox::setState(pqDDGDesignState* state)
+{
+  this->State = state;
+  QObject::connect(state, &pqDDGDesignState::queried, this,
+    [this](const QPointF&, const QVector<int>& rows, const QVector<QImage>& thumbnails)
+    { this->showNeighbours(rows, thumbnails); });
+  QObject::connect(
+    state, &pqDDGDesignState::modelCleared, this, [this]() { this->showNeighbours({}, {}); });
+}
+
+void pqDDGQueryBox::showNeighbours(const QVector<int>& rows, const QVector<QImage>& thumbnails)
+{
+  qDeleteAll(this->NeighbourButtons);
+  this->NeighbourButtons.clear();
+  const int shown = std::min(rows.size(), thumbnails.size());
+  for (int k = 0; k < shown; ++k)
+  {
+    auto* button = new QToolButton(this->Ui->neighbours);
+    button->setObjectName(QString("neighbour%1").arg(k));
+    button->setIcon(QPixmap::fromImage(thumbnails[k]));
+    button->setIconSize(thumbnails[k].size());
+    button->setAutoRaise(true);
+    button->setToolTip(tr("Nearest design %1 of the query (outline row %2): click to show it.")
+                         .arg(k + 1)
+                         .arg(rows[k]));
+    const int row = rows[k];
+    QObject::connect(button, &QToolButton::clicked, this,
+      [this, row]()
+      {
+        if (this->State)
+          this->State->pick(row);
+      });
+    this->Ui->neighbourRow->insertWidget(this->Ui->neighbourRow->count() - 1, button);
+    this->NeighbourButtons.push_back(button);
+  }
+  this->Ui->neighbours->setVisible(shown > 0);
+}
 
 void pqDDGQueryBox::browse()
 {

@@ -1,12 +1,16 @@
 // pqDDGQueryBox.h: the "Query with a picture" box of the Design Gallery panel: an image file (its
-// path, "...", or a drop on the panel) or the clipboard's image, sent to the state's query.
+// path, "...", or a drop on the panel) or the clipboard's image, sent to the state's query; the
+// query's nearest designs as thumbnails under it (a click shows one).
 #pragma once
 
 #include <QGroupBox>
+#include <QImage>
+#include <QVector>
 
 #include <memory>
 
 class pqDDGDesignState;
+class QToolButton;
 namespace Ui
 {
 class pqDDGQueryBox;
@@ -20,7 +24,10 @@ public:
   explicit pqDDGQueryBox(QWidget* parent = nullptr);
   ~pqDDGQueryBox() override;
 
-  void setState(pqDDGDesignState* state) { this->State = state; }
+  /// The state it queries; its queries' nearest designs show under the box from then on.
+  void setState(pqDDGDesignState* state);
+  /// Shows the nearest designs' thumbnails (rows of the outline); none: the row hides.
+  void showNeighbours(const QVector<int>& rows, const QVector<QImage>& thumbnails);
   /// Shows `path` and queries with the image file there (a file on this machine: the client's).
   void queryPath(const QString& path);
   /// Queries with the image file at `path`.
@@ -39,4 +46,5 @@ private Q_SLOTS:
 private:
   std::unique_ptr<Ui::pqDDGQueryBox> Ui;
   pqDDGDesignState* State = nullptr;
+  QVector<QToolButton*> NeighbourButtons;
 };

@@ -137,12 +137,14 @@ def _model(model, source):
 class Design:
     """A design of a model's design space: the path that leads to it (a ddg history, the JSON
     that ``ddg replay`` reads) evaluated by DDG Design. ``position`` (outline plane), ``latent``
-    (numpy), ``neighbours`` (nearest outline rows, for queries)."""
+    (numpy), ``neighbours`` (nearest outline rows, for queries) and ``neighbour_thumbnails``
+    (queries: their thumbnails at the query's view, numpy images, as the panel shows them)."""
 
     def __init__(self, model, history, neighbours=None):
         self.model = model
         self._history = history  # a vtkDDGDesignHistory: its steps are written by Core
         self.neighbours = list(neighbours or [])
+        self.neighbour_thumbnails = []  # queries: the neighbours' thumbnails (query())
         self.picture_psnr = None  # queries: against the picture (query())
         self.picture_lit = None  # queries: whether that figure is of the design lit
         self.warning = None  # queries: why the design is a guess (a photograph), else None
@@ -235,7 +237,7 @@ def pick(row, model=None, source=None):
     return Design(model, history)
 
 
-def query(image, source=None, view=None, model=None, neighbours=5):
+def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_size=64):
     """Queries the model's design space with an image (a file path or a numpy image): the
     analyzer's design, placed on the outline, with its ``neighbours`` nearest outline rows.
     ``view`` is where its preview is rendered and its explicit TF made (default: the active
@@ -243,7 +245,9 @@ def query(image, source=None, view=None, model=None, neighbours=5):
     both framed on their content (dB: how close it looks without the picture's camera; the
     picture's lighting not known either, the better of the design unlit and lit, which
     ``picture_lit`` says). A picture of lines or text (a chart) raises DDGError; one that cannot
-    be read as a rendered volume (a photograph) gives a design with a ``warning`` (also warned)."""
+    be read as a rendered volume (a photograph) gives a design with a ``warning`` (also warned).
+    With ``thumbnail_size`` > 0 the design's ``neighbour_thumbnails`` are the nearest designs'
+    thumbnails (the first 64) at ``view``'s camera, ``thumbnail_size`` pixels square."""
     model, source = _model(model, source)
     v = view_json(view, source, 256)
     proxy = _proxy(
@@ -253,16 +257,25 @@ def query(image, source=None, view=None, model=None, neighbours=5):
         ViewJSON=json.dumps(v),
         ImageData=_image_text(image),
         Neighbours=int(neighbours),
+        ThumbnailSize=int(thumbnail_size),
     )
     _run(proxy)
     table = servermanager.Fetch(proxy, idx=1)
     rows = [int(table.GetValueByName(i, "Row").ToInt()) for i in range(table.GetNumberOfRows())]
+    strip = servermanager.Fetch(proxy, idx=2)
+    side, gap = int(thumbnail_size), 2
+    cells = []
+    if side > 0 and strip.GetNumberOfPoints() > 0:
+        sheet = _to_numpy(strip)
+        count = (sheet.shape[1] - gap) // (side + gap)
+        cells = [sheet[gap : gap + side, gap + k * (side + gap) :][:, :side] for k in range(count)]
     latent = [float(x) for x in _field_numbers(table, "Latent")]
     history = _history()
     name = os.path.basename(image) if isinstance(image, str) else ""
     if not history.AddLatent(json.dumps(latent), name):
         raise DDGError(history.GetError())
     design = Design(model, history, rows)
+    design.neighbour_thumbnails = cells
     design.picture_psnr = float(_field_numbers(table, "PicturePSNR")[0])
     design.picture_lit = bool(_field_numbers(table, "PictureLit")[0])
     design.warning = _field_string(table, "Warning")

@@ -176,3 +176,36 @@ TEST(ImageAlpha, PremultiplyAndBack)
   EXPECT_THROW(ddg::premultiplyAlpha(ddg::Image(1, 1, 3, 0.0f)), ddg::Error);
   EXPECT_THROW(ddg::unpremultiplyAlpha(ddg::Image(1, 1, 3, 0.0f)), ddg::Error);
 }
+
+TEST(ImageSheet, RendersTiledRowByRowOverTransparentGaps)
+{
+  std::vector<ddg::Image> renders;
+  for (int k = 0; k < 3; ++k)
+  {
+    ddg::Image r(4, 4, 4, 0.0f);
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x)
+        for (int c = 0; c < 4; ++c)
+          r.at(x, y, c) = 0.01f * (k * 64 + y * 16 + x * 4 + c + 1);
+    renders.push_back(r);
+  }
+  const std::vector<const ddg::Image*> cells{ &renders[0], &renders[1], &renders[2] };
+  const ddg::Image sheet = ddg::tileRenders(cells, 2, 2, 4, 2);
+  ASSERT_EQ(sheet.width, 2 * (4 + 2) + 2);
+  ASSERT_EQ(sheet.height, 2 * (4 + 2) + 2);
+  ASSERT_EQ(sheet.channels, 4);
+  for (int k = 0; k < 3; ++k) // cell k at column k % 2, row k / 2
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 4; ++x)
+        for (int c = 0; c < 4; ++c)
+          EXPECT_EQ(sheet.at(2 + (k % 2) * 6 + x, 2 + (k / 2) * 6 + y, c), renders[k].at(x, y, c));
+  EXPECT_EQ(sheet.at(0, 0, 3), 0.0f);                         // the border
+  EXPECT_EQ(sheet.at(6, 3, 3), 0.0f);                         // the gap between the first two cells
+  EXPECT_EQ(sheet.at(10, 10, 3), 0.0f);                       // the unused fourth cell
+  EXPECT_EQ(ddg::tileRenders({}, 3, 1, 4).width, 3 * 6 + 2);  // no renders: an empty sheet
+  EXPECT_THROW(ddg::tileRenders(cells, 1, 2, 4), ddg::Error); // three renders, two cells
+  EXPECT_THROW(ddg::tileRenders(cells, 2, 2, 5), ddg::Error); // not the cell size
+  const ddg::Image rgb(4, 4, 3, 0.0f);
+  EXPECT_THROW(ddg::tileRenders({ &rgb }, 1, 1, 4), ddg::Error); // not RGBA
+  EXPECT_THROW(ddg::tileRenders({}, 0, 1, 4), ddg::Error);
+}

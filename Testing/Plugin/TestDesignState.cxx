@@ -16,13 +16,14 @@
 // Compared: the history steps the state writes against literal ddg history JSON (README "File
 // contracts"): pick, latent (with the query image's name), blend of two pins, edit (at the
 // design's view), axes (consecutive moves merged into one step), lock (the steps at lock time);
-// the outline (50 000 designs, 32 thumbnails of 64 px), the query's 5 neighbours, the preview
-// (192 px on the longer side), the blend corner u = v = 0 reproducing the first pin's latent
-// (tolerance 1e-5: float latents through JSON; latents in steps are compared as floats), a
-// failing edit dropped with its message, a chart refused as a query (its message, the steps
-// unchanged), the messages of a state without a model, a failed
-// build (constant volume) reported as failed (Plugin.GuiBuildFails checks the LastError text),
-// and a match of the query's picture at the current camera: cancelled from its progress signal
+// the outline (50 000 designs, 32 thumbnails of 64 px), the query's 5 neighbours and their
+// thumbnails (64 px, each showing a design), the preview (192 px on the longer side), the blend
+// corner u = v = 0 reproducing the first pin's latent (tolerance 1e-5: float latents through JSON;
+// latents in steps are compared as floats), a failing edit dropped with its message, a chart
+// refused as a query (its message, the steps unchanged), the messages of a state without a model, a
+// failed build (constant volume) reported as failed (Plugin.GuiBuildFails checks the LastError
+// text), and a match of the query's picture at the current camera: cancelled from its progress
+// signal
 // ("Match cancelled: ..."), then run (the camera given back as it is, PSNR against the picture
 // >= 35 dB and above the query design's, the render and overlay mask at the picture's size,
 // previews while fitting).
@@ -129,8 +130,13 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
   QObject::connect(&state, &pqDDGDesignState::outlineChanged,
     [&](const pqDDGDesignState::Outline& o) { outline = o; });
   QVector<int> neighbours;
+  QVector<QImage> neighbourThumbnails;
   QObject::connect(&state, &pqDDGDesignState::queried,
-    [&](const QPointF&, const QVector<int>& rows) { neighbours = rows; });
+    [&](const QPointF&, const QVector<int>& rows, const QVector<QImage>& thumbnails)
+    {
+      neighbours = rows;
+      neighbourThumbnails = thumbnails;
+    });
   state.setViewFunction(
     [&](int maxSide)
     {
@@ -229,6 +235,23 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       latentStep.value("latent").toArray().size() == latentSize && latentStep.keys().size() == 3,
     "query step: action latent, image " + latentStep.value("image").toString());
   check(neighbours.size() == 5, QString("query neighbours: %1").arg(neighbours.size()));
+  // their thumbnails, as the outline's (64 px at the view's camera): each shows a design
+  int drawn = 0;
+  for (const QImage& t : neighbourThumbnails)
+  {
+    const QImage rgb = t.convertToFormat(QImage::Format_RGB888);
+    const QRgb corner = rgb.pixel(0, 0);
+    bool varies = false;
+    for (int y = 0; y < rgb.height() && !varies; ++y)
+      for (int x = 0; x < rgb.width() && !varies; ++x)
+        varies = rgb.pixel(x, y) != corner;
+    drawn +=
+      t.size() == QSize(pqDDGDesignState::ThumbnailSize, pqDDGDesignState::ThumbnailSize) && varies;
+  }
+  check(neighbourThumbnails.size() == 5 && drawn == 5,
+    QString("neighbour thumbnails: %1, %2 of them 64 px and not uniform")
+      .arg(neighbourThumbnails.size())
+      .arg(drawn));
 
   // --- match the query's picture at the current camera: cancelled from its progress, then run ---
   int progressEvents = 0;

@@ -7,6 +7,10 @@ nearest designs (rows) must be identical, the preview image identical (PSNR >= 9
 `ddg compare`) and the "Preset" field the same TF as --out-tf. Bad input (another volume's
 bundle, a missing bundle, an unusable image): exactly one error, empty outputs, no crash.
 
+The nearest designs' thumbnails (ThumbnailSize 32, the third output): one row of five 32-px
+cells, each the very image DDG Design gives for a pick of that row at the same view; none with
+ThumbnailSize 0.
+
 DDG Design Gallery: 16 thumbnails of 32 px; the sheet's size, one row per outline design, the
 thumbnail rows identical to `ddg gallery --list` (same count and seed), and a box beside the
 plane giving no thumbnails without an error.
@@ -88,6 +92,36 @@ cmp = subprocess.run(
 )
 print("filter preview vs ddg query preview:", cmp.stdout.strip())
 assert cmp.returncode == 0, cmp.stderr
+
+# --- the nearest designs' thumbnails -----------------------------------------------------------
+from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
+
+
+def image_of(data):
+    w, h, _ = data.GetDimensions()
+    return vtk_to_numpy(data.GetPointData().GetArray("Image")).reshape(h, w, 3)
+
+
+assert servermanager.Fetch(query, idx=2).GetNumberOfPoints() == 0, "thumbnails without a size"
+query.ThumbnailSize = 32
+query.UpdatePipeline()
+strip = image_of(servermanager.Fetch(query, idx=2))
+assert strip.shape == (36, 5 * 34 + 2, 3), strip.shape
+with open(view) as f:
+    small = json.load(f)
+small["size"] = [32, 32]
+design = simple.DDGDesign(Input=reader, ModelDirectory=model, ViewJSON=json.dumps(small))
+for k, row in enumerate(rows):
+    design.History = json.dumps(
+        {"format": "ddg-history", "version": 1, "steps": [{"action": "pick", "row": row}]}
+    )
+    design.UpdatePipeline()
+    own = image_of(servermanager.Fetch(design, idx=0))
+    cell = strip[2:34, 2 + k * 34 : 2 + k * 34 + 32]
+    assert (cell == own).all(), f"thumbnail {k} (row {row}) differs from DDG Design's pick"
+simple.Delete(design)
+query.ThumbnailSize = 0
+print("neighbour thumbnails: 5 cells of 32 px, each DDG Design's pick of its row")
 
 # --- bad input -------------------------------------------------------------------------------
 from vtkmodules.util.misc import calldata_type  # noqa: E402
@@ -181,7 +215,6 @@ for i in range(designs.GetNumberOfRows()):
         filter_rows[int(thumb.GetValue(i))] = i
 assert filter_rows == cli_rows, (filter_rows, cli_rows)
 # lit as the volume is shown: LightingJSON (the panel sends the representation's Shade)
-from vtkmodules.util.numpy_support import vtk_to_numpy  # noqa: E402
 
 
 def sheet_pixels():

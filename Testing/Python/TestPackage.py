@@ -121,6 +121,13 @@ check(
     and found.transfer_function(view_file)["RGBPoints"] == cli_tf["RGBPoints"],
     f"neighbours {found.neighbours}, position {tuple(round(p, 2) for p in found.position)}",
 )
+thumbs = found.neighbour_thumbnails
+check(
+    "query's neighbour thumbnails",
+    len(thumbs) == len(found.neighbours) == 5
+    and all(t.shape == (64, 64, 3) and t.std() > 0 for t in thumbs),
+    f"{len(thumbs)} of {[t.shape for t in thumbs][:1]}",
+)
 
 picked = ddg.pick(g.thumbnails[0], model)
 history = os.path.join(outdir, "pick.json")

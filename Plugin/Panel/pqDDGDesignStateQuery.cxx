@@ -1,0 +1,100 @@
+// pqDDGDesignStateQuery.cxx: the panel state's query with a picture (DDG Query): the design the
+// analyzer reads from it, its place on the outline and its nearest designs with their thumbnails.
+#include "pqDDGDesignState.h"
+
+#include "pqDDGScene.h"
+
+#include <vtkDataArray.h>
+#include <vtkSMPropertyHelper.h>
+#include <vtkSMSourceProxy.h>
+#include <vtkTable.h>
+
+#include <limits>
+
+namespace
+{
+/// The cells of DDG Query's "Neighbour Thumbnails": `count` squares of `side` in one row, 2
+/// pixels between and around them (fewer when the strip is shorter or missing).
+QVector<QImage> stripCells(const QImage& strip, int count, int side)
+{
+  QVector<QImage> cells;
+  constexpr int gap = 2;
+  for (int k = 0; k < count && !strip.isNull(); ++k)
+  {
+    const int x = gap + k * (side + gap);
+    if (x + side > strip.width() || gap + side > strip.height())
+      break;
+    cells.push_back(strip.copy(x, gap, side, side));
+  }
+  return cells;
+}
+} // namespace
+
+void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
+{
+  const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
+  if (!this->hasVolume())
+    return;
+  if (this->hasMatch() || !this->QueryPicture.isEmpty())
+  {
+    this->QueryPicture.clear(); // a new picture: the match of the last one goes
+    this->LastMatch = Match();
+    Q_EMIT this->matchChanged();
+  }
+  if (!this->Loaded) // no design space: the picture is what Match fits, from grey
+  {
+    this->QueryPicture = imageFile;
+    this->QueryName = name;
+    this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
+    this->report(tr("No model for this volume: Match fits a transfer function (and the camera) "
+                    "to '%1' without one. Build or Load a model to browse designs like it.")
+                   .arg(name));
+    Q_EMIT this->queryDone();
+    return;
+  }
+  vtkSMPropertyHelper(this->QueryProxy, "ImageData").Set(imageFile.toBase64().constData());
+  const QJsonObject view = this->currentView(PreviewSide);
+  vtkSMPropertyHelper(this->QueryProxy, "ViewJSON")
+    .Set(ddgpanel::jsonText(view).toUtf8().constData());
+  vtkSMPropertyHelper(this->QueryProxy, "Neighbours").Set(QueryNeighbourCount);
+  vtkSMPropertyHelper(this->QueryProxy, "ThumbnailSize").Set(ThumbnailSize);
+  this->QueryProxy->UpdateVTKObjects();
+  this->QueryProxy->UpdatePipeline();
+  vtkSmartPointer<vtkTable> table = vtkTable::SafeDownCast(ddgpanel::fetch(this->QueryProxy, 1));
+  vtkSMPropertyHelper(this->QueryProxy, "ImageData").Set(""); // do not keep megabytes around
+  this->QueryProxy->UpdateVTKObjects();
+  if (!table)
+  {
+    this->report(tr("The query failed: %1").arg(ddgpanel::lastError(this->QueryProxy)), true);
+    return;
+  }
+  QVector<int> neighbours;
+  vtkDataArray* rows = vtkDataArray::SafeDownCast(table->GetColumnByName("Row"));
+  for (vtkIdType i = 0; rows && i < rows->GetNumberOfTuples(); ++i)
+    neighbours.push_back(static_cast<int>(rows->GetTuple1(i)));
+  const QJsonArray position = ddgpanel::fieldNumbers(table, "Position");
+  const QJsonArray latent = ddgpanel::fieldNumbers(table, "Latent");
+  this->Queried = position.size() == 2;
+  if (this->Queried)
+  {
+    this->QueryPosition = QPointF(position[0].toDouble(), position[1].toDouble());
+    this->QueryNeighbours = neighbours;
+    this->QueryThumbnails = stripCells(
+      ddgpanel::imageOf(ddgpanel::fetch(this->QueryProxy, 2)), neighbours.size(), ThumbnailSize);
+    Q_EMIT this->queried(this->QueryPosition, neighbours, this->QueryThumbnails);
+  }
+  if (this->setSteps(QJsonArray{ latentStep(latent, name) }))
+  {
+    this->QueryPicture = imageFile; // what Match fits
+    this->QueryName = name;
+    const QJsonArray against = ddgpanel::fieldNumbers(table, "PicturePSNR");
+    this->QueryPSNR =
+      against.isEmpty() ? std::numeric_limits<double>::quiet_NaN() : against[0].toDouble();
+    const QJsonArray lit = ddgpanel::fieldNumbers(table, "PictureLit");
+    this->QueryLit = !lit.isEmpty() && lit[0].toDouble() != 0;
+    const QString warning = ddgpanel::fieldText(table, "Warning");
+    if (!warning.isEmpty()) // the filter's VTK warning is in Output Messages already
+      this->report(tr("Query with '%1': %2.").arg(name, warning));
+    Q_EMIT this->queryDone();
+  }
+}
