@@ -160,7 +160,7 @@ def run_one(args, volume, budget):
 def render(out_dir, results):
     rows = sorted(results, key=lambda e: (e["volume"], e["budget_minutes"]))
     lines = [
-        "| volume | budget (min) | build (min) | exemplars | training (min), iterations, "
+        "| volume | build options | build (min) | exemplars | training (min), iterations, "
         "image-loss rays | held-out PSNR (dB) | SSIM | outline: empty + flat box of checked | "
         "boundary faces hazy |",
         "|---|---|---|---|---|---|---|---|---|",
@@ -168,13 +168,13 @@ def render(out_dir, results):
     for e in rows:
         if "error" in e:
             lines.append(
-                f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']} | "
+                f"| {e['volume']} | `{e['options']}` | {e['build_minutes']} | "
                 f"failed: {e['error'][:80]} | | | | | |"
             )
             continue
         junk = e.get("outline_empty", 0) + e.get("outline_flat_box", 0)
         lines.append(
-            f"| {e['volume']} | {e['budget_minutes']:g} | {e['build_minutes']:.1f} | "
+            f"| {e['volume']} | `{e['options']}` | {e['build_minutes']:.1f} | "
             f"{e.get('exemplars') or '—'} | {e['train_minutes']:.1f}, "
             f"{e.get('train_iterations', '—')}, {e.get('image_rays', 512)} | "
             f"{e['psnr']:.2f} | {e['ssim']:.3f} | "
