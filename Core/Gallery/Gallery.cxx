@@ -354,18 +354,57 @@ QueryResult DesignGallery::query(const Image& image, const View& view, int neigh
   r.latent = Model.analyze(r.input);
   r.position = Outline.project(r.latent.data());
   r.neighbours = Outline.nearest(r.latent.data(), neighbours);
-  r.preview = render(r.latent, view);
-  // a lit scene's preview against an unlit picture (or the other way) would score the lighting,
-  // not the design: the other lighting is rendered too and the better figure kept (the picture
-  // framed once for both)
+  std::vector<bool> lit;
+  std::vector<Image> atView;
+  r.picturePSNR = againstPicture(image, { r.latent }, view, &lit, &atView).front();
+  r.pictureLit = lit.front();
+  r.preview = std::move(atView.front());
+  return r;
+}
+
+std::vector<double> DesignGallery::picturePSNR(const Image& picture,
+  const std::vector<std::vector<float>>& latents, const View& view, std::vector<bool>* lit) const
+{
+  return againstPicture(picture, latents, view, lit, nullptr);
+}
+
+std::vector<double> DesignGallery::againstPicture(const Image& picture,
+  const std::vector<std::vector<float>>& latents, const View& view, std::vector<bool>* lit,
+  std::vector<Image>* atView) const
+{
+  // a lit scene's render against an unlit picture (or the other way) would score the lighting,
+  // not the design: the other lighting is rendered too and the better figure kept
   View other = view;
   other.lighting = Lighting{}; // ParaView's coefficients
   other.lighting.shade = !view.lighting.shade;
-  const Image otherRender = render(r.latent, other);
-  const std::vector<double> figures = framedPSNR(image, { &r.preview, &otherRender });
-  r.pictureLit = figures[1] > figures[0] ? other.lighting.shade : view.lighting.shade;
-  r.picturePSNR = std::max(figures[0], figures[1]);
-  return r;
+  std::vector<Image> renders;
+  renders.reserve(2 * latents.size());
+  for (const auto& latent : latents)
+  {
+    renders.push_back(render(latent, view));
+    renders.push_back(render(latent, other));
+  }
+  std::vector<const Image*> shown;
+  for (const Image& image : renders)
+    shown.push_back(&image);
+  const std::vector<double> figures = framedPSNR(picture, shown);
+  std::vector<double> best(latents.size());
+  if (lit)
+    lit->assign(latents.size(), false);
+  if (atView)
+  {
+    atView->clear();
+    for (size_t i = 0; i < latents.size(); ++i)
+      atView->push_back(std::move(renders[2 * i]));
+  }
+  for (size_t i = 0; i < latents.size(); ++i)
+  {
+    const bool otherBetter = figures[2 * i + 1] > figures[2 * i];
+    best[i] = std::max(figures[2 * i], figures[2 * i + 1]);
+    if (lit)
+      (*lit)[i] = otherBetter ? other.lighting.shade : view.lighting.shade;
+  }
+  return best;
 }
 
 std::vector<GaussianPrimitive> DesignGallery::primitives(const std::vector<float>& latent) const

@@ -168,6 +168,13 @@ public:
   /// (a chart: checkQueryPicture); a picture that cannot be read as a rendered volume (a
   /// photograph) is answered with a warning.
   QueryResult query(const Image& image, const View& view, int neighbours = 5) const;
+  /// Designs against a picture as the query judges its own (QueryResult::picturePSNR): each
+  /// latent rendered at `view` and in the other lighting, both framed on their content, the
+  /// better figure (dB); `lit`, when given, says for each whether that is the lit render. The
+  /// picture is framed once.
+  std::vector<double> picturePSNR(const Image& picture,
+    const std::vector<std::vector<float>>& latents, const View& view,
+    std::vector<bool>* lit = nullptr) const;
 
   /// The explicit TF of a latent as Gaussian primitives: the decoder's output. (The U-Net
   /// model has none: throws ddg::Error; reconstruct from its render instead.)
@@ -216,6 +223,10 @@ public:
     const FeatureLock* lock = nullptr);
 
 private:
+  // picturePSNR, and with `atView` the renders at `view` (the query's preview among them)
+  std::vector<double> againstPicture(const Image& picture,
+    const std::vector<std::vector<float>>& latents, const View& view, std::vector<bool>* lit,
+    std::vector<Image>* atView) const;
   NeuralDesignModel& Model;
   const Volume* Vol = nullptr; // the volume in this process, else null
   std::shared_ptr<const DesignVolume> Space;

@@ -31,6 +31,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 vtkStandardNewMacro(vtkDDGQuery);
 
@@ -172,6 +173,16 @@ void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputV
       cells.push_back(&gallery.thumbnail(r.neighbours[k].row, at));
     ddg::toVTKImage(ddg::tileRenders(cells, static_cast<int>(shown), 1, this->ThumbnailSize),
       view.background, vtkImageData::GetData(outputVector, 2));
+    // and how each looks against the picture, as the query's own design is judged
+    std::vector<std::vector<float>> latents;
+    for (size_t k = 0; k < shown; ++k)
+      latents.push_back(gallery.latent(r.neighbours[k].row));
+    const auto figures = gallery.picturePSNR(image, latents, view);
+    auto against = vtkSmartPointer<vtkDoubleArray>::New();
+    against->SetName("PicturePSNR");
+    for (size_t k = 0; k < r.neighbours.size(); ++k)
+      against->InsertNextValue(k < shown ? figures[k] : std::nan(""));
+    vtkTable::GetData(outputVector, 1)->AddColumn(against);
   }
   this->UpdateProgress(1.0);
 }

@@ -211,7 +211,7 @@ void pqDDGDesignGalleryDock::connectState()
   QObject::connect(
     state, &pqDDGDesignState::outlineFailed, ui.outline, &pqDDGOutlineView::setMessage);
   QObject::connect(state, &pqDDGDesignState::queried, this,
-    [this](const QPointF& position, const QVector<int>& neighbours, const QVector<QImage>&)
+    [this](const QPointF& position, const QVector<int>& neighbours)
     { this->Ui->outline->setQuery(true, position, neighbours); });
   QObject::connect(state, &pqDDGDesignState::pathStarted, this,
     [this]()

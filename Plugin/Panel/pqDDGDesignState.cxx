@@ -85,6 +85,7 @@ void pqDDGDesignState::clearModel()
   this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
   this->QueryNeighbours.clear();
   this->QueryThumbnails.clear();
+  this->QueryNeighbourPSNR.clear();
   this->LastMatch = Match();
   Q_EMIT this->modelCleared();
   Q_EMIT this->matchChanged();

@@ -256,10 +256,11 @@ Q_SIGNALS:
   void outlineChanged(const pqDDGDesignState::Outline& outline);
   /// The outline could not be shown (`message` says why; the model is not usable).
   void outlineFailed(const QString& message);
-  /// A query landed at `position` with its nearest outline rows and their thumbnails (at the
-  /// view's camera and lighting; fewer or none when they could not be rendered).
-  void queried(
-    const QPointF& position, const QVector<int>& neighbours, const QVector<QImage>& thumbnails);
+  /// A query landed at `position` with its nearest outline rows, their thumbnails (at the
+  /// view's camera and lighting; fewer or none when they could not be rendered) and each one's
+  /// figure against the query's picture (dB, as the query's own design is judged).
+  void queried(const QPointF& position, const QVector<int>& neighbours,
+    const QVector<QImage>& thumbnails, const QVector<double>& againstPicture);
   /// A new path starts (the axes sliders go back to 0).
   void pathStarted();
   /// A kept design came back whose last step moved along the axes by `steps` (the sliders).
@@ -297,6 +298,7 @@ private:
     QPointF QueryPosition;
     QVector<int> QueryNeighbours;
     QVector<QImage> QueryThumbnails;
+    QVector<double> QueryNeighbourPSNR;
     Match LastMatch;
   };
   /// Keeps the loaded volume's state (setVolume to another volume).
@@ -341,5 +343,6 @@ private:
   QPointF QueryPosition;
   QVector<int> QueryNeighbours;
   QVector<QImage> QueryThumbnails;
+  QVector<double> QueryNeighbourPSNR; ///< the nearest designs against the picture (dB)
   Match LastMatch;
 };

@@ -85,6 +85,7 @@ void pqDDGDesignState::keepVolumeState()
   k.QueryPosition = this->QueryPosition;
   k.QueryNeighbours = this->QueryNeighbours;
   k.QueryThumbnails = this->QueryThumbnails;
+  k.QueryNeighbourPSNR = this->QueryNeighbourPSNR;
   k.LastMatch = this->LastMatch;
   this->KeptStates.insert(keyOf(this->Source), k);
 }
@@ -119,8 +120,10 @@ void pqDDGDesignState::restoreVolumeState(Kept& kept)
   this->QueryPosition = kept.QueryPosition;
   this->QueryNeighbours = kept.QueryNeighbours;
   this->QueryThumbnails = kept.QueryThumbnails;
+  this->QueryNeighbourPSNR = kept.QueryNeighbourPSNR;
   if (this->Queried)
-    Q_EMIT this->queried(this->QueryPosition, this->QueryNeighbours, this->QueryThumbnails);
+    Q_EMIT this->queried(
+      this->QueryPosition, this->QueryNeighbours, this->QueryThumbnails, this->QueryNeighbourPSNR);
   this->Locked = kept.Locked;
   this->LockSteps = kept.LockSteps;
   if (!kept.Steps.isEmpty() && this->setSteps(kept.Steps))

@@ -69,9 +69,14 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     return;
   }
   QVector<int> neighbours;
+  QVector<double> against; // each against the picture (with the thumbnails)
   vtkDataArray* rows = vtkDataArray::SafeDownCast(table->GetColumnByName("Row"));
+  vtkDataArray* figures = vtkDataArray::SafeDownCast(table->GetColumnByName("PicturePSNR"));
   for (vtkIdType i = 0; rows && i < rows->GetNumberOfTuples(); ++i)
+  {
     neighbours.push_back(static_cast<int>(rows->GetTuple1(i)));
+    against.push_back(figures ? figures->GetTuple1(i) : std::numeric_limits<double>::quiet_NaN());
+  }
   const QJsonArray position = ddgpanel::fieldNumbers(table, "Position");
   const QJsonArray latent = ddgpanel::fieldNumbers(table, "Latent");
   this->Queried = position.size() == 2;
@@ -81,7 +86,9 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     this->QueryNeighbours = neighbours;
     this->QueryThumbnails = stripCells(
       ddgpanel::imageOf(ddgpanel::fetch(this->QueryProxy, 2)), neighbours.size(), ThumbnailSize);
-    Q_EMIT this->queried(this->QueryPosition, neighbours, this->QueryThumbnails);
+    this->QueryNeighbourPSNR = against;
+    Q_EMIT this->queried(
+      this->QueryPosition, neighbours, this->QueryThumbnails, this->QueryNeighbourPSNR);
   }
   if (this->setSteps(QJsonArray{ latentStep(latent, name) }))
   {

@@ -16,6 +16,8 @@
 #include <QToolButton>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 pqDDGQueryBox::pqDDGQueryBox(QWidget* parent)
   : QGroupBox(parent)
@@ -34,13 +36,14 @@ void pqDDGQueryBox::setState(pqDDGDesignState* state)
 {
   this->State = state;
   QObject::connect(state, &pqDDGDesignState::queried, this,
-    [this](const QPointF&, const QVector<int>& rows, const QVector<QImage>& thumbnails)
-    { this->showNeighbours(rows, thumbnails); });
+    [this](const QPointF&, const QVector<int>& rows, const QVector<QImage>& thumbnails,
+      const QVector<double>& against) { this->showNeighbours(rows, thumbnails, against); });
   QObject::connect(
-    state, &pqDDGDesignState::modelCleared, this, [this]() { this->showNeighbours({}, {}); });
+    state, &pqDDGDesignState::modelCleared, this, [this]() { this->showNeighbours({}, {}, {}); });
 }
 
-void pqDDGQueryBox::showNeighbours(const QVector<int>& rows, const QVector<QImage>& thumbnails)
+void pqDDGQueryBox::showNeighbours(
+  const QVector<int>& rows, const QVector<QImage>& thumbnails, const QVector<double>& against)
 {
   qDeleteAll(this->NeighbourButtons);
   this->NeighbourButtons.clear();
@@ -52,9 +55,16 @@ void pqDDGQueryBox::showNeighbours(const QVector<int>& rows, const QVector<QImag
     button->setIcon(QPixmap::fromImage(thumbnails[k]));
     button->setIconSize(thumbnails[k].size());
     button->setAutoRaise(true);
-    button->setToolTip(tr("Nearest design %1 of the query (outline row %2): click to show it.")
-                         .arg(k + 1)
-                         .arg(rows[k]));
+    const double figure = against.value(k, std::numeric_limits<double>::quiet_NaN());
+    QString tip = tr("Nearest design %1 of the query (outline row %2)").arg(k + 1).arg(rows[k]);
+    if (std::isfinite(figure)) // under the thumbnail: how close it looks to the picture
+    {
+      button->setText(tr("%1 dB").arg(figure, 0, 'f', 1));
+      button->setToolButtonStyle(Qt::ToolButtonTextUnderIcon);
+      tip += tr(", %1 dB against the picture (framed alike, as the query's design)")
+               .arg(figure, 0, 'f', 1);
+    }
+    button->setToolTip(tip + tr(": click to show it."));
     const int row = rows[k];
     QObject::connect(button, &QToolButton::clicked, this,
       [this, row]()

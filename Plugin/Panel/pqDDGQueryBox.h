@@ -26,8 +26,10 @@ public:
 
   /// The state it queries; its queries' nearest designs show under the box from then on.
   void setState(pqDDGDesignState* state);
-  /// Shows the nearest designs' thumbnails (rows of the outline); none: the row hides.
-  void showNeighbours(const QVector<int>& rows, const QVector<QImage>& thumbnails);
+  /// Shows the nearest designs' thumbnails (rows of the outline) with each one's figure against
+  /// the picture (dB; NaN: none shown); none: the row hides.
+  void showNeighbours(const QVector<int>& rows, const QVector<QImage>& thumbnails,
+    const QVector<double>& againstPicture);
   /// Shows `path` and queries with the image file there (a file on this machine: the client's).
   void queryPath(const QString& path);
   /// Queries with the image file at `path`.

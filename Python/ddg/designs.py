@@ -137,14 +137,16 @@ def _model(model, source):
 class Design:
     """A design of a model's design space: the path that leads to it (a ddg history, the JSON
     that ``ddg replay`` reads) evaluated by DDG Design. ``position`` (outline plane), ``latent``
-    (numpy), ``neighbours`` (nearest outline rows, for queries) and ``neighbour_thumbnails``
-    (queries: their thumbnails at the query's view, numpy images, as the panel shows them)."""
+    (numpy), ``neighbours`` (nearest outline rows, for queries), ``neighbour_thumbnails``
+    (queries: their thumbnails at the query's view, numpy images, as the panel shows them) and
+    ``neighbour_picture_psnr`` (queries: each of those against the picture, dB)."""
 
     def __init__(self, model, history, neighbours=None):
         self.model = model
         self._history = history  # a vtkDDGDesignHistory: its steps are written by Core
         self.neighbours = list(neighbours or [])
         self.neighbour_thumbnails = []  # queries: the neighbours' thumbnails (query())
+        self.neighbour_picture_psnr = []  # queries: each of those against the picture (dB)
         self.picture_psnr = None  # queries: against the picture (query())
         self.picture_lit = None  # queries: whether that figure is of the design lit
         self.warning = None  # queries: why the design is a guess (a photograph), else None
@@ -247,7 +249,8 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
     ``picture_lit`` says). A picture of lines or text (a chart) raises DDGError; one that cannot
     be read as a rendered volume (a photograph) gives a design with a ``warning`` (also warned).
     With ``thumbnail_size`` > 0 the design's ``neighbour_thumbnails`` are the nearest designs'
-    thumbnails (the first 64) at ``view``'s camera, ``thumbnail_size`` pixels square."""
+    thumbnails (the first 64) at ``view``'s camera, ``thumbnail_size`` pixels square, and its
+    ``neighbour_picture_psnr`` how each of them looks against the picture (as ``picture_psnr``)."""
     model, source = _model(model, source)
     v = view_json(view, source, 256)
     proxy = _proxy(
@@ -276,6 +279,9 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
         raise DDGError(history.GetError())
     design = Design(model, history, rows)
     design.neighbour_thumbnails = cells
+    if cells:
+        against = table.GetColumnByName("PicturePSNR")
+        design.neighbour_picture_psnr = [against.GetValue(k) for k in range(len(cells))]
     design.picture_psnr = float(_field_numbers(table, "PicturePSNR")[0])
     design.picture_lit = bool(_field_numbers(table, "PictureLit")[0])
     design.warning = _field_string(table, "Warning")

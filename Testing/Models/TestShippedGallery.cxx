@@ -210,3 +210,36 @@ int main(int argc, char** argv)
   gVolume = argv[2];
   return RUN_ALL_TESTS();
 }
+
+// Designs against a picture in one call (the panel's nearest designs, DDG Query's PicturePSNR
+// column): each figure is the one a call for that design alone gives (the picture framed once
+// for all), and the picture's own design scores above the others.
+TEST(ShippedGallery, DesignsAgainstAPictureInOneCall)
+{
+  auto& s = shipped();
+  const ddg::View view = ddg::defaultView(s.volume, 128, 128);
+  const int own = 12345;
+  const ddg::Image picture =
+    ddg::compositeOverBackground(s.gallery.render(s.gallery.latent(own), view), view.background);
+  const std::vector<int> rows{ 5, own, 40000 };
+  std::vector<std::vector<float>> latents;
+  for (int row : rows)
+    latents.push_back(s.gallery.latent(row));
+  std::vector<bool> lit;
+  const auto figures = s.gallery.picturePSNR(picture, latents, view, &lit);
+  ASSERT_EQ(figures.size(), 3u);
+  ASSERT_EQ(lit.size(), 3u);
+  for (size_t i = 0; i < rows.size(); ++i)
+  {
+    std::vector<bool> alone;
+    EXPECT_DOUBLE_EQ(
+      s.gallery.picturePSNR(picture, { latents[i] }, view, &alone).front(), figures[i]);
+    EXPECT_EQ(alone.front(), lit[i]);
+    std::printf("design %d against design %d's picture: %.2f dB (%s)\n", rows[i], own, figures[i],
+      lit[i] ? "lit" : "unlit");
+  }
+  EXPECT_GT(figures[1], figures[0]);
+  EXPECT_GT(figures[1], figures[2]);
+  EXPECT_FALSE(lit[1]); // the picture is the design unlit
+  EXPECT_TRUE(s.gallery.picturePSNR(picture, {}, view).empty());
+}

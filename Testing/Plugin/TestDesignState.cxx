@@ -131,11 +131,14 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
     [&](const pqDDGDesignState::Outline& o) { outline = o; });
   QVector<int> neighbours;
   QVector<QImage> neighbourThumbnails;
+  QVector<double> neighbourPSNR;
   QObject::connect(&state, &pqDDGDesignState::queried,
-    [&](const QPointF&, const QVector<int>& rows, const QVector<QImage>& thumbnails)
+    [&](const QPointF&, const QVector<int>& rows, const QVector<QImage>& thumbnails,
+      const QVector<double>& against)
     {
       neighbours = rows;
       neighbourThumbnails = thumbnails;
+      neighbourPSNR = against;
     });
   state.setViewFunction(
     [&](int maxSide)
@@ -248,10 +251,16 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
     drawn +=
       t.size() == QSize(pqDDGDesignState::ThumbnailSize, pqDDGDesignState::ThumbnailSize) && varies;
   }
-  check(neighbourThumbnails.size() == 5 && drawn == 5,
-    QString("neighbour thumbnails: %1, %2 of them 64 px and not uniform")
+  int figures = 0; // each against the picture: a PSNR, not a NaN
+  for (double f : neighbourPSNR)
+    figures += std::isfinite(f) && f > 5 && f < 60;
+  check(neighbourThumbnails.size() == 5 && drawn == 5 && figures == 5,
+    QString("neighbour thumbnails: %1, %2 of them 64 px and not uniform; %3 figures against the "
+            "picture (first %4 dB)")
       .arg(neighbourThumbnails.size())
-      .arg(drawn));
+      .arg(drawn)
+      .arg(figures)
+      .arg(neighbourPSNR.value(0)));
 
   // --- match the query's picture at the current camera: cancelled from its progress, then run ---
   int progressEvents = 0;

@@ -125,8 +125,11 @@ thumbs = found.neighbour_thumbnails
 check(
     "query's neighbour thumbnails",
     len(thumbs) == len(found.neighbours) == 5
-    and all(t.shape == (64, 64, 3) and t.std() > 0 for t in thumbs),
-    f"{len(thumbs)} of {[t.shape for t in thumbs][:1]}",
+    and all(t.shape == (64, 64, 3) and t.std() > 0 for t in thumbs)
+    and len(found.neighbour_picture_psnr) == 5
+    and all(5 < f < 60 for f in found.neighbour_picture_psnr),
+    f"{len(thumbs)} of {[t.shape for t in thumbs][:1]}, against the picture "
+    f"{[round(f, 1) for f in found.neighbour_picture_psnr]} dB",
 )
 
 picked = ddg.pick(g.thumbnails[0], model)
