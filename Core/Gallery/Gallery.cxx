@@ -377,32 +377,21 @@ std::vector<double> DesignGallery::againstPicture(const Image& picture,
   View other = view;
   other.lighting = Lighting{}; // ParaView's coefficients
   other.lighting.shade = !view.lighting.shade;
-  std::vector<Image> renders;
-  renders.reserve(2 * latents.size());
-  for (const auto& latent : latents)
-  {
-    renders.push_back(render(latent, view));
-    renders.push_back(render(latent, other));
-  }
-  std::vector<const Image*> shown;
-  for (const Image& image : renders)
-    shown.push_back(&image);
-  const std::vector<double> figures = framedPSNR(picture, shown);
   std::vector<double> best(latents.size());
   if (lit)
     lit->assign(latents.size(), false);
   if (atView)
-  {
     atView->clear();
-    for (size_t i = 0; i < latents.size(); ++i)
-      atView->push_back(std::move(renders[2 * i]));
-  }
-  for (size_t i = 0; i < latents.size(); ++i)
+  for (size_t i = 0; i < latents.size(); ++i) // two renders held at a time, whatever the count
   {
-    const bool otherBetter = figures[2 * i + 1] > figures[2 * i];
-    best[i] = std::max(figures[2 * i], figures[2 * i + 1]);
+    Image shown = render(latents[i], view);
+    const Image otherRender = render(latents[i], other);
+    const std::vector<double> figures = framedPSNR(picture, { &shown, &otherRender });
+    best[i] = std::max(figures[0], figures[1]);
     if (lit)
-      (*lit)[i] = otherBetter ? other.lighting.shade : view.lighting.shade;
+      (*lit)[i] = figures[1] > figures[0] ? other.lighting.shade : view.lighting.shade;
+    if (atView)
+      atView->push_back(std::move(shown));
   }
   return best;
 }

@@ -170,8 +170,7 @@ public:
   QueryResult query(const Image& image, const View& view, int neighbours = 5) const;
   /// Designs against a picture as the query judges its own (QueryResult::picturePSNR): each
   /// latent rendered at `view` and in the other lighting, both framed on their content, the
-  /// better figure (dB); `lit`, when given, says for each whether that is the lit render. The
-  /// picture is framed once.
+  /// better figure (dB); `lit`, when given, says for each whether that is the lit render.
   std::vector<double> picturePSNR(const Image& picture,
     const std::vector<std::vector<float>>& latents, const View& view,
     std::vector<bool>* lit = nullptr) const;

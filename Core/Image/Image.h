@@ -103,8 +103,8 @@ Image tileImages(
 /// A sheet of premultiplied RGBA renders (thumbnails) to compose over a view's background:
 /// `columns` x `rows` cells of cell x cell pixels, filled row by row from the top, `gap` pixels
 /// between and around them; the gaps and the unused cells are transparent. Throws ddg::Error
-/// for more renders than cells, a render that is not cell x cell RGBA, or columns, rows or cell
-/// < 1.
+/// for more renders than cells, a render that is not cell x cell RGBA, columns, rows or cell
+/// < 1, or gap < 0. The pointers must not be null.
 Image tileRenders(
   const std::vector<const Image*>& renders, int columns, int rows, int cell, int gap = 2);
 

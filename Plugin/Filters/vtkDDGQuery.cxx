@@ -179,7 +179,7 @@ void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputV
       latents.push_back(gallery.latent(r.neighbours[k].row));
     const auto figures = gallery.picturePSNR(image, latents, view);
     auto against = vtkSmartPointer<vtkDoubleArray>::New();
-    against->SetName("PicturePSNR");
+    against->SetName("NeighbourPicturePSNR");
     for (size_t k = 0; k < r.neighbours.size(); ++k)
       against->InsertNextValue(k < shown ? figures[k] : std::nan(""));
     vtkTable::GetData(outputVector, 1)->AddColumn(against);

@@ -30,8 +30,8 @@
  * Output port 2 ("Neighbour Thumbnails"): with ThumbnailSize > 0, the nearest designs'
  * thumbnails at the view's camera (ThumbnailSize square), in the table's order in one row, 2
  * pixels between and around them ("Image" RGB over the view's background, "RGBA"); else empty.
- * The table then also holds "PicturePSNR": each of those designs against the picture as the
- * query's own design is judged (NaN for rows without a thumbnail).
+ * The table then also holds "NeighbourPicturePSNR": each of those designs against the picture as
+ * the query's own design is judged (NaN for rows without a thumbnail).
  *
  * The bundle and its outline are loaded once per ModelDirectory and input. Bad input (missing
  * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one

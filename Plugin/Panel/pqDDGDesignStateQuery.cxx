@@ -69,13 +69,15 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     return;
   }
   QVector<int> neighbours;
-  QVector<double> against; // each against the picture (with the thumbnails)
+  QVector<double> nearAgainst; // each against the picture (with the thumbnails)
   vtkDataArray* rows = vtkDataArray::SafeDownCast(table->GetColumnByName("Row"));
-  vtkDataArray* figures = vtkDataArray::SafeDownCast(table->GetColumnByName("PicturePSNR"));
+  vtkDataArray* figures =
+    vtkDataArray::SafeDownCast(table->GetColumnByName("NeighbourPicturePSNR"));
   for (vtkIdType i = 0; rows && i < rows->GetNumberOfTuples(); ++i)
   {
     neighbours.push_back(static_cast<int>(rows->GetTuple1(i)));
-    against.push_back(figures ? figures->GetTuple1(i) : std::numeric_limits<double>::quiet_NaN());
+    nearAgainst.push_back(
+      figures ? figures->GetTuple1(i) : std::numeric_limits<double>::quiet_NaN());
   }
   const QJsonArray position = ddgpanel::fieldNumbers(table, "Position");
   const QJsonArray latent = ddgpanel::fieldNumbers(table, "Latent");
@@ -86,7 +88,7 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     this->QueryNeighbours = neighbours;
     this->QueryThumbnails = stripCells(
       ddgpanel::imageOf(ddgpanel::fetch(this->QueryProxy, 2)), neighbours.size(), ThumbnailSize);
-    this->QueryNeighbourPSNR = against;
+    this->QueryNeighbourPSNR = nearAgainst;
     Q_EMIT this->queried(
       this->QueryPosition, neighbours, this->QueryThumbnails, this->QueryNeighbourPSNR);
   }

@@ -1,4 +1,5 @@
-// pqDDGQueryBox.cxx: reading the query image of the Design Gallery panel.
+// pqDDGQueryBox.cxx: reading the query image of the Design Gallery panel, and the strip of the
+// query's nearest designs under it.
 #include "pqDDGQueryBox.h"
 #include "ui_pqDDGQueryBox.h"
 

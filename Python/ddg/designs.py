@@ -239,7 +239,7 @@ def pick(row, model=None, source=None):
     return Design(model, history)
 
 
-def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_size=64):
+def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_size=0):
     """Queries the model's design space with an image (a file path or a numpy image): the
     analyzer's design, placed on the outline, with its ``neighbours`` nearest outline rows.
     ``view`` is where its preview is rendered and its explicit TF made (default: the active
@@ -248,9 +248,11 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
     picture's lighting not known either, the better of the design unlit and lit, which
     ``picture_lit`` says). A picture of lines or text (a chart) raises DDGError; one that cannot
     be read as a rendered volume (a photograph) gives a design with a ``warning`` (also warned).
-    With ``thumbnail_size`` > 0 the design's ``neighbour_thumbnails`` are the nearest designs'
+    With ``thumbnail_size`` > 0 (up to 512; the panel's is 64) the design's ``neighbour_thumbnails`` are the nearest designs'
     thumbnails (the first 64) at ``view``'s camera, ``thumbnail_size`` pixels square, and its
     ``neighbour_picture_psnr`` how each of them looks against the picture (as ``picture_psnr``)."""
+    if not 0 <= int(thumbnail_size) <= 512:
+        raise DDGError("thumbnail_size must be 0 (none) to 512, not %s" % thumbnail_size)
     model, source = _model(model, source)
     v = view_json(view, source, 256)
     proxy = _proxy(
@@ -280,7 +282,7 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
     design = Design(model, history, rows)
     design.neighbour_thumbnails = cells
     if cells:
-        against = table.GetColumnByName("PicturePSNR")
+        against = table.GetColumnByName("NeighbourPicturePSNR")
         design.neighbour_picture_psnr = [against.GetValue(k) for k in range(len(cells))]
     design.picture_psnr = float(_field_numbers(table, "PicturePSNR")[0])
     design.picture_lit = bool(_field_numbers(table, "PictureLit")[0])

@@ -1,5 +1,6 @@
 // TestImage.cxx: ParaView's 8-bit compositing formula, PSNR/SSIM identities, colour-histogram
-// EMD against the closed-form 1D case, PNG round trip.
+// EMD against the closed-form 1D case, PNG round trip, a sheet of renders (each cell the render
+// it holds, the rest transparent).
 #include "Common/Error.h"
 #include "Image/ImageMetrics.h"
 #include "TransferFunction/ColorSpace.h"

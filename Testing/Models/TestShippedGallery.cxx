@@ -12,6 +12,8 @@
 //  - Feature lock: a locked region's primitive is the lock's, whatever the latent.
 //  - Query against the picture: the figure is the better of the design unlit and lit, whatever
 //    the view's lighting (designs' own renders as pictures, unlit and lit).
+//  - Designs against a picture in one call: each figure equals the call for that design alone,
+//    and a design's own render as the picture scores it above two others.
 //  - Fidelity: a design's neural image (the decoder's ray cast) against ParaView's table of its
 //    exported preset: PSNR >= 35 dB (the preset's control points reproduce the design).
 // Usage: TestShippedGallery MODEL_DIR VOLUME
@@ -198,22 +200,9 @@ TEST(ShippedGallery, QueryAgainstThePictureTakesTheBetterLighting)
   std::printf("the lit design scored better on %d of 6 pictures\n", litWins);
 }
 
-int main(int argc, char** argv)
-{
-  ::testing::InitGoogleTest(&argc, argv);
-  if (argc < 3)
-  {
-    std::fprintf(stderr, "usage: TestShippedGallery MODEL_DIR VOLUME\n");
-    return 2;
-  }
-  gModel = argv[1];
-  gVolume = argv[2];
-  return RUN_ALL_TESTS();
-}
-
-// Designs against a picture in one call (the panel's nearest designs, DDG Query's PicturePSNR
-// column): each figure is the one a call for that design alone gives (the picture framed once
-// for all), and the picture's own design scores above the others.
+// Designs against a picture in one call (the panel's nearest designs, DDG Query's
+// NeighbourPicturePSNR column): each figure is the one a call for that design alone gives (the
+// picture framed once for all), and the picture's own design scores above the others.
 TEST(ShippedGallery, DesignsAgainstAPictureInOneCall)
 {
   auto& s = shipped();
@@ -242,4 +231,17 @@ TEST(ShippedGallery, DesignsAgainstAPictureInOneCall)
   EXPECT_GT(figures[1], figures[2]);
   EXPECT_FALSE(lit[1]); // the picture is the design unlit
   EXPECT_TRUE(s.gallery.picturePSNR(picture, {}, view).empty());
+}
+
+int main(int argc, char** argv)
+{
+  ::testing::InitGoogleTest(&argc, argv);
+  if (argc < 3)
+  {
+    std::fprintf(stderr, "usage: TestShippedGallery MODEL_DIR VOLUME\n");
+    return 2;
+  }
+  gModel = argv[1];
+  gVolume = argv[2];
+  return RUN_ALL_TESTS();
 }

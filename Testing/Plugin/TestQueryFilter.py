@@ -8,8 +8,9 @@ nearest designs (rows) must be identical, the preview image identical (PSNR >= 9
 bundle, a missing bundle, an unusable image): exactly one error, empty outputs, no crash.
 
 The nearest designs' thumbnails (ThumbnailSize 32, the third output): one row of five 32-px
-cells, each the very image DDG Design gives for a pick of that row at the same view; none with
-ThumbnailSize 0.
+cells, each the very image DDG Design gives for a pick of that row at the same view, with each
+one's figure against the picture (NeighbourPicturePSNR); of 70 nearest designs the first 64 get
+thumbnails and figures, the rest NaN; none with ThumbnailSize 0.
 
 DDG Design Gallery: 16 thumbnails of 32 px; the sheet's size, one row per outline design, the
 thumbnail rows identical to `ddg gallery --list` (same count and seed), and a box beside the
@@ -18,6 +19,7 @@ plane giving no thumbnails without an error.
 Usage: pvpython TestQueryFilter.py PLUGIN DDG DATA TESTDATA OUTDIR
 """
 import json
+import math
 import os
 import re
 import subprocess
@@ -120,8 +122,22 @@ for k, row in enumerate(rows):
     cell = strip[2:34, 2 + k * 34 : 2 + k * 34 + 32]
     assert (cell == own).all(), f"thumbnail {k} (row {row}) differs from DDG Design's pick"
 simple.Delete(design)
+against = servermanager.Fetch(query, idx=1).GetColumnByName("NeighbourPicturePSNR")
+figures = [against.GetValue(i) for i in range(against.GetNumberOfTuples())]
+assert len(figures) == 5 and all(5 < f < 60 for f in figures), figures
+# at most 64 thumbnails and figures; the rows beyond them NaN
+query.Neighbours = 70
+query.UpdatePipeline()
+assert servermanager.Fetch(query, idx=2).GetDimensions()[:2] == (64 * 34 + 2, 36)
+many = servermanager.Fetch(query, idx=1)
+against = many.GetColumnByName("NeighbourPicturePSNR")
+figures = [against.GetValue(i) for i in range(against.GetNumberOfTuples())]
+assert many.GetNumberOfRows() == 70 and len(figures) == 70, (many.GetNumberOfRows(), len(figures))
+assert all(5 < f < 60 for f in figures[:64]) and all(math.isnan(f) for f in figures[64:]), figures
+query.Neighbours = 5
 query.ThumbnailSize = 0
-print("neighbour thumbnails: 5 cells of 32 px, each DDG Design's pick of its row")
+assert servermanager.Fetch(query, idx=1).GetColumnByName("NeighbourPicturePSNR") is None
+print("neighbour thumbnails: 5 cells of 32 px, each DDG Design's pick of its row; 64 of 70")
 
 # --- bad input -------------------------------------------------------------------------------
 from vtkmodules.util.misc import calldata_type  # noqa: E402

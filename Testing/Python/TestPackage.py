@@ -100,7 +100,7 @@ check(
     f"{len(g.x)} designs, thumbnails {g.thumbnails[:4]}..., sheet {g.sheet.shape}",
 )
 
-found = ddg.query(shot, view=view_file)
+found = ddg.query(shot, view=view_file, thumbnail_size=64)
 out = cli(
     "query",
     "--model",
@@ -130,6 +130,20 @@ check(
     and all(5 < f < 60 for f in found.neighbour_picture_psnr),
     f"{len(thumbs)} of {[t.shape for t in thumbs][:1]}, against the picture "
     f"{[round(f, 1) for f in found.neighbour_picture_psnr]} dB",
+)
+plain = ddg.query(shot, view=view_file)  # by default no thumbnails (a query stays as fast)
+try:
+    ddg.query(shot, view=view_file, thumbnail_size=600)
+    refused = False
+except ddg.DDGError as e:
+    refused = "thumbnail_size" in str(e)
+check(
+    "query without thumbnails; a thumbnail size out of range refused",
+    plain.neighbours == found.neighbours
+    and plain.neighbour_thumbnails == []
+    and plain.neighbour_picture_psnr == []
+    and refused,
+    "",
 )
 
 picked = ddg.pick(g.thumbnails[0], model)
