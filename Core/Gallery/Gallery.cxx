@@ -382,16 +382,31 @@ std::vector<double> DesignGallery::againstPicture(const Image& picture,
     lit->assign(latents.size(), false);
   if (atView)
     atView->clear();
-  for (size_t i = 0; i < latents.size(); ++i) // two renders held at a time, whatever the count
+  // the picture framed once per chunk of designs (framing a large picture costs more than a
+  // design's two renders), at most 2 x kChunk renders held at a time, whatever the count
+  constexpr size_t kChunk = 8;
+  for (size_t first = 0; first < latents.size(); first += kChunk)
   {
-    Image shown = render(latents[i], view);
-    const Image otherRender = render(latents[i], other);
-    const std::vector<double> figures = framedPSNR(picture, { &shown, &otherRender });
-    best[i] = std::max(figures[0], figures[1]);
-    if (lit)
-      (*lit)[i] = figures[1] > figures[0] ? other.lighting.shade : view.lighting.shade;
-    if (atView)
-      atView->push_back(std::move(shown));
+    const size_t end = std::min(latents.size(), first + kChunk);
+    std::vector<Image> renders;
+    for (size_t i = first; i < end; ++i)
+    {
+      renders.push_back(render(latents[i], view));
+      renders.push_back(render(latents[i], other));
+    }
+    std::vector<const Image*> shown;
+    for (const Image& image : renders)
+      shown.push_back(&image);
+    const std::vector<double> figures = framedPSNR(picture, shown);
+    for (size_t i = first; i < end; ++i)
+    {
+      const double here = figures[2 * (i - first)], there = figures[2 * (i - first) + 1];
+      best[i] = std::max(here, there);
+      if (lit)
+        (*lit)[i] = there > here ? other.lighting.shade : view.lighting.shade;
+      if (atView)
+        atView->push_back(std::move(renders[2 * (i - first)]));
+    }
   }
   return best;
 }
