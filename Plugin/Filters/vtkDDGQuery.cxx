@@ -169,14 +169,15 @@ void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputV
     ddg::View at = view;
     at.width = at.height = this->ThumbnailSize;
     std::vector<const ddg::Image*> cells;
+    std::vector<std::vector<float>> latents;
     for (size_t k = 0; k < shown; ++k)
+    {
       cells.push_back(&gallery.thumbnail(r.neighbours[k].row, at));
+      latents.push_back(gallery.latent(r.neighbours[k].row));
+    }
     ddg::toVTKImage(ddg::tileRenders(cells, static_cast<int>(shown), 1, this->ThumbnailSize),
       view.background, vtkImageData::GetData(outputVector, 2));
     // and how each looks against the picture, as the query's own design is judged
-    std::vector<std::vector<float>> latents;
-    for (size_t k = 0; k < shown; ++k)
-      latents.push_back(gallery.latent(r.neighbours[k].row));
     const auto figures = gallery.picturePSNR(image, latents, view);
     auto against = vtkSmartPointer<vtkDoubleArray>::New();
     against->SetName("NeighbourPicturePSNR");

@@ -223,17 +223,15 @@ void pqDDGDesignState::refreshOutline(bool announce)
     if (cell >= 0 && cell < ThumbnailCount)
       thumbRows[cell] = static_cast<int>(i);
   }
-  // thumbnails: cells of the sheet, row by row (gap 2 px)
-  const QImage sheetImage = ddgpanel::imageOf(sheet);
-  const int gap = 2,
-            cols = sheetImage.isNull() ? 0 : (sheetImage.width() - gap) / (ThumbnailSize + gap);
-  for (int k = 0; k < ThumbnailCount && cols > 0; ++k)
+  // thumbnails: cells of the sheet, row by row
+  const QVector<QImage> images =
+    ddgpanel::sheetCells(ddgpanel::imageOf(sheet), ThumbnailCount, ThumbnailSize);
+  for (int k = 0; k < images.size(); ++k)
   {
     if (thumbRows[k] < 0)
       continue;
     outline.ThumbnailRows.push_back(thumbRows[k]);
-    outline.Thumbnails.push_back(sheetImage.copy(gap + (k % cols) * (ThumbnailSize + gap),
-      gap + (k / cols) * (ThumbnailSize + gap), ThumbnailSize, ThumbnailSize));
+    outline.Thumbnails.push_back(images[k]);
   }
   const QJsonArray shown = ddgpanel::fieldNumbers(table, "Box");
   if (shown.size() == 4)

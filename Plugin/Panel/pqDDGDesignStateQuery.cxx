@@ -11,25 +11,6 @@
 
 #include <limits>
 
-namespace
-{
-/// The cells of DDG Query's "Neighbour Thumbnails": `count` squares of `side` in one row, 2
-/// pixels between and around them (fewer when the strip is shorter or missing).
-QVector<QImage> stripCells(const QImage& strip, int count, int side)
-{
-  QVector<QImage> cells;
-  constexpr int gap = 2;
-  for (int k = 0; k < count && !strip.isNull(); ++k)
-  {
-    const int x = gap + k * (side + gap);
-    if (x + side > strip.width() || gap + side > strip.height())
-      break;
-    cells.push_back(strip.copy(x, gap, side, side));
-  }
-  return cells;
-}
-} // namespace
-
 void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
 {
   const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
@@ -86,7 +67,7 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
   {
     this->QueryPosition = QPointF(position[0].toDouble(), position[1].toDouble());
     this->QueryNeighbours = neighbours;
-    this->QueryThumbnails = stripCells(
+    this->QueryThumbnails = ddgpanel::sheetCells(
       ddgpanel::imageOf(ddgpanel::fetch(this->QueryProxy, 2)), neighbours.size(), ThumbnailSize);
     this->QueryNeighbourPSNR = nearAgainst;
     Q_EMIT this->queried(

@@ -255,6 +255,21 @@ QImage imageOf(vtkDataObject* data)
   return out;
 }
 
+QVector<QImage> sheetCells(const QImage& sheet, int count, int side)
+{
+  constexpr int gap = 2; // as Core's tileRenders lays them out
+  QVector<QImage> cells;
+  const int cols = sheet.isNull() ? 0 : (sheet.width() - gap) / (side + gap);
+  for (int k = 0; k < count && cols > 0; ++k)
+  {
+    const int x = gap + (k % cols) * (side + gap), y = gap + (k / cols) * (side + gap);
+    if (y + side > sheet.height())
+      break;
+    cells.push_back(sheet.copy(x, y, side, side));
+  }
+  return cells;
+}
+
 QJsonArray fieldNumbers(vtkTable* table, const char* name)
 {
   QJsonArray out;

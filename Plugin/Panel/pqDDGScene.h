@@ -92,6 +92,11 @@ QString lastError(vtkSMProxy* filter);
 /// when there is none).
 QImage imageOf(vtkDataObject* data);
 
+/// The first `count` cells of a thumbnail sheet (DDG Design Gallery's, DDG Query's strip: cells
+/// of side x side, row by row, 2 pixels between and around them; the columns are what the
+/// sheet's width holds), fewer when the sheet holds fewer or is null.
+QVector<QImage> sheetCells(const QImage& sheet, int count, int side);
+
 /// The numbers of field array `name` of a filter's table output (empty when it has none).
 QJsonArray fieldNumbers(vtkTable* table, const char* name);
 
