@@ -89,11 +89,23 @@ void pqDDGDesignGalleryDock::showDesign()
     steps[0].toObject().value("action").toString() == "latent" &&
     steps[0].toObject().value("image").toString() == this->State->queryName() &&
     std::isfinite(this->State->queryPicturePSNR());
-  const QString against = queryDesign
-    ? tr("\nAgainst the picture: %1 dB (framed alike, the design %2; Match finds its camera)")
+  // one of its nearest designs, picked under the query box: the strip's figure again
+  const int picked = steps.size() == 1 && steps[0].toObject().value("action").toString() == "pick"
+    ? steps[0].toObject().value("row").toInt(-1)
+    : -1;
+  const double pickedAgainst = this->State->neighbourPicturePSNR(picked);
+  QString against;
+  if (queryDesign)
+    against =
+      tr("\nAgainst the picture: %1 dB (framed alike, the design %2; Match finds its camera)")
         .arg(this->State->queryPicturePSNR(), 0, 'f', 1)
-        .arg(this->State->queryPictureLit() ? tr("lit") : tr("unlit"))
-    : QString();
+        .arg(this->State->queryPictureLit() ? tr("lit") : tr("unlit"));
+  else if (std::isfinite(pickedAgainst))
+    against = tr("\nAgainst the picture: %1 dB (framed alike; nearest design %2 of the query "
+                 "'%3')")
+                .arg(pickedAgainst, 0, 'f', 1)
+                .arg(this->State->queryNeighbours().indexOf(picked) + 1)
+                .arg(this->State->queryName());
   this->Ui->info->setText(
     tr("Path: %1%2\nPreview vs. ray cast of its TF: %3 dB, SSIM %4")
       .arg(path.join(QString::fromUtf8(" \u2192 ")), against)

@@ -217,6 +217,11 @@ public:
   /// Whether that figure is of the design lit (the better of unlit and lit is taken: the
   /// picture's lighting is not known).
   bool queryPictureLit() const { return this->QueryLit; }
+  /// A nearest design of the last query against its picture (dB, as in the strip; NaN when
+  /// `row` is not one of them or was not scored).
+  double neighbourPicturePSNR(int row) const;
+  /// The last query's nearest designs (outline rows, nearest first).
+  const QVector<int>& queryNeighbours() const { return this->QueryNeighbours; }
 
   // --- pins ----------------------------------------------------------------------------------
   /// Pins the current design (pinAdded).
@@ -281,6 +286,8 @@ Q_SIGNALS:
 
 private:
   void pollBuild();
+  /// A new picture replaces the last query's: its match goes (matchChanged).
+  void dropQueryPicture();
   /// What the panel keeps of a volume while another is selected (pqDDGDesignStateKeep.cxx).
   struct Kept
   {

@@ -16,14 +16,9 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
   const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (!this->hasVolume())
     return;
-  if (this->hasMatch() || !this->QueryPicture.isEmpty())
-  {
-    this->QueryPicture.clear(); // a new picture: the match of the last one goes
-    this->LastMatch = Match();
-    Q_EMIT this->matchChanged();
-  }
   if (!this->Loaded) // no design space: the picture is what Match fits, from grey
   {
+    this->dropQueryPicture();
     this->QueryPicture = imageFile;
     this->QueryName = name;
     this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
@@ -44,11 +39,12 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
   vtkSmartPointer<vtkTable> table = vtkTable::SafeDownCast(ddgpanel::fetch(this->QueryProxy, 1));
   vtkSMPropertyHelper(this->QueryProxy, "ImageData").Set(""); // do not keep megabytes around
   this->QueryProxy->UpdateVTKObjects();
-  if (!table)
+  if (!table) // the last query (its picture, nearest designs and match) stays as it was
   {
     this->report(tr("The query failed: %1").arg(ddgpanel::lastError(this->QueryProxy)), true);
     return;
   }
+  this->dropQueryPicture();
   QVector<int> neighbours;
   QVector<double> nearAgainst; // each against the picture (with the thumbnails)
   vtkDataArray* rows = vtkDataArray::SafeDownCast(table->GetColumnByName("Row"));
@@ -70,6 +66,7 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     this->QueryThumbnails = ddgpanel::sheetCells(
       ddgpanel::imageOf(ddgpanel::fetch(this->QueryProxy, 2)), neighbours.size(), ThumbnailSize);
     this->QueryNeighbourPSNR = nearAgainst;
+    this->QueryName = name; // the strip names the picture it was found for
     Q_EMIT this->queried(
       this->QueryPosition, neighbours, this->QueryThumbnails, this->QueryNeighbourPSNR);
   }
@@ -87,4 +84,21 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
       this->report(tr("Query with '%1': %2.").arg(name, warning));
     Q_EMIT this->queryDone();
   }
+}
+
+void pqDDGDesignState::dropQueryPicture()
+{
+  if (this->hasMatch() || !this->QueryPicture.isEmpty())
+  {
+    this->QueryPicture.clear(); // a new picture: the match of the last one goes
+    this->LastMatch = Match();
+    Q_EMIT this->matchChanged();
+  }
+}
+
+double pqDDGDesignState::neighbourPicturePSNR(int row) const
+{
+  const int k = this->QueryNeighbours.indexOf(row);
+  return k < 0 ? std::numeric_limits<double>::quiet_NaN()
+               : this->QueryNeighbourPSNR.value(k, std::numeric_limits<double>::quiet_NaN());
 }

@@ -25,6 +25,7 @@ pqDDGQueryBox::pqDDGQueryBox(QWidget* parent)
   , Ui(new Ui::pqDDGQueryBox)
 {
   this->Ui->setupUi(this);
+  this->Ui->neighboursLabel->setWordWrap(true); // a long file name must not widen the dock
   QObject::connect(this->Ui->browseQuery, &QPushButton::clicked, this, &pqDDGQueryBox::browse);
   QObject::connect(this->Ui->query, &QPushButton::clicked, this, &pqDDGQueryBox::run);
   QObject::connect(this->Ui->queryPath, &QLineEdit::returnPressed, this, &pqDDGQueryBox::run);
@@ -76,6 +77,9 @@ void pqDDGQueryBox::showNeighbours(
     this->Ui->neighbourRow->insertWidget(this->Ui->neighbourRow->count() - 1, button);
     this->NeighbourButtons.push_back(button);
   }
+  if (this->State && shown > 0) // which picture they answer (the path field may say another)
+    this->Ui->neighboursLabel->setText(
+      tr("The nearest designs to '%1' (click one to show it):").arg(this->State->queryName()));
   this->Ui->neighbours->setVisible(shown > 0);
 }
 

@@ -26,7 +26,9 @@
 // signal
 // ("Match cancelled: ..."), then run (the camera given back as it is, PSNR against the picture
 // >= 35 dB and above the query design's, the render and overlay mask at the picture's size,
-// previews while fitting).
+// previews while fitting); a query that fails after it (the chart again) keeps the last query
+// whole (its picture, nearest designs and match; no queried signal), and a picked nearest
+// design's figure against the picture is the strip's.
 //
 // Usage: TestDesignState BODY PLUGIN DATA TESTDATA OUTDIR (BODY: this module)
 #include "pqDDGDesignState.h"
@@ -207,6 +209,7 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
   state.pin();
 
   // --- a chart is refused: the message says why, the design stays ---
+  QByteArray chartPng;
   {
     QImage chart(160, 120, QImage::Format_RGB32);
     chart.fill(Qt::white);
@@ -218,12 +221,11 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       painter.drawLine(x, static_cast<int>(55 + 35 * std::sin(x / 12.0)), x + 1,
         static_cast<int>(55 + 35 * std::sin((x + 1) / 12.0)));
     painter.end();
-    QByteArray png;
-    QBuffer buffer(&png);
+    QBuffer buffer(&chartPng);
     buffer.open(QIODevice::WriteOnly);
     chart.save(&buffer, "PNG");
     const QJsonArray before = state.steps();
-    state.query(png, "chart.png");
+    state.query(chartPng, "chart.png");
     check(state.lastMessage().startsWith("The query failed") &&
         state.lastMessage().contains("lines or text") && state.steps() == before,
       "chart query: " + state.lastMessage());
@@ -301,6 +303,27 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       .arg(m.PSNRAfter, 0, 'f', 1)
       .arg(stages.join(" "))
       .arg(m.Timings.value(3), 0, 'f', 1));
+  // --- a query that fails keeps the last one whole: its picture, nearest designs and match ---
+  {
+    int emitted = 0;
+    auto counting = QObject::connect(&state, &pqDDGDesignState::queried, [&]() { ++emitted; });
+    const QJsonArray before = state.steps();
+    state.query(chartPng, "chart.png");
+    QObject::disconnect(counting);
+    check(state.lastMessage().startsWith("The query failed") && emitted == 0 && state.hasMatch() &&
+        state.lastMatch().Picture == shot && state.queryName() == shot &&
+        !state.queryPicture().isEmpty() && state.queryNeighbours() == neighbours &&
+        state.steps() == before,
+      QString("failed query after a match: match kept %1, picture '%2', %3 queried signals")
+        .arg(state.hasMatch())
+        .arg(state.queryName())
+        .arg(emitted));
+  }
+  // a nearest design picked under the query box: its figure against the picture, as the strip's
+  check(state.neighbourPicturePSNR(neighbours[2]) == neighbourPSNR[2] &&
+      std::isnan(state.neighbourPicturePSNR(-1)),
+    QString("third neighbour against the picture: %1 dB")
+      .arg(state.neighbourPicturePSNR(neighbours[2])));
   state.pin();
   check(state.pins().size() == 2 && state.pins()[1].Steps == state.steps() &&
       !state.pins()[1].Icon.isNull(),
