@@ -3,8 +3,10 @@
 
 #include "Common/Error.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <vector>
 
 namespace ddg
 {
@@ -18,10 +20,36 @@ double msSince(Clock::time_point t0)
 }
 } // namespace
 
+std::uint64_t bundleStamp(const std::string& bundleDir)
+{
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  std::vector<std::string> entries;
+  for (fs::directory_iterator it(bundleDir, ec), end; !ec && it != end; it.increment(ec))
+  {
+    std::error_code e;
+    if (!it->is_regular_file(e))
+      continue;
+    const auto size = it->file_size(e);
+    const auto written = it->last_write_time(e).time_since_epoch().count();
+    entries.push_back(it->path().filename().string() + "|" + std::to_string(size) + "|" +
+      std::to_string(static_cast<long long>(written)));
+  }
+  if (ec)
+    return 0;
+  std::sort(entries.begin(), entries.end()); // the listing's order is the file system's
+  std::uint64_t h = 1469598103934665603ULL;  // FNV-1a
+  for (const std::string& entry : entries)
+    for (const char c : entry + "\n")
+      h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
+  return h;
+}
+
 BundleSession::BundleSession(
   const std::string& bundleDir, Volume volume, const std::string& volumeHint)
   : Directory(bundleDir)
   , Vol(std::make_unique<Volume>(std::move(volume)))
+  , Stamp(bundleStamp(bundleDir))
 {
   Fingerprint = volumeFingerprint(*Vol);
   LatentSet latents = openBundle(volumeHint);
@@ -36,6 +64,7 @@ BundleSession::BundleSession(const std::string& bundleDir, const std::string& fi
   : Directory(bundleDir)
   , Fingerprint(fingerprint)
   , Space(std::move(volume))
+  , Stamp(bundleStamp(bundleDir))
 {
   LatentSet latents = openBundle(volumeHint);
   const auto t1 = Clock::now();
@@ -85,7 +114,7 @@ BundleSession& BundleSessionCache::get(const std::string& bundleDir, std::uint64
   if (bundleDir.empty())
     throw Error("no ModelDirectory set");
   if (!Session || Session->directory() != bundleDir || Version != volumeVersion ||
-    !Session->hasVolume())
+    !Session->hasVolume() || Session->stamp() != bundleStamp(bundleDir))
   {
     Session.reset();
     Session = std::make_unique<BundleSession>(bundleDir, loadVolume());
@@ -100,7 +129,8 @@ BundleSession& BundleSessionCache::get(const std::string& bundleDir, const std::
   if (bundleDir.empty())
     throw Error("no ModelDirectory set");
   if (!Session || Session->directory() != bundleDir || Session->hasVolume() ||
-    Session->fingerprint() != fingerprint || &Session->gallery().space() != volume.get())
+    Session->fingerprint() != fingerprint || &Session->gallery().space() != volume.get() ||
+    Session->stamp() != bundleStamp(bundleDir))
   {
     Session.reset();
     Session = std::make_unique<BundleSession>(bundleDir, fingerprint, volume);

@@ -40,6 +40,9 @@ public:
   const std::string& fingerprint() const { return Fingerprint; }
   bool hasVolume() const { return Vol != nullptr; }
 
+  /// bundleStamp of the directory when the session opened it.
+  std::uint64_t stamp() const { return Stamp; }
+
   double outlineReadMs() const { return ReadMs; } ///< reading outline.bin
   double outlinePcaMs() const { return PcaMs; }   ///< the outline's PCA (building the gallery)
 
@@ -53,11 +56,18 @@ private:
   std::shared_ptr<const DesignVolume> Space; // by fingerprint
   std::unique_ptr<DesignGallery> Gallery;
   double ReadMs = 0, PcaMs = 0;
+  std::uint64_t Stamp = 0;
 };
 
+/// A number that changes when any file directly in `bundleDir` is added, removed, resized or
+/// rewritten (names, sizes and modification times hashed; 0 when it cannot be listed): a bundle
+/// rebuilt in place is opened again.
+std::uint64_t bundleStamp(const std::string& bundleDir);
+
 /// The session of the bundle a front end asks for again and again (a filter re-executing):
-/// opened on first use and reopened only when the bundle directory or the volume's version (any
-/// number that changes when the volume's data does, e.g. a VTK MTime) changes. Holds one session.
+/// opened on first use and reopened only when the bundle directory, its files (bundleStamp) or
+/// the volume's version (any number that changes when the volume's data does) changes. Holds one
+/// session.
 class BundleSessionCache
 {
 public:

@@ -15,11 +15,8 @@ namespace ddg
 DesignGallery& galleryFor(BundleSessionCache& cache, const std::string& modelDirectory,
   vtkImageData* input, vtkDataArray* array)
 {
-  const vtkMTimeType version =
-    std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
   return cache
-    .get(modelDirectory, static_cast<std::uint64_t>(version),
-      [&] { return toCoreVolume(input, array); })
+    .get(modelDirectory, volumeVersion(input, array), [&] { return toCoreVolume(input, array); })
     .gallery();
 }
 

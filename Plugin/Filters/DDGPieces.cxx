@@ -515,9 +515,8 @@ void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
 const RankVolume& RankVolumeCache::get(
   const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6])
 {
-  const unsigned long long time =
-    std::max<unsigned long long>(piece ? piece->GetMTime() : 0, array ? array->GetMTime() : 0);
-  double stale = !Pieces || Time != time || Array != array ? 1.0 : 0.0;
+  const std::uint64_t version = volumeVersion(piece, array);
+  double stale = !Pieces || Version != version || Array != array ? 1.0 : 0.0;
   ranks.allMax(&stale, 1);
   if (stale > 0)
   {
@@ -527,7 +526,7 @@ const RankVolume& RankVolumeCache::get(
       RankVolume::gather(ranks, piece, array, wholeExtent, true, true));
     Fingerprint = fingerprintOnRanks(ranks, *pieces);
     Pieces = std::move(pieces);
-    Time = time;
+    Version = version;
     Array = array;
   }
   return *Pieces;

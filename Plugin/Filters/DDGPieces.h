@@ -13,6 +13,7 @@
 #include "Render/RayCaster.h"
 #include "Volume/VolumeBrick.h"
 
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -113,7 +114,7 @@ public:
 private:
   std::unique_ptr<RankVolume> Pieces;
   std::string Fingerprint;
-  unsigned long long Time = 0;
+  std::uint64_t Version = 0; // volumeVersion of the pieces kept
   vtkDataArray* Array = nullptr;
 };
 

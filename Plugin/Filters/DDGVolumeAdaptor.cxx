@@ -84,6 +84,30 @@ public:
 
 } // namespace
 
+std::uint64_t volumeVersion(vtkImageData* image, vtkDataArray* array)
+{
+  if (!image)
+    return 0;
+  if (!array)
+    array = image->GetPointData()->GetScalars();
+  std::uint64_t h = 1469598103934665603ULL; // FNV-1a over the fields' bytes
+  auto add = [&h](const void* data, size_t bytes)
+  {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i)
+      h = (h ^ p[i]) * 1099511628211ULL;
+  };
+  const void* identity = array;
+  const vtkMTimeType arrayTime = array ? array->GetMTime() : 0;
+  add(&identity, sizeof identity);
+  add(&arrayTime, sizeof arrayTime);
+  add(image->GetExtent(), 6 * sizeof(int));
+  add(image->GetOrigin(), 3 * sizeof(double));
+  add(image->GetSpacing(), 3 * sizeof(double));
+  add(image->GetDirectionMatrix()->GetData(), 9 * sizeof(double));
+  return h == 0 ? 1 : h;
+}
+
 Volume toCoreVolume(vtkImageData* image, vtkDataArray* array)
 {
   if (!image)

@@ -6,6 +6,7 @@
 #include "Image/Image.h"
 #include "Volume/Volume.h"
 
+#include <cstdint>
 #include <string>
 
 class vtkDataArray;
@@ -19,6 +20,13 @@ namespace ddg
 /// no/empty data, cell data, a multi-component array or a non-numeric array. A non-identity
 /// direction matrix throws too (ParaView 5.11's volume mapper and Core both assume axis-aligned).
 DDGFILTERS_EXPORT Volume toCoreVolume(vtkImageData* image, vtkDataArray* array = nullptr);
+
+/// The version of what toCoreVolume reads: the array's identity and modification time and the
+/// image's geometry (extent, origin, spacing, direction), hashed; 0 without an image. The image's
+/// own modification time is not used: ParaView hands a filter its input through a post filter
+/// that copies the same arrays into it again at every request, so it changes while nothing
+/// that the volume is made of does (the filters' caches would open the bundle at every query).
+DDGFILTERS_EXPORT std::uint64_t volumeVersion(vtkImageData* image, vtkDataArray* array = nullptr);
 
 /// Reads a volume file: .vti, .vtk (legacy structured points), .nrrd/.nhdr, .mha/.mhd,
 /// .nii/.nii.gz through ParaView's bundled VTK readers, and the project's raw(.gz) + JSON

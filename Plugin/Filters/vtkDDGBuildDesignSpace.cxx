@@ -51,11 +51,11 @@ struct vtkDDGBuildDesignSpace::Background
   // the rates PlanBuild measured, for the build that follows on the same input and size (it
   // then follows the plan shown)
   ddg::BuildRates PlanRates;
-  vtkMTimeType PlanInputTime = 0, InputTime = 0;
+  std::uint64_t PlanInputVersion = 0, InputVersion = 0; // ddg::volumeVersion
   int PlanSize = 0;
   double FiguresShown[6] = { 0, 0, 0, 0, 0, 0 };
   // under MPI, the first rank's design-space input of the pieces last streamed (InputOnRanks:
-  // PlanBuild then StartBuild stream once), and what it was made of (with InputTime)
+  // PlanBuild then StartBuild stream once), and what it was made of (with InputVersion)
   ddg::DesignSpaceInput RanksInput;
   vtkIdType RanksVoxels = 0;
   std::string RanksArray;
@@ -139,8 +139,9 @@ ddg::Volume vtkDDGBuildDesignSpace::InputVolume()
   vtkImageData* image = vtkImageData::SafeDownCast(producer->GetOutputDataObject(port));
   if (!image)
     throw ddg::Error("the input is not a volume (image data)");
-  this->Worker->InputTime = image->GetMTime();
-  return ddg::toCoreVolume(image, this->GetInputArrayToProcess(0, image));
+  vtkDataArray* array = this->GetInputArrayToProcess(0, image);
+  this->Worker->InputVersion = ddg::volumeVersion(image, array);
+  return ddg::toCoreVolume(image, array);
 }
 
 ddg::DesignSpaceInput vtkDDGBuildDesignSpace::InputOnRanks(const ddg::RankGroup& ranks)
@@ -172,17 +173,17 @@ ddg::DesignSpaceInput vtkDDGBuildDesignSpace::InputOnRanks(const ddg::RankGroup&
     });
   Background& w = *this->Worker;
   const std::string arrayName = array && array->GetName() ? array->GetName() : "";
-  const vtkMTimeType time = std::max(image->GetMTime(), array ? array->GetMTime() : 0);
+  const std::uint64_t version = ddg::volumeVersion(image, array);
   double changed =
-    time != w.InputTime || arrayName != w.RanksArray || this->DesignVoxels != w.RanksVoxels;
+    version != w.InputVersion || arrayName != w.RanksArray || this->DesignVoxels != w.RanksVoxels;
   ranks.allMax(&changed, 1); // every rank streams again when one piece changed
   if (changed > 0)
   {
     w.RanksInput = ddg::DesignSpaceInput();
-    w.InputTime = 0; // nothing kept until the streaming succeeds
+    w.InputVersion = 0; // nothing kept until the streaming succeeds
     const ddg::RankVolume pieces = ddg::RankVolume::gather(ranks, image, array, whole, false);
     w.RanksInput = ddg::designSpaceInputOnRanks(ranks, pieces, this->DesignVoxels);
-    w.InputTime = time;
+    w.InputVersion = version;
     w.RanksArray = arrayName;
     w.RanksVoxels = this->DesignVoxels;
   }
@@ -279,7 +280,7 @@ void vtkDDGBuildDesignSpace::StartBuild()
       volume = this->InputVolume();
       ddg::checkBuildVolume(volume);
     }
-    if (w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size)
+    if (w.PlanRates.measured() && w.PlanInputVersion == w.InputVersion && w.PlanSize == this->Size)
       options.rates = w.PlanRates;
   }
   catch (const std::exception& e)
@@ -413,14 +414,14 @@ void vtkDDGBuildDesignSpace::PlanBuild()
     }
     Background& w = *this->Worker;
     const bool again =
-      w.PlanRates.measured() && w.PlanInputTime == w.InputTime && w.PlanSize == this->Size;
+      w.PlanRates.measured() && w.PlanInputVersion == w.InputVersion && w.PlanSize == this->Size;
     const ddg::BuildRates rates = again ? w.PlanRates : ddg::BuildRates();
     const ddg::BuildPlan plan = ranks
       ? ddg::planBuild(input, this->BudgetMinutes, this->Size, 0, rates)
       : ddg::planBuild(volume, this->BudgetMinutes, this->Size, 0, rates,
           static_cast<std::int64_t>(this->DesignVoxels));
     w.PlanRates = plan.rates;
-    w.PlanInputTime = w.InputTime;
+    w.PlanInputVersion = w.InputVersion;
     w.PlanSize = this->Size;
     j = nlohmann::json::parse(plan.toJson());
     j["describe"] = plan.describe();

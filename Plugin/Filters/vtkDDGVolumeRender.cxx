@@ -31,7 +31,7 @@ struct vtkDDGVolumeRender::Internals
 {
   std::unique_ptr<ddg::RayCaster> Caster;
   std::unique_ptr<ddg::RankVolume> Pieces; // distributed: this rank's piece, agreed with the others
-  vtkMTimeType InputTime = 0;
+  std::uint64_t InputVersion = 0;          // ddg::volumeVersion of what the cache was made of
   vtkDataArray* Array = nullptr;
 };
 
@@ -113,11 +113,10 @@ void vtkDDGVolumeRender::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  const vtkMTimeType inputTime =
-    std::max(input ? input->GetMTime() : 0, array ? array->GetMTime() : 0);
+  const std::uint64_t inputVersion = ddg::volumeVersion(input, array);
   if (const ddg::RankGroup* ranks = this->Ranks())
   {
-    this->ExecuteOnRanks(*ranks, input, array, inputTime, output);
+    this->ExecuteOnRanks(*ranks, input, array, inputVersion, output);
     return;
   }
   if (this->TransferFunctionFile.empty() && this->TransferFunctionJSON.empty())
@@ -128,7 +127,7 @@ void vtkDDGVolumeRender::Execute(
   const ddg::TransferFunctionFile file = this->TransferFunctionJSON.empty()
     ? ddg::readTransferFunctionFile(this->TransferFunctionFile)
     : ddg::parseTransferFunctionFile(this->TransferFunctionJSON, "TransferFunctionJSON");
-  if (!this->Internal->Caster || this->Internal->InputTime != inputTime ||
+  if (!this->Internal->Caster || this->Internal->InputVersion != inputVersion ||
     this->Internal->Array != array)
   {
     this->Internal->Caster.reset();
@@ -141,7 +140,7 @@ void vtkDDGVolumeRender::Execute(
                       << volume.range()[0]);
     }
     this->Internal->Caster = std::make_unique<ddg::RayCaster>(volume);
-    this->Internal->InputTime = inputTime;
+    this->Internal->InputVersion = inputVersion;
     this->Internal->Array = array;
   }
   const ddg::RayCaster& caster = *this->Internal->Caster;
@@ -152,7 +151,7 @@ void vtkDDGVolumeRender::Execute(
 }
 
 void vtkDDGVolumeRender::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input,
-  vtkDataArray* array, vtkMTimeType inputTime, vtkImageData* output)
+  vtkDataArray* array, std::uint64_t inputVersion, vtkImageData* output)
 {
   // the files as the first rank sees them (the others may not see its paths)
   std::string viewText = this->ViewJSON, tfText = this->TransferFunctionJSON;
@@ -185,7 +184,7 @@ void vtkDDGVolumeRender::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageDat
           : std::string("TransferFunctionJSON"));
     });
   // the pieces, agreed again when any rank's input changed
-  double stale = !this->Internal->Pieces || this->Internal->InputTime != inputTime ||
+  double stale = !this->Internal->Pieces || this->Internal->InputVersion != inputVersion ||
       this->Internal->Array != array
     ? 1.0
     : 0.0;
@@ -200,7 +199,7 @@ void vtkDDGVolumeRender::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageDat
       vtkWarningMacro(<< pieces->nonFiniteCount
                       << " NaN/infinite voxels are rendered as their piece's minimum value");
     this->Internal->Pieces = std::move(pieces);
-    this->Internal->InputTime = inputTime;
+    this->Internal->InputVersion = inputVersion;
     this->Internal->Array = array;
   }
   const ddg::RankVolume& pieces = *this->Internal->Pieces;

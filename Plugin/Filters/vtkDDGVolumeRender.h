@@ -5,6 +5,7 @@
 #include "DDGFiltersModule.h" // export macro
 #include "vtkDDGAlgorithm.h"
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -87,7 +88,7 @@ protected:
   int PieceGhostLevels() override;
   // Distributed: the ranks' pieces agreed (cached while the input stays), rendered sort-last.
   void ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array,
-    vtkMTimeType inputTime, vtkImageData* output);
+    std::uint64_t inputVersion, vtkImageData* output);
 
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;

@@ -6,6 +6,11 @@ TF), the preset written into the volume representation's LookupTable / ScalarOpa
 and ParaView's render of it at the query's camera. Prints figures and the ratio to the bar;
 asserts nothing.
 
+Then the query as the Design Gallery panel runs it (its view at 192 pixels on the longer side, 5
+nearest designs), without and with the strip of the nearest designs under the query box
+(ThumbnailSize 64: their thumbnails and each one's figure against the picture), the two
+alternated run by run; prints both medians and their ratio.
+
 Run: scripts/with-xvfb.sh pvpython Testing/Benchmarks/bench_query_apply.py [--runs 5]
      (from the repository root, after the README's build)
 """
@@ -94,3 +99,30 @@ for k, v in times.items():
     print(f"  {k:7s} {statistics.median(v) * 1000:8.1f} ms")
 total = statistics.median(times["total"])
 print(f"  bar 3000 ms, ratio {total / 3.0:.3f}")
+
+# --- the panel's query, without and with its nearest designs' thumbnails and figures ---
+panel_view = dict(cam)
+scale = 192.0 / max(cam["size"])
+panel_view["size"] = [max(1, round(n * scale)) for n in cam["size"]]
+query.ViewFile = ""
+query.ViewJSON = json.dumps(panel_view)
+query.Neighbours = 5
+strip = {0: [], 64: []}
+for r in range(args.runs):
+    for size in (0, 64) if r % 2 == 0 else (64, 0):
+        query.ThumbnailSize = size
+        query.ImageFile = shots[r % 2]
+        t0 = time.perf_counter()
+        query.UpdatePipeline()
+        servermanager.Fetch(query, idx=1)
+        if size:
+            servermanager.Fetch(query, idx=2)
+        strip[size].append(time.perf_counter() - t0)
+without, with_strip = (statistics.median(strip[k]) for k in (0, 64))
+print(
+    f"the panel's query ({panel_view['size'][0]} x {panel_view['size'][1]} view, 5 nearest "
+    f"designs), {args.runs} runs each, alternated, median"
+)
+print(f"  without the strip          {without * 1000:8.1f} ms")
+print(f"  with the strip (64 px)     {with_strip * 1000:8.1f} ms")
+print(f"  ratio {with_strip / without:.2f} (+{(with_strip - without) * 1000:.0f} ms)")

@@ -14,18 +14,31 @@
 //    the view's lighting (designs' own renders as pictures, unlit and lit).
 //  - Designs against a picture in one call: each figure equals the call for that design alone,
 //    and a design's own render as the picture scores it above two others.
+//  - The filters' bundle cache: a volume handed over again (a shallow copy) keeps its version,
+//    a changed array or spacing does not; a bundle rewritten in place is opened again.
 //  - Fidelity: a design's neural image (the decoder's ray cast) against ParaView's table of its
 //    exported preset: PSNR >= 35 dB (the preset's control points reproduce the design).
 // Usage: TestShippedGallery MODEL_DIR VOLUME
 #include "DDGVolumeAdaptor.h"
 
+#include "Gallery/BundleSession.h"
 #include "Gallery/Gallery.h"
 #include "Image/ImageMetrics.h"
 #include "TransferFunction/ColorSpace.h"
 
 #include <gtest/gtest.h>
 
+#include <vtkDataArray.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkXMLImageDataReader.h>
+
+#include <chrono>
 #include <cmath>
+#include <filesystem>
+
+#include <unistd.h>
 
 namespace
 {
@@ -231,6 +244,62 @@ TEST(ShippedGallery, DesignsAgainstAPictureInOneCall)
   EXPECT_GT(figures[1], figures[2]);
   EXPECT_FALSE(lit[1]); // the picture is the design unlit
   EXPECT_TRUE(s.gallery.picturePSNR(picture, {}, view).empty());
+}
+
+// The filters open a bundle once per volume (BundleSessionCache keyed by volumeVersion): the
+// input ParaView hands a filter is copied again at every request (a new modification time), so
+// the version is of what the volume is made of: a shallow copy has the same version, a modified
+// array or new spacing another. A bundle rewritten in place (a file's time changed) is opened
+// again; the same bundle and version give the same session without loading the volume again.
+TEST(ShippedGallery, FiltersOpenTheBundleOncePerVolume)
+{
+  vtkNew<vtkXMLImageDataReader> reader;
+  reader->SetFileName(gVolume.c_str());
+  reader->Update();
+  vtkImageData* read = reader->GetOutput();
+  vtkNew<vtkImageData> copy, again;
+  copy->ShallowCopy(read);
+  again->ShallowCopy(read);
+  ASSERT_NE(copy->GetMTime(), again->GetMTime());
+  const std::uint64_t version = ddg::volumeVersion(copy);
+  EXPECT_NE(version, 0u);
+  EXPECT_EQ(ddg::volumeVersion(again), version);
+  EXPECT_EQ(ddg::volumeVersion(read, read->GetPointData()->GetScalars()), version);
+  EXPECT_EQ(ddg::volumeVersion(nullptr), 0u);
+  double spacing[3];
+  again->GetSpacing(spacing);
+  again->SetSpacing(2 * spacing[0], spacing[1], spacing[2]);
+  EXPECT_NE(ddg::volumeVersion(again), version);
+  again->ShallowCopy(read);
+  again->GetPointData()->GetScalars()->Modified(); // the values changed in place
+  const std::uint64_t modified = ddg::volumeVersion(again);
+  EXPECT_NE(modified, version);
+
+  namespace fs = std::filesystem;
+  const fs::path bundle = fs::temp_directory_path() /
+    ("ddg_bundle_cache_" + std::to_string(static_cast<long long>(::getpid())));
+  fs::remove_all(bundle);
+  fs::copy(gModel, bundle, fs::copy_options::recursive);
+  int loads = 0;
+  auto load = [&]
+  {
+    ++loads;
+    return ddg::toCoreVolume(copy);
+  };
+  ddg::BundleSessionCache cache;
+  ddg::BundleSession* first = &cache.get(bundle.string(), modified, load);
+  EXPECT_EQ(&cache.get(bundle.string(), modified, load), first);
+  EXPECT_EQ(loads, 1);
+  const fs::path key = bundle / "query_key.json";
+  fs::last_write_time(key, fs::last_write_time(key) + std::chrono::seconds(2));
+  cache.get(bundle.string(), modified, load);
+  EXPECT_EQ(loads, 2); // rewritten in place: opened again
+  cache.get(bundle.string(), modified, load);
+  EXPECT_EQ(loads, 2);
+  cache.get(bundle.string(), version, load);
+  EXPECT_EQ(loads, 3); // another volume version
+  cache.clear();
+  fs::remove_all(bundle);
 }
 
 int main(int argc, char** argv)
