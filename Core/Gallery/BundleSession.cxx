@@ -2,6 +2,7 @@
 #include "Gallery/BundleSession.h"
 
 #include "Common/Error.h"
+#include "Common/Hash.h"
 
 #include <algorithm>
 #include <chrono>
@@ -38,11 +39,10 @@ std::uint64_t bundleStamp(const std::string& bundleDir)
   if (ec)
     return 0;
   std::sort(entries.begin(), entries.end()); // the listing's order is the file system's
-  std::uint64_t h = 1469598103934665603ULL;  // FNV-1a
+  Fnv1a hash;
   for (const std::string& entry : entries)
-    for (const char c : entry + "\n")
-      h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ULL;
-  return h;
+    hash.add(entry.c_str(), entry.size() + 1); // with its terminating zero between entries
+  return hash.value();
 }
 
 BundleSession::BundleSession(

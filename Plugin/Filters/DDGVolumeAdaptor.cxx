@@ -3,6 +3,7 @@
 
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
+#include "Common/Hash.h"
 #include "Volume/VolumeIO.h"
 
 #include <vtkAlgorithm.h>
@@ -90,22 +91,16 @@ std::uint64_t volumeVersion(vtkImageData* image, vtkDataArray* array)
     return 0;
   if (!array)
     array = image->GetPointData()->GetScalars();
-  std::uint64_t h = 1469598103934665603ULL; // FNV-1a over the fields' bytes
-  auto add = [&h](const void* data, size_t bytes)
-  {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (size_t i = 0; i < bytes; ++i)
-      h = (h ^ p[i]) * 1099511628211ULL;
-  };
+  Fnv1a hash;
   const void* identity = array;
   const vtkMTimeType arrayTime = array ? array->GetMTime() : 0;
-  add(&identity, sizeof identity);
-  add(&arrayTime, sizeof arrayTime);
-  add(image->GetExtent(), 6 * sizeof(int));
-  add(image->GetOrigin(), 3 * sizeof(double));
-  add(image->GetSpacing(), 3 * sizeof(double));
-  add(image->GetDirectionMatrix()->GetData(), 9 * sizeof(double));
-  return h == 0 ? 1 : h;
+  hash.add(&identity, sizeof identity);
+  hash.add(&arrayTime, sizeof arrayTime);
+  hash.add(image->GetExtent(), 6 * sizeof(int));
+  hash.add(image->GetOrigin(), 3 * sizeof(double));
+  hash.add(image->GetSpacing(), 3 * sizeof(double));
+  hash.add(image->GetDirectionMatrix()->GetData(), 9 * sizeof(double));
+  return hash.value() == 0 ? 1 : hash.value();
 }
 
 Volume toCoreVolume(vtkImageData* image, vtkDataArray* array)
