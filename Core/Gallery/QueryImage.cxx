@@ -98,8 +98,8 @@ Image squareOf(const Image& rgb, int side, int ox, int oy, const std::array<floa
   return square;
 }
 // A square image at `size` x `size`: halved by 2 x 2 box averages while it is at least
-// `halveFrom` times the size (exact area averages, much cheaper than one wide filtered resize:
-// a 400-pixel square to 128 took 60 ms), then the filtered resize.
+// `halveFrom` times the size (much cheaper than one wide filtered resize: a 400-pixel square to
+// 128 took 60 ms; an odd last row and column are left out), then the filtered resize.
 Image shrinkSquare(Image square, int size, int halveFrom)
 {
   while (square.width >= halveFrom * size)

@@ -92,10 +92,18 @@ std::uint64_t volumeVersion(vtkImageData* image, vtkDataArray* array)
   if (!array)
     array = image->GetPointData()->GetScalars();
   Fnv1a hash;
-  const void* identity = array;
-  const vtkMTimeType arrayTime = array ? array->GetMTime() : 0;
-  hash.add(&identity, sizeof identity);
-  hash.add(&arrayTime, sizeof arrayTime);
+  // the array: which one, when modified, and its memory (re-pointed or resized without a new
+  // modification time: VTK's SetArray and SetNumberOfTuples only mark the data changed); the
+  // point ghosts a piece is cut by
+  vtkDataArray* ghosts = image->GetPointData()->GetGhostArray();
+  const void* fields[] = { array, ghosts,
+    array && array->HasStandardMemoryLayout() ? array->GetVoidPointer(0) : nullptr };
+  const vtkMTimeType times[] = { array ? array->GetMTime() : 0, ghosts ? ghosts->GetMTime() : 0 };
+  const long long layout[] = { array ? static_cast<long long>(array->GetNumberOfTuples()) : 0,
+    array ? array->GetNumberOfComponents() : 0, array ? array->GetDataType() : 0 };
+  hash.add(fields, sizeof fields);
+  hash.add(times, sizeof times);
+  hash.add(layout, sizeof layout);
   hash.add(image->GetExtent(), 6 * sizeof(int));
   hash.add(image->GetOrigin(), 3 * sizeof(double));
   hash.add(image->GetSpacing(), 3 * sizeof(double));

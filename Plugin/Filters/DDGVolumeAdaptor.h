@@ -21,8 +21,10 @@ namespace ddg
 /// direction matrix throws too (ParaView 5.11's volume mapper and Core both assume axis-aligned).
 DDGFILTERS_EXPORT Volume toCoreVolume(vtkImageData* image, vtkDataArray* array = nullptr);
 
-/// The version of what toCoreVolume reads: the array's identity and modification time and the
-/// image's geometry (extent, origin, spacing, direction), hashed; 0 without an image. The image's
+/// The version of what toCoreVolume reads: the array's identity, modification time, memory and
+/// layout, the point ghosts' identity and time, and the image's geometry (extent, origin,
+/// spacing, direction), hashed; 0 without an image. Values written into the array in place need
+/// `array->Modified()`, as VTK asks of any change a pipeline should see. The image's
 /// own modification time is not used: ParaView hands a filter its input through a post filter
 /// that copies the same arrays into it again at every request, so it changes while nothing
 /// that the volume is made of does (the filters' caches would open the bundle at every query).

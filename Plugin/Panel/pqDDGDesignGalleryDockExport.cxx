@@ -106,11 +106,13 @@ void pqDDGDesignGalleryDock::showDesign()
                 .arg(pickedAgainst, 0, 'f', 1)
                 .arg(this->State->queryNeighbours().indexOf(picked) + 1)
                 .arg(this->State->queryName());
+  // one fill: a picture's name with a '%' or a '<' in it stays as it is
+  this->Ui->info->setTextFormat(Qt::PlainText);
   this->Ui->info->setText(
     tr("Path: %1%2\nPreview vs. ray cast of its TF: %3 dB, SSIM %4")
-      .arg(path.join(QString::fromUtf8(" \u2192 ")), against)
-      .arg(d.Fidelity.size() >= 2 ? d.Fidelity[0].toDouble() : 0.0, 0, 'f', 1)
-      .arg(d.Fidelity.size() >= 2 ? d.Fidelity[1].toDouble() : 0.0, 0, 'f', 3));
+      .arg(path.join(QString::fromUtf8(" \u2192 ")), against,
+        QString::number(d.Fidelity.size() >= 2 ? d.Fidelity[0].toDouble() : 0.0, 'f', 1),
+        QString::number(d.Fidelity.size() >= 2 ? d.Fidelity[1].toDouble() : 0.0, 'f', 3)));
   this->Ui->info->setToolTip(
     tr("Against the picture: the query's design against its picture, each cut to its content and "
        "compared at one size (PSNR; the picture's camera is not known, so a different viewpoint "

@@ -127,7 +127,7 @@ void pqDDGDesignGalleryDock::showMatch()
        "%4 steps)\nCamera %5, silhouette overlap %6; picture %10 (%11)\nTime: background %7 s, "
        "camera %8 s, fit %9 s")
       .arg(std::isfinite(m.PSNRBefore) // none when the match starts from grey (no model)
-          ? tr("the query's design %1 dB \u2192 ").arg(m.PSNRBefore, 0, 'f', 1)
+          ? tr("the design it started from %1 dB \u2192 ").arg(m.PSNRBefore, 0, 'f', 1)
           : QString())
       .arg(m.PSNRAfter, 0, 'f', 1)
       .arg(m.FitPSNR, 0, 'f', 1)

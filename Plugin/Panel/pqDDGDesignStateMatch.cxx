@@ -90,7 +90,8 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   vtkSMPropertyHelper(p, "EstimateCamera").Set(0);
   vtkSMPropertyHelper(p, "OpacityUnitDistance")
     .Set(view.value("opacity_unit_distance").toDouble(0.0));
-  // from the query's design (its TF at the current camera); 2D models fit a 2D TF from grey
+  // from the design shown (the query's, a nearest design picked, an edit: its TF at the current
+  // camera); 2D models fit a 2D TF from grey
   vtkSMPropertyHelper(p, "TwoD").Set(twoD ? 1 : 0);
   vtkSMPropertyHelper(p, "InitialTransferFunction")
     .Set(twoD ? "" : this->Current.Preset.toUtf8().constData());
@@ -222,7 +223,7 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
                  .arg(m.Timings.size() == 4 ? m.Timings[3] : 0.0, 0, 'f', 1)
                  .arg(m.PSNRAfter, 0, 'f', 1)
                  .arg(std::isfinite(m.PSNRBefore)
-                     ? tr(" (the query's design: %1 dB)").arg(m.PSNRBefore, 0, 'f', 1)
+                     ? tr(" (the design it started from: %1 dB)").arg(m.PSNRBefore, 0, 'f', 1)
                      : QString()));
   return true;
 }

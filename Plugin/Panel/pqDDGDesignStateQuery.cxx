@@ -45,6 +45,8 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     return;
   }
   this->dropQueryPicture();
+  this->QueryPicture = imageFile; // what Match fits, even if the design below cannot be made
+  this->QueryName = name;
   QVector<int> neighbours;
   QVector<double> nearAgainst; // each against the picture (with the thumbnails)
   vtkDataArray* rows = vtkDataArray::SafeDownCast(table->GetColumnByName("Row"));
@@ -66,14 +68,11 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     this->QueryThumbnails = ddgpanel::sheetCells(
       ddgpanel::imageOf(ddgpanel::fetch(this->QueryProxy, 2)), neighbours.size(), ThumbnailSize);
     this->QueryNeighbourPSNR = nearAgainst;
-    this->QueryName = name; // the strip names the picture it was found for
     Q_EMIT this->queried(
       this->QueryPosition, neighbours, this->QueryThumbnails, this->QueryNeighbourPSNR);
   }
   if (this->setSteps(QJsonArray{ latentStep(latent, name) }))
   {
-    this->QueryPicture = imageFile; // what Match fits
-    this->QueryName = name;
     const QJsonArray against = ddgpanel::fieldNumbers(table, "PicturePSNR");
     this->QueryPSNR =
       against.isEmpty() ? std::numeric_limits<double>::quiet_NaN() : against[0].toDouble();
@@ -91,6 +90,8 @@ void pqDDGDesignState::dropQueryPicture()
   if (this->hasMatch() || !this->QueryPicture.isEmpty())
   {
     this->QueryPicture.clear(); // a new picture: the match of the last one goes
+    this->QueryPSNR = std::numeric_limits<double>::quiet_NaN(); // and its figures
+    this->QueryLit = false;
     this->LastMatch = Match();
     Q_EMIT this->matchChanged();
   }

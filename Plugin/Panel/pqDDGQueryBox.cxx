@@ -26,6 +26,7 @@ pqDDGQueryBox::pqDDGQueryBox(QWidget* parent)
 {
   this->Ui->setupUi(this);
   this->Ui->neighboursLabel->setWordWrap(true); // a long file name must not widen the dock
+  this->Ui->neighboursLabel->setTextFormat(Qt::PlainText); // nor be read as HTML
   QObject::connect(this->Ui->browseQuery, &QPushButton::clicked, this, &pqDDGQueryBox::browse);
   QObject::connect(this->Ui->query, &QPushButton::clicked, this, &pqDDGQueryBox::run);
   QObject::connect(this->Ui->queryPath, &QLineEdit::returnPressed, this, &pqDDGQueryBox::run);

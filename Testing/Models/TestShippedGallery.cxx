@@ -32,6 +32,7 @@
 #include <vtkImageData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
+#include <vtkSmartPointer.h>
 #include <vtkXMLImageDataReader.h>
 
 #include <chrono>
@@ -274,11 +275,22 @@ TEST(ShippedGallery, FiltersOpenTheBundleOncePerVolume)
   again->GetPointData()->GetScalars()->Modified(); // the values changed in place
   const std::uint64_t modified = ddg::volumeVersion(again);
   EXPECT_NE(modified, version);
+  vtkDataArray* scalars = again->GetPointData()->GetScalars();
+  vtkSmartPointer<vtkDataArray> values =
+    vtkSmartPointer<vtkDataArray>::Take(scalars->NewInstance());
+  values->DeepCopy(scalars);
+  scalars->ShallowCopy(values); // the same array object over new memory
+  EXPECT_NE(ddg::volumeVersion(again), modified);
 
   namespace fs = std::filesystem;
   const fs::path bundle = fs::temp_directory_path() /
     ("ddg_bundle_cache_" + std::to_string(static_cast<long long>(::getpid())));
   fs::remove_all(bundle);
+  struct Remove // the copy goes whatever fails below
+  {
+    fs::path path;
+    ~Remove() { fs::remove_all(path); }
+  } removeCopy{ bundle };
   fs::copy(gModel, bundle, fs::copy_options::recursive);
   int loads = 0;
   auto load = [&]
@@ -299,7 +311,6 @@ TEST(ShippedGallery, FiltersOpenTheBundleOncePerVolume)
   cache.get(bundle.string(), version, load);
   EXPECT_EQ(loads, 3); // another volume version
   cache.clear();
-  fs::remove_all(bundle);
 }
 
 int main(int argc, char** argv)
