@@ -74,8 +74,8 @@ public:
     bool LightingEstimated = false; // View's "lighting" (absent: unlit) came from the fit
     double Overlap = 0;             ///< silhouette IoU of the camera
     double FitPSNR = 0;             ///< Core's PSNR of the fit over the compared pixels
-    double PSNRBefore =
-      0; ///< the design it started from, at that camera, vs the picture (NaN: none)
+    /// the design it started from, at that camera, vs the picture (NaN: none)
+    double PSNRBefore = 0;
     double PSNRAfter = 0;    ///< the matched TF at that camera vs the picture
     QVector<double> Timings; ///< seconds: background, camera, fit, total
     int Iterations = 0;
