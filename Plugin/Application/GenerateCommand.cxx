@@ -5,7 +5,9 @@
 
 #include "Common/Error.h"
 #include "Design/ExemplarGenerator.h"
+#include "Gallery/Export.h"
 #include "Image/Image.h"
+#include "TransferFunction/TransferFunctionIO.h"
 
 #include <cmath>
 #include <cstdio>
@@ -20,11 +22,39 @@ using namespace ddg::cli;
 
 struct GenerateArgs
 {
-  std::string volume, spec, out, array, preview;
+  std::string volume, spec, out, array, preview, tfs;
   int count = 1000, size = 64, threads = 0, shardSize = 256;
   std::uint64_t seed = 1, firstIndex = 0;
   bool quiet = false, screen = false, noViewport = false;
 };
+
+/// Writes every exemplar's TF into `dir` as the file a user opens in ParaView (a 1D preset, the
+/// DDG 2D JSON in 2D), named by the exemplar's index; returns how many.
+int writeExemplarTransferFunctions(const ddg::Volume& volume, const std::string& datasetDir,
+  std::uint64_t seed, const std::string& dir)
+{
+  const ddg::ExemplarDataset data(datasetDir);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec)
+    throw ddg::Error("cannot create the TF folder '" + dir + "': " + ec.message());
+  const int dimensions = data.spec().dimensions;
+  const std::array<double, 2> gradientRange =
+    dimensions == 2 ? volume.gradientMagnitudeRange() : std::array<double, 2>{ 0, 1 };
+  for (const ddg::Exemplar& e : data.exemplars())
+  {
+    const std::string name = "exemplar_" + std::to_string(ddg::exemplarIndex(e, seed)) + ".json";
+    const std::string path = (std::filesystem::path(dir) / name).string();
+    ddg::TransferFunctionFile tf =
+      ddg::primitivesToTransferFunction(e.primitives, dimensions, volume.range(), gradientRange);
+    tf = ddg::renamed(tf, ddg::exportName(data.volumeFile(), "exemplar", path));
+    if (tf.is2D)
+      ddg::writeTransferFunction2D(tf.tf2D, path);
+    else
+      ddg::writePreset(tf.tf1D, path);
+  }
+  return static_cast<int>(data.exemplars().size());
+}
 
 int runGenerate(const GenerateArgs& a)
 {
@@ -73,6 +103,9 @@ int runGenerate(const GenerateArgs& a)
       report.screenExhausted ? "; candidates ran out, the last exemplars kept as drawn" : "");
   std::printf("wrote %d exemplars of %d x %d to %s in %.2f s (%.1f exemplars/s)\n", report.count,
     a.size, a.size, a.out.c_str(), report.seconds, report.count / report.seconds);
+  if (!a.tfs.empty())
+    std::printf("wrote %d exemplar TFs to %s\n",
+      writeExemplarTransferFunctions(volume, a.out, a.seed, a.tfs), a.tfs.c_str());
   if (!a.preview.empty())
   {
     // contact sheet: up to 8 rows of (image at V_exp | viewport | ground truth over grey)
@@ -124,6 +157,9 @@ ddg::cli::Command ddg::cli::addGenerateCommand(CLI::App& app)
     "is taken; see README, 'Design spaces that show structure')");
   generate->add_option(
     "--preview", ga->preview, "Also write a contact sheet of the first exemplars");
+  generate->add_option("--tfs", ga->tfs,
+    "Also write every exemplar's TF into this folder as exemplar_<index>.json (a ParaView "
+    "preset; a 2D spec: the DDG 2D TF JSON), to open or render it elsewhere");
   generate->add_option("--array", ga->array, "Point array (default: the active scalars)");
   generate->add_flag("--no-viewport", ga->noViewport,
     "Leave out the U-Net's viewport image (the decoder does not read it): two renders per "
