@@ -1,6 +1,8 @@
 // QueryImage.cxx: query images to analyzer inputs.
 #include "Gallery/QueryImage.h"
 
+#include "Reconstruct/MatchParts.h"
+
 #include "Common/Error.h"
 #include "Image/ImageMetrics.h"
 
@@ -44,6 +46,28 @@ struct Content
   int x0 = 0, y0 = 0, x1 = -1, y1 = -1;
 };
 
+/// A pixel is content when a channel differs from the background by more than this.
+constexpr float kContentTolerance = 0.04f;
+
+/// The background the analyzer sees for a picture's background colour: black or white as they
+/// are (within kContentTolerance); any other colour (ParaView's palette grey-blue, a user's
+/// colour) the nearer of black and white by luminance (Rec. 709), the two the analyzer was
+/// trained on.
+std::array<float, 3> analyzerBackground(const std::array<float, 3>& bg)
+{
+  auto near = [&bg](float v)
+  {
+    for (float c : bg)
+      if (std::abs(c - v) > kContentTolerance)
+        return false;
+    return true;
+  };
+  if (near(0.0f) || near(1.0f))
+    return bg;
+  const float luminance = 0.2126f * bg[0] + 0.7152f * bg[1] + 0.0722f * bg[2];
+  return luminance < 0.5f ? std::array<float, 3>{ 0, 0, 0 } : std::array<float, 3>{ 1, 1, 1 };
+}
+
 Content findContent(const Image& rgb)
 {
   const int w = rgb.width, h = rgb.height;
@@ -71,7 +95,7 @@ Content findContent(const Image& rgb)
     {
       bool content = false;
       for (int c = 0; c < 3; ++c)
-        content = content || std::abs(rgb.at(x, y, c) - k.bg[c]) > 0.04f;
+        content = content || std::abs(rgb.at(x, y, c) - k.bg[c]) > kContentTolerance;
       if (content)
       {
         k.x0 = std::min(k.x0, x);
@@ -137,13 +161,37 @@ Image prepareQueryImage(const Image& image, int size)
       throw Error("the query image holds non-finite values");
   // 1. RGB over black
   const int w = image.width, h = image.height;
-  const Image rgb = rgbOverBlack(image);
+  Image rgb = rgbOverBlack(image);
   // 2. background = median of the border, content = pixels that differ from it
   const Content k = findContent(rgb);
-  const auto& bg = k.bg;
-  const int x0 = k.x0, y0 = k.y0, x1 = k.x1, y1 = k.y1;
-  if (x1 < 0)
+  if (k.x1 < 0)
     throw Error("the query image shows nothing: every pixel is the background colour");
+  // 2b. a background of another colour (a screenshot of ParaView's GUI) becomes the nearer of
+  // black and white, and the overlays drawn over it (orientation axes, text, a scalar bar: the
+  // content's connected parts under a fifth of the largest one's area, as the match reads a
+  // picture) become background too
+  const std::array<float, 3> bg = analyzerBackground(k.bg);
+  if (bg != k.bg)
+  {
+    matchparts::Mask content(w, h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c)
+          content(x, y) |= std::abs(rgb.at(x, y, c) - k.bg[c]) > kContentTolerance;
+    std::vector<int> area;
+    const std::vector<int> part = matchparts::components(content, area);
+    const std::vector<char> overlay = matchparts::smallParts(area, 0.2);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x)
+      {
+        const int label = part[static_cast<size_t>(y) * w + x];
+        if (label < 0 || overlay[static_cast<size_t>(label)])
+          for (int c = 0; c < 3; ++c)
+            rgb.at(x, y, c) = bg[c];
+      }
+  }
+  const Content kept = bg != k.bg ? findContent(rgb) : k;
+  const int x0 = kept.x0, y0 = kept.y0, x1 = kept.x1, y1 = kept.y1;
   // 3. a square of the shorter side on the content's centre, inside the image if it fits
   const int extent = std::max(x1 - x0 + 1, y1 - y0 + 1);
   const int side = std::max(std::min(w, h), extent);

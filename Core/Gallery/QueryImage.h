@@ -13,7 +13,12 @@ namespace ddg
 ///  1. channels: gray -> RGB, gray+alpha -> RGBA; RGBA (straight alpha) is composed over black;
 ///     an image whose alpha is 0 everywhere is refused;
 ///  2. the background colour is the median of the 1-pixel border; pixels differing from it by
-///     more than 0.04 in any channel are content; an image without content is refused;
+///     more than 0.04 in any channel are content; an image without content is refused. A
+///     background neither black nor white (ParaView's palette grey-blue, any colour) becomes the
+///     nearer of the two by luminance, the backgrounds the analyzer was trained on, and the
+///     overlays drawn over it (orientation axes, text, a scalar bar: connected parts of the
+///     content under a fifth of the largest one's area) become background as well; the content
+///     is otherwise kept as it is (its edges still mixed with the old colour);
 ///  3. a square of the image's shorter side (the frame ParaView's camera fits the volume to:
 ///     the vertical view angle of a landscape window), placed on the content's centre and moved
 ///     inside the image; when the content does not fit, the square grows to hold it and is padded
@@ -22,10 +27,9 @@ namespace ddg
 ///     other step);
 ///  4. 2 x 2 box averages while the square is 4x the size or more, then OpenImageIO's filtered
 ///     resize to size x size, quantised to 8 bits as training images are.
-/// So any size and aspect works, and a square image of the model's size is used as it is.
-/// Backgrounds other than black or white are kept (the analyzer was trained on black and
-/// white). Throws ddg::Error for images smaller than 8 x 8, larger than 16384 on a side, with
-/// other than 1-4 channels, fully transparent or uniform.
+/// So any size and aspect works, and a square image of the model's size over black or white is
+/// used as it is. Throws ddg::Error for images smaller than 8 x 8, larger than 16384 on a side,
+/// with other than 1-4 channels, fully transparent or uniform.
 Image prepareQueryImage(const Image& image, int size);
 
 /// Whether prepareQueryImage finds content in an RGB image: a pixel that differs from the median

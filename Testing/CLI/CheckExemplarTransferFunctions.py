@@ -30,8 +30,25 @@ def run(*args):
 
 def check(name, spec_args, extension_key):
     data, tfs, sheet = (os.path.join(work, name + s) for s in ("_data", "_tfs", "_sheet.png"))
-    out = run("generate", "--volume", volume, "--count", "3", "--size", str(SIZE), "--out", data,
-              "--first-index", "40", "--tfs", tfs, "--preview", sheet, "--quiet", *spec_args)
+    out = run(
+        "generate",
+        "--volume",
+        volume,
+        "--count",
+        "3",
+        "--size",
+        str(SIZE),
+        "--out",
+        data,
+        "--first-index",
+        "40",
+        "--tfs",
+        tfs,
+        "--preview",
+        sheet,
+        "--quiet",
+        *spec_args
+    )
     if "wrote 3 exemplar TFs to" not in out:
         sys.exit("%s: generate did not report the TF files:\n%s" % (name, out))
     files = sorted(os.listdir(tfs))
@@ -40,20 +57,34 @@ def check(name, spec_args, extension_key):
     with open(os.path.join(tfs, files[0])) as f:
         tf = json.load(f)
     if extension_key not in json.dumps(tf):
-        sys.exit("%s: %s is not the expected kind of TF file (no %s)" % (name, files[0], extension_key))
+        sys.exit(
+            "%s: %s is not the expected kind of TF file (no %s)" % (name, files[0], extension_key)
+        )
     with open(os.path.join(data, "dataset.json")) as f:
         exemplar = json.load(f)["exemplars"][0]
     view = os.path.join(work, name + "_view.json")
     with open(view, "w") as f:
         json.dump(exemplar["view_exp"], f)
     render = os.path.join(work, name + "_render.png")
-    run("render", "--volume", volume, "--tf", os.path.join(tfs, files[0]), "--view", view,
-        "--out", render)
-    generated = mpimg.imread(sheet)[2:2 + SIZE, 2:2 + SIZE, :3].astype(np.float64)
+    run(
+        "render",
+        "--volume",
+        volume,
+        "--tf",
+        os.path.join(tfs, files[0]),
+        "--view",
+        view,
+        "--out",
+        render,
+    )
+    generated = mpimg.imread(sheet)[2 : 2 + SIZE, 2 : 2 + SIZE, :3].astype(np.float64)
     rendered = mpimg.imread(render)[:, :, :3].astype(np.float64)
     mse = float(np.mean((generated - rendered) ** 2))
     psnr = 100.0 if mse == 0 else 10 * math.log10(1.0 / mse)
-    print("%s: %s rendered at its V_exp against the generator's image: %.1f dB" % (name, files[0], psnr))
+    print(
+        "%s: %s rendered at its V_exp against the generator's image: %.1f dB"
+        % (name, files[0], psnr)
+    )
     if psnr < 40:
         sys.exit("%s: the TF file does not render as the exemplar (%.1f dB < 40)" % (name, psnr))
 

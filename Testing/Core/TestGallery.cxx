@@ -316,6 +316,49 @@ TEST(QueryImage, FramesContentAnywhere)
   });
 }
 
+TEST(QueryImage, OtherBackgroundsAndTheirOverlaysBecomeBlackOrWhite)
+{
+  // an amber disc (radius 30 at (200, 100)) and a second part a third of its area, over a
+  // background; orientation axes drawn as a small red L in the lower left corner
+  auto picture = [](std::array<float, 3> background, bool axes)
+  {
+    ddg::Image im(320, 240, 3, 0.0f);
+    for (int y = 0; y < 240; ++y)
+      for (int x = 0; x < 320; ++x)
+      {
+        std::array<float, 3> c = background;
+        if ((x - 200) * (x - 200) + (y - 100) * (y - 100) <= 900)
+          c = { 0.9f, 0.55f, 0.2f };
+        else if ((x - 110) * (x - 110) + (y - 150) * (y - 150) <= 300)
+          c = { 0.3f, 0.6f, 0.9f };
+        else if (axes &&
+          ((x >= 15 && x < 18 && y >= 205 && y < 225) ||
+            (y >= 222 && y < 225 && x >= 15 && x < 35)))
+          c = { 0.9f, 0.1f, 0.1f };
+        for (int k = 0; k < 3; ++k)
+          im.at(x, y, k) = c[k];
+      }
+    return im;
+  };
+  // ParaView's palette grey-blue with the axes: as the same picture over black without them
+  // (the framing too: the axes no longer pull the square towards the corner)
+  const auto palette = ddg::prepareQueryImage(picture({ 0.32f, 0.34f, 0.43f }, true), 64);
+  const auto black = ddg::prepareQueryImage(picture({ 0, 0, 0 }, false), 64);
+  EXPECT_EQ(palette.pixels, black.pixels);
+  // a light background becomes white
+  const auto light = ddg::prepareQueryImage(picture({ 0.85f, 0.85f, 0.8f }, true), 64);
+  EXPECT_EQ(light.pixels, ddg::prepareQueryImage(picture({ 1, 1, 1 }, false), 64).pixels);
+  // the second part (over a fifth of the disc's area) is kept, not taken for an overlay
+  int blue = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      blue += palette.at(x, y, 2) > 0.8f && palette.at(x, y, 0) < 0.4f;
+  EXPECT_GT(blue, 20);
+  // black and white backgrounds are kept with whatever is drawn over them
+  const auto blackAxes = ddg::prepareQueryImage(picture({ 0, 0, 0 }, true), 64);
+  EXPECT_NE(blackAxes.pixels, black.pixels);
+}
+
 TEST(QueryImage, FramedPSNRIgnoresFramingAndBackground)
 {
   // an orange disc with a red core (radius r at (cx, cy)) as premultiplied RGBA (a render) or
