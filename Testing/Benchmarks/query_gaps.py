@@ -78,16 +78,42 @@ def value_range(args, volume):
 
 
 def view_file(args, volume, path, azimuth, size, background):
-    ddg(args, "view", "--volume", volume, "--out", path, "--size", *map(str, size),
-        "--azimuth", str(azimuth), "--elevation", "20", "--background", *map(str, background))
+    ddg(
+        args,
+        "view",
+        "--volume",
+        volume,
+        "--out",
+        path,
+        "--size",
+        *map(str, size),
+        "--azimuth",
+        str(azimuth),
+        "--elevation",
+        "20",
+        "--background",
+        *map(str, background)
+    )
     return path
 
 
 def query_score(args, volume, model, picture, view, true_tf, work, stem):
     """The query's TF for `picture` scored against `true_tf` at the canonical views."""
     found = os.path.join(work, stem + "_query.json")
-    ddg(args, "query", "--model", model, "--volume", volume, "--image", picture, "--view", view,
-        "--out-tf", found)
+    ddg(
+        args,
+        "query",
+        "--model",
+        model,
+        "--volume",
+        volume,
+        "--image",
+        picture,
+        "--view",
+        view,
+        "--out-tf",
+        found,
+    )
     return score(volume, found, true_tf)["psnr"]
 
 
@@ -117,15 +143,28 @@ def paraview_style_tf(rng, lo, hi, air, name):
     elif kind == "plateau_ramp":
         faint, top = rng.uniform(0.01, 0.15), rng.uniform(0.4, 1.0)
         end = start + rng.uniform(0.2, 0.6) * (hi - start)
-        pts = [(lo, 0), (start, 0), (start + 0.04 * span, faint), (end, faint),
-               (end + 0.04 * span, 0), (end + 0.12 * span, top), (hi, top)]
+        pts = [
+            (lo, 0),
+            (start, 0),
+            (start + 0.04 * span, faint),
+            (end, faint),
+            (end + 0.04 * span, 0),
+            (end + 0.12 * span, top),
+            (hi, top),
+        ]
         pts = [(min(x, hi), y) for x, y in pts]
     else:
         c1 = rng.uniform(start, start + 0.6 * (hi - start))
         c2 = rng.uniform(c1 + 0.1 * span, hi)
         w1, w2 = rng.uniform(0.02, 0.1) * span, rng.uniform(0.02, 0.1) * span
-        pts = [(lo, 0), (c1 - w1, 0), (c1, rng.uniform(0.02, 0.3)), (c1 + w1, 0),
-               (c2 - w2, 0), (c2, rng.uniform(0.3, 1.0))]
+        pts = [
+            (lo, 0),
+            (c1 - w1, 0),
+            (c1, rng.uniform(0.02, 0.3)),
+            (c1 + w1, 0),
+            (c2 - w2, 0),
+            (c2, rng.uniform(0.3, 1.0)),
+        ]
         pts += [(hi, 0)] if c2 + w2 < hi else []
     opacity = []
     for x, y in increasing([(max(lo, min(hi, x)), y) for x, y in pts]):
@@ -138,14 +177,36 @@ def family_fit(args, volume, true_tf, work, stem):
     targets = []
     for azimuth in (0, 120, 240):
         for name, background in (("b", (0, 0, 0)), ("w", (1, 1, 1))):
-            view = view_file(args, volume, os.path.join(work, "%s_v%d%s.json" % (stem, azimuth, name)),
-                             azimuth, (200, 150), background)
+            view = view_file(
+                args,
+                volume,
+                os.path.join(work, "%s_v%d%s.json" % (stem, azimuth, name)),
+                azimuth,
+                (200, 150),
+                background,
+            )
             target = view.replace(".json", ".png")
-            ddg(args, "render", "--volume", volume, "--tf", true_tf, "--view", view, "--out", target)
+            ddg(
+                args, "render", "--volume", volume, "--tf", true_tf, "--view", view, "--out", target
+            )
             targets += ["--target", target, "--view", view]
     found = os.path.join(work, stem + "_family.json")
-    ddg(args, "reconstruct", "--volume", volume, *targets, "--primitives", "4", "--iterations",
-        "800", "--threads", str(args.threads), "--quiet", "--out", found)
+    ddg(
+        args,
+        "reconstruct",
+        "--volume",
+        volume,
+        *targets,
+        "--primitives",
+        "4",
+        "--iterations",
+        "800",
+        "--threads",
+        str(args.threads),
+        "--quiet",
+        "--out",
+        found
+    )
     return score(volume, found, true_tf)["psnr"]
 
 
@@ -155,8 +216,9 @@ def measure_volume(args, volume_name, model, cases, work):
     with open(os.path.join(model, "bundle.json")) as f:
         bundle = json.load(f)
     air = min(r["lo"] for r in bundle["regions"])
-    canonical = view_file(args, volume, os.path.join(work, "canonical.json"), 0, (400, 300),
-                          (0, 0, 0))
+    canonical = view_file(
+        args, volume, os.path.join(work, "canonical.json"), 0, (400, 300), (0, 0, 0)
+    )
     rows = {rung: [] for rung in RUNGS}
 
     def clean_query(tf, stem):
@@ -167,8 +229,21 @@ def measure_volume(args, volume_name, model, cases, work):
     tfs = {}
     for case in cases:
         name = case["name"]
-        rows["screenshot"].append({"case": name, "psnr": query_score(
-            args, volume, model, case["image"], case["true_view"], case["true_tf"], work, name)})
+        rows["screenshot"].append(
+            {
+                "case": name,
+                "psnr": query_score(
+                    args,
+                    volume,
+                    model,
+                    case["image"],
+                    case["true_view"],
+                    case["true_tf"],
+                    work,
+                    name,
+                ),
+            }
+        )
         with open(case["true_view"]) as f:
             at_camera = json.load(f)
         at_camera["background"] = [0.0, 0.0, 0.0]
@@ -176,38 +251,89 @@ def measure_volume(args, volume_name, model, cases, work):
         with open(camera_view, "w") as f:
             json.dump(at_camera, f)
         picture = os.path.join(work, name + "_camera.png")
-        ddg(args, "render", "--volume", volume, "--tf", case["true_tf"], "--view", camera_view,
-            "--out", picture)
-        rows["camera"].append({"case": name, "psnr": query_score(
-            args, volume, model, picture, camera_view, case["true_tf"], work, name + "_camera")})
+        ddg(
+            args,
+            "render",
+            "--volume",
+            volume,
+            "--tf",
+            case["true_tf"],
+            "--view",
+            camera_view,
+            "--out",
+            picture,
+        )
+        rows["camera"].append(
+            {
+                "case": name,
+                "psnr": query_score(
+                    args,
+                    volume,
+                    model,
+                    picture,
+                    camera_view,
+                    case["true_tf"],
+                    work,
+                    name + "_camera",
+                ),
+            }
+        )
         tfs.setdefault(os.path.basename(case["true_tf_name"]), case["true_tf"])
-        print("  %s: screenshot %.2f dB, clean at its camera %.2f dB" % (
-            name, rows["screenshot"][-1]["psnr"], rows["camera"][-1]["psnr"]), flush=True)
+        print(
+            "  %s: screenshot %.2f dB, clean at its camera %.2f dB"
+            % (name, rows["screenshot"][-1]["psnr"], rows["camera"][-1]["psnr"]),
+            flush=True,
+        )
     for tf_name, tf in sorted(tfs.items()):
         rows["canonical"].append({"case": tf_name, "psnr": clean_query(tf, tf_name)})
-        rows["family"].append({"case": tf_name, "psnr": family_fit(args, volume, tf, work, tf_name)})
-        print("  %s: clean canonical %.2f dB, four free primitives %.2f dB" % (
-            tf_name, rows["canonical"][-1]["psnr"], rows["family"][-1]["psnr"]), flush=True)
+        rows["family"].append(
+            {"case": tf_name, "psnr": family_fit(args, volume, tf, work, tf_name)}
+        )
+        print(
+            "  %s: clean canonical %.2f dB, four free primitives %.2f dB"
+            % (tf_name, rows["canonical"][-1]["psnr"], rows["family"][-1]["psnr"]),
+            flush=True,
+        )
     rng = random.Random("%d %s" % (args.seed, volume_name))
     for i in range(args.draws):
         preset, kind = paraview_style_tf(rng, lo, hi, air, "paraview_style_%d" % i)
         tf = os.path.join(work, "paraview_style_%d.json" % i)
         with open(tf, "w") as f:
             json.dump(preset, f)
-        rows["paraview_tfs"].append({"case": "%d (%s)" % (i, kind),
-                                     "psnr": clean_query(tf, "paraview_style_%d" % i)})
+        rows["paraview_tfs"].append(
+            {"case": "%d (%s)" % (i, kind), "psnr": clean_query(tf, "paraview_style_%d" % i)}
+        )
     spec = os.path.join(work, "spec.json")
     with open(spec, "w") as f:
         json.dump(bundle["spec"], f)
     designs = os.path.join(work, "designs")
-    ddg(args, "generate", "--volume", volume, "--spec", spec, "--count", str(args.draws),
-        "--size", "64", "--out", os.path.join(work, "designs_data"), "--first-index",
-        str(DESIGN_SPACE_FIRST_INDEX), "--tfs", designs, "--no-viewport", "--quiet", "--threads",
-        str(args.threads))
+    ddg(
+        args,
+        "generate",
+        "--volume",
+        volume,
+        "--spec",
+        spec,
+        "--count",
+        str(args.draws),
+        "--size",
+        "64",
+        "--out",
+        os.path.join(work, "designs_data"),
+        "--first-index",
+        str(DESIGN_SPACE_FIRST_INDEX),
+        "--tfs",
+        designs,
+        "--no-viewport",
+        "--quiet",
+        "--threads",
+        str(args.threads),
+    )
     for tf_file in sorted(os.listdir(designs)):
         stem = os.path.splitext(tf_file)[0]
-        rows["design_space"].append({"case": stem, "psnr": clean_query(
-            os.path.join(designs, tf_file), stem)})
+        rows["design_space"].append(
+            {"case": stem, "psnr": clean_query(os.path.join(designs, tf_file), stem)}
+        )
     for rung in ("paraview_tfs", "design_space"):
         print("  %s: %s" % (rung, " ".join("%.2f" % r["psnr"] for r in rows[rung])), flush=True)
     return rows
@@ -218,16 +344,23 @@ def summary(rows):
     for rung, entries in rows.items():
         values = [e["psnr"] for e in entries]
         if values:
-            out[rung] = {"mean": sum(values) / len(values), "min": min(values), "count": len(values)}
+            out[rung] = {
+                "mean": sum(values) / len(values),
+                "min": min(values),
+                "count": len(values),
+            }
     return out
 
 
 def markdown(result):
-    lines = ["# What bounds the query alone", "",
-             "The query's TF against the true TF at the suite's canonical views (ParaView, mean "
-             "PSNR, dB), down the ladder of pictures (`Testing/Benchmarks/query_gaps.py`; "
-             "bundles: %s)." % ", ".join("%s `%s`" % (v, m)
-                                       for v, m in result["models"].items()), ""]
+    lines = [
+        "# What bounds the query alone",
+        "",
+        "The query's TF against the true TF at the suite's canonical views (ParaView, mean "
+        "PSNR, dB), down the ladder of pictures (`Testing/Benchmarks/query_gaps.py`; "
+        "bundles: %s)." % ", ".join("%s `%s`" % (v, m) for v, m in result["models"].items()),
+        "",
+    ]
     volumes = list(result["volumes"])
     lines.append("| rung | " + " | ".join("%s: mean (lowest), n" % v for v in volumes) + " |")
     lines.append("|---|" + "---|" * len(volumes))
@@ -241,8 +374,10 @@ def markdown(result):
     for v in volumes:
         for rung in RUNGS:
             entries = result["volumes"][v]["rows"][rung]
-            lines.append("- %s, %s: %s" % (v, rung, ", ".join(
-                "%s %.2f" % (e["case"], e["psnr"]) for e in entries)))
+            lines.append(
+                "- %s, %s: %s"
+                % (v, rung, ", ".join("%s %.2f" % (e["case"], e["psnr"]) for e in entries))
+            )
     return "\n".join(lines) + "\n"
 
 
@@ -258,8 +393,14 @@ def chart(result, path):
         for i, rung in enumerate(RUNGS):
             entries = result["volumes"][v]["rows"][rung]
             x = i + (k - (len(volumes) - 1) / 2) * 0.25
-            ax.scatter([x] * len(entries), [e["psnr"] for e in entries], s=14, alpha=0.6,
-                       color="C%d" % k, label=v if i == 0 else None)
+            ax.scatter(
+                [x] * len(entries),
+                [e["psnr"] for e in entries],
+                s=14,
+                alpha=0.6,
+                color="C%d" % k,
+                label=v if i == 0 else None,
+            )
             s = result["volumes"][v]["summary"].get(rung)
             if s:
                 ax.plot([x - 0.1, x + 0.1], [s["mean"]] * 2, color="C%d" % k, lw=2)
@@ -275,15 +416,23 @@ def chart(result, path):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__,
-                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     p.add_argument("--suite", nargs="+", help="make_suite.py output folders")
-    p.add_argument("--render-only", action="store_true",
-                   help="rewrite OUT's table and chart from OUT/query_gaps.json, measure nothing")
+    p.add_argument(
+        "--render-only",
+        action="store_true",
+        help="rewrite OUT's table and chart from OUT/query_gaps.json, measure nothing",
+    )
     p.add_argument("--out", required=True)
     p.add_argument("--volumes", nargs="+", default=["tooth", "engine"])
-    p.add_argument("--model", action="append", default=[], help="VOLUME=BUNDLE_DIR instead of "
-                   "Data/Models/VOLUME")
+    p.add_argument(
+        "--model",
+        action="append",
+        default=[],
+        help="VOLUME=BUNDLE_DIR instead of " "Data/Models/VOLUME",
+    )
     p.add_argument("--ddg", default=os.path.join(ROOT, "build", "bin", "ddg"))
     p.add_argument("--draws", type=int, default=8, help="ParaView-style TFs and designs per volume")
     p.add_argument("--seed", type=int, default=62)
@@ -300,8 +449,12 @@ def main():
         return
     if not args.suite:
         p.error("--suite is required (or --render-only)")
-    result = {"models": {v: os.path.relpath(models[v], ROOT) for v in args.volumes}, "draws": args.draws,
-              "seed": args.seed, "volumes": {}}
+    result = {
+        "models": {v: os.path.relpath(models[v], ROOT) for v in args.volumes},
+        "draws": args.draws,
+        "seed": args.seed,
+        "volumes": {},
+    }
     for v in args.volumes:
         cases = []
         for suite in args.suite:
