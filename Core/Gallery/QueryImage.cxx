@@ -55,17 +55,45 @@ constexpr float kContentTolerance = 0.04f;
 /// trained on.
 std::array<float, 3> analyzerBackground(const std::array<float, 3>& bg)
 {
-  auto near = [&bg](float v)
+  auto isNear = [&bg](float v)
   {
     for (float c : bg)
       if (std::abs(c - v) > kContentTolerance)
         return false;
     return true;
   };
-  if (near(0.0f) || near(1.0f))
+  if (isNear(0.0f) || isNear(1.0f))
     return bg;
   const float luminance = 0.2126f * bg[0] + 0.7152f * bg[1] + 0.0722f * bg[2];
   return luminance < 0.5f ? std::array<float, 3>{ 0, 0, 0 } : std::array<float, 3>{ 1, 1, 1 };
+}
+
+/// Whether the picture's border is one colour: at least 90 % of its pixels within
+/// kContentTolerance of `bg` (its median). Not so for a gradient background (only a band of rows
+/// is near the median) or content across the border.
+bool uniformBorder(const Image& rgb, const std::array<float, 3>& bg)
+{
+  const int w = rgb.width, h = rgb.height;
+  long alike = 0, total = 0;
+  auto count = [&](int x, int y)
+  {
+    bool same = true;
+    for (int c = 0; c < 3; ++c)
+      same = same && std::abs(rgb.at(x, y, c) - bg[c]) <= kContentTolerance;
+    alike += same ? 1 : 0;
+    ++total;
+  };
+  for (int x = 0; x < w; ++x)
+  {
+    count(x, 0);
+    count(x, h - 1);
+  }
+  for (int y = 1; y < h - 1; ++y)
+  {
+    count(0, y);
+    count(w - 1, y);
+  }
+  return alike >= 0.9 * total;
 }
 
 Content findContent(const Image& rgb)
@@ -166,13 +194,17 @@ Image prepareQueryImage(const Image& image, int size)
   const Content k = findContent(rgb);
   if (k.x1 < 0)
     throw Error("the query image shows nothing: every pixel is the background colour");
-  // 2b. a background of another colour (a screenshot of ParaView's GUI) becomes the nearer of
-  // black and white, and the overlays drawn over it (orientation axes, text, a scalar bar: the
-  // content's connected parts under a fifth of the largest one's area, as the match reads a
-  // picture) become background too
-  const std::array<float, 3> bg = analyzerBackground(k.bg);
+  // 2b. a uniform background of another colour (a screenshot of ParaView's GUI) becomes the
+  // nearer of black and white, and the overlays drawn over it (orientation axes, text, a scalar
+  // bar: the content's connected parts under a fifth of the largest one's area) become
+  // background too; a gradient, or a border the content crosses, is kept as it is
+  std::array<float, 3> bg = analyzerBackground(k.bg);
+  if (bg != k.bg && !uniformBorder(rgb, k.bg))
+    bg = k.bg;
+  Content kept = k;
   if (bg != k.bg)
   {
+    const Image original = rgb;
     matchparts::Mask content(w, h);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
@@ -189,8 +221,14 @@ Image prepareQueryImage(const Image& image, int size)
           for (int c = 0; c < 3; ++c)
             rgb.at(x, y, c) = bg[c];
       }
+    kept = findContent(rgb);
+    if (kept.x1 < 0) // the content is as dark (light) as black (white): the picture as it was
+    {
+      rgb = original;
+      bg = k.bg;
+      kept = k;
+    }
   }
-  const Content kept = bg != k.bg ? findContent(rgb) : k;
   const int x0 = kept.x0, y0 = kept.y0, x1 = kept.x1, y1 = kept.y1;
   // 3. a square of the shorter side on the content's centre, inside the image if it fits
   const int extent = std::max(x1 - x0 + 1, y1 - y0 + 1);

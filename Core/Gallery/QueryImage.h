@@ -14,11 +14,14 @@ namespace ddg
 ///     an image whose alpha is 0 everywhere is refused;
 ///  2. the background colour is the median of the 1-pixel border; pixels differing from it by
 ///     more than 0.04 in any channel are content; an image without content is refused. A
-///     background neither black nor white (ParaView's palette grey-blue, any colour) becomes the
-///     nearer of the two by luminance, the backgrounds the analyzer was trained on, and the
+///     uniform background (90 % of the border within 0.04 of the median) neither black nor white
+///     (ParaView's palette grey-blue, any colour) becomes the nearer of the two by luminance, the
+///     backgrounds the analyzer was trained on, and the
 ///     overlays drawn over it (orientation axes, text, a scalar bar: connected parts of the
 ///     content under a fifth of the largest one's area) become background as well; the content
-///     is otherwise kept as it is (its edges still mixed with the old colour);
+///     is otherwise kept as it is (its edges still mixed with the old colour). A gradient, a
+///     border the content crosses, or content that would vanish on the new colour keep the
+///     picture as it was;
 ///  3. a square of the image's shorter side (the frame ParaView's camera fits the volume to:
 ///     the vertical view angle of a landscape window), placed on the content's centre and moved
 ///     inside the image; when the content does not fit, the square grows to hold it and is padded

@@ -1,5 +1,6 @@
-// MatchParts.h: the picture match's inner parts, for Match.cxx only: binary rasters, their
-// moments and overlaps, the volume's block silhouettes, and a picture's letterbox.
+// MatchParts.h: the picture match's inner parts (Match.cxx and the reading of a picture it
+// shares with the carried look and the query's framing): binary rasters, their moments and
+// overlaps, connected parts, the volume's block silhouettes, and a picture's letterbox.
 #pragma once
 
 #include "Image/Image.h"

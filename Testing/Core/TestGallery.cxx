@@ -357,6 +357,55 @@ TEST(QueryImage, OtherBackgroundsAndTheirOverlaysBecomeBlackOrWhite)
   // black and white backgrounds are kept with whatever is drawn over them
   const auto blackAxes = ddg::prepareQueryImage(picture({ 0, 0, 0 }, true), 64);
   EXPECT_NE(blackAxes.pixels, black.pixels);
+  // content wider than the picture is high, over the palette: the square is padded with black
+  ddg::Image wide(200, 20, 3, 0.0f);
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 200; ++x)
+      for (int c = 0; c < 3; ++c)
+        wide.at(x, y, c) = std::array<float, 3>{ 0.32f, 0.34f, 0.43f }[c];
+  for (int y = 8; y < 12; ++y)
+    for (int x = 10; x < 190; ++x)
+      wide.at(x, y, 0) = 0.9f;
+  const auto padded = ddg::prepareQueryImage(wide, 64);
+  EXPECT_FLOAT_EQ(padded.at(32, 2, 2), 0.0f);
+  EXPECT_FLOAT_EQ(padded.at(32, 61, 2), 0.0f);
+  // a vertical gradient (ParaView's default pair) is kept as it is: no band of the border's
+  // median colour painted black, the disc kept
+  ddg::Image gradient = picture({ 0, 0, 0 }, false);
+  for (int y = 0; y < 240; ++y)
+    for (int x = 0; x < 320; ++x)
+      if (gradient.at(x, y, 0) == 0.0f && gradient.at(x, y, 1) == 0.0f)
+      {
+        const float t = y / 239.0f; // 0 at the top
+        const std::array<float, 3> top{ 0.0f, 0.0f, 0.16f }, bottom{ 0.32f, 0.34f, 0.43f };
+        for (int c = 0; c < 3; ++c)
+          gradient.at(x, y, c) = (1 - t) * top[c] + t * bottom[c];
+      }
+  const auto keptGradient = ddg::prepareQueryImage(gradient, 64);
+  int band = 0, disc = 0;
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+    {
+      band += keptGradient.at(x, y, 2) == 0.0f;
+      disc += keptGradient.at(x, y, 0) > 0.8f;
+    }
+  EXPECT_EQ(band, 0);
+  EXPECT_GT(disc, 60); // smaller than over black (181): the gradient counts as content, as before
+  // a volume as dark as black over the palette: the picture as it was, not an empty square
+  const auto dark = ddg::prepareQueryImage(
+    [&]
+    {
+      ddg::Image im(100, 80, 3, 0.0f);
+      for (int y = 0; y < 80; ++y)
+        for (int x = 0; x < 100; ++x)
+          for (int c = 0; c < 3; ++c)
+            im.at(x, y, c) = (x - 50) * (x - 50) + (y - 40) * (y - 40) <= 400
+              ? 0.01f
+              : std::array<float, 3>{ 0.32f, 0.34f, 0.43f }[c];
+      return im;
+    }(),
+    32);
+  EXPECT_GT(dark.at(1, 1, 2), 0.3f);
 }
 
 TEST(QueryImage, FramedPSNRIgnoresFramingAndBackground)
