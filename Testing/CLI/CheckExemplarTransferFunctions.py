@@ -6,14 +6,13 @@ file of the right name.
     /usr/bin/python3 CheckExemplarTransferFunctions.py DDG VOLUME SPEC_2D WORKDIR
 """
 import json
-import math
 import os
 import shutil
 import subprocess
 import sys
 
-from matplotlib import image as mpimg
-import numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "Common"))
+from pictures import psnr, read_png  # noqa: E402
 
 ddg, volume, spec_2d, work = sys.argv[1:5]
 SIZE = 32
@@ -77,16 +76,14 @@ def check(name, spec_args, extension_key):
         "--out",
         render,
     )
-    generated = mpimg.imread(sheet)[2 : 2 + SIZE, 2 : 2 + SIZE, :3].astype(np.float64)
-    rendered = mpimg.imread(render)[:, :, :3].astype(np.float64)
-    mse = float(np.mean((generated - rendered) ** 2))
-    psnr = 100.0 if mse == 0 else 10 * math.log10(1.0 / mse)
+    generated = read_png(sheet)[2 : 2 + SIZE, 2 : 2 + SIZE]
+    figure = psnr(generated, read_png(render))
     print(
         "%s: %s rendered at its V_exp against the generator's image: %.1f dB"
-        % (name, files[0], psnr)
+        % (name, files[0], figure)
     )
-    if psnr < 40:
-        sys.exit("%s: the TF file does not render as the exemplar (%.1f dB < 40)" % (name, psnr))
+    if figure < 40:
+        sys.exit("%s: the TF file does not render as the exemplar (%.1f dB < 40)" % (name, figure))
 
 
 check("1d", [], "RGBPoints")
