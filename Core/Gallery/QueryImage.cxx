@@ -49,6 +49,15 @@ struct Content
 /// A pixel is content when a channel differs from the background by more than this.
 constexpr float kContentTolerance = 0.04f;
 
+/// Whether pixel (x, y) of `rgb` differs from `bg` by more than kContentTolerance in a channel.
+bool differs(const Image& rgb, int x, int y, const std::array<float, 3>& bg)
+{
+  for (int c = 0; c < 3; ++c)
+    if (std::abs(rgb.at(x, y, c) - bg[c]) > kContentTolerance)
+      return true;
+  return false;
+}
+
 /// The background the analyzer sees for a picture's background colour: black or white as they
 /// are (within kContentTolerance); any other colour (ParaView's palette grey-blue, a user's
 /// colour) the nearer of black and white by luminance (Rec. 709), the two the analyzer was
@@ -77,10 +86,7 @@ bool uniformBorder(const Image& rgb, const std::array<float, 3>& bg)
   long alike = 0, total = 0;
   auto count = [&](int x, int y)
   {
-    bool same = true;
-    for (int c = 0; c < 3; ++c)
-      same = same && std::abs(rgb.at(x, y, c) - bg[c]) <= kContentTolerance;
-    alike += same ? 1 : 0;
+    alike += differs(rgb, x, y, bg) ? 0 : 1;
     ++total;
   };
   for (int x = 0; x < w; ++x)
@@ -121,10 +127,7 @@ Content findContent(const Image& rgb)
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
     {
-      bool content = false;
-      for (int c = 0; c < 3; ++c)
-        content = content || std::abs(rgb.at(x, y, c) - k.bg[c]) > kContentTolerance;
-      if (content)
+      if (differs(rgb, x, y, k.bg))
       {
         k.x0 = std::min(k.x0, x);
         k.x1 = std::max(k.x1, x);
@@ -204,30 +207,31 @@ Image prepareQueryImage(const Image& image, int size)
   Content kept = k;
   if (bg != k.bg)
   {
-    const Image original = rgb;
     matchparts::Mask content(w, h);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
-        for (int c = 0; c < 3; ++c)
-          content(x, y) |= std::abs(rgb.at(x, y, c) - k.bg[c]) > kContentTolerance;
+        content(x, y) = differs(rgb, x, y, k.bg);
     std::vector<int> area;
     const std::vector<int> part = matchparts::components(content, area);
     const std::vector<char> overlay = matchparts::smallParts(area, 0.2);
+    Image painted = rgb;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
       {
         const int label = part[static_cast<size_t>(y) * w + x];
         if (label < 0 || overlay[static_cast<size_t>(label)])
           for (int c = 0; c < 3; ++c)
-            rgb.at(x, y, c) = bg[c];
+            painted.at(x, y, c) = bg[c];
       }
-    kept = findContent(rgb);
-    if (kept.x1 < 0) // the content is as dark (light) as black (white): the picture as it was
+    // content as dark (light) as black (white) would vanish: the picture is kept as it was
+    const Content left = findContent(painted);
+    if (left.x1 >= 0)
     {
-      rgb = original;
-      bg = k.bg;
-      kept = k;
+      rgb = std::move(painted);
+      kept = left;
     }
+    else
+      bg = k.bg;
   }
   const int x0 = kept.x0, y0 = kept.y0, x1 = kept.x1, y1 = kept.y1;
   // 3. a square of the shorter side on the content's centre, inside the image if it fits
