@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <initializer_list>
 #include <vector>
 
 namespace ddg
@@ -100,6 +102,47 @@ bool uniformBorder(const Image& rgb, const std::array<float, 3>& bg)
     count(w - 1, y);
   }
   return alike >= 0.9 * total;
+}
+
+/// Per pixel of `rgb` (row-major), what it shows against the background `bg`:
+/// kBackground (within kContentTolerance of it), kOverlay (a connected part of the content under
+/// a fifth of the largest one's area: orientation axes, text, a scalar bar; the size rule by
+/// which the match takes parts for overlay candidates) or kShown.
+enum PixelKind : std::uint8_t
+{
+  kShown,
+  kBackground,
+  kOverlay
+};
+std::vector<std::uint8_t> pixelKinds(const Image& rgb, const std::array<float, 3>& bg)
+{
+  const int w = rgb.width, h = rgb.height;
+  matchparts::Mask content(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      content(x, y) = differs(rgb, x, y, bg);
+  std::vector<int> area;
+  const std::vector<int> part = matchparts::components(content, area);
+  const std::vector<char> overlay = matchparts::smallParts(area, 0.2);
+  std::vector<std::uint8_t> kind(part.size(), kShown);
+  for (size_t i = 0; i < part.size(); ++i)
+    if (part[i] < 0)
+      kind[i] = kBackground;
+    else if (overlay[static_cast<size_t>(part[i])])
+      kind[i] = kOverlay;
+  return kind;
+}
+
+/// `rgb` with the pixels of the kinds `paint` says painted `colour`.
+Image paintedOver(const Image& rgb, const std::vector<std::uint8_t>& kind,
+  std::initializer_list<PixelKind> paint, const std::array<float, 3>& colour)
+{
+  Image painted = rgb;
+  for (size_t i = 0; i < kind.size(); ++i)
+    if (std::find(paint.begin(), paint.end(), kind[i]) != paint.end())
+      for (int c = 0; c < 3; ++c)
+        painted.pixels[i * 3 + static_cast<size_t>(c)] = colour[static_cast<size_t>(c)];
+  return painted;
 }
 
 Content findContent(const Image& rgb)
@@ -207,22 +250,7 @@ Image prepareQueryImage(const Image& image, int size)
   Content kept = k;
   if (bg != k.bg)
   {
-    matchparts::Mask content(w, h);
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-        content(x, y) = differs(rgb, x, y, k.bg);
-    std::vector<int> area;
-    const std::vector<int> part = matchparts::components(content, area);
-    const std::vector<char> overlay = matchparts::smallParts(area, 0.2);
-    Image painted = rgb;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x)
-      {
-        const int label = part[static_cast<size_t>(y) * w + x];
-        if (label < 0 || overlay[static_cast<size_t>(label)])
-          for (int c = 0; c < 3; ++c)
-            painted.at(x, y, c) = bg[c];
-      }
+    Image painted = paintedOver(rgb, pixelKinds(rgb, k.bg), { kBackground, kOverlay }, bg);
     // content as dark (light) as black (white) would vanish: the picture is kept as it was
     const Content left = findContent(painted);
     if (left.x1 >= 0)
@@ -270,8 +298,23 @@ std::vector<double> framedPSNR(
     if (render->channels != 4)
       throw Error("framedPSNR: the render must be premultiplied RGBA");
   // the picture's background under the render too, so that only the content counts
-  const Image rgb = rgbOverBlack(picture);
-  const Content k = findContent(rgb);
+  Image rgb = rgbOverBlack(picture);
+  Content k = findContent(rgb);
+  // a render has no overlays: on a uniform background the picture's (orientation axes, text, a
+  // scalar bar) are painted over with it, so that they neither widen its frame nor count
+  if (k.x1 >= 0 && uniformBorder(rgb, k.bg))
+  {
+    Image painted = paintedOver(rgb, pixelKinds(rgb, k.bg), { kOverlay }, k.bg);
+    const Content left = findContent(painted);
+    if (left.x1 >= 0)
+    {
+      rgb = std::move(painted);
+      k.x0 = left.x0;
+      k.y0 = left.y0;
+      k.x1 = left.x1;
+      k.y1 = left.y1;
+    }
+  }
   const std::array<double, 3> bg{ k.bg[0], k.bg[1], k.bg[2] };
   auto framed = [size, &k](const Image& img, const Content& c)
   {

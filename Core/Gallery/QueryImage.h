@@ -43,8 +43,12 @@ bool hasQueryContent(const Image& rgb);
 /// known: PSNR (dB) of the two, each cut to a square 10 % larger than its content's box (content:
 /// pixels differing from the picture's background, the median of its border, by more than 0.04)
 /// and resized to `size`, with `render` (premultiplied RGBA) composed over the picture's
-/// background. So the pictures' sizes, aspects, framing, zoom and background do not count; the
-/// viewpoint still does. A render that shows nothing compares as a square of the background.
+/// background. On a uniform background (90 % of the border within 0.04 of the median) the
+/// picture's overlays (orientation axes, text, a scalar bar: its content's connected parts under a
+/// fifth of the largest one's area, as step 2 of prepareQueryImage finds them) are painted over
+/// with the background first: a render has none. So the pictures' sizes, aspects, framing, zoom,
+/// background and overlays do not count; the viewpoint still does. A render that shows nothing
+/// compares as a square of the background.
 double framedPSNR(const Image& picture, const Image& render, int size = 128);
 /// framedPSNR of each of `renders` against one picture, the picture framed once.
 std::vector<double> framedPSNR(

@@ -444,6 +444,28 @@ TEST(QueryImage, FramedPSNRIgnoresFramingAndBackground)
   EXPECT_LT(q, p - 5);
   EXPECT_LT(none, q);
   EXPECT_THROW(ddg::framedPSNR(picture, picture), ddg::Error); // the render must be RGBA
+  // orientation axes in the corner of a screenshot (a small red L over ParaView's palette
+  // grey-blue) neither widen the picture's frame nor count: as the picture without them
+  auto palette = [&disc](bool axes)
+  {
+    ddg::Image im = disc(400, 300, 260, 120, 60, false, 0);
+    for (int y = 0; y < 300; ++y)
+      for (int x = 0; x < 400; ++x)
+      {
+        const bool background = im.at(x, y, 0) == 0 && im.at(x, y, 1) == 0;
+        const bool axis =
+          (x >= 15 && x < 18 && y >= 260 && y < 285) || (y >= 282 && y < 285 && x >= 15 && x < 40);
+        const std::array<float, 3> c = axes && axis ? std::array<float, 3>{ 0.9f, 0.1f, 0.1f }
+                                                    : std::array<float, 3>{ 0.32f, 0.34f, 0.43f };
+        if (background || (axes && axis))
+          for (int k = 0; k < 3; ++k)
+            im.at(x, y, k) = c[k];
+      }
+    return im;
+  };
+  const double withAxes = ddg::framedPSNR(palette(true), same);
+  EXPECT_DOUBLE_EQ(withAxes, ddg::framedPSNR(palette(false), same));
+  EXPECT_GT(withAxes, 25);
 }
 
 TEST(QueryImage, RefusesUnusableImages)
