@@ -5,11 +5,17 @@
 //  bar) (c) one query: image -> analyzer -> latent -> outline position + 5 neighbours -> preview
 //      at 128 x 128                                                                        <= 50 ms
 //  (d) screenshot -> explicit TF file: (c) plus the decoded TF written as a ParaView preset <= 3 s
+//  (e) (c) with a GUI screenshot: 1024 x 768 over ParaView's palette grey-blue with orientation
+//      axes in the corner (no bar), and side by side its steps on that picture: the analyzer's
+//      input (prepareQueryImage), the picture's check (checkQueryPicture), the figure against the
+//      picture of one render (framedPSNR)
 // Usage: BenchGallery [MODEL_DIR [VOLUME [RUNS]]]   (default: the shipped Tooth bundle)
 #include "DDGVolumeAdaptor.h"
 
 #include "Gallery/Export.h"
 #include "Gallery/Gallery.h"
+#include "Gallery/QueryImage.h"
+#include "Reconstruct/CarryLook.h"
 #include "Render/View.h"
 
 #include <algorithm>
@@ -98,6 +104,39 @@ int main(int argc, char** argv)
     row("(c) query 512x512 screenshot -> latent, 5 neighbours, 128^2 preview", median(query), 50);
     if (!file.empty())
       row("(d) screenshot -> explicit TF file (ParaView preset)", median(file), 3000);
+
+    // (e) the same design as ParaView's GUI saves it: 1024 x 768, the palette's grey-blue, a
+    // red and a green axis in the lower left corner
+    shot.width = 1024;
+    shot.height = 768;
+    Image gui = compositeOverBackground(
+      renderDesign(caster, e.primitives, dims, gradientRange, shot), { 0.32, 0.34, 0.43 });
+    for (int y = 700; y < 740; ++y)
+      for (int x = 30; x < 34; ++x)
+        gui.at(x, y, 1) = 0.8f;
+    for (int y = 736; y < 740; ++y)
+      for (int x = 30; x < 70; ++x)
+        gui.at(x, y, 0) = 0.9f;
+    std::vector<double> guiQuery, prepare, check, framed;
+    for (int r = 0; r < runs; ++r)
+    {
+      auto t0 = Clock::now();
+      const auto q = gallery->query(gui, view, 5);
+      guiQuery.push_back(msSince(t0));
+      t0 = Clock::now();
+      (void)prepareQueryImage(gui, model.config().imageSize);
+      prepare.push_back(msSince(t0));
+      t0 = Clock::now();
+      (void)checkQueryPicture(gui);
+      check.push_back(msSince(t0));
+      t0 = Clock::now();
+      (void)framedPSNR(gui, q.preview);
+      framed.push_back(msSince(t0));
+    }
+    row("(e) query 1024x768 GUI screenshot (palette, axes), as (c)", median(guiQuery), 0);
+    row("    of which: the analyzer's input (prepareQueryImage)", median(prepare), 0);
+    row("    of which: the picture's check (checkQueryPicture)", median(check), 0);
+    row("    of which: one render against the picture (framedPSNR)", median(framed), 0);
     std::filesystem::remove(out);
   }
   catch (const std::exception& e)
