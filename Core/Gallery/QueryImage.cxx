@@ -195,26 +195,6 @@ Image squareOf(const Image& rgb, int side, int ox, int oy, const std::array<floa
     }
   return square;
 }
-// A square image at `size` x `size`: halved by 2 x 2 box averages while it is at least
-// `halveFrom` times the size (much cheaper than one wide filtered resize: a 400-pixel square to
-// 128 took 60 ms; an odd last row and column are left out), then the filtered resize.
-Image shrinkSquare(Image square, int size, int halveFrom)
-{
-  while (square.width >= halveFrom * size)
-  {
-    const int hw = square.width / 2, channels = square.channels;
-    Image half(hw, hw, channels);
-    for (int y = 0; y < hw; ++y)
-      for (int x = 0; x < hw; ++x)
-        for (int c = 0; c < channels; ++c)
-          half.at(x, y, c) = 0.25f *
-            (square.at(2 * x, 2 * y, c) + square.at(2 * x + 1, 2 * y, c) +
-              square.at(2 * x, 2 * y + 1, c) + square.at(2 * x + 1, 2 * y + 1, c));
-    square = std::move(half);
-  }
-  return square.width == size ? square : resizeImage(square, size, size);
-}
-
 } // namespace
 
 Image prepareQueryImage(const Image& image, int size)
@@ -275,7 +255,7 @@ Image prepareQueryImage(const Image& image, int size)
   const int ox = place(0.5 * (x0 + x1 + 1), w), oy = place(0.5 * (y0 + y1 + 1), h);
   Image square = squareOf(rgb, side, ox, oy, bg);
   // 4. the model's size, quantised to 8 bits as the training images are
-  Image out = shrinkSquare(std::move(square), size, 4); // as the analyzer was trained
+  Image out = shrinkImage(std::move(square), size, size, 4); // as the analyzer was trained
   for (float& v : out.pixels)
     v = std::round(std::clamp(v, 0.0f, 1.0f) * 255.0f) / 255.0f;
   return out;
@@ -330,7 +310,7 @@ std::vector<double> framedPSNR(
     const int side = std::max(8, static_cast<int>(std::lround(1.1 * extent)));
     const Image sq =
       squareOf(img, side, (c.x0 + c.x1 + 1 - side) / 2, (c.y0 + c.y1 + 1 - side) / 2, k.bg);
-    return shrinkSquare(sq, size, 2);
+    return shrinkImage(sq, size, size, 2);
   };
   const Image a = framed(rgb, k);
   std::vector<double> out;

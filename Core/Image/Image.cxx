@@ -331,6 +331,25 @@ Image resizeImage(const Image& image, int width, int height)
   return result;
 }
 
+Image shrinkImage(Image image, int width, int height, int halveFrom)
+{
+  if (image.empty() || width < 1 || height < 1 || halveFrom < 2)
+    throw Error("cannot shrink an empty image, to an empty size or halving from under 2x");
+  while (image.width >= halveFrom * width && image.height >= halveFrom * height)
+  {
+    const int hw = image.width / 2, hh = image.height / 2, channels = image.channels;
+    Image half(hw, hh, channels);
+    for (int y = 0; y < hh; ++y)
+      for (int x = 0; x < hw; ++x)
+        for (int c = 0; c < channels; ++c)
+          half.at(x, y, c) = 0.25f *
+            (image.at(2 * x, 2 * y, c) + image.at(2 * x + 1, 2 * y, c) +
+              image.at(2 * x, 2 * y + 1, c) + image.at(2 * x + 1, 2 * y + 1, c));
+    image = std::move(half);
+  }
+  return image.width == width && image.height == height ? image : resizeImage(image, width, height);
+}
+
 Image tileImages(const std::vector<Image>& images, int columns, int gap, float background)
 {
   if (images.empty() || columns < 1 || gap < 0)

@@ -210,3 +210,37 @@ TEST(ImageSheet, RendersTiledRowByRowOverTransparentGaps)
   EXPECT_THROW(ddg::tileRenders({ &rgb }, 1, 1, 4), ddg::Error); // not RGBA
   EXPECT_THROW(ddg::tileRenders({}, 0, 1, 4), ddg::Error);
 }
+
+TEST(Image, ShrinkHalvesByBoxAveragesThenResizes)
+{
+  // a 1024 x 768 picture of random values to 512 x 384: one halving, each pixel the mean of its
+  // 2 x 2 block (no filtered resize)
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Image big(1024, 768, 3);
+  for (float& v : big.pixels)
+    v = u(rng);
+  const Image half = shrinkImage(big, 512, 384);
+  ASSERT_EQ(half.width, 512);
+  ASSERT_EQ(half.height, 384);
+  for (int y : { 0, 191, 383 })
+    for (int x : { 0, 300, 511 })
+      for (int c = 0; c < 3; ++c)
+        EXPECT_FLOAT_EQ(half.at(x, y, c),
+          0.25f *
+            (big.at(2 * x, 2 * y, c) + big.at(2 * x + 1, 2 * y, c) + big.at(2 * x, 2 * y + 1, c) +
+              big.at(2 * x + 1, 2 * y + 1, c)));
+  // 800 x 600 to 512 x 384: under twice the size, so the filtered resize alone
+  Image mid(800, 600, 3);
+  for (float& v : mid.pixels)
+    v = u(rng);
+  EXPECT_EQ(shrinkImage(mid, 512, 384).pixels, resizeImage(mid, 512, 384).pixels);
+  // a flat colour stays flat through halvings (an odd column left out) and the last resize
+  const Image flat = shrinkImage(Image(1001, 500, 4, 0.25f), 100, 50, 4);
+  ASSERT_EQ(flat.width, 100);
+  ASSERT_EQ(flat.height, 50);
+  for (float v : flat.pixels)
+    EXPECT_NEAR(v, 0.25f, 1e-5f);
+  EXPECT_THROW(shrinkImage(big, 0, 10), Error);
+  EXPECT_THROW(shrinkImage(Image(), 10, 10), Error);
+}
