@@ -137,6 +137,8 @@ std::vector<std::uint8_t> pixelKinds(const Image& rgb, const std::array<float, 3
 Image paintedOver(const Image& rgb, const std::vector<std::uint8_t>& kind,
   std::initializer_list<PixelKind> paint, const std::array<float, 3>& colour)
 {
+  if (rgb.channels != 3)
+    throw Error("paintedOver: RGB expected");
   Image painted = rgb;
   for (size_t i = 0; i < kind.size(); ++i)
     if (std::find(paint.begin(), paint.end(), kind[i]) != paint.end())
@@ -280,21 +282,25 @@ std::vector<double> framedPSNR(
   // the picture's background under the render too, so that only the content counts
   Image rgb = rgbOverBlack(picture);
   Content k = findContent(rgb);
-  // a render has no overlays: on a uniform background the picture's (orientation axes, text, a
-  // scalar bar) are painted over with it, so that they neither widen its frame nor count
-  if (k.x1 >= 0 && uniformBorder(rgb, k.bg))
+  // on a uniform background the picture's overlays (orientation axes, text, a scalar bar) are
+  // painted over with it, so that they neither widen its frame nor count; each render's small
+  // parts likewise, so that a design with a small part of its own scores as its picture does
+  const bool leaveOutSmallParts = k.x1 >= 0 && uniformBorder(rgb, k.bg);
+  auto withoutSmallParts = [&k, leaveOutSmallParts](Image& img, Content& c)
   {
-    Image painted = paintedOver(rgb, pixelKinds(rgb, k.bg), { kOverlay }, k.bg);
+    if (!leaveOutSmallParts || c.x1 < 0)
+      return;
+    Image painted = paintedOver(img, pixelKinds(img, k.bg), { kOverlay }, k.bg);
     const Content left = findContent(painted);
-    if (left.x1 >= 0)
-    {
-      rgb = std::move(painted);
-      k.x0 = left.x0;
-      k.y0 = left.y0;
-      k.x1 = left.x1;
-      k.y1 = left.y1;
-    }
-  }
+    if (left.x1 < 0)
+      return;
+    img = std::move(painted);
+    c.x0 = left.x0;
+    c.y0 = left.y0;
+    c.x1 = left.x1;
+    c.y1 = left.y1;
+  };
+  withoutSmallParts(rgb, k);
   const std::array<double, 3> bg{ k.bg[0], k.bg[1], k.bg[2] };
   auto framed = [size, &k](const Image& img, const Content& c)
   {
@@ -316,8 +322,10 @@ std::vector<double> framedPSNR(
   std::vector<double> out;
   for (const Image* render : renders)
   {
-    const Image over = compositeOverBackground(*render, bg);
-    out.push_back(psnr(a, framed(over, findContent(over))));
+    Image over = compositeOverBackground(*render, bg);
+    Content c = findContent(over);
+    withoutSmallParts(over, c);
+    out.push_back(psnr(a, framed(over, c)));
   }
   return out;
 }

@@ -46,9 +46,10 @@ bool hasQueryContent(const Image& rgb);
 /// background. On a uniform background (90 % of the border within 0.04 of the median) the
 /// picture's overlays (orientation axes, text, a scalar bar: its content's connected parts under a
 /// fifth of the largest one's area, as step 2 of prepareQueryImage finds them) are painted over
-/// with the background first: a render has none. So the pictures' sizes, aspects, framing, zoom,
-/// background and overlays do not count; the viewpoint still does. A render that shows nothing
-/// compares as a square of the background.
+/// with the background first, and each render's parts of that size likewise (a render has no
+/// overlays, but a design may have a small part of its own, which the picture then lost too). So
+/// the pictures' sizes, aspects, framing, zoom, background and overlays do not count; the viewpoint
+/// still does. A render that shows nothing compares as a square of the background.
 double framedPSNR(const Image& picture, const Image& render, int size = 128);
 /// framedPSNR of each of `renders` against one picture, the picture framed once.
 std::vector<double> framedPSNR(

@@ -81,11 +81,12 @@ Image jpegRoundTrip(const Image& image, int quality);
 /// Resamples an image to width x height with OpenImageIO's filtered resize.
 Image resizeImage(const Image& image, int width, int height);
 
-/// An image made smaller: halved by 2 x 2 box averages while it is at least `halveFrom` times
-/// width x height on both sides (an odd last row or column left out), then resizeImage when the
-/// size is not reached. Much cheaper than one wide filtered resize (a 400-pixel square to 128
-/// took 60 ms, a 1024 x 768 picture to 512 x 384 120 ms); what the query's framing and the
-/// reading of a picture (readPictureObject) shrink with.
+/// An image made smaller: halved by 2 x 2 box averages of each channel while it is at least
+/// `halveFrom` times width x height on both sides (an odd last row or column left out), then
+/// resizeImage when the size is not reached. Alpha is averaged as any channel: right for
+/// premultiplied RGBA, not for straight alpha. Much cheaper than one wide filtered resize (a
+/// 400-pixel square to 128 took 60 ms, a 1024 x 768 picture to 512 x 384 120 ms); what the query's
+/// framing and the reading of a picture (readPictureObject) shrink with.
 Image shrinkImage(Image image, int width, int height, int halveFrom = 2);
 
 /// Writes an image; the format follows the extension. 8-bit formats (PNG, JPEG, ...) get

@@ -262,8 +262,11 @@ PictureObject readPictureObject(const Image& input)
     inside.channels == 4 ? compositeOverBackground(inside, { 0, 0, 0 }) : toChannels(inside, 3);
   const int longer = std::max(r.picture.width, r.picture.height);
   if (longer > 512)
-    r.picture = shrinkImage(r.picture, std::max(16, r.picture.width * 512 / longer),
-      std::max(16, r.picture.height * 512 / longer));
+  {
+    const int w = std::max(16, r.picture.width * 512 / longer),
+              h = std::max(16, r.picture.height * 512 / longer);
+    r.picture = shrinkImage(std::move(r.picture), w, h);
+  }
   const int W = r.picture.width, H = r.picture.height;
   r.background = estimateBackground(r.picture);
   View pv;

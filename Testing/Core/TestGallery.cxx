@@ -466,6 +466,23 @@ TEST(QueryImage, FramedPSNRIgnoresFramingAndBackground)
   const double withAxes = ddg::framedPSNR(palette(true), same);
   EXPECT_DOUBLE_EQ(withAxes, ddg::framedPSNR(palette(false), same));
   EXPECT_GT(withAxes, 25);
+  // a design with a small part of its own (a disc a sixteenth of the large one's area, far from
+  // it): left out of the picture and of the render alike, so its own render still matches it
+  auto twoParts = [&disc](bool rgba)
+  {
+    ddg::Image im = disc(400, 300, 260, 120, 60, rgba, 0);
+    const ddg::Image small = disc(400, 300, 60, 240, 15, rgba, 0);
+    for (size_t i = 0; i < im.pixels.size(); ++i)
+      im.pixels[i] = std::max(im.pixels[i], small.pixels[i]);
+    if (!rgba)
+      for (int y = 0; y < 300; ++y)
+        for (int x = 0; x < 400; ++x)
+          if (im.at(x, y, 0) == 0)
+            for (int k = 0; k < 3; ++k)
+              im.at(x, y, k) = std::array<float, 3>{ 0.32f, 0.34f, 0.43f }[k];
+    return im;
+  };
+  EXPECT_GT(ddg::framedPSNR(twoParts(false), twoParts(true)), 40);
 }
 
 TEST(QueryImage, RefusesUnusableImages)
