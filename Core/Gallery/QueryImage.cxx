@@ -104,33 +104,68 @@ bool uniformBorder(const Image& rgb, const std::array<float, 3>& bg)
   return alike >= 0.9 * total;
 }
 
-/// Per pixel of `rgb` (row-major), what it shows against the background `bg`:
-/// kBackground (within kContentTolerance of it), kOverlay (a connected part of the content under
-/// a fifth of the largest one's area: orientation axes, text, a scalar bar; the size rule by
-/// which the match takes parts for overlay candidates) or kShown.
+/// Per pixel (row-major), what it shows against the background: kBackground (within
+/// kContentTolerance of it), kOverlay (a connected part of the content under a fifth of the
+/// largest one's area: orientation axes, text, a scalar bar; the size rule by which the match
+/// takes parts for overlay candidates) or kShown.
 enum PixelKind : std::uint8_t
 {
   kShown,
   kBackground,
   kOverlay
 };
-std::vector<std::uint8_t> pixelKinds(const Image& rgb, const std::array<float, 3>& bg)
+struct PixelKinds
 {
-  const int w = rgb.width, h = rgb.height;
-  matchparts::Mask content(w, h);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x)
-      content(x, y) = differs(rgb, x, y, bg);
+  std::vector<std::uint8_t> kind;
+  bool anyOverlay = false;
+};
+/// The kinds of the pixels of a content mask (findContent's, or contentMask's).
+PixelKinds pixelKinds(const matchparts::Mask& content)
+{
   std::vector<int> area;
   const std::vector<int> part = matchparts::components(content, area);
   const std::vector<char> overlay = matchparts::smallParts(area, 0.2);
-  std::vector<std::uint8_t> kind(part.size(), kShown);
+  PixelKinds k;
+  k.kind.assign(part.size(), kShown);
   for (size_t i = 0; i < part.size(); ++i)
     if (part[i] < 0)
-      kind[i] = kBackground;
+      k.kind[i] = kBackground;
     else if (overlay[static_cast<size_t>(part[i])])
-      kind[i] = kOverlay;
-  return kind;
+    {
+      k.kind[i] = kOverlay;
+      k.anyOverlay = true;
+    }
+  return k;
+}
+
+/// The pixels of `rgb` that differ from `bg` (differs).
+matchparts::Mask contentMask(const Image& rgb, const std::array<float, 3>& bg)
+{
+  matchparts::Mask content(rgb.width, rgb.height);
+  for (int y = 0; y < rgb.height; ++y)
+    for (int x = 0; x < rgb.width; ++x)
+      content(x, y) = differs(rgb, x, y, bg);
+  return content;
+}
+
+/// The box of the kShown pixels of `rgb` that differ from `bg` (x1 < 0 when there is none):
+/// findContent's box of `rgb` with its other kinds painted `bg`, without scanning it again.
+void shownBox(
+  const Image& rgb, const PixelKinds& kinds, const std::array<float, 3>& bg, Content& box)
+{
+  box.bg = bg;
+  box.x0 = rgb.width;
+  box.y0 = rgb.height;
+  box.x1 = box.y1 = -1;
+  for (int y = 0; y < rgb.height; ++y)
+    for (int x = 0; x < rgb.width; ++x)
+      if (kinds.kind[static_cast<size_t>(y) * rgb.width + x] == kShown && differs(rgb, x, y, bg))
+      {
+        box.x0 = std::min(box.x0, x);
+        box.x1 = std::max(box.x1, x);
+        box.y0 = std::min(box.y0, y);
+        box.y1 = std::max(box.y1, y);
+      }
 }
 
 /// `rgb` with the pixels of the kinds `paint` says painted `colour`.
@@ -147,7 +182,9 @@ Image paintedOver(const Image& rgb, const std::vector<std::uint8_t>& kind,
   return painted;
 }
 
-Content findContent(const Image& rgb)
+/// The background (median of the border) and the content's box; with `mask`, the content's
+/// pixels too (contentMask of the background found).
+Content findContent(const Image& rgb, matchparts::Mask* mask = nullptr)
 {
   const int w = rgb.width, h = rgb.height;
   Content k;
@@ -169,11 +206,15 @@ Content findContent(const Image& rgb)
   }
   k.x0 = w;
   k.y0 = h;
+  if (mask)
+    *mask = matchparts::Mask(w, h);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x)
     {
       if (differs(rgb, x, y, k.bg))
       {
+        if (mask)
+          (*mask)(x, y) = 1;
         k.x0 = std::min(k.x0, x);
         k.x1 = std::max(k.x1, x);
         k.y0 = std::min(k.y0, y);
@@ -219,7 +260,8 @@ Image prepareQueryImage(const Image& image, int size)
   const int w = image.width, h = image.height;
   Image rgb = rgbOverBlack(image);
   // 2. background = median of the border, content = pixels that differ from it
-  const Content k = findContent(rgb);
+  matchparts::Mask content;
+  const Content k = findContent(rgb, &content);
   if (k.x1 < 0)
     throw Error("the query image shows nothing: every pixel is the background colour");
   // 2b. a uniform background of another colour (a screenshot of ParaView's GUI) becomes the
@@ -232,12 +274,13 @@ Image prepareQueryImage(const Image& image, int size)
   Content kept = k;
   if (bg != k.bg)
   {
-    Image painted = paintedOver(rgb, pixelKinds(rgb, k.bg), { kBackground, kOverlay }, bg);
+    const PixelKinds kinds = pixelKinds(content);
     // content as dark (light) as black (white) would vanish: the picture is kept as it was
-    const Content left = findContent(painted);
+    Content left;
+    shownBox(rgb, kinds, bg, left);
     if (left.x1 >= 0)
     {
-      rgb = std::move(painted);
+      rgb = paintedOver(rgb, kinds.kind, { kBackground, kOverlay }, bg);
       kept = left;
     }
     else
@@ -281,26 +324,30 @@ std::vector<double> framedPSNR(
       throw Error("framedPSNR: the render must be premultiplied RGBA");
   // the picture's background under the render too, so that only the content counts
   Image rgb = rgbOverBlack(picture);
-  Content k = findContent(rgb);
+  matchparts::Mask content;
+  Content k = findContent(rgb, &content);
   // on a uniform background the picture's overlays (orientation axes, text, a scalar bar) are
   // painted over with it, so that they neither widen its frame nor count; each render's small
   // parts likewise, so that a design with a small part of its own scores as its picture does
+  // (an image of one part, most renders, is left as it is)
   const bool leaveOutSmallParts = k.x1 >= 0 && uniformBorder(rgb, k.bg);
-  auto withoutSmallParts = [&k, leaveOutSmallParts](Image& img, Content& c)
+  auto withoutSmallParts = [&k, leaveOutSmallParts](
+                             Image& img, Content& c, const matchparts::Mask& shown)
   {
     if (!leaveOutSmallParts || c.x1 < 0)
       return;
-    Image painted = paintedOver(img, pixelKinds(img, k.bg), { kOverlay }, k.bg);
-    const Content left = findContent(painted);
-    if (left.x1 < 0)
+    const PixelKinds kinds = pixelKinds(shown);
+    if (!kinds.anyOverlay)
       return;
-    img = std::move(painted);
+    Content left;
+    shownBox(img, kinds, k.bg, left);
+    img = paintedOver(img, kinds.kind, { kOverlay }, k.bg);
     c.x0 = left.x0;
     c.y0 = left.y0;
     c.x1 = left.x1;
     c.y1 = left.y1;
   };
-  withoutSmallParts(rgb, k);
+  withoutSmallParts(rgb, k, content);
   const std::array<double, 3> bg{ k.bg[0], k.bg[1], k.bg[2] };
   auto framed = [size, &k](const Image& img, const Content& c)
   {
@@ -324,7 +371,8 @@ std::vector<double> framedPSNR(
   {
     Image over = compositeOverBackground(*render, bg);
     Content c = findContent(over);
-    withoutSmallParts(over, c);
+    if (leaveOutSmallParts && c.x1 >= 0)
+      withoutSmallParts(over, c, contentMask(over, k.bg));
     out.push_back(psnr(a, framed(over, c)));
   }
   return out;
