@@ -503,3 +503,43 @@ TEST(ColourDistribution, QueryPictureCheck)
   const std::string warning = checkQueryPicture(photo);
   EXPECT_NE(warning.find("cannot be read as a rendered volume"), std::string::npos) << warning;
 }
+
+// A picture over 512 pixels on its longer side is read as its half (shrinkImage's 2 x 2 box
+// averages): the same scene drawn at 1024 x 768 and at 512 x 384 gives the same background,
+// object, overlays and solidity, and nearly the same pixels.
+TEST(ColourDistribution, ReadsALargePictureAsItsHalf)
+{
+  const Volume v = sphere(24, 100, 200, 0.45, ScalarType::UInt8);
+  const DifferentiableRenderer r(v);
+  auto shot = [&](int scale)
+  {
+    View view = orbitView(v, 120, 30, 20, 1.1);
+    view.width = 512 * scale;
+    view.height = 384 * scale;
+    view.background = { 0.32, 0.34, 0.43 };
+    Image img = compositeOverBackground(
+      r.caster().render(r.caster().paraviewTable(look(100, 200)), view), view.background);
+    // orientation axes in the lower left corner, 2 pixels wide at 512
+    for (int k = 0; k < 30 * scale; ++k)
+      for (int t = 0; t < 2 * scale; ++t)
+      {
+        img.at(20 * scale + k, 360 * scale + t, 0) = 1.0f;
+        img.at(20 * scale + t, 360 * scale - k, 1) = 1.0f;
+      }
+    return img;
+  };
+  const PictureObject large = readPictureObject(shot(2)), small = readPictureObject(shot(1));
+  ASSERT_EQ(large.picture.width, 512);
+  ASSERT_EQ(large.picture.height, 384);
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(large.background.bottom[static_cast<size_t>(c)],
+      small.background.bottom[static_cast<size_t>(c)], 0.005);
+  auto count = [](const std::vector<std::uint8_t>& m)
+  { return static_cast<double>(std::count(m.begin(), m.end(), 1)); };
+  EXPECT_GT(count(small.object), 0.05 * 512 * 384);
+  EXPECT_NEAR(count(large.object) / count(small.object), 1.0, 0.02);
+  EXPECT_GT(count(small.overlay), 0);
+  EXPECT_NEAR(count(large.overlay) / count(small.overlay), 1.0, 0.1);
+  EXPECT_NEAR(large.solidShare, small.solidShare, 0.02);
+  EXPECT_GT(psnr(large.picture, small.picture), 30.0);
+}
