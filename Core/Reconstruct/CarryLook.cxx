@@ -254,19 +254,22 @@ PictureObject readPictureObject(const Image& input)
   if (input.channels < 3 || input.width < 16 || input.height < 16)
     throw Error("the picture must be RGB or RGBA and at least 16 x 16 pixels");
   PictureObject r;
-  // RGB over black, inside its letterbox (its bands are not the picture's background); large
-  // pictures at 512 on the longer side (colours, not detail, count)
+  // RGB over black, inside its letterbox (its bands are not the picture's background); a large
+  // picture halved by 2 x 2 box averages until it is at most 512 on its longer side (colours,
+  // not detail, count), without a filtered resize: OpenImageIO's took 130-200 ms for an 800 x 600
+  // or 1000 x 700 picture
   std::array<int, 4> crop{};
   const Image inside = insideLetterbox(input, crop);
   r.picture =
     inside.channels == 4 ? compositeOverBackground(inside, { 0, 0, 0 }) : toChannels(inside, 3);
-  const int longer = std::max(r.picture.width, r.picture.height);
-  if (longer > 512)
+  int w = r.picture.width, h = r.picture.height;
+  while (std::max(w, h) > 512 && std::min(w, h) >= 32)
   {
-    const int w = std::max(16, r.picture.width * 512 / longer),
-              h = std::max(16, r.picture.height * 512 / longer);
-    r.picture = shrinkImage(std::move(r.picture), w, h);
+    w /= 2;
+    h /= 2;
   }
+  if (w != r.picture.width)
+    r.picture = shrinkImage(std::move(r.picture), w, h);
   const int W = r.picture.width, H = r.picture.height;
   r.background = estimateBackground(r.picture);
   View pv;
