@@ -256,8 +256,8 @@ PictureObject readPictureObject(const Image& input)
   PictureObject r;
   // RGB over black, inside its letterbox (its bands are not the picture's background); a large
   // picture halved by 2 x 2 box averages until it is at most 512 on its longer side (colours,
-  // not detail, count), without a filtered resize: OpenImageIO's took 130-200 ms for an 800 x 600
-  // or 1000 x 700 picture
+  // not detail, count), or its shorter side under 32 (a strip stays wider than 512), without a
+  // filtered resize: OpenImageIO's took 130-200 ms for an 800 x 600 or 1000 x 700 picture
   std::array<int, 4> crop{};
   const Image inside = insideLetterbox(input, crop);
   r.picture =

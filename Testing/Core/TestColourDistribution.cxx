@@ -504,21 +504,26 @@ TEST(ColourDistribution, QueryPictureCheck)
   EXPECT_NE(warning.find("cannot be read as a rendered volume"), std::string::npos) << warning;
 }
 
-// A picture over 512 pixels on its longer side is read as its half (shrinkImage's 2 x 2 box
+// A picture over 512 pixels on its longer side is read at its halves (shrinkImage's 2 x 2 box
 // averages): the same scene drawn at 1024 x 768 and at 512 x 384 gives the same background,
-// object, overlays and solidity, and nearly the same pixels.
+// object, overlays and solidity, and nearly the same pixels; 800 x 600 is read at exactly its
+// 2 x 2 averages (not resized to 512 x 384), 1001 x 701 at 500 x 350.
 TEST(ColourDistribution, ReadsALargePictureAsItsHalf)
 {
   const Volume v = sphere(24, 100, 200, 0.45, ScalarType::UInt8);
   const DifferentiableRenderer r(v);
-  auto shot = [&](int scale)
+  auto plain = [&](int w, int h)
   {
     View view = orbitView(v, 120, 30, 20, 1.1);
-    view.width = 512 * scale;
-    view.height = 384 * scale;
+    view.width = w;
+    view.height = h;
     view.background = { 0.32, 0.34, 0.43 };
-    Image img = compositeOverBackground(
+    return compositeOverBackground(
       r.caster().render(r.caster().paraviewTable(look(100, 200)), view), view.background);
+  };
+  auto shot = [&](int scale)
+  {
+    Image img = plain(512 * scale, 384 * scale);
     // orientation axes in the lower left corner, 2 pixels wide at 512
     for (int k = 0; k < 30 * scale; ++k)
       for (int t = 0; t < 2 * scale; ++t)
@@ -542,4 +547,24 @@ TEST(ColourDistribution, ReadsALargePictureAsItsHalf)
   EXPECT_NEAR(count(large.overlay) / count(small.overlay), 1.0, 0.1);
   EXPECT_NEAR(large.solidShare, small.solidShare, 0.02);
   EXPECT_GT(psnr(large.picture, small.picture), 30.0);
+  // at sizes that are not twice 512 too: halved until at most 512 on the longer side, each pixel
+  // the exact 2 x 2 average of the picture's, never a filtered resize
+  const Image odd = plain(800, 600);
+  const PictureObject read = readPictureObject(odd);
+  ASSERT_EQ(read.picture.width, 400);
+  ASSERT_EQ(read.picture.height, 300);
+  int unlike = 0;
+  for (int y = 0; y < 300; ++y)
+    for (int x = 0; x < 400; ++x)
+      for (int c = 0; c < 3; ++c)
+      {
+        const float average = 0.25f *
+          (odd.at(2 * x, 2 * y, c) + odd.at(2 * x + 1, 2 * y, c) + odd.at(2 * x, 2 * y + 1, c) +
+            odd.at(2 * x + 1, 2 * y + 1, c));
+        unlike += read.picture.at(x, y, c) == average ? 0 : 1;
+      }
+  EXPECT_EQ(unlike, 0);
+  const PictureObject odder = readPictureObject(plain(1001, 701));
+  EXPECT_EQ(odder.picture.width, 500);
+  EXPECT_EQ(odder.picture.height, 350);
 }
