@@ -150,9 +150,9 @@ matchparts::Mask contentMask(const Image& rgb, const std::array<float, 3>& bg)
 
 /// The box of the kShown pixels of `rgb` that differ from `bg` (x1 < 0 when there is none):
 /// findContent's box of `rgb` with its other kinds painted `bg`, without scanning it again.
-void shownBox(
-  const Image& rgb, const PixelKinds& kinds, const std::array<float, 3>& bg, Content& box)
+Content shownBox(const Image& rgb, const PixelKinds& kinds, const std::array<float, 3>& bg)
 {
+  Content box;
   box.bg = bg;
   box.x0 = rgb.width;
   box.y0 = rgb.height;
@@ -166,6 +166,7 @@ void shownBox(
         box.y0 = std::min(box.y0, y);
         box.y1 = std::max(box.y1, y);
       }
+  return box;
 }
 
 /// `rgb` with the pixels of the kinds `paint` says painted `colour`.
@@ -276,8 +277,7 @@ Image prepareQueryImage(const Image& image, int size)
   {
     const PixelKinds kinds = pixelKinds(content);
     // content as dark (light) as black (white) would vanish: the picture is kept as it was
-    Content left;
-    shownBox(rgb, kinds, bg, left);
+    const Content left = shownBox(rgb, kinds, bg);
     if (left.x1 >= 0)
     {
       rgb = paintedOver(rgb, kinds.kind, { kBackground, kOverlay }, bg);
@@ -331,23 +331,21 @@ std::vector<double> framedPSNR(
   // parts likewise, so that a design with a small part of its own scores as its picture does
   // (an image of one part, most renders, is left as it is)
   const bool leaveOutSmallParts = k.x1 >= 0 && uniformBorder(rgb, k.bg);
-  auto withoutSmallParts = [&k, leaveOutSmallParts](
-                             Image& img, Content& c, const matchparts::Mask& shown)
+  // `shown`: the content of `img` against the picture's background; c keeps its own background
+  auto withoutSmallParts = [&k](Image& img, Content& c, const matchparts::Mask& shown)
   {
-    if (!leaveOutSmallParts || c.x1 < 0)
-      return;
     const PixelKinds kinds = pixelKinds(shown);
     if (!kinds.anyOverlay)
       return;
-    Content left;
-    shownBox(img, kinds, k.bg, left);
+    const Content left = shownBox(img, kinds, k.bg);
     img = paintedOver(img, kinds.kind, { kOverlay }, k.bg);
     c.x0 = left.x0;
     c.y0 = left.y0;
     c.x1 = left.x1;
     c.y1 = left.y1;
   };
-  withoutSmallParts(rgb, k, content);
+  if (leaveOutSmallParts)
+    withoutSmallParts(rgb, k, content);
   const std::array<double, 3> bg{ k.bg[0], k.bg[1], k.bg[2] };
   auto framed = [size, &k](const Image& img, const Content& c)
   {
@@ -370,9 +368,14 @@ std::vector<double> framedPSNR(
   for (const Image* render : renders)
   {
     Image over = compositeOverBackground(*render, bg);
-    Content c = findContent(over);
+    matchparts::Mask shown; // the render's content, against the picture's background
+    Content c = findContent(over, leaveOutSmallParts ? &shown : nullptr);
     if (leaveOutSmallParts && c.x1 >= 0)
-      withoutSmallParts(over, c, contentMask(over, k.bg));
+    {
+      if (c.bg != k.bg) // its border is not all background: it reaches it, or 8-bit rounding
+        shown = contentMask(over, k.bg);
+      withoutSmallParts(over, c, shown);
+    }
     out.push_back(psnr(a, framed(over, c)));
   }
   return out;

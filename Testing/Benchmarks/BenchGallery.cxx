@@ -40,6 +40,19 @@ double median(std::vector<double> v)
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
 }
+// The median milliseconds of `runs` calls of f.
+template <typename F>
+double medianMs(int runs, const F& f)
+{
+  std::vector<double> t;
+  for (int r = 0; r < runs; ++r)
+  {
+    const auto t0 = Clock::now();
+    f();
+    t.push_back(msSince(t0));
+  }
+  return median(t);
+}
 void row(const char* what, double ms, double barMs)
 {
   if (barMs > 0)
@@ -145,53 +158,36 @@ int main(int argc, char** argv)
 
     // (e) the same design as ParaView's GUI saves it: 1024 x 768, the palette's grey-blue, a
     // red and a green axis in the lower left corner
-    shot.width = 1024;
-    shot.height = 768;
-    Image gui = compositeOverBackground(
-      renderDesign(caster, e.primitives, dims, gradientRange, shot), { 0.32, 0.34, 0.43 });
+    auto overPalette = [&](int w, int h)
+    {
+      shot.width = w;
+      shot.height = h;
+      return compositeOverBackground(
+        renderDesign(caster, e.primitives, dims, gradientRange, shot), { 0.32, 0.34, 0.43 });
+    };
+    Image gui = overPalette(1024, 768);
     for (int y = 700; y < 740; ++y)
       for (int x = 30; x < 34; ++x)
         gui.at(x, y, 1) = 0.8f;
     for (int y = 736; y < 740; ++y)
       for (int x = 30; x < 70; ++x)
         gui.at(x, y, 0) = 0.9f;
-    std::vector<double> guiQuery, prepare, check, framed;
-    for (int r = 0; r < runs; ++r)
-    {
-      auto t0 = Clock::now();
-      const auto q = gallery->query(gui, view, 5);
-      guiQuery.push_back(msSince(t0));
-      t0 = Clock::now();
-      (void)prepareQueryImage(gui, model.config().imageSize);
-      prepare.push_back(msSince(t0));
-      t0 = Clock::now();
-      (void)checkQueryPicture(gui);
-      check.push_back(msSince(t0));
-      t0 = Clock::now();
-      (void)framedPSNR(gui, q.preview);
-      framed.push_back(msSince(t0));
-    }
-    row("(e) query 1024x768 GUI screenshot (palette, axes), as (c)", median(guiQuery), 0);
-    row("    of which: the analyzer's input (prepareQueryImage)", median(prepare), 0);
-    row("    of which: the picture's check (checkQueryPicture)", median(check), 0);
-    row("    of which: one render against the picture (framedPSNR)", median(framed), 0);
+    QueryResult q;
+    row("(e) query 1024x768 GUI screenshot (palette, axes), as (c)",
+      medianMs(runs, [&] { q = gallery->query(gui, view, 5); }), 0);
+    row("    of which: the analyzer's input (prepareQueryImage)",
+      medianMs(runs, [&] { (void)prepareQueryImage(gui, model.config().imageSize); }), 0);
+    row("    of which: the picture's check (checkQueryPicture)",
+      medianMs(runs, [&] { (void)checkQueryPicture(gui); }), 0);
+    row("    of which: one render against the picture (framedPSNR)",
+      medianMs(runs, [&] { (void)framedPSNR(gui, q.preview); }), 0);
     // the picture's check at sizes that are not twice 512 (a filtered resize took 130-200 ms)
     for (const auto& [w, h] : { std::pair<int, int>{ 800, 600 }, { 1000, 700 } })
     {
-      shot.width = w;
-      shot.height = h;
-      const Image other = compositeOverBackground(
-        renderDesign(caster, e.primitives, dims, gradientRange, shot), { 0.32, 0.34, 0.43 });
-      std::vector<double> t;
-      for (int r = 0; r < runs; ++r)
-      {
-        const auto t0 = Clock::now();
-        (void)checkQueryPicture(other);
-        t.push_back(msSince(t0));
-      }
+      const Image other = overPalette(w, h);
       const std::string what =
         "    the picture's check of a " + std::to_string(w) + "x" + std::to_string(h) + " one";
-      row(what.c_str(), median(t), 0);
+      row(what.c_str(), medianMs(runs, [&] { (void)checkQueryPicture(other); }), 0);
     }
     std::filesystem::remove(out);
   }
