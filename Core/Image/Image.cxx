@@ -4,6 +4,7 @@
 #include "Common/FileUtil.h"
 
 #include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/filter.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -11,7 +12,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
+#include <string>
 #include <unistd.h>
+#include <vector>
 
 namespace ddg
 {
@@ -312,22 +316,116 @@ Image toChannels(const Image& in, int channels)
   return out;
 }
 
+namespace
+{
+// One axis of OpenImageIO's separable resize (ImageBufAlgo::resize, OpenImageIO 2.4): for each
+// output index, the first source index under the filter and the filter's weights, normalised to
+// sum 1 (all zero when they sum to 0); source indices past an edge are clamped to it.
+struct AxisTaps
+{
+  int taps = 0;
+  std::vector<int> first;
+  std::vector<float> weights; // taps per output index
+};
+
+AxisTaps axisTaps(int dst, int src, const OIIO::Filter2D& filter, bool xAxis)
+{
+  const float ratio = float(dst) / float(src);
+  const float radius = (xAxis ? filter.width() : filter.height()) / 2.0f;
+  const int rad = static_cast<int>(std::ceil(radius / ratio));
+  AxisTaps a;
+  a.taps = 2 * rad + 1;
+  a.first.resize(dst);
+  a.weights.resize(static_cast<size_t>(dst) * a.taps);
+  for (int d = 0; d < dst; ++d)
+  {
+    const float at = (float(d) + 0.5f) * (1.0f / float(dst)) * float(src);
+    const int index = static_cast<int>(std::floor(at));
+    const float frac = at - float(index);
+    float* w = a.weights.data() + static_cast<size_t>(d) * a.taps;
+    float total = 0.0f;
+    for (int i = 0; i < a.taps; ++i)
+    {
+      const float t = ratio * (float(i - rad) - (frac - 0.5f));
+      w[i] = xAxis ? filter.xfilt(t) : filter.yfilt(t);
+      total += w[i];
+    }
+    for (int i = 0; i < a.taps; ++i)
+      w[i] = total != 0.0f ? w[i] / total : 0.0f;
+    a.first[d] = index - rad;
+  }
+  return a;
+}
+} // namespace
+
 Image resizeImage(const Image& image, int width, int height)
 {
   if (image.empty() || width < 1 || height < 1)
   {
     throw Error("cannot resize an empty image or to an empty size");
   }
-  OIIO::ImageSpec inSpec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
-  OIIO::ImageBuf in(inSpec, const_cast<float*>(image.pixels.data()));
-  OIIO::ImageSpec outSpec(width, height, image.channels, OIIO::TypeDesc::FLOAT);
-  OIIO::ImageBuf out(outSpec);
-  if (!OIIO::ImageBufAlgo::resize(out, in))
+  // OpenImageIO's default filter for its resize (lanczos3 when shrinking, blackman-harris when
+  // enlarging on either axis, widened by the enlargement), applied as OpenImageIO applies it but
+  // one axis at a time: the same weights, ~20x cheaper than its two-dimensional taps through
+  // pixel iterators (a 150-pixel square to 128 took 18 ms on one thread), equal to float
+  // rounding (Core.Image.ResizeIsOpenImageIOsResize)
+  const float wratio = float(width) / float(image.width),
+              hratio = float(height) / float(image.height);
+  const char* name = wratio > 1.0f || hratio > 1.0f ? "blackman-harris" : "lanczos3";
+  float baseWidth = 0.0f;
+  for (int i = 0, n = OIIO::Filter2D::num_filters(); i < n; ++i)
   {
-    throw Error("cannot resize the image: " + out.geterror());
+    OIIO::FilterDesc fd;
+    OIIO::Filter2D::get_filterdesc(i, &fd);
+    if (std::string(fd.name) == name)
+      baseWidth = fd.width;
   }
-  Image result(width, height, image.channels);
-  out.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, result.pixels.data());
+  std::unique_ptr<OIIO::Filter2D, void (*)(OIIO::Filter2D*)> filter(baseWidth > 0.0f
+      ? OIIO::Filter2D::create(
+          name, baseWidth * std::max(1.0f, wratio), baseWidth * std::max(1.0f, hratio))
+      : nullptr,
+    OIIO::Filter2D::destroy);
+  if (!filter || !filter->separable())
+    throw Error(std::string("cannot resize the image: OpenImageIO has no separable ") + name);
+  const AxisTaps xs = axisTaps(width, image.width, *filter, true);
+  const AxisTaps ys = axisTaps(height, image.height, *filter, false);
+  const int channels = image.channels, sw = image.width, sh = image.height;
+  // rows first: every source row at the output's width
+  std::vector<float> rows(static_cast<size_t>(sh) * width * channels, 0.0f);
+  for (int y = 0; y < sh; ++y)
+  {
+    const float* in = image.pixels.data() + static_cast<size_t>(y) * sw * channels;
+    float* out = rows.data() + static_cast<size_t>(y) * width * channels;
+    for (int x = 0; x < width; ++x)
+    {
+      const float* w = xs.weights.data() + static_cast<size_t>(x) * xs.taps;
+      float* o = out + static_cast<size_t>(x) * channels;
+      for (int i = 0; i < xs.taps; ++i)
+      {
+        if (w[i] == 0.0f)
+          continue;
+        const int sx = std::clamp(xs.first[x] + i, 0, sw - 1);
+        const float* p = in + static_cast<size_t>(sx) * channels;
+        for (int c = 0; c < channels; ++c)
+          o[c] += w[i] * p[c];
+      }
+    }
+  }
+  Image result(width, height, channels);
+  const size_t rowSize = static_cast<size_t>(width) * channels;
+  for (int y = 0; y < height; ++y)
+  {
+    const float* w = ys.weights.data() + static_cast<size_t>(y) * ys.taps;
+    float* out = result.pixels.data() + static_cast<size_t>(y) * rowSize;
+    for (int j = 0; j < ys.taps; ++j)
+    {
+      if (w[j] == 0.0f)
+        continue;
+      const float* in = rows.data() + std::clamp(ys.first[y] + j, 0, sh - 1) * rowSize;
+      for (size_t k = 0; k < rowSize; ++k)
+        out[k] += w[j] * in[k];
+    }
+  }
   return result;
 }
 

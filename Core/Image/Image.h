@@ -78,15 +78,18 @@ Image decodeImage(const std::string& bytes, const std::string& origin = "image d
 /// what a picture saved as JPEG looks like. RGB (or gray) values k / 255. Throws ddg::Error.
 Image jpegRoundTrip(const Image& image, int quality);
 
-/// Resamples an image to width x height with OpenImageIO's filtered resize.
+/// Resamples an image to width x height as OpenImageIO's filtered resize does (its default
+/// filter: lanczos3 shrinking, blackman-harris enlarging; its weights, its clamped edges), one
+/// axis at a time: equal to ImageBufAlgo::resize to float rounding and ~10x cheaper (a 150-pixel
+/// square to 128: 0.8 against 9 ms on one thread). Throws ddg::Error for an empty image or size.
 Image resizeImage(const Image& image, int width, int height);
 
 /// An image made smaller: halved by 2 x 2 box averages of each channel while it is at least
 /// `halveFrom` times width x height on both sides (an odd last row or column left out), then
 /// resizeImage when the size is not reached. Alpha is averaged as any channel: right for
-/// premultiplied RGBA, not for straight alpha. Much cheaper than one wide filtered resize (a
-/// 400-pixel square to 128 took 60 ms, a 1024 x 768 picture to 512 x 384 120 ms); what the query's
-/// framing and the reading of a picture (readPictureObject) shrink with.
+/// premultiplied RGBA, not for straight alpha. Cheaper than one wide filtered resize (a
+/// 400-pixel square to 128: 5 ms on one thread, 52 ms through OpenImageIO's resize); what the
+/// query's framing and the reading of a picture (readPictureObject) shrink with.
 Image shrinkImage(Image image, int width, int height, int halveFrom = 2);
 
 /// Writes an image; the format follows the extension. 8-bit formats (PNG, JPEG, ...) get

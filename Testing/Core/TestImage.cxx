@@ -1,11 +1,12 @@
 // TestImage.cxx: ParaView's 8-bit compositing formula, PSNR/SSIM identities, colour-histogram
 // EMD against the closed-form 1D case, PNG round trip, a sheet of renders (each cell the render
-// it holds, the rest transparent).
+// it holds, the rest transparent), the resize against OpenImageIO's.
 #include "Common/Error.h"
 #include "Image/ImageMetrics.h"
 #include "TransferFunction/ColorSpace.h"
 
 #include "TempDir.h"
+#include <OpenImageIO/imagebufalgo.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -243,4 +244,40 @@ TEST(Image, ShrinkHalvesByBoxAveragesThenResizes)
     EXPECT_NEAR(v, 0.25f, 1e-5f);
   EXPECT_THROW(shrinkImage(big, 0, 10), Error);
   EXPECT_THROW(shrinkImage(Image(), 10, 10), Error);
+}
+
+// resizeImage applies OpenImageIO's resize (its default filter, its taps, its clamped edges) one
+// axis at a time: equal to ImageBufAlgo::resize to float rounding, shrinking, enlarging, both at
+// once, for 1, 3 and 4 channels
+TEST(Image, ResizeIsOpenImageIOsResize)
+{
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  struct Case
+  {
+    int sw, sh, dw, dh, channels;
+  };
+  for (const Case& k :
+    { Case{ 150, 150, 128, 128, 4 }, Case{ 512, 384, 64, 64, 3 }, Case{ 64, 64, 192, 192, 3 },
+      Case{ 97, 61, 128, 40, 1 }, Case{ 300, 200, 301, 77, 4 }, Case{ 5, 3, 2, 7, 3 } })
+  {
+    Image in(k.sw, k.sh, k.channels);
+    for (float& v : in.pixels)
+      v = u(rng);
+    const Image ours = resizeImage(in, k.dw, k.dh);
+    OIIO::ImageBuf src(OIIO::ImageSpec(k.sw, k.sh, k.channels, OIIO::TypeDesc::FLOAT),
+      const_cast<float*>(in.pixels.data()));
+    OIIO::ImageBuf dst(OIIO::ImageSpec(k.dw, k.dh, k.channels, OIIO::TypeDesc::FLOAT));
+    ASSERT_TRUE(OIIO::ImageBufAlgo::resize(dst, src));
+    std::vector<float> theirs(static_cast<size_t>(k.dw) * k.dh * k.channels);
+    dst.get_pixels(OIIO::ROI::All(), OIIO::TypeDesc::FLOAT, theirs.data());
+    ASSERT_EQ(ours.width, k.dw);
+    ASSERT_EQ(ours.height, k.dh);
+    ASSERT_EQ(ours.channels, k.channels);
+    float worst = 0.0f;
+    for (size_t i = 0; i < theirs.size(); ++i)
+      worst = std::max(worst, std::abs(ours.pixels[i] - theirs[i]));
+    EXPECT_LT(worst, 1e-5f) << k.sw << "x" << k.sh << " -> " << k.dw << "x" << k.dh;
+  }
+  EXPECT_THROW(resizeImage(Image(4, 4, 3), 0, 4), Error);
 }
