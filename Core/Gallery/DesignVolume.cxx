@@ -6,6 +6,29 @@
 namespace ddg
 {
 
+std::array<Image, 2> DesignVolume::renderLitAndUnlit(
+  const DesignTable& table, const View& litView) const
+{
+  if (!litView.lighting.shade)
+    throw Error("renderLitAndUnlit: the view must have Shade on");
+  View unlitView = litView;
+  unlitView.lighting.shade = false;
+  const RayCaster* here = caster();
+  if (!here)
+    return { render(table, litView), render(table, unlitView) };
+  RenderOptions options;
+  options.unlitToo = true;
+  const Image both = renderTable(*here, table, litView, options);
+  std::array<Image, 2> out{ Image(both.width, both.height, 4), Image(both.width, both.height, 4) };
+  for (size_t p = 0, n = static_cast<size_t>(both.width) * both.height; p < n; ++p)
+    for (int c = 0; c < 4; ++c)
+    {
+      out[0].pixels[4 * p + c] = both.pixels[8 * p + c];
+      out[1].pixels[4 * p + c] = both.pixels[8 * p + 4 + c];
+    }
+  return out;
+}
+
 LocalDesignVolume::LocalDesignVolume(const Volume& volume)
   : Vol(volume)
   , Caster(volume)

@@ -34,6 +34,10 @@ public:
   /// The ray caster of the whole volume when it is in this process; null when it is split
   /// (what needs every voxel in one place — exemplars, a U-Net's reconstructed TF — is refused).
   virtual const RayCaster* caster() const { return nullptr; }
+  /// `table` at `litView` (Shade on) and at the same view with Shade off: { lit, unlit }, each
+  /// as render() gives it. From one march when the caster is here (RenderOptions::unlitToo: the
+  /// cost of the lit image alone), else two renders.
+  std::array<Image, 2> renderLitAndUnlit(const DesignTable& table, const View& litView) const;
 };
 
 /// The volume in this process.

@@ -286,6 +286,25 @@ Image DesignGallery::renderTable(const std::vector<GaussianPrimitive>& tf, const
     designTable(tf, Model.spec().dimensions, Space->range(), gradientAxis()), view);
 }
 
+std::array<Image, 2> DesignGallery::renderBothLightings(
+  const std::vector<float>& latent, const View& view, const View& other) const
+{
+  if (Model.config().kind != "decoder" || view.lighting.shade == other.lighting.shade)
+    return { render(latent, view), render(latent, other) };
+  const std::vector<GaussianPrimitive> tf = Model.decode(latent);
+  if (tf.empty())
+    return { renderTable(tf, view), renderTable(tf, other) };
+  // the unlit image does not depend on the lighting's coefficients: the lit view's march gives
+  // both
+  const bool viewLit = view.lighting.shade;
+  std::array<Image, 2> both = Space->renderLitAndUnlit(
+    designTable(tf, Model.spec().dimensions, Space->range(), gradientAxis()),
+    viewLit ? view : other);
+  if (!viewLit)
+    std::swap(both[0], both[1]);
+  return both;
+}
+
 std::vector<float> DesignGallery::latent(int row) const
 {
   if (row < 0 || row >= Outline.count())
@@ -391,8 +410,9 @@ std::vector<double> DesignGallery::againstPicture(const Image& picture,
     std::vector<Image> renders;
     for (size_t i = first; i < end; ++i)
     {
-      renders.push_back(render(latents[i], view));
-      renders.push_back(render(latents[i], other));
+      std::array<Image, 2> both = renderBothLightings(latents[i], view, other);
+      renders.push_back(std::move(both[0]));
+      renders.push_back(std::move(both[1]));
     }
     std::vector<const Image*> shown;
     for (const Image& image : renders)

@@ -232,6 +232,10 @@ private:
   DesignOutline Outline;
   std::array<double, 2> gradientAxis() const; // the 2D tables' gradient range ([0, 1] for 1D)
   Image renderTable(const std::vector<GaussianPrimitive>& tf, const View& view) const;
+  // render() at `view` and at `other`, which differs from it in its lighting: one march for
+  // both when the model decodes a TF (DesignVolume::renderLitAndUnlit)
+  std::array<Image, 2> renderBothLightings(
+    const std::vector<float>& latent, const View& view, const View& other) const;
   mutable Image Viewport; ///< U-Net only: the auxiliary TF at the last view (model size)
   mutable std::string ViewportKey;
   std::map<int, Image> Cache; ///< thumbnails by row, at CacheView

@@ -347,6 +347,7 @@ struct March
   bool jitter = false;
   double offset = 0.5;
   bool skip = true;
+  bool unlitToo = false;                           // Shade: channels 4..7 the same samples unlit
   Eigen::Vector3d origin, spacing, boxMin, boxMax; // the whole volume's
   // A piece of a volume: its owned cells [lo, hi) of the whole's n points, and its first point's
   // whole index (off); rays and ownership in the whole's index space, the march in the piece's.
@@ -396,6 +397,8 @@ struct March
                 sz = static_cast<float>(s[2]);
     const FieldT& f = *field;
     float cr = 0, cg = 0, cb = 0, ca = 0;
+    float unlit[4] = { 0, 0, 0, 0 };
+    float* const unlitSums = light && unlitToo ? unlit : nullptr;
     const float e3[3] = { ex, ey, ez }, s3[3] = { sx, sy, sz };
     LitQueue queue; // Shade: samples with opacity waiting to be lit and composited
     // March block by block: find the block of sample k and the first sample past its far faces;
@@ -536,7 +539,7 @@ struct March
               done = true;
             }
             if (queue.count == kBatch || done)
-              queue.flush(*light, e3, s3, !TwoD, cr, cg, cb, ca);
+              queue.flush(*light, e3, s3, !TwoD, cr, cg, cb, ca, unlitSums);
           }
           continue;
         }
@@ -559,11 +562,14 @@ struct March
       k = kEnd;
     }
     if (light)
-      queue.flush(*light, e3, s3, !TwoD, cr, cg, cb, ca);
+      queue.flush(*light, e3, s3, !TwoD, cr, cg, cb, ca, unlitSums);
     out[0] = cr;
     out[1] = cg;
     out[2] = cb;
     out[3] = ca;
+    if (unlitSums)
+      for (int c = 0; c < 4; ++c)
+        out[4 + c] = unlit[c];
   }
 
   // `origin`, `spacing`, `bounds`: the whole volume's; `brick`: the piece the field holds, if any.
@@ -585,6 +591,7 @@ struct March
       throw Error("sample offset must lie in [0, 1]");
     }
     skip = opt.emptySpaceSkipping;
+    unlitToo = opt.unlitToo;
     for (int a = 0; a < 3; ++a)
     {
       origin[a] = originIn[a];
@@ -593,6 +600,8 @@ struct March
       boxMax[a] = b[2 * a + 1];
     }
     piece = brick != nullptr;
+    if (piece && unlitToo)
+      throw Error("a piece of a volume is rendered in one lighting at a time");
     if (piece)
       for (int a = 0; a < 3; ++a)
       {
@@ -624,7 +633,7 @@ struct March
     const View& view, int threads, const ProgressCallback& progress, RenderStats* stats) const
   {
     const RayGenerator rays(view);
-    Image img(view.width, view.height, piece ? 5 : 4, 0.0f);
+    Image img(view.width, view.height, piece ? 5 : (light && unlitToo ? 8 : 4), 0.0f);
     if (piece) // no sample of this piece on the ray until castRay says where its first one is
       for (size_t p = 4; p < img.pixels.size(); p += 5)
         img.pixels[p] = std::numeric_limits<float>::infinity();

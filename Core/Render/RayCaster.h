@@ -60,6 +60,11 @@ struct RenderOptions
   bool emptySpaceSkipping = true;
   /// Worker threads; 0 = all cores.
   int threads = 0;
+  /// With view.lighting.shade: the same march composites each visible sample unlit as well,
+  /// into channels 4..7 (RGBA, premultiplied, the alpha the lit image's): the image of the view
+  /// with Shade off, the same values as its own render, at the cost of the lit one alone.
+  /// Not for a piece of a volume. Ignored with Shade off.
+  bool unlitToo = false;
 };
 
 /// Renders a Volume with a 1D or 2D transfer function table and a View.

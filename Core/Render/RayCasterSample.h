@@ -134,12 +134,17 @@ struct LitQueue
     return alpha > termination;
   }
 
-  // Lights the queued samples (at e + k s) and composites them in order onto the ray's colour.
+  // Lights the queued samples (at e + k s) and composites them in order onto the ray's colour;
+  // with `unlit` (r, g, b, a), composites them unlit onto it first.
   void flush(const SampleLighting& light, const float e[3], const float s[3], bool clamp, float& cr,
-    float& cg, float& cb, float& ca)
+    float& cg, float& cb, float& ca, float* unlit = nullptr)
   {
     if (count == 0)
       return;
+    if (unlit)
+      for (int q = 0; q < count; ++q)
+        composite(RGBA{ rgb[0][q], rgb[1][q], rgb[2][q], a[q] }, unlit[0], unlit[1], unlit[2],
+          unlit[3], 2.0f);
     shadeQueue(light, count, g, e, s, k, clamp, rgb);
     for (int q = 0; q < count; ++q) // the queue ends where the ray turns opaque: no check here
       composite(RGBA{ rgb[0][q], rgb[1][q], rgb[2][q], a[q] }, cr, cg, cb, ca, 2.0f);

@@ -512,6 +512,54 @@ TEST(RayCaster, SkippingAndThreadsDoNotChangeTheImage)
   EXPECT_EQ(ia.pixels, ic.pixels);
 }
 
+// With Shade on, `unlitToo` composites the march's samples unlit as well: channels 0..3 are the
+// lit render and 4..7 the render with Shade off, value for value (1D and 2D tables, early
+// termination, jitter, one thread or two); with Shade off it changes nothing; a piece is refused.
+TEST(RayCaster, UnlitTooIsTheUnlitRender)
+{
+  const Volume vol = blobVolume(ScalarType::UInt8);
+  const RayCaster caster(vol);
+  const TransferTable1D table1 = caster.paraviewTable(testTF());
+  const TransferTable2D table2 = twoPrimitiveTable({ 0.9, 0.5, 0.2 }, 0.6);
+  for (int kind = 0; kind < 2; ++kind)
+    for (bool jitter : { false, true })
+    {
+      View lit = orbitView(vol, 63, false, 48, 40);
+      lit.lighting = Lighting{ true, 0.1, 0.8, 0.5, 30 };
+      View unlit = lit;
+      unlit.lighting.shade = false;
+      RenderOptions plain, both;
+      plain.jitter = both.jitter = jitter;
+      both.unlitToo = true;
+      both.threads = jitter ? 1 : 0;
+      auto render = [&](const View& v, const RenderOptions& o)
+      { return kind == 0 ? caster.render(table1, v, o) : caster.render(table2, v, o); };
+      const Image litImage = render(lit, plain), unlitImage = render(unlit, plain);
+      const Image two = render(lit, both);
+      ASSERT_EQ(two.channels, 8);
+      size_t differ = 0, shown = 0;
+      for (size_t p = 0, n = static_cast<size_t>(two.width) * two.height; p < n; ++p)
+        for (int c = 0; c < 4; ++c)
+        {
+          differ += two.pixels[8 * p + c] != litImage.pixels[4 * p + c];
+          differ += two.pixels[8 * p + 4 + c] != unlitImage.pixels[4 * p + c];
+          shown += c == 3 && unlitImage.pixels[4 * p + 3] > 0.1f;
+        }
+      EXPECT_EQ(differ, 0u) << "table " << kind + 1 << "D, jitter " << jitter;
+      EXPECT_GT(shown, 100u);
+      EXPECT_NE(litImage.pixels, unlitImage.pixels);            // the lighting shows
+      EXPECT_EQ(render(unlit, both).pixels, unlitImage.pixels); // Shade off: one image
+    }
+  const auto& d = vol.dims();
+  const auto [piece, brick] =
+    ddg::testing::pieceOf(vol, ddg::testing::Box{ 0, d[0] / 2, 0, d[1] - 1, 0, d[2] - 1 }, 1);
+  View lit = orbitView(vol, 63, false, 32, 32);
+  lit.lighting.shade = true;
+  RenderOptions both;
+  both.unlitToo = true;
+  EXPECT_THROW(RayCaster(piece, brick).render(table1, lit, both), Error);
+}
+
 TEST(RayCaster, ParaViewDefaultDistances)
 {
   // NOTES-paraview-rendering: 64^3 unit spacing -> d = 0.3155606, unit distance = sqrt(3);
