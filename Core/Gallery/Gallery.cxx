@@ -282,8 +282,12 @@ Image DesignGallery::renderTable(const std::vector<GaussianPrimitive>& tf, const
 {
   if (tf.empty())
     return Image(view.width, view.height, 4, 0.0f);
-  return Space->render(
-    designTable(tf, Model.spec().dimensions, Space->range(), gradientAxis()), view);
+  return Space->render(tableOf(tf), view);
+}
+
+DesignTable DesignGallery::tableOf(const std::vector<GaussianPrimitive>& tf) const
+{
+  return designTable(tf, Model.spec().dimensions, Space->range(), gradientAxis());
 }
 
 std::array<Image, 2> DesignGallery::renderBothLightings(
@@ -295,11 +299,10 @@ std::array<Image, 2> DesignGallery::renderBothLightings(
   if (tf.empty())
     return { renderTable(tf, view), renderTable(tf, other) };
   // the unlit image does not depend on the lighting's coefficients: the lit view's march gives
-  // both
+  // both (the unlit view checked as its own render would check it)
   const bool viewLit = view.lighting.shade;
-  std::array<Image, 2> both = Space->renderLitAndUnlit(
-    designTable(tf, Model.spec().dimensions, Space->range(), gradientAxis()),
-    viewLit ? view : other);
+  (viewLit ? other : view).validate();
+  std::array<Image, 2> both = Space->renderLitAndUnlit(tableOf(tf), viewLit ? view : other);
   if (!viewLit)
     std::swap(both[0], both[1]);
   return both;

@@ -232,6 +232,8 @@ private:
   DesignOutline Outline;
   std::array<double, 2> gradientAxis() const; // the 2D tables' gradient range ([0, 1] for 1D)
   Image renderTable(const std::vector<GaussianPrimitive>& tf, const View& view) const;
+  DesignTable tableOf(
+    const std::vector<GaussianPrimitive>& tf) const; // the table renderTable casts
   // render() at `view` and at `other`, which differs from it in its lighting: one march for
   // both when the model decodes a TF (DesignVolume::renderLitAndUnlit)
   std::array<Image, 2> renderBothLightings(

@@ -63,7 +63,7 @@ struct RenderOptions
   /// With view.lighting.shade: the same march composites each visible sample unlit as well,
   /// into channels 4..7 (RGBA, premultiplied, the alpha the lit image's): the image of the view
   /// with Shade off, the same values as its own render, at the cost of the lit one alone.
-  /// Not for a piece of a volume. Ignored with Shade off.
+  /// A piece of a volume refuses it. With Shade off the image is the plain RGBA one.
   bool unlitToo = false;
 };
 
@@ -78,7 +78,8 @@ struct RenderOptions
 ///   A += (1 - A) a'; stop when A > terminationOpacity.
 /// With view.lighting.shade, the table colour of each visible sample is lit first as ParaView's
 /// Shade does (Render/Lighting.h; 1D tables only).
-/// Output: RGBA float image, premultiplied (C, A), row 0 at the top; compose it over a
+/// Output: RGBA float image, premultiplied (C, A), row 0 at the top (8 channels, lit then unlit,
+/// with RenderOptions::unlitToo and Shade); compose it over a
 /// background with compositeOverBackground() (Image.h) to get ParaView's 8-bit screenshot.
 ///
 /// A RayCaster reads the volume's scalars in place, in their own type (no copy: it shares them

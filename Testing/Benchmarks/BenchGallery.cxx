@@ -119,7 +119,8 @@ int main(int argc, char** argv)
     }
     row("(c) query 512x512 screenshot -> latent, 5 neighbours, 128^2 preview", median(query), 50);
     // its steps side by side: the picture read twice (the analyzer's input, the check), the
-    // analyzer, the design rendered in the view's lighting and the other, both framed against it
+    // analyzer, the design lit and unlit from one march (beside it, as two renders in the view's
+    // lighting and the other), both framed against it
     std::vector<double> cPrepare, cCheck, cAnalyze, cRender, cOther, cBoth, cFramed;
     for (int r = 0; r < runs; ++r)
     {

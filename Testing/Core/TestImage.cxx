@@ -248,7 +248,8 @@ TEST(Image, ShrinkHalvesByBoxAveragesThenResizes)
 
 // resizeImage applies OpenImageIO's resize (its default filter, its taps, its clamped edges) one
 // axis at a time: equal to ImageBufAlgo::resize to float rounding, shrinking, enlarging, both at
-// once, for 1, 3 and 4 channels
+// once, from 1-pixel sources, for 1 to 4 channels (2x2 -> 2x3 and 4x2 -> 4x3: a filter taller
+// than wide, whose radius OpenImageIO takes from its width)
 TEST(Image, ResizeIsOpenImageIOsResize)
 {
   std::mt19937 rng(11);
@@ -259,7 +260,8 @@ TEST(Image, ResizeIsOpenImageIOsResize)
   };
   for (const Case& k :
     { Case{ 150, 150, 128, 128, 4 }, Case{ 512, 384, 64, 64, 3 }, Case{ 64, 64, 192, 192, 3 },
-      Case{ 97, 61, 128, 40, 1 }, Case{ 300, 200, 301, 77, 4 }, Case{ 5, 3, 2, 7, 3 } })
+      Case{ 97, 61, 128, 40, 1 }, Case{ 300, 200, 301, 77, 4 }, Case{ 5, 3, 2, 7, 3 },
+      Case{ 2, 2, 2, 3, 2 }, Case{ 4, 2, 4, 3, 1 }, Case{ 1, 5, 3, 5, 1 }, Case{ 1, 1, 4, 4, 3 } })
   {
     Image in(k.sw, k.sh, k.channels);
     for (float& v : in.pixels)

@@ -513,8 +513,9 @@ TEST(RayCaster, SkippingAndThreadsDoNotChangeTheImage)
 }
 
 // With Shade on, `unlitToo` composites the march's samples unlit as well: channels 0..3 are the
-// lit render and 4..7 the render with Shade off, value for value (1D and 2D tables, early
-// termination, jitter, one thread or two); with Shade off it changes nothing; a piece is refused.
+// lit render and 4..7 the render with Shade off, value for value (1D and 2D tables, jitter, one
+// thread or two, rays ended early at half opacity without skipping); with Shade off it changes
+// nothing; a piece is refused.
 TEST(RayCaster, UnlitTooIsTheUnlitRender)
 {
   const Volume vol = blobVolume(ScalarType::UInt8);
@@ -522,14 +523,20 @@ TEST(RayCaster, UnlitTooIsTheUnlitRender)
   const TransferTable1D table1 = caster.paraviewTable(testTF());
   const TransferTable2D table2 = twoPrimitiveTable({ 0.9, 0.5, 0.2 }, 0.6);
   for (int kind = 0; kind < 2; ++kind)
-    for (bool jitter : { false, true })
+    for (int pass = 0; pass < 3; ++pass)
     {
+      const bool jitter = pass == 1, early = pass == 2;
       View lit = orbitView(vol, 63, false, 48, 40);
       lit.lighting = Lighting{ true, 0.1, 0.8, 0.5, 30 };
       View unlit = lit;
       unlit.lighting.shade = false;
       RenderOptions plain, both;
       plain.jitter = both.jitter = jitter;
+      if (early) // rays stop at half opacity; every block marched
+      {
+        plain.terminationOpacity = both.terminationOpacity = 0.5;
+        plain.emptySpaceSkipping = both.emptySpaceSkipping = false;
+      }
       both.unlitToo = true;
       both.threads = jitter ? 1 : 0;
       auto render = [&](const View& v, const RenderOptions& o)
@@ -537,16 +544,19 @@ TEST(RayCaster, UnlitTooIsTheUnlitRender)
       const Image litImage = render(lit, plain), unlitImage = render(unlit, plain);
       const Image two = render(lit, both);
       ASSERT_EQ(two.channels, 8);
-      size_t differ = 0, shown = 0;
+      size_t differ = 0, shown = 0, stopped = 0;
       for (size_t p = 0, n = static_cast<size_t>(two.width) * two.height; p < n; ++p)
         for (int c = 0; c < 4; ++c)
         {
           differ += two.pixels[8 * p + c] != litImage.pixels[4 * p + c];
           differ += two.pixels[8 * p + 4 + c] != unlitImage.pixels[4 * p + c];
           shown += c == 3 && unlitImage.pixels[4 * p + 3] > 0.1f;
+          stopped += c == 3 && unlitImage.pixels[4 * p + 3] > 0.5f;
         }
-      EXPECT_EQ(differ, 0u) << "table " << kind + 1 << "D, jitter " << jitter;
+      EXPECT_EQ(differ, 0u) << "table " << kind + 1 << "D, pass " << pass;
       EXPECT_GT(shown, 100u);
+      if (early)
+        EXPECT_GT(stopped, 20u); // rays that ended early, at the same sample in both
       EXPECT_NE(litImage.pixels, unlitImage.pixels);            // the lighting shows
       EXPECT_EQ(render(unlit, both).pixels, unlitImage.pixels); // Shade off: one image
     }
