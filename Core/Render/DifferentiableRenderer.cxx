@@ -156,31 +156,46 @@ struct DifferentiableRendererT<S>::Internals
     return s;
   }
 
-  // Runs body(listIndex, pixelIndex, origin, direction, jitter, threadId) over the listed pixels.
+  // Runs body(listIndex, origin, direction, jitter, worker) over the listed pixels, in chunks of
+  // 64. With `dealt`, worker w of `threads` (resolved) takes chunks w, w + threads, ... in
+  // order, whichever thread runs it: what a worker sums is the same from run to run (the
+  // backward pass's per-worker gradients), where taking the next free chunk is not.
   template <typename Body>
   void forPixels(const View& view, const Setup& s, const std::vector<int>& pixels, int threads,
-    Body&& body) const
+    Body&& body, bool dealt = false) const
   {
     const RayGenerator rays(view);
     const std::int64_t n = pixels.empty() ? static_cast<std::int64_t>(view.width) * view.height
                                           : static_cast<std::int64_t>(pixels.size());
     constexpr std::int64_t chunk = 64;
-    parallelFor((n + chunk - 1) / chunk, threads,
-      [&](std::int64_t c, int threadId)
+    const std::int64_t chunks = (n + chunk - 1) / chunk;
+    auto run = [&](std::int64_t c, int worker)
+    {
+      Eigen::Vector3d o, dir;
+      for (std::int64_t q = c * chunk; q < std::min(n, (c + 1) * chunk); ++q)
       {
-        Eigen::Vector3d o, dir;
-        for (std::int64_t q = c * chunk; q < std::min(n, (c + 1) * chunk); ++q)
+        const int pixel = pixels.empty() ? static_cast<int>(q) : pixels[static_cast<size_t>(q)];
+        if (pixel < 0 || pixel >= view.width * view.height)
         {
-          const int pixel = pixels.empty() ? static_cast<int>(q) : pixels[static_cast<size_t>(q)];
-          if (pixel < 0 || pixel >= view.width * view.height)
-          {
-            throw Error("pixel index out of range");
-          }
-          const int x = pixel % view.width, y = pixel / view.width;
-          rays.ray(x, y, o, dir);
-          const double j = s.jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : s.offset;
-          body(q, o, dir, j, threadId);
+          throw Error("pixel index out of range");
         }
+        const int x = pixel % view.width, y = pixel / view.width;
+        rays.ray(x, y, o, dir);
+        const double j = s.jitter ? RayCaster::jitterValue(x, view.height - 1 - y) : s.offset;
+        body(q, o, dir, j, worker);
+      }
+    };
+    if (!dealt)
+    {
+      parallelFor(chunks, threads, run);
+      return;
+    }
+    const int workers = resolveThreadCount(threads, chunks);
+    parallelFor(workers, workers,
+      [&](std::int64_t w, int)
+      {
+        for (std::int64_t c = w; c < chunks; c += workers)
+          run(c, static_cast<int>(w));
       });
   }
 
@@ -387,14 +402,16 @@ struct DifferentiableRendererT<S>::Internals
       throw Error(
         "backward: sizes of records, dL_dRGBA or dL_dTable do not match the forward pass");
     }
-    // Per-thread gradient buffers w.r.t. the prepared table, reduced at the end (no atomics).
+    // Per-worker gradient buffers w.r.t. the prepared table, reduced at the end in worker order
+    // (no atomics; for a given thread count, the same gradient every run).
     const int threads = resolveThreadCount(opt.threads, static_cast<std::int64_t>((n + 63) / 64));
     std::vector<std::vector<S>> local(
       static_cast<size_t>(threads), std::vector<S>(4 * tableSize, S(0)));
     withValues(
       [&](const auto& Values)
       {
-        forPixels(view, s, pixels, threads,
+        forPixels(
+          view, s, pixels, threads,
           [&](std::int64_t q, const Eigen::Vector3d& o, const Eigen::Vector3d& dir, double j,
             int threadId)
           {
@@ -493,7 +510,8 @@ struct DifferentiableRendererT<S>::Internals
                 replay(value[l], TwoD ? gradient[l] : S(0), k0 + l, nullptr);
               }
             }
-          });
+          },
+          true); // each worker's chunks fixed: the same sums, in the same order, every run
       });
     std::vector<S> dPrepared(4 * tableSize, S(0));
     for (const auto& buffer : local)

@@ -455,7 +455,8 @@ def compare_match(mpi, builtin):
     """The match over pieces finds the builtin session's camera and look: the camera within half a
     degree and 1 % in distance, the found TF's render at the found view as the builtin's (>= 30 dB
     between the two) and not more than 2 dB further from the picture (one process's own runs
-    spread over 1 dB: 46.3-47.3 dB in 4 runs, its threads adding in varying order). (Carry Look
+    spread over 1 dB: 46.3-47.3 dB in 4 runs, its threads adding in varying order until the
+    backward pass dealt its rays in a fixed way; the pieces still add in another order). (Carry Look
     over pieces, 70 s here, is checked over threads: Core.ColourDistribution.CarriesALookOverPieces.)
     """
     m, b = mpi["match:0"]["field"], builtin["match:0"]["field"]
