@@ -319,12 +319,12 @@ Image toChannels(const Image& in, int channels)
 namespace
 {
 // One axis of OpenImageIO's separable resize (ImageBufAlgo::resize, OpenImageIO 2.4): for each
-// output index, the first source index under the filter and the filter's weights, normalised to
-// sum 1 (all zero when they sum to 0); source indices past an edge are clamped to it.
+// output index, the source index under each tap, clamped to the edges, and the filter's weights,
+// normalised to sum 1 (all zero when they sum to 0).
 struct AxisTaps
 {
   int taps = 0;
-  std::vector<int> first;
+  std::vector<int> source;    // taps per output index
   std::vector<float> weights; // taps per output index
 };
 
@@ -337,7 +337,7 @@ AxisTaps axisTaps(int dst, int src, const OIIO::Filter2D& filter, bool xAxis)
   const int rad = static_cast<int>(std::ceil(radius / ratio));
   AxisTaps a;
   a.taps = 2 * rad + 1;
-  a.first.resize(dst);
+  a.source.resize(static_cast<size_t>(dst) * a.taps);
   a.weights.resize(static_cast<size_t>(dst) * a.taps);
   for (int d = 0; d < dst; ++d)
   {
@@ -352,9 +352,12 @@ AxisTaps axisTaps(int dst, int src, const OIIO::Filter2D& filter, bool xAxis)
       w[i] = xAxis ? filter.xfilt(t) : filter.yfilt(t);
       total += w[i];
     }
+    int* source = a.source.data() + static_cast<size_t>(d) * a.taps;
     for (int i = 0; i < a.taps; ++i)
+    {
       w[i] = total != 0.0f ? w[i] / total : 0.0f;
-    a.first[d] = index - rad;
+      source[i] = std::clamp(index - rad + i, 0, src - 1);
+    }
   }
   return a;
 }
@@ -401,13 +404,13 @@ Image resizeImage(const Image& image, int width, int height)
     for (int x = 0; x < width; ++x)
     {
       const float* w = xs.weights.data() + static_cast<size_t>(x) * xs.taps;
+      const int* sx = xs.source.data() + static_cast<size_t>(x) * xs.taps;
       float* o = out + static_cast<size_t>(x) * channels;
       for (int i = 0; i < xs.taps; ++i)
       {
         if (w[i] == 0.0f)
           continue;
-        const int sx = std::clamp(xs.first[x] + i, 0, sw - 1);
-        const float* p = in + static_cast<size_t>(sx) * channels;
+        const float* p = in + static_cast<size_t>(sx[i]) * channels;
         for (int c = 0; c < channels; ++c)
           o[c] += w[i] * p[c];
       }
@@ -418,12 +421,13 @@ Image resizeImage(const Image& image, int width, int height)
   for (int y = 0; y < height; ++y)
   {
     const float* w = ys.weights.data() + static_cast<size_t>(y) * ys.taps;
+    const int* sy = ys.source.data() + static_cast<size_t>(y) * ys.taps;
     float* out = result.pixels.data() + static_cast<size_t>(y) * rowSize;
     for (int j = 0; j < ys.taps; ++j)
     {
       if (w[j] == 0.0f)
         continue;
-      const float* in = rows.data() + std::clamp(ys.first[y] + j, 0, sh - 1) * rowSize;
+      const float* in = rows.data() + static_cast<size_t>(sy[j]) * rowSize;
       for (size_t k = 0; k < rowSize; ++k)
         out[k] += w[j] * in[k];
     }
