@@ -156,6 +156,10 @@ public:
 
   /// Neural render of a latent at `view`.
   Image render(const std::vector<float>& latent, const View& view) const;
+  /// render() at `view` and at `other`, which differs from it in its lighting: one march for
+  /// both when the model decodes a TF (DesignVolume::renderLitAndUnlit); the query's figure.
+  std::array<Image, 2> renderBothLightings(
+    const std::vector<float>& latent, const View& view, const View& other) const;
   /// Thumbnail of a row at `view`, cached by row for the last view asked (a thumbnail at another
   /// view empties the cache: it holds at most one view's thumbnails, never one per camera).
   const Image& thumbnail(int row, const View& view);
@@ -234,10 +238,6 @@ private:
   Image renderTable(const std::vector<GaussianPrimitive>& tf, const View& view) const;
   DesignTable tableOf(
     const std::vector<GaussianPrimitive>& tf) const; // the table renderTable casts
-  // render() at `view` and at `other`, which differs from it in its lighting: one march for
-  // both when the model decodes a TF (DesignVolume::renderLitAndUnlit)
-  std::array<Image, 2> renderBothLightings(
-    const std::vector<float>& latent, const View& view, const View& other) const;
   mutable Image Viewport; ///< U-Net only: the auxiliary TF at the last view (model size)
   mutable std::string ViewportKey;
   std::map<int, Image> Cache; ///< thumbnails by row, at CacheView

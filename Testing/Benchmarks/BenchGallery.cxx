@@ -142,9 +142,7 @@ int main(int argc, char** argv)
         if (model.config().kind != "decoder")
           return;
         const auto m0 = Clock::now();
-        (void)gallery->space().renderLitAndUnlit(
-          designTable(gallery->primitives(latent), dims, volume.range(), gradientRange),
-          view.lighting.shade ? view : other);
+        (void)gallery->renderBothLightings(latent, view, other);
         cBoth.push_back(msSince(m0));
       };
       if (r % 2 == 0)
