@@ -14,15 +14,21 @@ from .scene import _image_text, _proxy, _rgb, _scene, _source, view_json
 
 
 def _tf_dict(tf, view=None):
-    """A TF as a dict: a Design (its explicit TF at `view`), a dict, a preset list or a file."""
+    """A TF as a dict: a Design (its explicit TF at `view`), a Match's or a CarriedLook's TF, a
+    dict, a preset list or a file."""
     if isinstance(tf, Design):
         return tf.transfer_function(view)
+    if isinstance(tf, (Match, CarriedLook)):
+        return tf.tf
     if isinstance(tf, str):
         with open(tf) as f:
             tf = json.load(f)
     tf = _first_tf(tf)
     if not isinstance(tf, dict):
-        raise TypeError("a transfer function is a Design, a preset dict or a JSON file path")
+        raise TypeError(
+            "a transfer function is a Design, a Match, a CarriedLook, a preset dict or a JSON "
+            "file path"
+        )
     return tf
 
 

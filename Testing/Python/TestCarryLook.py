@@ -17,7 +17,7 @@ import sys
 import numpy as np
 
 import ddg
-from paraview.simple import GetActiveViewOrCreate, GetColorTransferFunction, Show
+from paraview.simple import GetActiveViewOrCreate, GetColorTransferFunction, Render, Show
 from paraview.simple import XMLImageDataReader
 
 ddg_exe, outdir = sys.argv[1:3]
@@ -55,8 +55,23 @@ assert look.view["size"] == [256, 256]
 
 array = neghip.PointData.keys()[0]
 lut = GetColorTransferFunction(array)
-ddg.apply(look.tf, source=neghip, view=render_view)
+Render(render_view)  # the first render resets the camera
+camera_before = render_view.CameraPosition[:]
+try:  # another volume's picture: no camera to move to, and nothing written
+    ddg.apply(look, source=neghip, view=render_view, camera=True)
+    raise AssertionError("a carried look moved the camera")
+except ValueError as e:
+    print("camera=True:", e)
+    assert "carried look has no camera" in str(e), e
+assert list(lut.RGBPoints) != list(look.tf["RGBPoints"]), "a refused apply wrote the TF"
+ddg.apply(look, source=neghip, view=render_view)  # the CarriedLook itself, as a Match is applied
 assert np.allclose(list(lut.RGBPoints), look.tf["RGBPoints"], atol=1e-6), "not applied"
+assert list(render_view.CameraPosition) == list(camera_before), "the camera moved"
+exported = ddg.export(look, os.path.join(outdir, "carried.json"))
+with open(exported) as f:
+    preset = json.load(f)[0]
+assert preset["RGBPoints"] == look.tf["RGBPoints"], "the export is not the carried look's TF"
+assert preset["Name"].startswith("DDG "), preset["Name"]
 
 before = list(lut.RGBPoints)
 uniform = os.path.join(outdir, "uniform.png")
