@@ -106,6 +106,8 @@ assert same_camera(camera, m.view["camera"]), camera
 assert np.allclose(view.CameraViewUp, m.view["camera"]["view_up"], atol=1e-6)
 lut = GetColorTransferFunction(ddg.scene.volume_array(neghip, view))
 assert np.allclose(list(lut.RGBPoints), m.tf["RGBPoints"], rtol=1e-6, atol=1e-6)
+with open(ddg.export(m, os.path.join(outdir, "matched.json"))) as f:  # the Match's TF as a preset
+    assert json.load(f)[0]["RGBPoints"] == m.tf["RGBPoints"], "the export is not the match's TF"
 view.UseColorPaletteForBackground = 0
 view.Background = m.view["background"]
 shot = os.path.join(outdir, "paraview.png")
