@@ -199,38 +199,31 @@ def apply(
 ):
     """Writes a TF (Design, preset dict or file, DDG 2D JSON, ParaView's 2D boxes, a ``Match`` or a
     ``CarriedLook``: its TF) into ``display``'s maps (default: the active source's display in the
-    active view; shown first if needed), switches it to the Volume representation and renders. A Design's TF is made at the
-    view's camera. 1D TFs go into the colour and opacity maps (2D rendering off); 2D TFs into
-    ParaView's TransferFunction2D (``paraview_2d``) with UseTransfer2D on. ``camera``: also
-    moves the view's camera there (a view JSON dict or file, e.g. a ``Match``'s ``view``; True
-    with a ``Match``: its camera; a ``CarriedLook`` has none, the picture being of another
-    volume; default: the camera stays). ParaView shares one colour map per
-    array name: when other shown volumes share this one, ``separate_color_map=True`` first gives
-    this display its own maps (ParaView's Use Separate Color Map), False recolours them all, and
-    None (default) recolours them all with a warning naming them. ``lighting``: sets the
-    display's Shade and its Ambient, Diffuse, Specular, SpecularPower from a view JSON's
+    active view; shown first if needed), switches it to the Volume representation and renders. A
+    Design's TF is made at the view's camera. 1D TFs go into the colour and opacity maps (2D
+    rendering off); 2D TFs into ParaView's TransferFunction2D (``paraview_2d``) with
+    UseTransfer2D on. ``camera``: also moves the view's camera there (a view JSON dict or file,
+    e.g. a ``Match``'s ``view``; True with a ``Match``: its camera; a ``CarriedLook`` has none,
+    its picture being of another volume; default: the camera stays). ParaView shares one colour
+    map per array name: when other shown volumes share this one, ``separate_color_map=True``
+    first gives this display its own maps (ParaView's Use Separate Color Map), False recolours
+    them all, and None (default) recolours them all with a warning naming them. ``lighting``:
+    sets the display's Shade and its Ambient, Diffuse, Specular, SpecularPower from a view JSON's
     "lighting" (a view JSON dict or file; none: Shade off); default: a ``Match``'s own (the look
     it matched), else unchanged; False: unchanged. Returns the display."""
     from .designs import Design  # these modules build on this one
     from .tf import CarriedLook, Match, _tf_dict, paraview_2d
 
+    # a Match's or a CarriedLook's TF is taken out by _tf_dict; a Match adds its camera and look
     if isinstance(tf, Match):
         if camera is True:
             camera = tf.view
         if lighting is None:
             lighting = tf.view
-        tf = tf.tf
+    elif camera is True and isinstance(tf, CarriedLook):
+        raise ValueError("apply: a carried look has no camera, its picture shows another volume")
     elif camera is True:
-        raise ValueError(
-            "apply: camera=True needs a Match (give a view JSON dict or file)"
-            + (
-                ": a carried look has no camera, its picture shows another volume"
-                if isinstance(tf, CarriedLook)
-                else ""
-            )
-        )
-    elif isinstance(tf, CarriedLook):
-        tf = tf.tf
+        raise ValueError("apply: camera=True needs a Match (give a view JSON dict or file)")
     view = _view(view)
     source = _source(source)
     display = display or simple.Show(source, view)
