@@ -26,6 +26,8 @@ Run (pvpython under Xvfb; `ddg build` of the three B volumes the first time, BUD
     scripts/with-xvfb.sh /usr/bin/pvpython Testing/Benchmarks/carry_look_pairs.py \
         --ddg build/bin/ddg --out build/pairs --chart build/pairs/chart.png [--budget 6]
 The Debian volumes need the package mricron-data (scripts/setup.sh installs it).
+carry_look_pairs_holdout.json holds two more TFs per pair, written before any figure of them
+(--pairs Testing/Benchmarks/carry_look_pairs_holdout.json; Documentation/DesignSpaces.md).
 """
 import argparse
 import json
