@@ -26,7 +26,8 @@ Run (pvpython under Xvfb; `ddg build` of the three B volumes the first time, BUD
     scripts/with-xvfb.sh /usr/bin/pvpython Testing/Benchmarks/carry_look_pairs.py \
         --ddg build/bin/ddg --out build/pairs --chart build/pairs/chart.png [--budget 6]
 The Debian volumes need the package mricron-data (scripts/setup.sh installs it).
-carry_look_pairs_holdout.json holds two more TFs per pair, written before any figure of them
+carry_look_pairs_holdout.json holds two more TFs per pair, written before any figure of them, and
+their pictures; volumes and pairs come from carry_look_pairs.json
 (--pairs Testing/Benchmarks/carry_look_pairs_holdout.json; Documentation/DesignSpaces.md).
 """
 import argparse
@@ -306,6 +307,22 @@ def chart(records, path):
     fig.savefig(path, dpi=110)
 
 
+def read_pairs(path):
+    """The pairs file; a file of only TFs (keyed by pair name) and pictures, such as
+    carry_look_pairs_holdout.json, takes its volumes and pairs from carry_look_pairs.json."""
+    with open(path) as f:
+        spec = json.load(f)
+    if "pairs" in spec:
+        return spec
+    with open(os.path.join(HERE, "carry_look_pairs.json")) as f:
+        base = json.load(f)
+    unknown = set(spec["tfs"]) - {p["name"] for p in base["pairs"]}
+    if unknown:
+        raise SystemExit(f"{path}: no pair named {', '.join(sorted(unknown))}")
+    pairs = [dict(p, tfs=spec["tfs"][p["name"]]) for p in base["pairs"] if p["name"] in spec["tfs"]]
+    return {"volumes": base["volumes"], "pairs": pairs, "pictures": spec["pictures"]}
+
+
 def main():
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
@@ -320,8 +337,7 @@ def main():
     parser.add_argument("--chart")
     args = parser.parse_args()
     args.out = os.path.abspath(args.out)
-    with open(args.pairs) as f:
-        spec = json.load(f)
+    spec = read_pairs(args.pairs)
     pairs = [p for p in spec["pairs"] if not args.case or p["name"] in args.case]
     needed = {v for p in pairs for v in (p["a"], p["b"])}
     volumes = {
