@@ -436,6 +436,12 @@ CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& i
   return result;
 }
 
+void carryLookFrom(
+  CarryLookOptions& options, const TransferFunction1D& tf, const std::array<double, 2>& range)
+{
+  options.fit.initial1D = bakeTable(tf, range[0], range[1], 1024);
+}
+
 View carriedLookView(const std::array<double, 6>& bounds, const CarryLookResult& result,
   const CarryLookOptions& options, int size)
 {

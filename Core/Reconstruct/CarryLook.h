@@ -139,6 +139,13 @@ struct CarryLookResult
 CarryLookResult carryLook(const DifferentiableRenderer& renderer, const Image& picture,
   const CarryLookOptions& options = {}, const ReconstructionProgress& progress = {});
 
+/// The carried look starts from `tf`, a TF of this volume (a query's design) whose data range is
+/// `range`: the fit is of free bins from it (baked at 1024 entries) instead of the regions'
+/// primitives (`fit.initial1D`). The CLI's `--init`, the filter's InitialTransferFunction and
+/// pvpython's `carry_look(initial=...)` all start it so.
+void carryLookFrom(
+  CarryLookOptions& options, const TransferFunction1D& tf, const std::array<double, 2>& range);
+
 /// The view a carried look is shown at: the options' first view of the volume, `size` pixels
 /// square, over the picture's background (as estimated), lit as the options say.
 View carriedLookView(const std::array<double, 6>& bounds, const CarryLookResult& result,

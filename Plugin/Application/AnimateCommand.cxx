@@ -81,7 +81,8 @@ ddg::cli::Command ddg::cli::addAnimateCommand(CLI::App& app)
   animate->add_option("--model", aa->model, "Model bundle directory (with outline.bin)")
     ->required();
   animate->add_option("--volume", aa->volume, "The bundle's volume")->required();
-  animate->add_option("--from", aa->from, "First design: row:N, image:PATH or latent:PATH")
+  animate
+    ->add_option("--from", aa->from, "First design: row:N, image:PATH, latent:PATH or history:PATH")
     ->required();
   animate->add_option("--to", aa->to, "Last design")->required();
   animate->add_option("--frames", aa->frames, "Frames (default 24)")->check(CLI::Range(2, 10000));

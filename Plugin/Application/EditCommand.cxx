@@ -127,7 +127,9 @@ ddg::cli::Command ddg::cli::addEditCommand(CLI::App& app)
     "brushed --mask), re-analyzed to a latent; and/or move along the principal axes (--axes).");
   edit->add_option("--model", eda->model, "Model bundle directory (with outline.bin)")->required();
   edit->add_option("--volume", eda->volume, "The bundle's volume")->required();
-  edit->add_option("--design", eda->design, "The design: row:N, image:PATH or latent:PATH")
+  edit
+    ->add_option(
+      "--design", eda->design, "The design: row:N, image:PATH, latent:PATH or history:PATH")
     ->required();
   edit->add_option("--view", eda->view, "View JSON the edit is made at")->required();
   edit->add_option("--pick", eda->pick, "x,y: edit the colour cluster under this pixel");

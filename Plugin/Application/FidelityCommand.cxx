@@ -62,7 +62,9 @@ ddg::cli::Command ddg::cli::addFidelityCommand(CLI::App& app)
   fidelity->add_option("--model", fa->model, "Model bundle directory (with outline.bin)")
     ->required();
   fidelity->add_option("--volume", fa->volume, "The bundle's volume")->required();
-  fidelity->add_option("--design", fa->design, "The design: row:N, image:PATH or latent:PATH")
+  fidelity
+    ->add_option(
+      "--design", fa->design, "The design: row:N, image:PATH, latent:PATH or history:PATH")
     ->required();
   fidelity->add_option("--view", fa->view, "View JSON")->required();
   fidelity->add_option("--out-heat", fa->outHeat, "Write the heat map (PNG)");

@@ -154,7 +154,7 @@ ddg::cli::Command ddg::cli::addGenerateCommand(CLI::App& app)
   generate->add_flag("--screen", ga->screen,
     "Designs that show structure only: leave out feature regions that paint the volume's box "
     "or show nothing, and pass over designs whose image is empty or a flat box (the next index "
-    "is taken; see README, 'Design spaces that show structure')");
+    "is taken; see Documentation/DesignSpaces.md, 'Designs that show structure')");
   generate->add_option(
     "--preview", ga->preview, "Also write a contact sheet of the first exemplars");
   generate->add_option("--tfs", ga->tfs,

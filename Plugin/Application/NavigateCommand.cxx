@@ -75,7 +75,7 @@ ddg::cli::Command ddg::cli::addNavigateCommand(CLI::App& app)
   auto* navigate = app.add_subcommand("navigate",
     "Navigate between 2-4 designs (paper 1): a grid of the sub-space they span (2: a line, 3: "
     "barycentric triangle, 4: bilinear), each cell rendered by the model; --window pans and "
-    "zooms inside it. Designs: row:N (outline row), image:PATH, latent:PATH.");
+    "zooms inside it. Designs: row:N (outline row), image:PATH, latent:PATH, history:PATH.");
   navigate->add_option("--model", na->model, "Model bundle directory (with outline.bin)")
     ->required();
   navigate->add_option("--volume", na->volume, "The bundle's volume")->required();

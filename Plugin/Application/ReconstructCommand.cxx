@@ -39,7 +39,16 @@ struct ReconstructArgs
   int cameraCandidates = ddg::MatchOptions().cameraCandidates;
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
   unsigned seed = 1;
+  bool iterationsGiven = false;
+  /// Options given on the command line that --carry-look does not use (refused with it).
+  std::vector<std::string> notForCarry;
 };
+
+// Options of the match and the fits that the carried look does not take (its fit has its own
+// settings: Core's CarryLookOptions).
+const char* const kNotForCarry[] = { "--bins", "--gradient-bins", "--primitives", "--loss",
+  "--smoothness", "--lr", "--rays", "--resample", "--ssim-weight", "--camera-candidates",
+  "--background" };
 
 // Prints a warning (when there is one) on stderr.
 void warn(const std::string& text)
@@ -236,6 +245,15 @@ int runCarry(const ReconstructArgs& a)
     !a.outView.empty() || !a.outOverlay.empty())
     throw ddg::Error("--carry-look takes one --target and no --view, --mask, --2d, "
                      "--estimate-view, --out-view or --out-overlay");
+  if (!a.notForCarry.empty())
+  {
+    std::string names;
+    for (const auto& n : a.notForCarry)
+      names += (names.empty() ? "" : ", ") + n;
+    throw ddg::Error("--carry-look does not use " + names +
+      " (its fit compares colour distributions at its own settings; it takes --iterations, "
+      "--init, --seed, --shade, --threads, --array, --out-image and --quiet)");
+  }
   const auto t0 = Clock::now();
   const ddg::Image picture = readTarget(a.targets[0], nullptr, false);
   const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
@@ -243,9 +261,10 @@ int runCarry(const ReconstructArgs& a)
   ddg::CarryLookOptions opt;
   opt.fit.seed = a.seed;
   opt.fit.render.threads = a.threads;
+  if (a.iterationsGiven)
+    opt.fit.iterations = a.iterations;
   if (!a.init.empty()) // from a TF of this volume (a query's design): free bins from it
-    opt.fit.initial1D =
-      ddg::bakeTable(ddg::readPreset(a.init), volume.range()[0], volume.range()[1], 1024);
+    ddg::carryLookFrom(opt, ddg::readPreset(a.init), volume.range());
   if (a.shade == "on")
     opt.lighting.shade = true;
   const double tLoad = msSince(t0);
@@ -414,7 +433,8 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     "The --target is a picture of another volume of the same kind: carry its look over (Core's "
     "carryLook, the filter's CarryLook, ddg.carry_look in pvpython; its "
     "colours matched to this volume's feature regions by rank, refined by colour distribution; "
-    "no camera; --out-image renders it at azimuth 30, elevation 20)");
+    "no camera; --out-image renders it at azimuth 30, elevation 20; takes --iterations, --init, "
+    "--seed, --shade on, --threads and refuses the match's fit options)");
   reconstruct->add_option("--bins", rc->bins, "TF resolution along the value (default 128)")
     ->check(CLI::Range(2, 4096));
   reconstruct
@@ -430,7 +450,9 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     ->check(CLI::IsMember({ "l1", "l2" }));
   reconstruct->add_option(
     "--smoothness", rc->smoothness, "Weight of the smoothness prior (default 0.01)");
-  reconstruct->add_option("--iterations", rc->iterations, "Maximum Adam steps (default 500)")
+  reconstruct
+    ->add_option(
+      "--iterations", rc->iterations, "Maximum Adam steps (default 500; --carry-look: steps, 150)")
     ->check(CLI::Range(1, 1000000));
   reconstruct
     ->add_option("--lr", rc->learningRate, "Adam learning rate in logit space (default 0.2)")
@@ -445,7 +467,8 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     "Resize targets to their view's size instead of refusing a size mismatch");
   reconstruct->add_option(
     "--out-image", rc->outImage, "Also write our render of the result at the first view");
-  reconstruct->add_option("--seed", rc->seed, "Seed of the pixel sampling (default 1)");
+  reconstruct->add_option("--seed", rc->seed,
+    "Seed of the pixel sampling (default 1); --carry-look: of the colour distance's directions");
   reconstruct->add_option("--threads", rc->threads, "Worker threads (default 0: all cores)")
     ->check(CLI::Range(0, 256));
   reconstruct->add_option("--array", rc->array, "Point array (default: the active scalars)");
@@ -476,5 +499,13 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
   reconstruct->add_option("--out-overlay", rc->outOverlay,
     "One target: write the mask of what was ignored as an overlay (orientation axes, text, a "
     "scalar bar): white = ignored");
-  return { reconstruct, [rc] { return runReconstruct(*rc); } };
+  return { reconstruct,
+    [rc, reconstruct]
+    {
+      rc->iterationsGiven = reconstruct->count("--iterations") > 0;
+      for (const char* name : kNotForCarry)
+        if (reconstruct->count(name) > 0)
+          rc->notForCarry.emplace_back(name);
+      return runReconstruct(*rc);
+    } };
 }

@@ -684,6 +684,10 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   const ddg::DifferentiableRenderer& renderer = *volume.renderer;
   ddg::CarryLookOptions opt;
   opt.fit.snapshotEvery = this->PreviewEvery;
+  if (!this->InitialTransferFunction.empty()) // a query's design: free bins from it
+    ddg::carryLookFrom(opt,
+      ddg::parsePreset(this->InitialTransferFunction, "InitialTransferFunction"),
+      renderer.dataRange());
   // the preview: the fit's TF at the first view, over the picture's background when it has one
   ddg::CarryLookResult previewOf;
   try

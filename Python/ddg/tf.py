@@ -56,7 +56,8 @@ def reconstruct(
     """The TF that renders ``source`` like ``image`` (a screenshot file or numpy image of the
     volume, the view's size) at ``view`` (a view JSON file or dict, or the active view's camera:
     then the image must have the view's size): differentiable reconstruction (DDG Reconstruct
-    Transfer Function), ``iterations`` Adam steps. ``background``: the screenshot's background
+    Transfer Function), at most ``iterations`` Adam steps (it stops once converged; the filter's
+    and ``ddg reconstruct``'s default is 500). ``background``: the screenshot's background
     (r, g, b) in [0, 1]; None (default) estimates it from the screenshot's border (the view's
     when they agree; otherwise the border's, with a warning). Returns the TF dict (a ParaView
     preset)."""
@@ -81,6 +82,17 @@ def reconstruct(
     if not text:
         raise DDGError("the reconstruction failed (see the Output Messages)")
     return _first_tf(json.loads(text))
+
+
+def _initial_json(initial, view, caller):
+    """A fit's start (a Design, a preset dict or file; 1D) as the filter's
+    InitialTransferFunction text; None: ""."""
+    if initial is None:
+        return ""
+    d = _tf_dict(initial, view)
+    if "RGBPoints" not in d:
+        raise ValueError(caller + ": initial is a 1D transfer function (a ParaView preset)")
+    return json.dumps([d])
 
 
 def _fit_picture(proxy, label, result):
@@ -219,18 +231,13 @@ def match(
         v = view_json(camera)
     else:
         v = None
-    init = None
-    if initial is not None:
-        d = _tf_dict(initial, v)
-        if "RGBPoints" not in d:
-            raise ValueError("match: initial is a 1D transfer function (a ParaView preset)")
-        init = json.dumps([d])
+    init = _initial_json(initial, v, "match")
     props = dict(
         MatchPicture=1,
         TargetImageData=_image_text(image),
         ViewJSON=json.dumps(v) if v is not None else "",
         EstimateCamera=int(bool(refine_camera)),
-        InitialTransferFunction=init or "",
+        InitialTransferFunction=init,
         Bins=int(bins),
         TwoD=int(two_d),
         MaskOverlays=int(bool(mask_overlays)),
@@ -301,13 +308,16 @@ class CarriedLook:
         )
 
 
-def carry_look(image, source=None):
+def carry_look(image, source=None, initial=None):
     """The look of ``image``, a picture of *another* volume of the same kind (a figure from a
     paper, a colleague's screenshot; a file path or a numpy image (h, w, 3)), carried over to
     ``source`` (default: the active source): DDG Reconstruct Transfer Function with Carry Look
     on (Core's ``carryLook``). The picture's object colours are matched to this volume's feature
     regions by rank (darkest to the lowest values), then refined by colour distribution; no
-    pixel of the picture has to line up with this volume.
+    pixel of the picture has to line up with this volume. ``initial``: a TF of this volume to
+    start from instead (a Design, e.g. ``query(image)``'s, a preset dict or file; 1D): the fit
+    is of free bins from it, the regions still matched and reported (``ddg reconstruct
+    --carry-look --init``).
 
     Returns a ``CarriedLook`` (``.tf`` for ``apply``, ``.regions`` says what was matched with
     what). Raises DDGError with the filter's reason (a picture of nothing but its background,
@@ -318,6 +328,7 @@ def carry_look(image, source=None):
         source,
         CarryLook=1,
         TargetImageData=_image_text(image),
+        InitialTransferFunction=_initial_json(initial, None, "carry_look"),
     )
     return _fit_picture(proxy, "carry_look", CarriedLook)
 

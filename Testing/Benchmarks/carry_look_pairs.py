@@ -10,7 +10,8 @@ For every pair (A, B) and TF of carry_look_pairs.json:
        query        B's own design space (`ddg build --budget`, cached per volume) queried with
                     the picture (`ddg query`): the query alone
        query_carry  the query's design as the start of the carried look's fit (`ddg reconstruct
-                    --carry-look --init`: free bins from it, refined by colour distribution)
+                    --carry-look --init`: free bins from it, refined by colour distribution;
+                    without query in --methods, the query.json of an earlier run into OUT)
        carry        `ddg reconstruct --other-volume`: the look carried over
        match_other  `ddg reconstruct` as for a picture of B itself (what a user gets without
                     saying the picture is of another volume)
@@ -222,10 +223,16 @@ def run_case(args, pair, tf, spec, volumes, previous):
             )
             jobs["query"] = [args.ddg, "query", "--model", bundle, "--volume", b, "--image", image]
             jobs["query"] += ["--view", view, "--out-tf", os.path.join(work, "query.json")]
-            jobs["query_carry"] = [args.ddg, "reconstruct", "--volume", b, "--quiet"]
-            jobs["query_carry"] += ["--threads", str(args.threads), "--target", image]
-            jobs["query_carry"] += ["--carry-look", "--init", os.path.join(work, "query.json")]
-            jobs["query_carry"] += ["--out", os.path.join(work, "query_carry.json")]
+    query_tf = os.path.join(work, "query.json")
+    asked = "query_carry" in args.methods and "query" not in args.methods
+    if asked and not os.path.isfile(query_tf):
+        raise SystemExit(f"{name}: query_carry starts from {query_tf}; add query to --methods")
+    if "query" in jobs or asked:
+        # from the query's design: this run's, or an earlier run's of the same picture
+        jobs["query_carry"] = [args.ddg, "reconstruct", "--volume", b, "--quiet"]
+        jobs["query_carry"] += ["--threads", str(args.threads), "--target", image]
+        jobs["query_carry"] += ["--carry-look", "--init", query_tf]
+        jobs["query_carry"] += ["--out", os.path.join(work, "query_carry.json")]
     base = [args.ddg, "reconstruct", "--volume", b, "--quiet"] + threads
     jobs["carry"] = base + ["--target", image, "--other-volume"]
     jobs["carry"] += ["--out", os.path.join(work, "carry.json")]

@@ -1,6 +1,7 @@
 # ExpectError.cmake: runs CMD (arguments separated by |), expects exit status EXPECT_CODE (default 1, never a
 # signal), stderr matching REGEX, and that OUT (if given) was not created.
-#   cmake -DCMD="a|b|c" -DREGEX="..." [-DOUT=path] [-DEXPECT_CODE=1] -P ExpectError.cmake
+#   cmake -DCMD="a|b|c" -DREGEX="..." [-DOUT=path] [-DEXPECT_CODE=1] [-DSTDOUT_REGEX="..."]
+#     -P ExpectError.cmake
 if(NOT DEFINED EXPECT_CODE)
   set(EXPECT_CODE 1)
 endif()
@@ -14,6 +15,9 @@ if(NOT code STREQUAL "${EXPECT_CODE}")
 endif()
 if(DEFINED REGEX AND NOT err MATCHES "${REGEX}")
   message(FATAL_ERROR "stderr does not match '${REGEX}':\n${err}")
+endif()
+if(DEFINED STDOUT_REGEX AND NOT out MATCHES "${STDOUT_REGEX}")
+  message(FATAL_ERROR "stdout does not match '${STDOUT_REGEX}':\n${out}")
 endif()
 if(DEFINED OUT AND EXISTS "${OUT}" AND NOT EXPECT_CODE EQUAL 0)
   message(FATAL_ERROR "the output file ${OUT} was written despite the error")

@@ -52,6 +52,17 @@ assert all(0 <= c <= 1 for r in look.regions for c in r["colour"])
 assert look.distance_end < look.distance_start, (look.distance_start, look.distance_end)
 assert look.image.shape == (256, 256, 3), look.image.shape
 assert look.view["size"] == [256, 256]
+# from a TF of this volume (a query's design, here the look itself): the fit starts there, so
+# its start is already nearer the picture than the regions' rank-matched colours were
+again = ddg.carry_look(picture, neghip, initial=look)
+print("from the look: %.2f -> %.2f" % (again.distance_start, again.distance_end))
+assert again.distance_start < look.distance_start, (again.distance_start, look.distance_start)
+assert len(again.regions) == len(look.regions)
+try:
+    ddg.carry_look(picture, neghip, initial={"Points": [0, 0, 0.5, 0]})
+    raise AssertionError("a TF without colours started the carried look")
+except ValueError as e:
+    assert "initial is a 1D transfer function" in str(e), e
 
 array = neghip.PointData.keys()[0]
 lut = GetColorTransferFunction(array)
