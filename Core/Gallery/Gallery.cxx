@@ -360,13 +360,15 @@ const Image& DesignGallery::thumbnail(int row, const View& view)
 
 std::vector<float> DesignGallery::analyzeImage(const Image& image) const
 {
-  return Model.analyze(prepareQueryImage(image, Model.config().imageSize));
+  return Model.analyze(
+    prepareQueryImage(shrinkPicture(image, kQueryPictureSide), Model.config().imageSize));
 }
 
-QueryResult DesignGallery::query(const Image& image, const View& view, int neighbours) const
+QueryResult DesignGallery::query(const Image& picture, const View& view, int neighbours) const
 {
   if (neighbours < 0)
     throw Error("the neighbour count must be >= 0");
+  const Image image = shrinkPicture(picture, kQueryPictureSide);
   QueryResult r;
   r.input = prepareQueryImage(image, Model.config().imageSize);
   // a chart is refused; a picture that cannot be read as a rendered volume gets a warning
@@ -387,7 +389,7 @@ QueryResult DesignGallery::query(const Image& image, const View& view, int neigh
 std::vector<double> DesignGallery::picturePSNR(const Image& picture,
   const std::vector<std::vector<float>>& latents, const View& view, std::vector<bool>* lit) const
 {
-  return againstPicture(picture, latents, view, lit, nullptr);
+  return againstPicture(shrinkPicture(picture, kQueryPictureSide), latents, view, lit, nullptr);
 }
 
 std::vector<double> DesignGallery::againstPicture(const Image& picture,

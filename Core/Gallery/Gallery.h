@@ -167,7 +167,8 @@ public:
   /// The analyzer's latent of any image, framed as a query (prepareQueryImage).
   std::vector<float> analyzeImage(const Image& image) const;
 
-  /// Analyzer -> latent -> place on the outline, nearest designs and a preview at `view`.
+  /// Analyzer -> latent -> place on the outline, nearest designs and a preview at `view`. A
+  /// picture over kQueryPictureSide on its longer side is halved first (shrinkPicture).
   /// Throws ddg::Error for an unusable image (prepareQueryImage) or a picture of lines or text
   /// (a chart: checkQueryPicture); a picture that cannot be read as a rendered volume (a
   /// photograph) is answered with a warning.

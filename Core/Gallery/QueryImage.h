@@ -35,6 +35,11 @@ namespace ddg
 /// with other than 1-4 channels, fully transparent or uniform.
 Image prepareQueryImage(const Image& image, int size);
 
+/// The side a query's picture is read at, at most: a larger one (a 4K or Retina screenshot, a
+/// poster's figure) is halved first (shrinkPicture), which changes neither its framing nor its
+/// colours but spares time and memory (DesignGallery::query, analyzeImage, picturePSNR).
+constexpr int kQueryPictureSide = 2048;
+
 /// Whether prepareQueryImage finds content in an RGB image: a pixel that differs from the median
 /// of the border by more than 0.04 in a channel.
 bool hasQueryContent(const Image& rgb);

@@ -454,6 +454,43 @@ Image shrinkImage(Image image, int width, int height, int halveFrom)
   return image.width == width && image.height == height ? image : resizeImage(image, width, height);
 }
 
+Image shrinkPicture(const Image& picture, int longest)
+{
+  if (longest < 1)
+    throw Error("a picture's longest side must be at least 1 pixel");
+  int w = picture.width, h = picture.height;
+  while (std::max(w, h) > longest && std::min(w, h) >= 32)
+  {
+    w /= 2;
+    h /= 2;
+  }
+  if (w == picture.width)
+    return picture;
+  // the first halving reads the picture in place (a large picture is not copied whole), RGBA
+  // premultiplied; shrinkImage halves the rest
+  const bool rgba = picture.channels == 4;
+  const int hw = picture.width / 2, hh = picture.height / 2, channels = picture.channels;
+  Image half(hw, hh, channels);
+  for (int y = 0; y < hh; ++y)
+    for (int x = 0; x < hw; ++x)
+    {
+      float a[4] = { 1, 1, 1, 1 };
+      if (rgba)
+        for (int k = 0; k < 4; ++k)
+          a[k] = picture.at(2 * x + k % 2, 2 * y + k / 2, 3);
+      for (int c = 0; c < channels; ++c)
+      {
+        const bool weighted = rgba && c < 3;
+        float sum = 0;
+        for (int k = 0; k < 4; ++k)
+          sum += picture.at(2 * x + k % 2, 2 * y + k / 2, c) * (weighted ? a[k] : 1.0f);
+        half.at(x, y, c) = 0.25f * sum;
+      }
+    }
+  Image out = hw == w ? std::move(half) : shrinkImage(std::move(half), w, h);
+  return rgba ? unpremultiplyAlpha(out) : out;
+}
+
 Image tileImages(const std::vector<Image>& images, int columns, int gap, float background)
 {
   if (images.empty() || columns < 1 || gap < 0)

@@ -92,6 +92,14 @@ Image resizeImage(const Image& image, int width, int height);
 /// query's framing and the reading of a picture (readPictureObject) shrink with.
 Image shrinkImage(Image image, int width, int height, int halveFrom = 2);
 
+/// A user's picture made no larger than its use needs: halved by 2 x 2 box averages (shrinkImage)
+/// while its longer side is over `longest` and its shorter side at least 32 (a strip stays
+/// longer). 4 channels are straight-alpha RGBA (as PNG stores them) and are averaged
+/// premultiplied; any other count as is. A picture already small enough is returned unchanged.
+/// The query reads pictures at most 2048 pixels a side (kQueryPictureSide), the carried look
+/// at most 512 (readPictureObject).
+Image shrinkPicture(const Image& picture, int longest);
+
 /// Writes an image; the format follows the extension. 8-bit formats (PNG, JPEG, ...) get
 /// round(255 clamp(v, 0, 1)); EXR and TIFF ".tif(f)" keep float. 1, 3 or 4 channels.
 /// Values are written as given (an RGBA image is stored as is: pass straight alpha for PNG).

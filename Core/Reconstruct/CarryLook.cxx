@@ -260,16 +260,9 @@ PictureObject readPictureObject(const Image& input)
   // filtered resize: OpenImageIO's took 130-200 ms for an 800 x 600 or 1000 x 700 picture
   std::array<int, 4> crop{};
   const Image inside = insideLetterbox(input, crop);
-  r.picture =
-    inside.channels == 4 ? compositeOverBackground(inside, { 0, 0, 0 }) : toChannels(inside, 3);
-  int w = r.picture.width, h = r.picture.height;
-  while (std::max(w, h) > 512 && std::min(w, h) >= 32)
-  {
-    w /= 2;
-    h /= 2;
-  }
-  if (w != r.picture.width)
-    r.picture = shrinkImage(std::move(r.picture), w, h);
+  r.picture = shrinkPicture(
+    inside.channels == 4 ? compositeOverBackground(inside, { 0, 0, 0 }) : toChannels(inside, 3),
+    512);
   const int W = r.picture.width, H = r.picture.height;
   r.background = estimateBackground(r.picture);
   View pv;

@@ -246,6 +246,51 @@ TEST(Image, ShrinkHalvesByBoxAveragesThenResizes)
   EXPECT_THROW(shrinkImage(Image(), 10, 10), Error);
 }
 
+TEST(Image, ShrinkPictureHalvesLargePicturesOnly)
+{
+  // under the limit, or a strip whose shorter side is under 32: unchanged
+  const Image small(800, 600, 3, 0.3f);
+  EXPECT_EQ(shrinkPicture(small, 2048).pixels, small.pixels);
+  const Image strip(5000, 20, 3, 0.3f);
+  EXPECT_EQ(shrinkPicture(strip, 2048).width, 5000);
+  // 4100 x 3000: halved twice (2050 is still over 2048) to 1025 x 750, each pixel the mean of
+  // its 4 x 4 block
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Image big(4100, 3000, 3);
+  for (float& v : big.pixels)
+    v = u(rng);
+  const Image quarter = shrinkPicture(big, 2048);
+  ASSERT_EQ(quarter.width, 1025);
+  ASSERT_EQ(quarter.height, 750);
+  for (int y : { 0, 400, 749 })
+    for (int x : { 0, 512, 1024 })
+    {
+      float mean = 0;
+      for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i)
+          mean += big.at(4 * x + i, 4 * y + j, 1) / 16;
+      EXPECT_NEAR(quarter.at(x, y, 1), mean, 1e-5f);
+    }
+  // straight-alpha RGBA is averaged premultiplied: a transparent pixel's colour (here a
+  // garbage red) does not bleed into its opaque neighbours' colour
+  Image rgba(64, 64, 4, 0.0f);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+    {
+      const bool opaque = x % 2 == 0;
+      rgba.at(x, y, 0) = opaque ? 0.0f : 1.0f;
+      rgba.at(x, y, 1) = opaque ? 0.5f : 0.0f;
+      rgba.at(x, y, 3) = opaque ? 1.0f : 0.0f;
+    }
+  const Image halfRGBA = shrinkPicture(rgba, 32);
+  ASSERT_EQ(halfRGBA.width, 32);
+  EXPECT_NEAR(halfRGBA.at(5, 7, 0), 0.0f, 1e-6f);
+  EXPECT_NEAR(halfRGBA.at(5, 7, 1), 0.5f, 1e-6f);
+  EXPECT_NEAR(halfRGBA.at(5, 7, 3), 0.5f, 1e-6f);
+  EXPECT_THROW(shrinkPicture(small, 0), Error);
+}
+
 // resizeImage applies OpenImageIO's resize (its default filter, its taps, its clamped edges) one
 // axis at a time: equal to ImageBufAlgo::resize to float rounding, shrinking, enlarging, both at
 // once, from 1-pixel sources, for 1 to 4 channels (2x2 -> 2x3 and 4x2 -> 4x3: a filter taller
