@@ -41,7 +41,8 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
   this->QueryProxy->UpdateVTKObjects();
   if (!table) // the last query (its picture, nearest designs and match) stays as it was
   {
-    this->report(tr("The query failed: %1").arg(ddgpanel::lastError(this->QueryProxy)), true);
+    this->report(
+      tr("The query failed ('%1'): %2").arg(name, ddgpanel::lastError(this->QueryProxy)), true);
     return;
   }
   this->dropQueryPicture();

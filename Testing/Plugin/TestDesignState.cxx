@@ -226,7 +226,7 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
     chart.save(&buffer, "PNG");
     const QJsonArray before = state.steps();
     state.query(chartPng, "chart.png");
-    check(state.lastMessage().startsWith("The query failed") &&
+    check(state.lastMessage().startsWith("The query failed ('chart.png')") &&
         state.lastMessage().contains("lines or text") && state.steps() == before,
       "chart query: " + state.lastMessage());
   }
