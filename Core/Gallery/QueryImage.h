@@ -31,8 +31,9 @@ namespace ddg
 ///  4. 2 x 2 box averages while the square is 4x the size or more, then OpenImageIO's filtered
 ///     resize to size x size, quantised to 8 bits as training images are.
 /// So any size and aspect works, and a square image of the model's size over black or white is
-/// used as it is. Throws ddg::Error for images smaller than 8 x 8, larger than 16384 on a side,
-/// with other than 1-4 channels, fully transparent or uniform.
+/// used as it is. Throws ddg::Error for images smaller than 8 x 8, larger than 16384 on a side
+/// (DesignGallery's query halves a picture over kQueryPictureSide first; readImage refuses files
+/// over 16384 or 64 Mpixel), with other than 1-4 channels, fully transparent or uniform.
 Image prepareQueryImage(const Image& image, int size);
 
 /// The side a query's picture is read at, at most: a larger one (a 4K or Retina screenshot, a

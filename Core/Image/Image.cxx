@@ -435,22 +435,43 @@ Image resizeImage(const Image& image, int width, int height)
   return result;
 }
 
+namespace
+{
+// The image halved by 2 x 2 box averages (an odd last row or column left out); with
+// `alphaWeighted`, the colour channels are averaged weighted by the last channel (straight alpha
+// in, straight alpha out: a transparent pixel's colour does not count).
+Image halve(const Image& image, bool alphaWeighted)
+{
+  const int hw = image.width / 2, hh = image.height / 2, channels = image.channels;
+  const int alpha = channels - 1;
+  Image half(hw, hh, channels);
+  for (int y = 0; y < hh; ++y)
+    for (int x = 0; x < hw; ++x)
+    {
+      float a = 0;
+      if (alphaWeighted)
+        for (int k = 0; k < 4; ++k)
+          a += image.at(2 * x + k % 2, 2 * y + k / 2, alpha);
+      for (int c = 0; c < channels; ++c)
+      {
+        const bool weighted = alphaWeighted && c != alpha;
+        float sum = 0;
+        for (int k = 0; k < 4; ++k)
+          sum += image.at(2 * x + k % 2, 2 * y + k / 2, c) *
+            (weighted ? image.at(2 * x + k % 2, 2 * y + k / 2, alpha) : 1.0f);
+        half.at(x, y, c) = weighted ? (a > 0 ? std::min(1.0f, sum / a) : 0.0f) : 0.25f * sum;
+      }
+    }
+  return half;
+}
+} // namespace
+
 Image shrinkImage(Image image, int width, int height, int halveFrom)
 {
   if (image.empty() || width < 1 || height < 1 || halveFrom < 2)
     throw Error("cannot shrink an empty image, to an empty size or halving from under 2x");
   while (image.width >= halveFrom * width && image.height >= halveFrom * height)
-  {
-    const int hw = image.width / 2, hh = image.height / 2, channels = image.channels;
-    Image half(hw, hh, channels);
-    for (int y = 0; y < hh; ++y)
-      for (int x = 0; x < hw; ++x)
-        for (int c = 0; c < channels; ++c)
-          half.at(x, y, c) = 0.25f *
-            (image.at(2 * x, 2 * y, c) + image.at(2 * x + 1, 2 * y, c) +
-              image.at(2 * x, 2 * y + 1, c) + image.at(2 * x + 1, 2 * y + 1, c));
-    image = std::move(half);
-  }
+    image = halve(image, false);
   return image.width == width && image.height == height ? image : resizeImage(image, width, height);
 }
 
@@ -466,29 +487,13 @@ Image shrinkPicture(const Image& picture, int longest)
   }
   if (w == picture.width)
     return picture;
-  // the first halving reads the picture in place (a large picture is not copied whole), RGBA
-  // premultiplied; shrinkImage halves the rest
-  const bool rgba = picture.channels == 4;
-  const int hw = picture.width / 2, hh = picture.height / 2, channels = picture.channels;
-  Image half(hw, hh, channels);
-  for (int y = 0; y < hh; ++y)
-    for (int x = 0; x < hw; ++x)
-    {
-      float a[4] = { 1, 1, 1, 1 };
-      if (rgba)
-        for (int k = 0; k < 4; ++k)
-          a[k] = picture.at(2 * x + k % 2, 2 * y + k / 2, 3);
-      for (int c = 0; c < channels; ++c)
-      {
-        const bool weighted = rgba && c < 3;
-        float sum = 0;
-        for (int k = 0; k < 4; ++k)
-          sum += picture.at(2 * x + k % 2, 2 * y + k / 2, c) * (weighted ? a[k] : 1.0f);
-        half.at(x, y, c) = 0.25f * sum;
-      }
-    }
-  Image out = hw == w ? std::move(half) : shrinkImage(std::move(half), w, h);
-  return rgba ? unpremultiplyAlpha(out) : out;
+  // halved to exactly w x h (no filtered resize); the first halving reads the picture in place,
+  // so a large picture is not copied whole
+  const bool alpha = picture.channels == 2 || picture.channels == 4;
+  Image out = halve(picture, alpha);
+  while (out.width > w)
+    out = halve(out, alpha);
+  return out;
 }
 
 Image tileImages(const std::vector<Image>& images, int columns, int gap, float background)

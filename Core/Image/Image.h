@@ -94,8 +94,9 @@ Image shrinkImage(Image image, int width, int height, int halveFrom = 2);
 
 /// A user's picture made no larger than its use needs: halved by 2 x 2 box averages (shrinkImage)
 /// while its longer side is over `longest` and its shorter side at least 32 (a strip stays
-/// longer). 4 channels are straight-alpha RGBA (as PNG stores them) and are averaged
-/// premultiplied; any other count as is. A picture already small enough is returned unchanged.
+/// longer). 2 and 4 channels carry straight alpha last (grey or RGB and alpha, as PNG stores
+/// them): the other channels are averaged weighted by it (premultiplied), so a transparent
+/// pixel's colour does not bleed in. A picture already small enough is returned unchanged.
 /// The query reads pictures at most 2048 pixels a side (kQueryPictureSide), the carried look
 /// at most 512 (readPictureObject).
 Image shrinkPicture(const Image& picture, int longest);

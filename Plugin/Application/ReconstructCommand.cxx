@@ -452,7 +452,7 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     "--smoothness", rc->smoothness, "Weight of the smoothness prior (default 0.01)");
   reconstruct
     ->add_option(
-      "--iterations", rc->iterations, "Maximum Adam steps (default 500; --carry-look: steps, 150)")
+      "--iterations", rc->iterations, "Maximum Adam steps (default 500; --carry-look: 150)")
     ->check(CLI::Range(1, 1000000));
   reconstruct
     ->add_option("--lr", rc->learningRate, "Adam learning rate in logit space (default 0.2)")

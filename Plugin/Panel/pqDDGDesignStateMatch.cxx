@@ -91,10 +91,11 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   vtkSMPropertyHelper(p, "OpacityUnitDistance")
     .Set(view.value("opacity_unit_distance").toDouble(0.0));
   // from the design shown (the query's, a nearest design picked, an edit: its TF at the current
-  // camera); 2D models fit a 2D TF from grey
+  // camera); 2D models fit a 2D TF from grey; the carried look starts from the picture's colours
+  // matched to the regions (measured better than from the query's design on the brain pairs)
   vtkSMPropertyHelper(p, "TwoD").Set(twoD ? 1 : 0);
   vtkSMPropertyHelper(p, "InitialTransferFunction")
-    .Set(twoD ? "" : this->Current.Preset.toUtf8().constData());
+    .Set(twoD || otherVolume ? "" : this->Current.Preset.toUtf8().constData());
   vtkSMPropertyHelper(p, "PreviewEvery").Set(10);
   p->UpdateVTKObjects();
 

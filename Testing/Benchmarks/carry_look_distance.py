@@ -8,8 +8,9 @@ views of the squared distance, as the fit's loss), two ways:
   framed       the pixels of the square around the object (1.1 x its larger side), background
                included, as the fit frames them;
   object only  the pixels off the background (by more than 0.04) alone.
-The picture is halved, its background is the median of its top and bottom rows, and its bottom-left
-corner (30 % by 20 %: ParaView's orientation axes) is left out.
+The picture is subsampled (every other pixel), its background is the median of its top and bottom
+rows, and its bottom-left corner (30 % by 20 %: ParaView's orientation axes) is left out. A
+render that shows nothing at a view gives NaN.
 
 This is a re-computation outside the fit (Documentation/DesignSpaces.md, "The CT pair's
 references do not look like its pictures"), not the fit's own figure: the fit frames and weights
@@ -56,7 +57,7 @@ def framed(image, background, left_out=None):
     """CIELAB of the square around the object; outside the image counts as background."""
     ys, xs = np.nonzero(object_mask(image, background, left_out))
     if len(xs) == 0:
-        raise SystemExit("no object in the image")
+        return np.empty((0, 3))
     side = max(4, round(1.1 * max(xs.max() - xs.min() + 1, ys.max() - ys.min() + 1)))
     x0 = (xs.min() + xs.max() + 1 - side) // 2
     y0 = (ys.min() + ys.max() + 1 - side) // 2
@@ -76,7 +77,10 @@ def object_only(image, background, left_out=None):
 
 
 def sliced_wasserstein(a, b, directions=256):
-    """Mean over random unit directions of the squared 1D Wasserstein-2 distance."""
+    """Mean over random unit directions of the squared 1D Wasserstein-2 distance (NaN when
+    either side has no pixel)."""
+    if len(a) == 0 or len(b) == 0:
+        return float("nan")
     rng = np.random.default_rng(1)
     m = min(len(a), len(b))
     grid = np.linspace(0, 1, m)

@@ -221,6 +221,8 @@ def run_case(args, pair, tf, spec, volumes, previous):
                 + ["--elevation", "20"],
                 stdout=subprocess.DEVNULL,
             )
+            if os.path.isfile(os.path.join(work, "query.json")):  # never an older run's
+                os.remove(os.path.join(work, "query.json"))
             jobs["query"] = [args.ddg, "query", "--model", bundle, "--volume", b, "--image", image]
             jobs["query"] += ["--view", view, "--out-tf", os.path.join(work, "query.json")]
     query_tf = os.path.join(work, "query.json")

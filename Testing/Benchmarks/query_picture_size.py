@@ -6,8 +6,8 @@ larger one first (Core's shrinkPicture): the answer should not change, and a lar
 should cost about what a small one does. For each size: the median wall time of --repeat runs,
 the peak memory (maximum resident set of the process), and the answer (outline position, the
 design against the picture); ratios to the picture at its own size. With --ddg-before, a second
-`ddg` is run on the same pictures in the same run, alternating, and the ratios after / before
-are printed too.
+`ddg` is run on the same pictures in the same run (for each picture, one binary's runs then the
+other's), and the ratios after / before are printed too.
 
 Run: /usr/bin/python3 Testing/Benchmarks/query_picture_size.py --ddg build/bin/ddg
          [--ddg-before OTHER/ddg] [--repeat 3] [--longest 1920 3840 7680]
@@ -26,14 +26,18 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 
 
-def run_query(ddg, args, picture, work):
+def query_command(ddg, args, picture, work):
     view = os.path.join(work, "view.json")
     if not os.path.isfile(view):
         subprocess.run(
             [ddg, "view", "--volume", args.volume, "--out", view], check=True, capture_output=True
         )
     cmd = [ddg, "query", "--model", args.model, "--volume", args.volume, "--image", picture]
-    cmd += ["--view", view, "--out-tf", os.path.join(work, "tf.json")]
+    return cmd + ["--view", view, "--out-tf", os.path.join(work, "tf.json")]
+
+
+def run_query(ddg, args, picture, work):
+    cmd = query_command(ddg, args, picture, work)
     start = time.perf_counter()
     proc = subprocess.run(cmd, capture_output=True, text=True)
     seconds = time.perf_counter() - start
@@ -44,9 +48,7 @@ def run_query(ddg, args, picture, work):
 
 def peak_memory_mb(ddg, args, picture, work):
     """The query's maximum resident set (MB), from a run under /usr/bin/time."""
-    cmd = ["/usr/bin/time", "-f", "%M", ddg, "query", "--model", args.model, "--volume"]
-    cmd += [args.volume, "--image", picture, "--view", os.path.join(work, "view.json")]
-    cmd += ["--out-tf", os.path.join(work, "tf.json")]
+    cmd = ["/usr/bin/time", "-f", "%M"] + query_command(ddg, args, picture, work)
     proc = subprocess.run(cmd, capture_output=True, text=True, check=True)
     return int(proc.stderr.strip().splitlines()[-1]) / 1024
 

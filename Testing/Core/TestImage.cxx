@@ -272,22 +272,31 @@ TEST(Image, ShrinkPictureHalvesLargePicturesOnly)
           mean += big.at(4 * x + i, 4 * y + j, 1) / 16;
       EXPECT_NEAR(quarter.at(x, y, 1), mean, 1e-5f);
     }
-  // straight-alpha RGBA is averaged premultiplied: a transparent pixel's colour (here a
-  // garbage red) does not bleed into its opaque neighbours' colour
-  Image rgba(64, 64, 4, 0.0f);
-  for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 64; ++x)
-    {
-      const bool opaque = x % 2 == 0;
-      rgba.at(x, y, 0) = opaque ? 0.0f : 1.0f;
-      rgba.at(x, y, 1) = opaque ? 0.5f : 0.0f;
-      rgba.at(x, y, 3) = opaque ? 1.0f : 0.0f;
-    }
-  const Image halfRGBA = shrinkPicture(rgba, 32);
-  ASSERT_EQ(halfRGBA.width, 32);
-  EXPECT_NEAR(halfRGBA.at(5, 7, 0), 0.0f, 1e-6f);
-  EXPECT_NEAR(halfRGBA.at(5, 7, 1), 0.5f, 1e-6f);
-  EXPECT_NEAR(halfRGBA.at(5, 7, 3), 0.5f, 1e-6f);
+  // straight alpha (RGBA, grey + alpha) is averaged premultiplied: a transparent pixel's colour
+  // (here a garbage red, a garbage white) does not bleed into its opaque neighbours' colour,
+  // through one halving (64 to 32) or several (256 to 32)
+  for (const int side : { 64, 256 })
+  {
+    Image rgba(side, side, 4, 0.0f), greyAlpha(side, side, 2, 0.0f);
+    for (int y = 0; y < side; ++y)
+      for (int x = 0; x < side; ++x)
+      {
+        const bool opaque = x % 2 == 0;
+        rgba.at(x, y, 0) = opaque ? 0.0f : 1.0f;
+        rgba.at(x, y, 1) = opaque ? 0.5f : 0.0f;
+        rgba.at(x, y, 3) = opaque ? 1.0f : 0.0f;
+        greyAlpha.at(x, y, 0) = opaque ? 0.25f : 1.0f;
+        greyAlpha.at(x, y, 1) = opaque ? 1.0f : 0.0f;
+      }
+    const Image smallRGBA = shrinkPicture(rgba, 32), smallGrey = shrinkPicture(greyAlpha, 32);
+    ASSERT_EQ(smallRGBA.width, 32);
+    ASSERT_EQ(smallGrey.height, 32);
+    EXPECT_NEAR(smallRGBA.at(5, 7, 0), 0.0f, 1e-6f) << side;
+    EXPECT_NEAR(smallRGBA.at(5, 7, 1), 0.5f, 1e-6f) << side;
+    EXPECT_NEAR(smallRGBA.at(5, 7, 3), 0.5f, 1e-6f) << side;
+    EXPECT_NEAR(smallGrey.at(9, 3, 0), 0.25f, 1e-6f) << side;
+    EXPECT_NEAR(smallGrey.at(9, 3, 1), 0.5f, 1e-6f) << side;
+  }
   EXPECT_THROW(shrinkPicture(small, 0), Error);
 }
 

@@ -436,6 +436,18 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       .arg(state.depth())
       .arg(state.pins().size())
       .arg(state.lastMessage()));
+  // the carried look starts from the picture's colours matched to the regions whatever design is
+  // shown (Match starts from the design; the carried look does not)
+  {
+    const bool carried = state.match(false, true);
+    const double start = state.lastMatch().DistanceStart;
+    state.pick(4725);
+    const bool again = state.match(false, true);
+    const double other = state.lastMatch().DistanceStart;
+    check(carried && again && state.lastMatch().Carried && start > 0 &&
+        std::abs(other - start) <= 1e-6 * start,
+      QString("carried look's start with two designs shown: %1, %2").arg(start).arg(other));
+  }
   // another model on the volume starts afresh
   state.loadModel(data + "/Models/engine");
   check(state.steps().isEmpty() && state.pins().isEmpty() && !state.hasMatch(),
