@@ -1,6 +1,6 @@
 // ReconstructCommand.cxx: `ddg reconstruct` — find a transfer function whose rendering matches
 // target image(s).
-#include "CommandSupport.h"
+#include "ReconstructSupport.h"
 
 #include "DDGVolumeAdaptor.h"
 
@@ -24,31 +24,8 @@
 #include <optional>
 #include <sstream>
 
-namespace
+namespace ddg::cli::reconstruct
 {
-using namespace ddg::cli;
-
-struct ReconstructArgs
-{
-  std::string volume, out, outImage, init, array, loss = "l1";
-  std::vector<std::string> targets, views, masks;
-  std::vector<double> background;
-  bool twoD = false, resample = false, quiet = false, estimateView = false, otherVolume = false;
-  std::string outView, outOverlay, shade = "auto";
-  int bins = 128, gradientBins = 32, iterations = 500, rays = -1, threads = 0, primitives = 0;
-  int cameraCandidates = ddg::MatchOptions().cameraCandidates;
-  double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;
-  unsigned seed = 1;
-  bool iterationsGiven = false;
-  /// Options given on the command line that --carry-look does not use (refused with it).
-  std::vector<std::string> notForCarry;
-};
-
-// Options of the match and the fits that the carried look does not take (its fit has its own
-// settings: Core's CarryLookOptions).
-const char* const kNotForCarry[] = { "--bins", "--gradient-bins", "--primitives", "--loss",
-  "--smoothness", "--lr", "--rays", "--resample", "--ssim-weight", "--camera-candidates",
-  "--background" };
 
 // Prints a warning (when there is one) on stderr.
 void warn(const std::string& text)
@@ -131,6 +108,13 @@ void writeResult(const ddg::ReconstructionResult& result, const ReconstructArgs&
   const auto tf = ddg::resultTransferFunction(result, ddg::exportName(a.volume, origin, a.out));
   ddg::exportTransferFunction(tf, a.out, "paraview", caster, view);
 }
+
+} // namespace ddg::cli::reconstruct
+
+namespace
+{
+using namespace ddg::cli;
+using namespace ddg::cli::reconstruct;
 
 // One picture without a mask: Core's matchPicture (background estimated, overlays masked,
 // empty space kept transparent; the camera estimated unless a --view is given as the answer).
@@ -238,67 +222,6 @@ int runMatch(const ReconstructArgs& a)
   return 0;
 }
 
-// A picture of another volume: Core's carryLook (its colours carried over by region).
-int runCarry(const ReconstructArgs& a)
-{
-  if (a.targets.size() != 1 || !a.views.empty() || !a.masks.empty() || a.twoD || a.estimateView ||
-    !a.outView.empty() || !a.outOverlay.empty())
-    throw ddg::Error("--carry-look takes one --target and no --view, --mask, --2d, "
-                     "--estimate-view, --out-view or --out-overlay");
-  if (!a.notForCarry.empty())
-  {
-    std::string names;
-    for (const auto& n : a.notForCarry)
-      names += (names.empty() ? "" : ", ") + n;
-    throw ddg::Error("--carry-look does not use " + names +
-      " (its fit compares colour distributions at its own settings; it takes --iterations, "
-      "--init, --seed, --shade, --threads, --array, --out-image and --quiet)");
-  }
-  const auto t0 = Clock::now();
-  const ddg::Image picture = readTarget(a.targets[0], nullptr, false);
-  const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
-  const ddg::DifferentiableRenderer renderer(volume);
-  ddg::CarryLookOptions opt;
-  opt.fit.seed = a.seed;
-  opt.fit.render.threads = a.threads;
-  if (a.iterationsGiven)
-    opt.fit.iterations = a.iterations;
-  if (!a.init.empty()) // from a TF of this volume (a query's design): free bins from it
-    ddg::carryLookFrom(opt, ddg::readPreset(a.init), volume.range());
-  if (a.shade == "on")
-    opt.lighting.shade = true;
-  const double tLoad = msSince(t0);
-  const auto r = ddg::carryLook(renderer, picture, opt,
-    [&](int step, double loss, const ddg::ReconstructionResult*)
-    {
-      if (!a.quiet && step % 50 == 0)
-      {
-        std::printf("step %4d  colour distance %.3f\n", step, loss);
-        std::fflush(stdout);
-      }
-      return true;
-    });
-  const ddg::View view = ddg::carriedLookView(volume.bounds(), r, opt, 512);
-  writeResult(r.fit, a, "carried look", renderer.caster(), view);
-  std::printf("background: (%.3f %.3f %.3f); overlays left out: %.1f %% of the foreground\n",
-    r.background.bottom[0], r.background.bottom[1], r.background.bottom[2], 100 * r.overlayShare);
-  for (const auto& c : r.regions)
-    std::printf("region [%g, %g] <- the picture's colour (%.2f %.2f %.2f), %.0f %% of its object\n",
-      c.region.lo, c.region.hi, c.colour[0], c.colour[1], c.colour[2], 100 * c.share);
-  std::printf(
-    "shape agreement %.2f (this volume's best silhouette against the picture's object)%s\n",
-    r.shapeAgreement,
-    r.shapesAgree ? "" : ": the shapes disagree, the picture may show a volume of another kind");
-  std::printf("colour distance %.2f -> %.2f (CIELAB, sliced Wasserstein) after %d steps; %.2f s "
-              "(load %.0f ms); wrote %s\n",
-    r.distanceStart, r.distanceEnd, r.fit.iterations, r.seconds, tLoad, a.out.c_str());
-  if (!a.outImage.empty())
-    ddg::writeImage(ddg::compositeOverBackground(
-                      ddg::renderResult(renderer.caster(), r.fit, view, {}), view.background),
-      a.outImage);
-  return 0;
-}
-
 int runReconstruct(const ReconstructArgs& a)
 {
   if (a.otherVolume)
@@ -399,7 +322,7 @@ int runReconstruct(const ReconstructArgs& a)
 
 ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
 {
-  auto rc = std::make_shared<ReconstructArgs>();
+  auto rc = std::make_shared<ddg::cli::reconstruct::ReconstructArgs>();
   auto* reconstruct = app.add_subcommand("reconstruct",
     "Find a transfer function whose rendering matches target image(s) (differentiable ray caster + "
     "Adam).");
@@ -499,13 +422,11 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
   reconstruct->add_option("--out-overlay", rc->outOverlay,
     "One target: write the mask of what was ignored as an overlay (orientation axes, text, a "
     "scalar bar): white = ignored");
+  using ddg::cli::reconstruct::noteCarryOptions;
   return { reconstruct,
     [rc, reconstruct]
     {
-      rc->iterationsGiven = reconstruct->count("--iterations") > 0;
-      for (const char* name : kNotForCarry)
-        if (reconstruct->count(name) > 0)
-          rc->notForCarry.emplace_back(name);
+      noteCarryOptions(*reconstruct, *rc);
       return runReconstruct(*rc);
     } };
 }
