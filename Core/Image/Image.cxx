@@ -448,18 +448,23 @@ Image halve(const Image& image, bool alphaWeighted)
   for (int y = 0; y < hh; ++y)
     for (int x = 0; x < hw; ++x)
     {
-      float a = 0;
+      // each of the block's four pixels weighs its alpha (or 1)
+      std::array<float, 4> weight{ 1, 1, 1, 1 };
+      float total = 4;
       if (alphaWeighted)
+      {
+        total = 0;
         for (int k = 0; k < 4; ++k)
-          a += image.at(2 * x + k % 2, 2 * y + k / 2, alpha);
+          total += weight[k] = image.at(2 * x + k % 2, 2 * y + k / 2, alpha);
+      }
       for (int c = 0; c < channels; ++c)
       {
         const bool weighted = alphaWeighted && c != alpha;
         float sum = 0;
         for (int k = 0; k < 4; ++k)
-          sum += image.at(2 * x + k % 2, 2 * y + k / 2, c) *
-            (weighted ? image.at(2 * x + k % 2, 2 * y + k / 2, alpha) : 1.0f);
-        half.at(x, y, c) = weighted ? (a > 0 ? std::min(1.0f, sum / a) : 0.0f) : 0.25f * sum;
+          sum += image.at(2 * x + k % 2, 2 * y + k / 2, c) * (weighted ? weight[k] : 1.0f);
+        half.at(x, y, c) =
+          weighted ? (total > 0 ? std::min(1.0f, sum / total) : 0.0f) : 0.25f * sum;
       }
     }
   return half;

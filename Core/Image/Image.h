@@ -92,10 +92,10 @@ Image resizeImage(const Image& image, int width, int height);
 /// query's framing and the reading of a picture (readPictureObject) shrink with.
 Image shrinkImage(Image image, int width, int height, int halveFrom = 2);
 
-/// A user's picture made no larger than its use needs: halved by 2 x 2 box averages (shrinkImage)
-/// while its longer side is over `longest` and its shorter side at least 32 (a strip stays
-/// longer). 2 and 4 channels carry straight alpha last (grey or RGB and alpha, as PNG stores
-/// them): the other channels are averaged weighted by it (premultiplied), so a transparent
+/// A user's picture made no larger than its use needs: halved by 2 x 2 box averages (as
+/// shrinkImage halves) while its longer side is over `longest` and its shorter side at least 32 (a
+/// strip stays longer). 2 and 4 channels carry straight alpha last (grey or RGB and alpha, as PNG
+/// stores them): the other channels are averaged weighted by it (premultiplied), so a transparent
 /// pixel's colour does not bleed in. A picture already small enough is returned unchanged.
 /// The query reads pictures at most 2048 pixels a side (kQueryPictureSide), the carried look
 /// at most 512 (readPictureObject).
