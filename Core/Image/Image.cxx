@@ -90,6 +90,16 @@ Image readImage(const std::string& path)
 
 namespace
 {
+/// OpenImageIO's reason on one line: its first (libpng, say, adds "PNG read error: IDAT: ..."
+/// and "PNG library error" after the reason itself).
+std::string firstLine(const std::string& reason)
+{
+  const size_t start = reason.find_first_not_of(" \n");
+  if (start == std::string::npos)
+    return "";
+  return reason.substr(start, reason.find('\n', start) - start);
+}
+
 /// readImage through `proxy` (nullptr: the file `path`); `path` names the format and the errors.
 Image readImageFrom(const std::string& path, ImageFileInfo* info, OIIO::Filesystem::IOProxy* proxy)
 {
@@ -101,7 +111,7 @@ Image readImageFrom(const std::string& path, ImageFileInfo* info, OIIO::Filesyst
   auto input = OIIO::ImageInput::open(path, &config, proxy);
   if (!input)
   {
-    std::string reason = OIIO::geterror();
+    const std::string reason = firstLine(OIIO::geterror());
     throw Error(
       "cannot read image '" + path + "': " + (reason.empty() ? "unknown format" : reason));
   }
@@ -124,8 +134,8 @@ Image readImageFrom(const std::string& path, ImageFileInfo* info, OIIO::Filesyst
   Image img(spec.width, spec.height, spec.nchannels);
   if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
   {
-    std::string reason = input->geterror();
-    throw Error("cannot read image '" + path + "': " + reason);
+    const std::string reason = firstLine(input->geterror());
+    throw Error("cannot read image '" + path + "': " + (reason.empty() ? "read error" : reason));
   }
   input->close();
   return img;
@@ -160,7 +170,7 @@ Image decodeImage(const std::string& bytes, const std::string& origin)
   catch (const Error& e)
   {
     std::string what = e.what();
-    const std::string name = "'memory" + ext + "'";
+    const std::string name = "image 'memory" + ext + "'";
     for (size_t at; (at = what.find(name)) != std::string::npos;)
       what.replace(at, name.size(), origin);
     throw Error(what);
@@ -188,7 +198,7 @@ Image jpegRoundTrip(const Image& image, int quality)
     !out->write_image(OIIO::TypeDesc::UINT8, bytes.data()) || !out->close())
     throw Error(
       "cannot encode a JPEG in memory: " + (out ? out->geterror() : std::string("no JPEG writer")));
-  return decodeImage(std::string(file.begin(), file.end()), "JPEG in memory");
+  return decodeImage(std::string(file.begin(), file.end()), "the JPEG in memory");
 }
 
 void writeImage(const Image& image, const std::string& path)

@@ -56,8 +56,9 @@ Image filterImage(const std::string& base64, const std::string& file, const std:
   std::vector<unsigned char> bytes(text.size() / 4 * 3);
   const size_t n = vtkBase64Utilities::DecodeSafely(
     reinterpret_cast<const unsigned char*>(text.data()), text.size(), bytes.data(), bytes.size());
+  // errors say "the picture", not the property: the panel and pvpython name its file
   return decodeImage(
-    std::string(bytes.begin(), bytes.begin() + static_cast<long>(n)), what + "Data");
+    std::string(bytes.begin(), bytes.begin() + static_cast<long>(n)), "the picture");
 }
 
 } // namespace ddg

@@ -12,7 +12,17 @@ from vtkmodules.util import numpy_support
 
 from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _history, _run, _tf_text
 from .plugin import _vtk_module, data_path
-from .scene import _display, _image_text, _proxy, _read_png, _scene, _source, _to_numpy, _view
+from .scene import (
+    _display,
+    _image_text,
+    _labelled,
+    _proxy,
+    _read_png,
+    _scene,
+    _source,
+    _to_numpy,
+    _view,
+)
 from .scene import apply, view_json
 from .scene import volume_array
 
@@ -264,7 +274,10 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
         Neighbours=int(neighbours),
         ThumbnailSize=int(thumbnail_size),
     )
-    _run(proxy)
+    try:
+        _run(proxy)
+    except DDGError as e:
+        raise DDGError("%s: %s" % (_labelled("query", image), e)) from None
     table = servermanager.Fetch(proxy, idx=1)
     rows = [int(table.GetValueByName(i, "Row").ToInt()) for i in range(table.GetNumberOfRows())]
     strip = servermanager.Fetch(proxy, idx=2)

@@ -170,6 +170,11 @@ def _image_text(image):
     return base64.b64encode(_png(image)).decode()
 
 
+def _labelled(label, image):
+    """``label`` for an error, with ``image``'s file name when it is a path: "query ('a.png')"."""
+    return "%s ('%s')" % (label, image) if isinstance(image, str) else label
+
+
 def _rgb(image, array):
     """A point array of a 2D vtkImageData (bottom row first) as (h, w, 3), top row first."""
     w, h, _ = image.GetDimensions()

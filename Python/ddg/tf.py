@@ -10,7 +10,7 @@ from paraview import simple
 
 from .designs import Design
 from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _run, _tf_text
-from .scene import _image_text, _proxy, _rgb, _scene, _source, view_json
+from .scene import _image_text, _labelled, _proxy, _rgb, _scene, _source, view_json
 
 
 def _tf_dict(tf, view=None):
@@ -77,10 +77,15 @@ def reconstruct(
         proxy.SetPropertyWithName("Smoothness", float(smoothness))
     if learning_rate is not None:
         proxy.SetPropertyWithName("LearningRate", float(learning_rate))
-    proxy.UpdatePipeline()
-    text = _tf_text(servermanager.Fetch(proxy, idx=0))
-    if not text:
-        raise DDGError("the reconstruction failed (see the Output Messages)")
+    try:
+        _run(proxy)
+        text = _tf_text(servermanager.Fetch(proxy, idx=0))
+        if not text:
+            raise DDGError("no transfer function (see the Output Messages)")
+    except DDGError as e:
+        raise DDGError("%s: %s" % (_labelled("reconstruct", image), e)) from None
+    finally:
+        proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
     return _first_tf(json.loads(text))
 
 
@@ -95,9 +100,11 @@ def _initial_json(initial, view, caller):
     return json.dumps([d])
 
 
-def _fit_picture(proxy, label, result):
+def _fit_picture(proxy, label, result, image=None):
     """Runs a Reconstruct Transfer Function proxy set up for a picture; returns
-    ``result(table, images)``; DDGError names ``label``. The picture is dropped from the proxy."""
+    ``result(table, images)``; DDGError names ``label`` (and ``image`` when it is a file). The
+    picture is dropped from the proxy."""
+    label = _labelled(label, image)
     try:
         _run(proxy)
         table = servermanager.Fetch(proxy, idx=0)
@@ -248,7 +255,7 @@ def match(
     if minimum_overlap is not None:
         props["MinimumOverlap"] = float(minimum_overlap)
     proxy = _proxy("DDGReconstructTransferFunction", source, **props)
-    return _fit_picture(proxy, "match", Match)
+    return _fit_picture(proxy, "match", Match, image)
 
 
 class CarriedLook:
@@ -330,7 +337,7 @@ def carry_look(image, source=None, initial=None):
         TargetImageData=_image_text(image),
         InitialTransferFunction=_initial_json(initial, None, "carry_look"),
     )
-    return _fit_picture(proxy, "carry_look", CarriedLook)
+    return _fit_picture(proxy, "carry_look", CarriedLook, image)
 
 
 def paraview_2d(tf, source=None, view=None):

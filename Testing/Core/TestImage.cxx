@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 using namespace ddg;
@@ -73,6 +75,43 @@ TEST(ImageIO, PngRoundTripIsExactOn8BitValues)
   }
   EXPECT_THROW(readImage(ddg::testing::tempDir() + "/missing.png"), Error);
   EXPECT_THROW(writeImage(a, "/nonexistent-dir/x.png"), Error);
+}
+
+TEST(ImageIO, UnreadablePicturesGiveOneLineNamingTheirOrigin)
+{
+  // a truncated PNG: OpenImageIO's reason is libpng's several lines; the error keeps the first
+  Image a(64, 48, 3);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> noise(0.0f, 1.0f);
+  for (float& v : a.pixels)
+    v = noise(rng); // incompressible: the file is larger than its cut
+  const std::string path = ddg::testing::tempDir() + "/ddg_truncated.png";
+  writeImage(a, path);
+  std::ifstream in(path, std::ios::binary);
+  const std::string whole((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(whole.size(), 4000u);
+  const std::string cut = whole.substr(0, 3000);
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << cut;
+  auto message = [](auto read)
+  {
+    try
+    {
+      read();
+    }
+    catch (const Error& e)
+    {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string fromFile = message([&] { readImage(path); });
+  EXPECT_EQ(fromFile.rfind("cannot read image '" + path + "': ", 0), 0u) << fromFile;
+  EXPECT_EQ(fromFile.find('\n'), std::string::npos) << fromFile;
+  const std::string fromMemory = message([&] { decodeImage(cut, "the picture"); });
+  EXPECT_EQ(fromMemory.rfind("cannot read the picture: ", 0), 0u) << fromMemory;
+  EXPECT_EQ(fromMemory.find('\n'), std::string::npos) << fromMemory;
+  EXPECT_EQ(message([&] { decodeImage("hello", "the picture"); }),
+    "the picture is not a PNG, JPEG or TIFF file (5 bytes)");
 }
 
 TEST(ImageMetrics, ColorHistogramEMD)

@@ -159,6 +159,9 @@ qerr.expect(
     "not an image", "not a PNG, JPEG or TIFF", ImageData=base64.b64encode(b"hello world!").decode()
 )
 qerr.expect(
-    "corrupt png", "ImageData", ImageData=base64.b64encode(open(shot, "rb").read()[:200]).decode()
+    "corrupt png",
+    "cannot read the picture: ",
+    ImageData=base64.b64encode(open(shot, "rb").read()[:200]).decode(),
 )
+assert "library error" not in qerr.messages[0], "libpng's own lines: " + qerr.messages[0]
 print("ok")

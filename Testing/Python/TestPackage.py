@@ -10,6 +10,7 @@ import os
 import re
 import subprocess
 import sys
+import tempfile
 import time
 import warnings
 
@@ -446,11 +447,26 @@ if not remote:  # the build writes where the filter runs; here the same machine
         plan["describe"].replace("\n", "; "),
     )
 
-try:
-    ddg.query(os.path.join(testdata, "garbage.png"), source=tooth, view=view_file)
-    raise AssertionError("a garbage query image should raise")
-except ddg.DDGError as e:
-    check("bad input raises DDGError", True, str(e).splitlines()[0][:80])
+# an unreadable picture: one line naming the file (not the filter's property, not libpng's
+# own lines)
+garbage = os.path.join(testdata, "garbage.png")
+truncated = os.path.join(tempfile.mkdtemp(), "truncated.png")
+with open(shot, "rb") as f, open(truncated, "wb") as out:
+    out.write(f.read()[:3000])
+for path, reason in ((garbage, "the picture"), (truncated, "cannot read the picture: ")):
+    try:
+        ddg.query(path, source=tooth, view=view_file)
+        raise AssertionError("an unreadable query picture should raise")
+    except ddg.DDGError as e:
+        text = str(e)
+        check(
+            "an unreadable picture raises DDGError naming it",
+            text.startswith("query ('%s'): " % path)
+            and reason in text
+            and "\n" not in text
+            and "ImageData" not in text,
+            text,
+        )
 
 # a chart (lines on white) is refused; a photograph-like picture (colours to every edge) is
 # answered with a warning
