@@ -61,6 +61,7 @@ void vtkDDGReconstructTransferFunction::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "TwoD: " << this->TwoD << "\n";
   os << indent << "Bins: " << this->Bins << "\n";
   os << indent << "Iterations: " << this->Iterations << "\n";
+  os << indent << "Seed: " << this->Seed << "\n";
   os << indent << "Smoothness: " << this->Smoothness << "\n";
   os << indent << "LearningRate: " << this->LearningRate << "\n";
   os << indent << "MatchPicture: " << this->MatchPicture << "\n";
@@ -292,6 +293,7 @@ ddg::ReconstructionOptions vtkDDGReconstructTransferFunction::Options() const
   opt.twoD = this->TwoD;
   opt.bins = this->Bins;
   opt.iterations = this->Iterations;
+  opt.seed = static_cast<unsigned>(this->Seed);
   opt.smoothness = this->Smoothness;
   opt.learningRate = this->LearningRate;
   return opt;
@@ -532,6 +534,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   rec.twoD = this->TwoD;
   rec.bins = this->Bins;
   rec.iterations = this->Iterations;
+  rec.seed = static_cast<unsigned>(this->Seed);
   rec.smoothness = this->Smoothness;
   rec.learningRate = this->LearningRate;
   rec.snapshotEvery = this->PreviewEvery;
@@ -668,22 +671,38 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   const ddg::RankGroup* ranks = this->Ranks();
   const bool first = !ranks || ranks->rank() == 0;
   ddg::Image picture;
+  // a given view's lighting (Shade and its coefficients) is the look's; its camera is not used
+  const bool viewGiven = !this->ViewJSON.empty() || !this->ViewFile.empty();
+  ddg::Lighting lighting;
+  auto read = [&]
+  {
+    picture = pictureOf(this->TargetImageData, this->TargetImageFile);
+    if (viewGiven)
+      lighting = ddg::filterView(this->ViewJSON, this->ViewFile).lighting;
+  };
   if (ranks)
   {
+    std::string lightingText;
     ranks->step(
       [&]
       {
-        if (first)
-          picture = pictureOf(this->TargetImageData, this->TargetImageFile);
+        if (!first)
+          return;
+        read();
+        lightingText = ddg::lightingToJson(lighting);
       });
+    lightingText = ranks->broadcast(lightingText);
     broadcastImage(*ranks, picture);
+    ranks->step([&] { lighting = ddg::parseLighting(lightingText, "the first rank's lighting"); });
   }
   else
-    picture = pictureOf(this->TargetImageData, this->TargetImageFile);
+    read();
   const PictureVolume volume(ranks, input, array, this->InputWholeExtent(), false, this);
   const ddg::DifferentiableRenderer& renderer = *volume.renderer;
   ddg::CarryLookOptions opt;
   opt.fit.snapshotEvery = this->PreviewEvery;
+  opt.fit.seed = static_cast<unsigned>(this->Seed);
+  opt.lighting = lighting;
   if (!this->InitialTransferFunction.empty()) // a query's design: free bins from it
     ddg::carryLookFrom(opt,
       ddg::parsePreset(this->InitialTransferFunction, "InitialTransferFunction"),

@@ -140,6 +140,13 @@ public:
   ///@}
 
   ///@{
+  /// Seed of the fit's random draws (the pixels sampled; Carry Look: the colour distance's
+  /// directions), as `ddg reconstruct --seed`. (default: 1)
+  vtkSetClampMacro(Seed, int, 0, VTK_INT_MAX);
+  vtkGetMacro(Seed, int);
+  ///@}
+
+  ///@{
   /// Weight of the smoothness prior. (default: 0.01)
   vtkSetClampMacro(Smoothness, double, 0.0, VTK_DOUBLE_MAX);
   vtkGetMacro(Smoothness, double);
@@ -163,7 +170,9 @@ public:
   ///@{
   /// The target is a picture of another volume of the same kind (ddg::carryLook): its look is
   /// carried over to the input (its colours matched to the input's feature regions by rank,
-  /// refined by colour distribution; no camera, no view). Takes precedence over MatchPicture.
+  /// refined by colour distribution; no camera). Takes precedence over MatchPicture. A view
+  /// (ViewJSON or ViewFile) gives only the lighting the look is fitted and shown under (its
+  /// camera is not used); without one the look is unlit.
   /// The table's field data then holds "Preset", "View" (where the look is shown: azimuth 30,
   /// elevation 20 from ParaView's reset camera, 256 x 256, over the picture's background),
   /// "Background", "Regions" (per feature region of the input: value from, value to, the
@@ -273,6 +282,7 @@ private:
   bool TwoD = false;
   int Bins = 128;
   int Iterations = 500;
+  int Seed = 1;
   double Smoothness = 0.01;
   double LearningRate = 0.2;
   bool MatchPicture = false;

@@ -84,9 +84,10 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   vtkSMPropertyHelper(p, "CarryLook").Set(otherVolume ? 1 : 0);
   vtkSMPropertyHelper(p, "TargetImageData").Set(this->QueryPicture.toBase64().constData());
   // the picture's camera: the current one (its size becomes the picture's), or estimated from
-  // ParaView's reset camera; the representation's opacity unit distance either way
+  // ParaView's reset camera; the representation's opacity unit distance either way. The carried
+  // look reads only the view's lighting: it is fitted under the Shade the volume is shown with
   vtkSMPropertyHelper(p, "ViewJSON")
-    .Set(fromCurrentCamera ? ddgpanel::jsonText(view).toUtf8().constData() : "");
+    .Set(fromCurrentCamera || otherVolume ? ddgpanel::jsonText(view).toUtf8().constData() : "");
   vtkSMPropertyHelper(p, "EstimateCamera").Set(0);
   vtkSMPropertyHelper(p, "OpacityUnitDistance")
     .Set(view.value("opacity_unit_distance").toDouble(0.0));

@@ -214,17 +214,17 @@ def apply(
     first gives this display its own maps (ParaView's Use Separate Color Map), False recolours
     them all, and None (default) recolours them all with a warning naming them. ``lighting``:
     sets the display's Shade and its Ambient, Diffuse, Specular, SpecularPower from a view JSON's
-    "lighting" (a view JSON dict or file; none: Shade off); default: a ``Match``'s own (the look
-    it matched), else unchanged; False: unchanged. Returns the display."""
+    "lighting" (a view JSON dict or file; none: Shade off); default: a ``Match``'s or a
+    ``CarriedLook``'s own (the look it matched or was carried over under), else unchanged;
+    False: unchanged. Returns the display."""
     from .designs import Design  # these modules build on this one
     from .tf import CarriedLook, Match, _tf_dict, paraview_2d
 
     # a Match's or a CarriedLook's TF is taken out by _tf_dict; a Match adds its camera and look
-    if isinstance(tf, Match):
-        if camera is True:
-            camera = tf.view
-        if lighting is None:
-            lighting = tf.view
+    if isinstance(tf, (Match, CarriedLook)) and lighting is None:
+        lighting = tf.view  # the look it matched, or was carried over under
+    if isinstance(tf, Match) and camera is True:
+        camera = tf.view
     elif camera is True and isinstance(tf, CarriedLook):
         raise ValueError("apply: a carried look has no camera, its picture shows another volume")
     elif camera is True:

@@ -315,7 +315,7 @@ class CarriedLook:
         )
 
 
-def carry_look(image, source=None, initial=None):
+def carry_look(image, source=None, initial=None, shade=None, seed=None):
     """The look of ``image``, a picture of *another* volume of the same kind (a figure from a
     paper, a colleague's screenshot; a file path or a numpy image (h, w, 3)), carried over to
     ``source`` (default: the active source): DDG Reconstruct Transfer Function with Carry Look
@@ -324,19 +324,30 @@ def carry_look(image, source=None, initial=None):
     pixel of the picture has to line up with this volume. ``initial``: a TF of this volume to
     start from instead (a Design, e.g. ``query(image)``'s, a preset dict or file; 1D): the fit
     is of free bins from it, the regions still matched and reported (``ddg reconstruct
-    --carry-look --init``).
+    --carry-look --init``). ``shade``: None (default) fits the look under the lighting
+    ``source`` has in the active view (its Shade and coefficients, as ``apply`` keeps them;
+    unlit when Shade is off or it is not shown), True under ParaView's default lighting (Shade
+    on), False unlit (``--shade on|off``). ``seed``: of the colour distance's directions
+    (``--seed``; default 1).
 
     Returns a ``CarriedLook`` (``.tf`` for ``apply``, ``.regions`` says what was matched with
     what). Raises DDGError with the filter's reason (a picture of nothing but its background,
     no dominant background, an unreadable image, a volume without feature regions)."""
     source = _source(source)
-    proxy = _proxy(
-        "DDGReconstructTransferFunction",
-        source,
+    v = view_json(None, source, 256)  # the filter reads only its lighting
+    if shade is not None:
+        v.pop("lighting", None)
+        if shade:
+            v["lighting"] = {"shade": True}
+    props = dict(
         CarryLook=1,
         TargetImageData=_image_text(image),
+        ViewJSON=json.dumps(v),
         InitialTransferFunction=_initial_json(initial, None, "carry_look"),
     )
+    if seed is not None:
+        props["Seed"] = int(seed)
+    proxy = _proxy("DDGReconstructTransferFunction", source, **props)
     return _fit_picture(proxy, "carry_look", CarriedLook, image)
 
 

@@ -142,6 +142,7 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       neighbourThumbnails = thumbnails;
       neighbourPSNR = against;
     });
+  bool shaded = false;
   state.setViewFunction(
     [&](int maxSide)
     {
@@ -151,6 +152,8 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       const double scale = std::min(1.0, maxSide / std::max(w, h));
       v["size"] = QJsonArray{ static_cast<int>(std::lround(w * scale)),
         static_cast<int>(std::lround(h * scale)) };
+      if (shaded) // the volume shown with Shade on (ParaView's coefficients)
+        v["lighting"] = QJsonObject{ { "shade", true } };
       return v;
     });
 
@@ -445,8 +448,19 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
     const bool again = state.match(false, true);
     const double other = state.lastMatch().DistanceStart;
     check(carried && again && state.lastMatch().Carried && start > 0 &&
-        std::abs(other - start) <= 1e-6 * start,
+        std::abs(other - start) <= 1e-6 * start && !state.lastMatch().View.contains("lighting"),
       QString("carried look's start with two designs shown: %1, %2").arg(start).arg(other));
+    // the volume shown with Shade on: the look is carried over under it (and applied with it)
+    shaded = true;
+    const bool lit = state.match(false, true);
+    shaded = false;
+    const QJsonObject lighting = state.lastMatch().View.value("lighting").toObject();
+    check(lit && lighting.value("shade").toBool() &&
+        std::abs(state.lastMatch().DistanceStart - start) > 1e-3 * start,
+      QString("carried look under Shade: lighting %1, start %2 (unlit %3)")
+        .arg(QString::fromUtf8(QJsonDocument(lighting).toJson(QJsonDocument::Compact)))
+        .arg(state.lastMatch().DistanceStart)
+        .arg(start));
   }
   // another model on the volume starts afresh
   state.loadModel(data + "/Models/engine");

@@ -4,7 +4,8 @@ A picture of the iron protein (the project's render, `ddg render`, of neghip_she
 neghip_oblique.json's camera over ParaView's palette background) is carried over to NegHip, an
 electron density of the same kind: the CarriedLook holds 1-4 regions of NegHip's values (in
 value order, colours in [0, 1]), the colour distance goes down, its image is the view's size;
-ddg.apply(look.tf) writes the preset into NegHip's colour map (1e-6). Bad input: a uniform
+ddg.apply(look.tf) writes the preset into NegHip's colour map (1e-6). With Shade on the look is
+fitted lit, and apply keeps Shade on; shade=False fits it unlit; seed= changes the fit. Bad input: a uniform
 picture raises DDGError naming it, and the colour map is unchanged.
 
 Usage: build/bin/pvpython TestCarryLook.py DDG OUTDIR
@@ -83,6 +84,22 @@ with open(exported) as f:
     preset = json.load(f)[0]
 assert preset["RGBPoints"] == look.tf["RGBPoints"], "the export is not the carried look's TF"
 assert preset["Name"].startswith("DDG "), preset["Name"]
+
+# the lighting: the look is fitted under the one NegHip has in the view (Shade on here), unless
+# shade= says otherwise; apply keeps it; seed= draws other colour-distance directions
+assert "lighting" not in look.view, look.view
+display.Shade = 1
+lit = ddg.carry_look(picture, neghip, seed=7)
+print("lit: %.2f -> %.2f, view lighting %s" % (lit.distance_start, lit.distance_end, lit.view))
+assert lit.view.get("lighting", {}).get("shade") is True, lit.view
+assert lit.tf["RGBPoints"] != look.tf["RGBPoints"], "the lit fit gave the unlit one's TF"
+unlit = ddg.carry_look(picture, neghip, shade=False, seed=7)
+assert "lighting" not in unlit.view, unlit.view
+assert unlit.tf["RGBPoints"] != look.tf["RGBPoints"], "seed=7 gave seed 1's TF"
+display.Shade = 0
+ddg.apply(lit, source=neghip, view=render_view)
+assert display.Shade == 1, "apply did not keep the carried look's lighting"
+display.Shade = 0
 
 before = list(lut.RGBPoints)
 uniform = os.path.join(outdir, "uniform.png")
