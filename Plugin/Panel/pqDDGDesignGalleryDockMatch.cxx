@@ -88,6 +88,11 @@ void pqDDGDesignGalleryDock::showMatch()
   }
   ui.matchPreview->setPixmap(fitted(m.Render, ui.matchPreview));
   const auto t = [&m](int k) { return m.Timings.size() > k ? m.Timings[k] : 0.0; };
+  const QJsonObject lighting = m.View.value("lighting").toObject();
+  const QString lit = !lighting.value("shade").toBool() ? tr("unlit")
+    : lighting.value("specular").toDouble() > 0
+    ? tr("Shade on, Specular %1").arg(lighting.value("specular").toDouble(), 0, 'f', 1)
+    : tr("Shade on");
   if (m.Carried)
   {
     QStringList regions;
@@ -101,9 +106,9 @@ void pqDDGDesignGalleryDock::showMatch()
                    .arg(std::lround(255 * r[4]))
                    .arg(std::lround(100 * r[5]));
     ui.matchInfo->setText(
-      tr("Another volume's picture: its look carried over to this volume (shown from azimuth "
-         "30, elevation 20; the camera is not the picture's).\n%1\nColour distance (CIELAB) "
-         "%2 \u2192 %3 in %4 steps, %5 s; shape agreement %6%7")
+      tr("Another volume's picture: its look carried over to this volume, %8 as it is shown "
+         "(seen from azimuth 30, elevation 20; the camera is not the picture's).\n%1\nColour "
+         "distance (CIELAB) %2 \u2192 %3 in %4 steps, %5 s; shape agreement %6%7")
         .arg(regions.join("\n"))
         .arg(m.DistanceStart, 0, 'f', 1)
         .arg(m.DistanceEnd, 0, 'f', 1)
@@ -113,15 +118,11 @@ void pqDDGDesignGalleryDock::showMatch()
         .arg(m.ShapesAgree
             ? QString()
             : tr(" \u2014 the shapes disagree: the picture may show a volume of another "
-                 "kind")));
+                 "kind"))
+        .arg(lit));
     return;
   }
-  const QJsonObject lighting = m.View.value("lighting").toObject();
   const bool parallel = m.View.value("camera").toObject().value("parallel_projection").toBool();
-  const QString lit = !lighting.value("shade").toBool() ? tr("unlit")
-    : lighting.value("specular").toDouble() > 0
-    ? tr("Shade on, Specular %1").arg(lighting.value("specular").toDouble(), 0, 'f', 1)
-    : tr("Shade on");
   ui.matchInfo->setText(
     tr("PSNR against the picture: %1the match %2 dB (fit %3 dB, "
        "%4 steps)\nCamera %5, silhouette overlap %6; picture %10 (%11)\nTime: background %7 s, "
