@@ -172,6 +172,24 @@ std::string lightingToJson(const Lighting& l)
   }.dump();
 }
 
+Lighting viewLighting(const std::string& viewJsonText, const std::string& origin)
+{
+  json j;
+  try
+  {
+    j = json::parse(viewJsonText);
+  }
+  catch (const json::parse_error& e)
+  {
+    throw Error(origin + " is not valid JSON: " + e.what());
+  }
+  if (!j.is_object())
+    throw Error(origin + ": not a JSON object");
+  if (!j.contains("lighting"))
+    return Lighting();
+  return parseLighting(j["lighting"].dump(), origin + "'s lighting");
+}
+
 View parseView(const std::string& jsonText, const std::string& origin)
 {
   json j;

@@ -51,6 +51,10 @@ struct Lighting
 Lighting parseLighting(const std::string& jsonText, const std::string& origin = "lighting");
 /// The "lighting" object of a view JSON, as viewToJson writes it (compact JSON text).
 std::string lightingToJson(const Lighting& lighting);
+/// The lighting of a view JSON (text) whose other keys are not read (a camera need not be there:
+/// the carried look takes only a view's lighting); no "lighting": unlit. Throws ddg::Error naming
+/// `origin` for text that is not a JSON object or a "lighting" parseLighting refuses.
+Lighting viewLighting(const std::string& viewJsonText, const std::string& origin = "view");
 
 /// What to render and how: the view JSON
 ///   { "camera": { "position": [x,y,z], "focal_point": [x,y,z], "view_up": [x,y,z],

@@ -2,6 +2,7 @@
 #include "DDGFilterInputs.h"
 
 #include "Common/Error.h"
+#include "Common/FileUtil.h"
 
 #include <vtkBase64Utilities.h>
 
@@ -19,6 +20,15 @@ View filterView(const std::string& viewJson, const std::string& viewFile)
   if (viewFile.empty())
     throw Error("no ViewFile or ViewJSON set");
   return readView(viewFile);
+}
+
+Lighting filterLighting(const std::string& viewJson, const std::string& viewFile)
+{
+  if (!viewJson.empty())
+    return viewLighting(viewJson, "ViewJSON");
+  if (viewFile.empty())
+    return Lighting();
+  return viewLighting(readTextFile(viewFile, "view"), "view '" + viewFile + "'");
 }
 
 void filterViewSize(

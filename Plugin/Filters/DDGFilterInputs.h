@@ -17,14 +17,19 @@ namespace ddg
 /// ddg::Error when both are empty ("no ViewFile or ViewJSON set") or the view is invalid.
 DDGFILTERS_EXPORT View filterView(const std::string& viewJson, const std::string& viewFile);
 
+/// The lighting of the view of `viewJson` or else `viewFile` (its other keys not read: the
+/// carried look's view gives only the lighting); unlit when both are empty. Throws ddg::Error
+/// for text that is not a JSON object or a lighting out of range.
+DDGFILTERS_EXPORT Lighting filterLighting(const std::string& viewJson, const std::string& viewFile);
+
 /// (width, height) of that view, or (0, 0) when none is set or it is unreadable (the error is
 /// reported by RequestData).
 DDGFILTERS_EXPORT void filterViewSize(
   const std::string& viewJson, const std::string& viewFile, int& width, int& height);
 
 /// The image of `base64` (an image file's contents, base64-encoded: PNG, JPEG or TIFF) when it
-/// is not empty, else of `file`. Throws ddg::Error naming `what` when both are empty, the text
-/// is not base64, or the image cannot be read.
+/// is not empty, else of `file`. Throws ddg::Error naming `what` when both are empty or the text
+/// is not base64, and "the picture" (the file, when read from one) when it cannot be read.
 DDGFILTERS_EXPORT Image filterImage(
   const std::string& base64, const std::string& file, const std::string& what);
 

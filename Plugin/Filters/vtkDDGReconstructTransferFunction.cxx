@@ -671,14 +671,12 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   const ddg::RankGroup* ranks = this->Ranks();
   const bool first = !ranks || ranks->rank() == 0;
   ddg::Image picture;
-  // a given view's lighting (Shade and its coefficients) is the look's; its camera is not used
-  const bool viewGiven = !this->ViewJSON.empty() || !this->ViewFile.empty();
+  // a given view's lighting (Shade and its coefficients) is the look's; nothing else of it is read
   ddg::Lighting lighting;
   auto read = [&]
   {
     picture = pictureOf(this->TargetImageData, this->TargetImageFile);
-    if (viewGiven)
-      lighting = ddg::filterView(this->ViewJSON, this->ViewFile).lighting;
+    lighting = ddg::filterLighting(this->ViewJSON, this->ViewFile);
   };
   if (ranks)
   {

@@ -87,7 +87,9 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   // ParaView's reset camera; the representation's opacity unit distance either way. The carried
   // look reads only the view's lighting: it is fitted under the Shade the volume is shown with
   vtkSMPropertyHelper(p, "ViewJSON")
-    .Set(fromCurrentCamera || otherVolume ? ddgpanel::jsonText(view).toUtf8().constData() : "");
+    .Set(fromCurrentCamera || (otherVolume && !view.isEmpty())
+        ? ddgpanel::jsonText(view).toUtf8().constData()
+        : "");
   vtkSMPropertyHelper(p, "EstimateCamera").Set(0);
   vtkSMPropertyHelper(p, "OpacityUnitDistance")
     .Set(view.value("opacity_unit_distance").toDouble(0.0));

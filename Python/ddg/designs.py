@@ -15,7 +15,7 @@ from .plugin import _vtk_module, data_path
 from .scene import (
     _display,
     _image_text,
-    _labelled,
+    _errors_named,
     _proxy,
     _read_png,
     _scene,
@@ -274,10 +274,8 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
         Neighbours=int(neighbours),
         ThumbnailSize=int(thumbnail_size),
     )
-    try:
+    with _errors_named("query", image):
         _run(proxy)
-    except DDGError as e:
-        raise DDGError("%s: %s" % (_labelled("query", image), e)) from None
     table = servermanager.Fetch(proxy, idx=1)
     rows = [int(table.GetValueByName(i, "Row").ToInt()) for i in range(table.GetNumberOfRows())]
     strip = servermanager.Fetch(proxy, idx=2)

@@ -2,6 +2,7 @@
 transfer function to the volume's representation and the project's render of it.
 """
 import base64
+import contextlib
 import json
 import warnings
 
@@ -170,9 +171,15 @@ def _image_text(image):
     return base64.b64encode(_png(image)).decode()
 
 
-def _labelled(label, image):
-    """``label`` for an error, with ``image``'s file name when it is a path: "query ('a.png')"."""
-    return "%s ('%s')" % (label, image) if isinstance(image, str) else label
+@contextlib.contextmanager
+def _errors_named(label, image=None):
+    """A DDGError raised inside is prefixed with ``label`` and, when ``image`` is a file path,
+    its name: "query ('a.png'): cannot read the picture: ..."."""
+    try:
+        yield
+    except DDGError as e:
+        name = "%s ('%s')" % (label, image) if isinstance(image, str) else label
+        raise DDGError("%s: %s" % (name, e)) from None
 
 
 def _rgb(image, array):

@@ -10,7 +10,7 @@ from paraview import simple
 
 from .designs import Design
 from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _run, _tf_text
-from .scene import _image_text, _labelled, _proxy, _rgb, _scene, _source, view_json
+from .scene import _errors_named, _image_text, _proxy, _rgb, _scene, _source, view_json
 
 
 def _tf_dict(tf, view=None):
@@ -52,6 +52,7 @@ def reconstruct(
     learning_rate=None,
     two_d=False,
     background=None,
+    seed=None,
 ):
     """The TF that renders ``source`` like ``image`` (a screenshot file or numpy image of the
     volume, the view's size) at ``view`` (a view JSON file or dict, or the active view's camera:
@@ -59,8 +60,8 @@ def reconstruct(
     Transfer Function), at most ``iterations`` Adam steps (it stops once converged; the filter's
     and ``ddg reconstruct``'s default is 500). ``background``: the screenshot's background
     (r, g, b) in [0, 1]; None (default) estimates it from the screenshot's border (the view's
-    when they agree; otherwise the border's, with a warning). Returns the TF dict (a ParaView
-    preset)."""
+    when they agree; otherwise the border's, with a warning). ``seed``: of the pixels sampled
+    (``--seed``; default 1). Returns the TF dict (a ParaView preset)."""
     source = _source(source)
     v = view_json(view, source)
     proxy = _proxy(
@@ -77,16 +78,11 @@ def reconstruct(
         proxy.SetPropertyWithName("Smoothness", float(smoothness))
     if learning_rate is not None:
         proxy.SetPropertyWithName("LearningRate", float(learning_rate))
-    try:
-        _run(proxy)
-        text = _tf_text(servermanager.Fetch(proxy, idx=0))
-        if not text:
-            raise DDGError("no transfer function (see the Output Messages)")
-    except DDGError as e:
-        raise DDGError("%s: %s" % (_labelled("reconstruct", image), e)) from None
-    finally:
-        proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
-    return _first_tf(json.loads(text))
+    if seed is not None:
+        proxy.SetPropertyWithName("Seed", _seed(seed, "reconstruct"))
+    return _fit_picture(
+        proxy, "reconstruct", lambda table, images: _first_tf(json.loads(_tf_text(table))), image
+    )
 
 
 def _initial_json(initial, view, caller):
@@ -104,17 +100,22 @@ def _fit_picture(proxy, label, result, image=None):
     """Runs a Reconstruct Transfer Function proxy set up for a picture; returns
     ``result(table, images)``; DDGError names ``label`` (and ``image`` when it is a file). The
     picture is dropped from the proxy."""
-    label = _labelled(label, image)
     try:
-        _run(proxy)
-        table = servermanager.Fetch(proxy, idx=0)
-        if not _tf_text(table):
-            raise DDGError("no transfer function (see the Output Messages)")
-        return result(table, servermanager.Fetch(proxy, idx=1))
-    except DDGError as e:
-        raise DDGError("%s: %s" % (label, e)) from None
+        with _errors_named(label, image):
+            _run(proxy)
+            table = servermanager.Fetch(proxy, idx=0)
+            if not _tf_text(table):
+                raise DDGError("no transfer function (see the Output Messages)")
+            return result(table, servermanager.Fetch(proxy, idx=1))
     finally:
         proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
+
+
+def _seed(seed, caller):
+    """The filter's Seed (ddg reconstruct --seed): a whole number >= 0."""
+    if int(seed) != seed or seed < 0:
+        raise ValueError("%s: seed must be a whole number >= 0, not %r" % (caller, seed))
+    return int(seed)
 
 
 class Match:
@@ -208,6 +209,7 @@ def match(
     mask_overlays=True,
     minimum_overlap=None,
     background=None,
+    seed=None,
 ):
     """A TF and the camera that make ``source`` (default: the active source) look like
     ``image``, a picture as users have it (a file path or a numpy image (h, w, 3); any size,
@@ -224,7 +226,8 @@ def match(
     grey. ``iterations``: the final fit's maximum steps (default: the filter's, 500; it stops
     once converged). ``minimum_overlap``: below this silhouette IoU (default 0.6) no camera
     explains the picture. ``background``: the picture's background (r, g, b) in [0, 1]; None
-    (default): estimated (uniform or gradient).
+    (default): estimated (uniform or gradient). ``seed``: of the fit's pixels sampled (``--seed``;
+    default 1).
 
     Returns a ``Match``: ``.tf`` (preset dict, for ``apply``/``export``), ``.view`` (the
     camera as a view JSON dict, for ``set_camera`` or ``apply(tf, camera=...)``), and the
@@ -254,6 +257,8 @@ def match(
         props["Iterations"] = int(iterations)
     if minimum_overlap is not None:
         props["MinimumOverlap"] = float(minimum_overlap)
+    if seed is not None:
+        props["Seed"] = _seed(seed, "match")
     proxy = _proxy("DDGReconstructTransferFunction", source, **props)
     return _fit_picture(proxy, "match", Match, image)
 
@@ -264,8 +269,9 @@ class CarriedLook:
     Attributes:
         tf: the TF (ParaView preset dict, for ``apply``/``export``).
         view: where the look is shown (view JSON dict: azimuth 30, elevation 20 from ParaView's
-            reset camera, 256 x 256, over the picture's background). Not the picture's camera:
-            another volume's picture has none here.
+            reset camera, 256 x 256, over the picture's background, and the "lighting" it was
+            fitted under, which ``apply`` sets). Not the picture's camera: another volume's
+            picture has none here.
         regions: per feature region of this volume, a dict: "values" (from, to), "colour" (the
             picture's r, g, b in [0, 1] it was matched with), "share" (that colour's share of
             the picture's object).
@@ -325,28 +331,31 @@ def carry_look(image, source=None, initial=None, shade=None, seed=None):
     start from instead (a Design, e.g. ``query(image)``'s, a preset dict or file; 1D): the fit
     is of free bins from it, the regions still matched and reported (``ddg reconstruct
     --carry-look --init``). ``shade``: None (default) fits the look under the lighting
-    ``source`` has in the active view (its Shade and coefficients, as ``apply`` keeps them;
-    unlit when Shade is off or it is not shown), True under ParaView's default lighting (Shade
-    on), False unlit (``--shade on|off``). ``seed``: of the colour distance's directions
-    (``--seed``; default 1).
+    ``source`` has in the active render view (its Shade and coefficients, which ``apply`` then
+    sets; unlit when Shade is off, when it is not shown or the active view is not a render view),
+    True under ParaView's default lighting (Shade on), False unlit (``--shade on|off``).
+    ``seed``: of the colour distance's directions (``--seed``; default 1).
 
     Returns a ``CarriedLook`` (``.tf`` for ``apply``, ``.regions`` says what was matched with
     what). Raises DDGError with the filter's reason (a picture of nothing but its background,
     no dominant background, an unreadable image, a volume without feature regions)."""
     source = _source(source)
-    v = view_json(None, source, 256)  # the filter reads only its lighting
-    if shade is not None:
-        v.pop("lighting", None)
-        if shade:
-            v["lighting"] = {"shade": True}
+    if shade is None:  # as source is shown in the active render view (none: unlit)
+        view = simple.GetActiveView()
+        try:
+            lighting = view_json(view, source, 16).get("lighting") if view is not None else None
+        except ValueError:  # a spreadsheet, a chart: not a render view
+            lighting = None
+    else:
+        lighting = {"shade": True} if shade else None
     props = dict(
         CarryLook=1,
         TargetImageData=_image_text(image),
-        ViewJSON=json.dumps(v),
+        ViewJSON=json.dumps({"lighting": lighting}) if lighting else "",  # only its lighting read
         InitialTransferFunction=_initial_json(initial, None, "carry_look"),
     )
     if seed is not None:
-        props["Seed"] = int(seed)
+        props["Seed"] = _seed(seed, "carry_look")
     proxy = _proxy("DDGReconstructTransferFunction", source, **props)
     return _fit_picture(proxy, "carry_look", CarriedLook, image)
 

@@ -88,6 +88,22 @@ TEST(View, LightingDefaultsRoundTripAndErrors)
   }
 }
 
+TEST(View, LightingAloneNeedsNoCamera)
+{
+  // the carried look's view: only "lighting" is read, so no camera is needed
+  EXPECT_FALSE(viewLighting("{}").shade);
+  const Lighting lit = viewLighting(R"({"lighting": {"shade": true, "specular": 0.3}})");
+  EXPECT_TRUE(lit.shade);
+  EXPECT_EQ(lit.specular, 0.3);
+  EXPECT_EQ(lit.diffuse, 1.0);
+  const std::string full = R"({"camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0],
+    "view_up": [0, 1, 0]}, "lighting": {"shade": true, "ambient": 0.2}})";
+  EXPECT_TRUE(viewLighting(full) == parseView(full).lighting);
+  for (const char* bad : { "[1]", "not json", R"({"lighting": {"diffuse": 2}})",
+         R"({"lighting": {"shade": true, "speculr": 0.5}})", R"({"lighting": true})" })
+    EXPECT_THROW(viewLighting(bad, "ViewJSON"), Error) << bad;
+}
+
 TEST(RayGenerator, PerspectiveAndParallelConventions)
 {
   View v;

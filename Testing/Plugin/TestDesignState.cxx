@@ -450,7 +450,8 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
     check(carried && again && state.lastMatch().Carried && start > 0 &&
         std::abs(other - start) <= 1e-6 * start && !state.lastMatch().View.contains("lighting"),
       QString("carried look's start with two designs shown: %1, %2").arg(start).arg(other));
-    // the volume shown with Shade on: the look is carried over under it (and applied with it)
+    // the volume shown with Shade on: the look is carried over under it (its View says so; the
+    // dock's Apply sets the View's lighting, as for a match)
     shaded = true;
     const bool lit = state.match(false, true);
     shaded = false;

@@ -5,7 +5,8 @@ neghip_oblique.json's camera over ParaView's palette background) is carried over
 electron density of the same kind: the CarriedLook holds 1-4 regions of NegHip's values (in
 value order, colours in [0, 1]), the colour distance goes down, its image is the view's size;
 ddg.apply(look.tf) writes the preset into NegHip's colour map (1e-6). With Shade on the look is
-fitted lit, and apply keeps Shade on; shade=False fits it unlit; seed= changes the fit. Bad input: a uniform
+fitted lit (apply sets Shade on), shade=False fits it unlit at the same seed, and seed= changes
+the fit. Bad input: a uniform
 picture raises DDGError naming it, and the colour map is unchanged.
 
 Usage: build/bin/pvpython TestCarryLook.py DDG OUTDIR
@@ -86,20 +87,31 @@ assert preset["RGBPoints"] == look.tf["RGBPoints"], "the export is not the carri
 assert preset["Name"].startswith("DDG "), preset["Name"]
 
 # the lighting: the look is fitted under the one NegHip has in the view (Shade on here), unless
-# shade= says otherwise; apply keeps it; seed= draws other colour-distance directions
+# shade= says otherwise; apply sets it; seed= draws other colour-distance directions
 assert "lighting" not in look.view, look.view
 display.Shade = 1
 lit = ddg.carry_look(picture, neghip, seed=7)
-print("lit: %.2f -> %.2f, view lighting %s" % (lit.distance_start, lit.distance_end, lit.view))
-assert lit.view.get("lighting", {}).get("shade") is True, lit.view
-assert lit.tf["RGBPoints"] != look.tf["RGBPoints"], "the lit fit gave the unlit one's TF"
 unlit = ddg.carry_look(picture, neghip, shade=False, seed=7)
+print(
+    "lit: %.2f -> %.2f, unlit: %.2f -> %.2f"
+    % (lit.distance_start, lit.distance_end, unlit.distance_start, unlit.distance_end)
+)
+assert lit.view.get("lighting", {}).get("shade") is True, lit.view
 assert "lighting" not in unlit.view, unlit.view
-assert unlit.tf["RGBPoints"] != look.tf["RGBPoints"], "seed=7 gave seed 1's TF"
+# the same seed: only the lighting differs (the start's distance is measured at a fixed seed)
+assert lit.tf["RGBPoints"] != unlit.tf["RGBPoints"], "Shade on gave the unlit fit"
+assert abs(lit.distance_start - unlit.distance_start) > 1e-3 * unlit.distance_start
+assert unlit.tf["RGBPoints"] != look.tf["RGBPoints"], "seed=7 gave seed 1's fit"
+try:
+    ddg.carry_look(picture, neghip, seed=-1)
+    raise AssertionError("a negative seed was taken")
+except ValueError as e:
+    assert "seed must be a whole number" in str(e), e
 display.Shade = 0
 ddg.apply(lit, source=neghip, view=render_view)
-assert display.Shade == 1, "apply did not keep the carried look's lighting"
-display.Shade = 0
+assert display.Shade == 1, "apply did not set the carried look's lighting"
+ddg.apply(unlit, source=neghip, view=render_view)
+assert display.Shade == 0, "apply did not set the carried look's lighting"
 
 before = list(lut.RGBPoints)
 uniform = os.path.join(outdir, "uniform.png")
