@@ -74,6 +74,18 @@ bool finite(const Eigen::Vector3d& v)
   return std::isfinite(v[0]) && std::isfinite(v[1]) && std::isfinite(v[2]);
 }
 
+/// `text` parsed as JSON; ddg::Error "<origin> is not valid JSON: ..." otherwise.
+json parseJson(const std::string& text, const std::string& origin)
+{
+  try
+  {
+    return json::parse(text);
+  }
+  catch (const json::parse_error& e)
+  {
+    throw Error(origin + " is not valid JSON: " + e.what());
+  }
+}
 } // namespace
 
 void View::validate() const
@@ -143,15 +155,7 @@ void Lighting::validate() const
 
 Lighting parseLighting(const std::string& jsonText, const std::string& origin)
 {
-  json j;
-  try
-  {
-    j = json::parse(jsonText);
-  }
-  catch (const json::parse_error& e)
-  {
-    throw Error(origin + " is not valid JSON: " + e.what());
-  }
+  json j = parseJson(jsonText, origin);
   const Lighting l = lightingOf(j, origin);
   try
   {
@@ -174,15 +178,7 @@ std::string lightingToJson(const Lighting& l)
 
 Lighting viewLighting(const std::string& viewJsonText, const std::string& origin)
 {
-  json j;
-  try
-  {
-    j = json::parse(viewJsonText);
-  }
-  catch (const json::parse_error& e)
-  {
-    throw Error(origin + " is not valid JSON: " + e.what());
-  }
+  json j = parseJson(viewJsonText, origin);
   if (!j.is_object())
     throw Error(origin + ": not a JSON object");
   if (!j.contains("lighting"))
@@ -192,15 +188,7 @@ Lighting viewLighting(const std::string& viewJsonText, const std::string& origin
 
 View parseView(const std::string& jsonText, const std::string& origin)
 {
-  json j;
-  try
-  {
-    j = json::parse(jsonText);
-  }
-  catch (const json::parse_error& e)
-  {
-    throw Error(origin + " is not valid JSON: " + e.what());
-  }
+  json j = parseJson(jsonText, origin);
   if (!j.is_object() || !j.contains("camera") || !j["camera"].is_object())
   {
     throw Error(origin + ": needs a \"camera\" object");
