@@ -18,4 +18,14 @@ public:
   }
 };
 
+/// A library's reason on one line: its first (libpng, say, adds "PNG read error: IDAT: ..." and
+/// "PNG library error" after the reason itself; libtorch adds a C++ stack).
+inline std::string firstLine(const std::string& reason)
+{
+  const size_t start = reason.find_first_not_of(" \n");
+  if (start == std::string::npos)
+    return "";
+  return reason.substr(start, reason.find('\n', start) - start);
+}
+
 } // namespace ddg

@@ -1,6 +1,7 @@
 // Image.cxx: compositing and OpenImageIO-based reading and writing.
 #include "Image/Image.h"
 
+#include "Common/Error.h"
 #include "Common/FileUtil.h"
 
 #include <OpenImageIO/filesystem.h>
@@ -90,16 +91,6 @@ Image readImage(const std::string& path)
 
 namespace
 {
-/// OpenImageIO's reason on one line: its first (libpng, say, adds "PNG read error: IDAT: ..."
-/// and "PNG library error" after the reason itself).
-std::string firstLine(const std::string& reason)
-{
-  const size_t start = reason.find_first_not_of(" \n");
-  if (start == std::string::npos)
-    return "";
-  return reason.substr(start, reason.find('\n', start) - start);
-}
-
 /// readImage through `proxy` (nullptr: the file `path`); `path` names the format and the errors.
 Image readImageFrom(const std::string& path, ImageFileInfo* info, OIIO::Filesystem::IOProxy* proxy)
 {

@@ -82,6 +82,8 @@ Command addBuildCommand(CLI::App& app);
 Command addReplayCommand(CLI::App& app);
 Command addRecallCommand(CLI::App& app);
 Command addQueryKeyCommand(CLI::App& app);
+Command addTrainKindCommand(CLI::App& app);
+Command addKindCommand(CLI::App& app);
 #endif
 
 } // namespace cli

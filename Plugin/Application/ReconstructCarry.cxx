@@ -9,7 +9,16 @@
 #include "Render/DifferentiableRenderer.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
+#ifdef DDG_WITH_TORCH
+#include "Neural/KindNetwork.h"
+#endif
+
 #include <cstdio>
+#include <filesystem>
+
+#ifndef DDG_DATA_DIR
+#define DDG_DATA_DIR ""
+#endif
 
 namespace
 {
@@ -18,6 +27,34 @@ namespace
 const char* const kNotForCarry[] = { "--bins", "--gradient-bins", "--primitives", "--loss",
   "--smoothness", "--lr", "--rays", "--resample", "--ssim-weight", "--camera-candidates",
   "--background" };
+
+// The kind network's check of the picture against the volume (--kind-network).
+void printKind(const ddg::cli::reconstruct::ReconstructArgs& a, const ddg::Image& picture,
+  const ddg::Volume& volume)
+{
+#ifdef DDG_WITH_TORCH
+  std::string dir = a.kindNetwork;
+  if (dir == "none")
+    return;
+  if (dir.empty())
+  {
+    dir = DDG_DATA_DIR "/Models/kind";
+    if (!std::filesystem::exists(dir + "/kind.json"))
+      return;
+  }
+  const auto c = ddg::KindChecker().check(dir, picture, volume, a.threads);
+  std::printf("kind agreement %.3f (threshold %.3f): %s; the picture is most like %s, this "
+              "volume like %s\n",
+    c.agreement, c.threshold,
+    c.differs ? "the picture may show a volume of another kind" : "the same kind",
+    c.pictureLike.c_str(), c.volumeLike.c_str());
+#else
+  if (!a.kindNetwork.empty() && a.kindNetwork != "none")
+    throw ddg::Error("--kind-network needs a build with libtorch");
+  (void)picture;
+  (void)volume;
+#endif
+}
 } // namespace
 
 namespace ddg::cli::reconstruct
@@ -44,7 +81,7 @@ int runCarry(const ReconstructArgs& a)
       names += (names.empty() ? "" : ", ") + n;
     throw ddg::Error("--carry-look does not use " + names +
       " (its fit compares colour distributions at its own settings; it takes --iterations, "
-      "--init, --seed, --shade, --threads, --array, --out-image and --quiet)");
+      "--init, --seed, --shade, --threads, --array, --out-image, --kind-network and --quiet)");
   }
   const auto t0 = Clock::now();
   const ddg::Image picture = readTarget(a.targets[0], nullptr, false);
@@ -88,6 +125,7 @@ int runCarry(const ReconstructArgs& a)
     ddg::writeImage(ddg::compositeOverBackground(
                       ddg::renderResult(renderer.caster(), r.fit, view, {}), view.background),
       a.outImage);
+  printKind(a, picture, volume);
   return 0;
 }
 

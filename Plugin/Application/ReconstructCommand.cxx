@@ -226,6 +226,8 @@ int runReconstruct(const ReconstructArgs& a)
 {
   if (a.otherVolume)
     return runCarry(a);
+  if (!a.kindNetwork.empty())
+    throw ddg::Error("--kind-network is for --carry-look");
   if (a.targets.size() == 1 && a.masks.empty())
   {
     if (a.views.size() > 1)
@@ -357,7 +359,11 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     "carryLook, the filter's CarryLook, ddg.carry_look in pvpython; its "
     "colours matched to this volume's feature regions by rank, refined by colour distribution; "
     "no camera; --out-image renders it at azimuth 30, elevation 20; takes --iterations, --init, "
-    "--seed, --shade on, --threads and refuses the match's fit options)");
+    "--seed, --shade on, --threads, --kind-network and refuses the match's fit options)");
+  reconstruct->add_option("--kind-network", rc->kindNetwork,
+    "--carry-look: the kind network that checks whether the picture shows a volume of this "
+    "volume's kind (`ddg kind`; about 10 s; default: the project's Data/Models/kind when the "
+    "program was built from the source tree; none: no check)");
   reconstruct->add_option("--bins", rc->bins, "TF resolution along the value (default 128)")
     ->check(CLI::Range(2, 4096));
   reconstruct

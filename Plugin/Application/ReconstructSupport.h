@@ -23,6 +23,7 @@ struct ReconstructArgs
   std::vector<double> background;
   bool twoD = false, resample = false, quiet = false, estimateView = false, otherVolume = false;
   std::string outView, outOverlay, shade = "auto";
+  std::string kindNetwork; ///< --carry-look: "" the shipped one (when built here), "none": no check
   int bins = 128, gradientBins = 32, iterations = 500, rays = -1, threads = 0, primitives = 0;
   int cameraCandidates = ddg::MatchOptions().cameraCandidates;
   double smoothness = 0.01, learningRate = 0.2, ssimWeight = 0.0;

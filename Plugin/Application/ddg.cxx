@@ -38,7 +38,7 @@ int main(int argc, char** argv)
 #ifdef DDG_WITH_TORCH
   for (auto add : { addOutlineCommand, addGalleryCommand, addQueryCommand, addNavigateCommand,
          addEditCommand, addAnimateCommand, addFidelityCommand, addBuildCommand, addReplayCommand,
-         addRecallCommand, addQueryKeyCommand })
+         addRecallCommand, addQueryKeyCommand, addTrainKindCommand, addKindCommand })
     commands.push_back(add(app));
 #endif
 

@@ -14,6 +14,9 @@
 #include "Image/Image.h"
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/CarryLook.h"
+#ifdef DDG_WITH_TORCH
+#include "Neural/KindNetwork.h"
+#endif
 #include "Reconstruct/Match.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/TransferFunctionIO.h"
@@ -31,9 +34,12 @@
 #include <vtkTable.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -66,6 +72,7 @@ void vtkDDGReconstructTransferFunction::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "LearningRate: " << this->LearningRate << "\n";
   os << indent << "MatchPicture: " << this->MatchPicture << "\n";
   os << indent << "CarryLook: " << this->CarryLook << "\n";
+  os << indent << "KindNetwork: " << this->KindNetwork << "\n";
   os << indent << "EstimateCamera: " << this->EstimateCamera << "\n";
   os << indent << "InitialTransferFunction: " << this->InitialTransferFunction.size()
      << " characters\n";
@@ -400,6 +407,33 @@ ddg::Image pictureOf(const std::string& data, const std::string& file)
   return picture;
 }
 
+/// The target picture and a text that goes with it (`readText`: a view's or its lighting's JSON):
+/// read on the first rank and broadcast under MPI (the other ranks may not see the paths).
+std::pair<ddg::Image, std::string> firstRankReads(const ddg::RankGroup* ranks,
+  const std::string& data, const std::string& file, const std::function<std::string()>& readText)
+{
+  std::pair<ddg::Image, std::string> read;
+  auto readBoth = [&]
+  {
+    read.first = pictureOf(data, file);
+    read.second = readText();
+  };
+  if (!ranks)
+  {
+    readBoth();
+    return read;
+  }
+  ranks->step(
+    [&]
+    {
+      if (ranks->rank() == 0)
+        readBoth();
+    });
+  read.second = ranks->broadcast(read.second);
+  broadcastImage(*ranks, read.first);
+  return read;
+}
+
 /// The part {x, y, width, height} of an image (the whole image when the part is empty).
 ddg::Image cropped(const ddg::Image& image, const std::array<int, 4>& crop)
 {
@@ -476,37 +510,19 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   // first rank reads the picture and the view (the others may not see its paths) and writes
   const ddg::RankGroup* ranks = this->Ranks();
   const bool first = !ranks || ranks->rank() == 0;
-  ddg::Image picture;
-  std::optional<ddg::View> givenView;
   const bool viewGiven = !this->ViewJSON.empty() || !this->ViewFile.empty();
-  auto read = [&]
+  const auto read = firstRankReads(ranks, this->TargetImageData, this->TargetImageFile,
+    [&]
+    { return viewGiven ? ddg::viewToJson(ddg::filterView(this->ViewJSON, this->ViewFile)) : ""; });
+  const ddg::Image& picture = read.first;
+  const std::string& viewText = read.second;
+  std::optional<ddg::View> givenView;
+  auto parse = [&]
   {
-    picture = pictureOf(this->TargetImageData, this->TargetImageFile);
     if (viewGiven)
-      givenView = ddg::filterView(this->ViewJSON, this->ViewFile);
+      givenView = ddg::parseView(viewText, "the view");
   };
-  if (ranks)
-  {
-    std::string viewText;
-    ranks->step(
-      [&]
-      {
-        if (!first)
-          return;
-        read();
-        viewText = givenView ? ddg::viewToJson(*givenView) : std::string();
-      });
-    viewText = ranks->broadcast(viewText);
-    broadcastImage(*ranks, picture);
-    ranks->step(
-      [&]
-      {
-        if (viewGiven)
-          givenView = ddg::parseView(viewText, "the first rank's view");
-      });
-  }
-  else
-    read();
+  ranks ? ranks->step(parse) : parse();
   const PictureVolume volume(ranks, input, array, this->InputWholeExtent(), this->TwoD, this);
   const auto& renderer = volume.renderer;
 
@@ -670,31 +686,14 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   // picture (the others may not see its path) and writes
   const ddg::RankGroup* ranks = this->Ranks();
   const bool first = !ranks || ranks->rank() == 0;
-  ddg::Image picture;
   // a given view's lighting (Shade and its coefficients) is the look's; nothing else of it is read
+  const auto read = firstRankReads(ranks, this->TargetImageData, this->TargetImageFile,
+    [&] { return ddg::lightingToJson(ddg::filterLighting(this->ViewJSON, this->ViewFile)); });
+  const ddg::Image& picture = read.first;
+  const std::string& lightingText = read.second;
   ddg::Lighting lighting;
-  auto read = [&]
-  {
-    picture = pictureOf(this->TargetImageData, this->TargetImageFile);
-    lighting = ddg::filterLighting(this->ViewJSON, this->ViewFile);
-  };
-  if (ranks)
-  {
-    std::string lightingText;
-    ranks->step(
-      [&]
-      {
-        if (!first)
-          return;
-        read();
-        lightingText = ddg::lightingToJson(lighting);
-      });
-    lightingText = ranks->broadcast(lightingText);
-    broadcastImage(*ranks, picture);
-    ranks->step([&] { lighting = ddg::parseLighting(lightingText, "the first rank's lighting"); });
-  }
-  else
-    read();
+  auto parse = [&] { lighting = ddg::parseLighting(lightingText, "the lighting"); };
+  ranks ? ranks->step(parse) : parse();
   const PictureVolume volume(ranks, input, array, this->InputWholeExtent(), false, this);
   const ddg::DifferentiableRenderer& renderer = *volume.renderer;
   ddg::CarryLookOptions opt;
@@ -753,6 +752,8 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
     json = writeTable(output, result.fit, volume.caster(), view,
       presetName(input, array, "carried look", this->OutputFile));
     describeCarriedLook(output->GetFieldData(), result, view);
+    if (!ranks) // the reference's exemplars need the whole volume
+      this->CheckKind(output->GetFieldData(), picture, *volume.volume);
   };
   if (ranks)
   {
@@ -770,6 +771,44 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   addImageArray(vtkImageData::GetData(outputVector, 1), overBackground(rendered, view), "Image", 3);
   if (!this->OutputFile.empty())
     ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
+}
+
+void vtkDDGReconstructTransferFunction::CheckKind(
+  vtkFieldData* fd, const ddg::Image& picture, const ddg::Volume& volume)
+{
+#ifdef DDG_WITH_TORCH
+  if (this->KindNetwork.empty())
+    return;
+  if (!this->Kinds)
+    this->Kinds = std::make_shared<ddg::KindChecker>();
+  this->SetProgressText("kind");
+  try
+  {
+    const ddg::KindCheck c = this->Kinds->check(this->KindNetwork, picture, volume, 0,
+      [&](double f)
+      {
+        this->UpdateProgress(f);
+        return keepGoing(this, nullptr);
+      });
+    const nlohmann::json j{ { "agreement", c.agreement }, { "threshold", c.threshold },
+      { "differs", c.differs }, { "picture_like", c.pictureLike },
+      { "volume_like", c.volumeLike } };
+    addString(fd, "Kind", j.dump());
+    if (c.differs)
+      vtkWarningMacro(<< "the picture may show a volume of another kind: kind agreement "
+                      << c.agreement << " < " << c.threshold << " (the picture is most like "
+                      << c.pictureLike << ", this volume like " << c.volumeLike << ")");
+  }
+  catch (const ddg::Error& e)
+  {
+    vtkWarningMacro(<< "the kind of the picture was not checked: " << e.what());
+  }
+  this->SetProgressText(nullptr);
+#else
+  (void)fd;
+  (void)picture;
+  (void)volume;
+#endif
 }
 
 namespace

@@ -8,12 +8,17 @@
 #include "vtkDDGAlgorithm.h"
 #include "vtkSmartPointer.h" // for Preview
 
+#include <memory>
 #include <string>
 
+class vtkFieldData;
 class vtkImageData;
 namespace ddg
 {
 struct ReconstructionOptions;
+struct Image;
+class Volume;
+class KindChecker;
 }
 
 /**
@@ -180,11 +185,24 @@ public:
   /// object), "ColourDistance" (start, end: CIELAB sliced Wasserstein), "ShapeAgreement" (the
   /// input's best silhouette IoU against the picture's object, and 1 when it reaches 0.6, else
   /// 0: the shapes disagree, the picture may show a volume of another kind), "OverlayShare",
-  /// "Timings" (total, s), "Iterations" and "Converged"; output port 1 the render at View.
-  /// Progress text is "carry"; GetPreview shows the fit every PreviewEvery steps. (default: off)
+  /// "Timings" (total, s), "Iterations" and "Converged", and with KindNetwork "Kind" (below);
+  /// output port 1 the render at View. Progress text is "carry" (then "kind"); GetPreview shows
+  /// the fit every PreviewEvery steps. (default: off)
   vtkSetMacro(CarryLook, bool);
   vtkGetMacro(CarryLook, bool);
   vtkBooleanMacro(CarryLook, bool);
+  ///@}
+
+  ///@{
+  /// CarryLook: the kind network (a directory such as Data/Models/kind; ddg::KindNetwork) that
+  /// checks whether the picture shows a volume of the input's kind. The field "Kind" then holds
+  /// its JSON {"agreement", "threshold", "differs", "picture_like", "volume_like"}, and a warning
+  /// goes to the Output Messages when it differs. The input's reference (its own exemplars, about
+  /// 10 s) is kept for the next run. Not checked under MPI (the exemplars need the whole volume)
+  /// or in a build without libtorch; a network that cannot be read is a warning, not an error.
+  /// (default: empty, no check)
+  vtkSetStdStringFromCharMacro(KindNetwork);
+  vtkGetCharFromStdStringMacro(KindNetwork);
   ///@}
 
   ///@{
@@ -265,6 +283,8 @@ protected:
   void ExecuteMatch(vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector);
   void ExecuteCarryLook(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector);
+  /// The "Kind" field of a carried look (KindNetwork), or nothing.
+  void CheckKind(vtkFieldData* fd, const ddg::Image& picture, const ddg::Volume& volume);
 
 private:
   vtkDDGReconstructTransferFunction(const vtkDDGReconstructTransferFunction&) = delete;
@@ -289,6 +309,8 @@ private:
   bool CarryLook = false;
   bool EstimateCamera = false;
   std::string InitialTransferFunction;
+  std::string KindNetwork;
+  std::shared_ptr<ddg::KindChecker> Kinds; // the loaded network and the references it keeps
   double OpacityUnitDistance = 0.0;
   int CameraCandidates = 6;
   double MinimumOverlap = 0.6;

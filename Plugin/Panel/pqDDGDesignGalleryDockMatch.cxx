@@ -115,10 +115,11 @@ void pqDDGDesignGalleryDock::showMatch()
         .arg(m.Iterations)
         .arg(t(0), 0, 'f', 1)
         .arg(m.ShapeAgreement, 0, 'f', 2)
-        .arg(m.ShapesAgree
-            ? QString()
-            : tr(" \u2014 the shapes disagree: the picture may show a volume of another "
-                 "kind"))
+        .arg((m.ShapesAgree
+                 ? QString()
+                 : tr(" \u2014 the shapes disagree: the picture may show a volume of another "
+                      "kind")) +
+          (m.Kind.isEmpty() ? QString() : QStringLiteral("; ") + m.kindText()))
         .arg(lit));
     return;
   }

@@ -92,6 +92,13 @@ public:
     double DistanceStart = 0, DistanceEnd = 0; ///< Carried: colour distance (CIELAB)
     double ShapeAgreement = 0; ///< Carried: silhouette IoU against the picture's object
     bool ShapesAgree = false;  ///< Carried: ShapeAgreement reaches 0.6
+    /// Carried: the kind network's check (the filter's "Kind": agreement, threshold, differs,
+    /// picture_like, volume_like); empty when it was not checked
+    QJsonObject Kind;
+    /// Carried: the check in a sentence ("" when not checked).
+    QString kindText() const;
+    /// Carried: the kind network says the picture may show a volume of another kind.
+    bool kindDiffers() const { return Kind.value("differs").toBool(); }
   };
 
   /// Makes the view JSON of the current camera with `maxSide` pixels on its longer side (empty

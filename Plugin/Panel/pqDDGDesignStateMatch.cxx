@@ -3,6 +3,7 @@
 #include "pqDDGDesignState.h"
 #include "pqDDGScene.h"
 #include <QCoreApplication>
+#include <QFileInfo>
 #include <QJsonDocument>
 #include <algorithm>
 #include <cmath>
@@ -24,6 +25,9 @@
 
 // --- matching the query's picture ---------------------------------------------------------------
 
+#ifndef DDG_DATA_DIR
+#define DDG_DATA_DIR ""
+#endif
 namespace
 {
 /// A 1-component 8-bit array of an image output as a grey QImage (null when there is none).
@@ -67,7 +71,7 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   if (!this->MatchProxy)
     this->MatchProxy = ddgpanel::newFilter("DDGReconstructTransferFunction", this->Source, 0);
   if (!this->MatchProxy || !this->MatchProxy->GetProperty("MatchPicture") ||
-    !this->MatchProxy->GetProperty("CarryLook"))
+    !this->MatchProxy->GetProperty("CarryLook") || !this->MatchProxy->GetProperty("KindNetwork"))
   {
     this->MatchProxy = nullptr;
     this->report(tr("The DesignGallery plugin on the server cannot match pictures (load this "
@@ -99,6 +103,10 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   vtkSMPropertyHelper(p, "TwoD").Set(twoD ? 1 : 0);
   vtkSMPropertyHelper(p, "InitialTransferFunction")
     .Set(twoD || otherVolume ? "" : this->Current.Preset.toUtf8().constData());
+  // the carried look's picture is checked for another kind of volume by the project's network
+  const QString kind = QString::fromUtf8(DDG_DATA_DIR "/Models/kind");
+  vtkSMPropertyHelper(p, "KindNetwork")
+    .Set(otherVolume && QFileInfo::exists(kind + "/kind.json") ? kind.toUtf8().constData() : "");
   vtkSMPropertyHelper(p, "PreviewEvery").Set(10);
   p->UpdateVTKObjects();
 
@@ -185,6 +193,7 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
     const QJsonArray agreement = ddgpanel::fieldNumbers(table, "ShapeAgreement");
     m.ShapeAgreement = first(agreement, 0);
     m.ShapesAgree = first(agreement, 1) > 0.5;
+    m.Kind = QJsonDocument::fromJson(ddgpanel::fieldText(table, "Kind").toUtf8()).object();
   }
   m.CameraEstimated = first(ddgpanel::fieldNumbers(table, "CameraEstimated")) != 0;
   m.LightingEstimated = first(ddgpanel::fieldNumbers(table, "LightingEstimated")) != 0;
@@ -214,13 +223,15 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
         .arg(m.Regions.size())
         .arg(m.DistanceStart, 0, 'f', 1)
         .arg(m.DistanceEnd, 0, 'f', 1)
-        .arg(m.ShapesAgree
-            ? tr("Apply writes it.")
-            : tr("The shapes disagree: this volume's silhouettes take the picture's object's shape "
-                 "at %1 only (under 0.6): it may show a volume of another kind. Apply "
-                 "writes it anyway.")
-                .arg(m.ShapeAgreement, 0, 'f', 2)),
-      !m.ShapesAgree);
+        .arg((m.ShapesAgree
+                 ? QString()
+                 : tr("The shapes disagree: this volume's silhouettes take the picture's object's "
+                      "shape at %1 only (under 0.6): it may show a volume of another kind. ")
+                     .arg(m.ShapeAgreement, 0, 'f', 2)) +
+          (m.kindDiffers() ? m.kindText() + ". " : QString()) +
+          (m.ShapesAgree && !m.kindDiffers() ? tr("Apply writes it.")
+                                             : tr("Apply writes it anyway."))),
+      !m.ShapesAgree || m.kindDiffers());
     return true;
   }
   this->report(tr("Matched in %1 s: PSNR against the picture %2 dB%3. Apply writes it.")
@@ -230,4 +241,22 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
                      ? tr(" (the design it started from: %1 dB)").arg(m.PSNRBefore, 0, 'f', 1)
                      : QString()));
   return true;
+}
+
+QString pqDDGDesignState::Match::kindText() const
+{
+  if (this->Kind.isEmpty())
+    return QString();
+  const double agreement = this->Kind.value("agreement").toDouble();
+  const double threshold = this->Kind.value("threshold").toDouble();
+  if (!this->kindDiffers())
+    return tr("kind agreement %1 (the same kind: %2 or more)")
+      .arg(agreement, 0, 'f', 2)
+      .arg(threshold, 0, 'f', 2);
+  return tr("The picture may show a volume of another kind: kind agreement %1, under %2 (the "
+            "picture looks most like %3, this volume like %4)")
+    .arg(agreement, 0, 'f', 2)
+    .arg(threshold, 0, 'f', 2)
+    .arg(this->Kind.value("picture_like").toString())
+    .arg(this->Kind.value("volume_like").toString());
 }

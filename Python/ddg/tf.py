@@ -3,13 +3,14 @@ users have it (camera and background estimated), converted to ParaView's Transfe
 exported as files.
 """
 import json
+import os
 import re
 
 from paraview import servermanager
 from paraview import simple
 
 from .designs import Design
-from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _run, _tf_text
+from .plugin import DDGError, _field_numbers, data_path, _field_string, _first_tf, _run, _tf_text
 from .scene import _errors_named, _image_text, _proxy, _rgb, _scene, _source, view_json
 
 
@@ -81,7 +82,11 @@ def reconstruct(
     if seed is not None:
         proxy.SetPropertyWithName("Seed", _seed(seed, "reconstruct"))
     return _fit_picture(
-        proxy, "reconstruct", lambda table, images: _first_tf(json.loads(_tf_text(table))), image
+        proxy,
+        "reconstruct",
+        lambda table, _: _first_tf(json.loads(_tf_text(table))),
+        image,
+        images=False,
     )
 
 
@@ -96,17 +101,18 @@ def _initial_json(initial, view, caller):
     return json.dumps([d])
 
 
-def _fit_picture(proxy, label, result, image=None):
+def _fit_picture(proxy, label, result, image=None, images=True):
     """Runs a Reconstruct Transfer Function proxy set up for a picture; returns
-    ``result(table, images)``; DDGError names ``label`` (and ``image`` when it is a file). The
-    picture is dropped from the proxy."""
+    ``result(table, images)`` (``images``: output port 1 is fetched, else None is passed);
+    DDGError names ``label`` (and ``image`` when it is a file). The picture is dropped from the
+    proxy."""
     try:
         with _errors_named(label, image):
             _run(proxy)
             table = servermanager.Fetch(proxy, idx=0)
             if not _tf_text(table):
                 raise DDGError("no transfer function (see the Output Messages)")
-            return result(table, servermanager.Fetch(proxy, idx=1))
+            return result(table, servermanager.Fetch(proxy, idx=1) if images else None)
     finally:
         proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
 
@@ -281,6 +287,11 @@ class CarriedLook:
         shape_agreement: this volume's best silhouette IoU against the picture's object;
             shapes_agree: it reaches 0.6 (False: the picture may show a volume of another kind;
             blob-like volumes of other kinds agree too, so only a gross mismatch is caught).
+        kind: the kind network's check (``carry_look(kind=...)``), a dict: "agreement" (1 =
+            the network answers alike for the picture and this volume's own exemplars),
+            "threshold", "differs" (agreement under threshold: the picture may show a volume of
+            another kind), "picture_like" and "volume_like" (the training volume each is most
+            like); None when not checked. kind_differs: its "differs" (False when not checked).
         seconds: the whole carry's time; iterations: the fit's steps.
         image: the TF's render at ``view`` over the background, (h, w, 3) uint8.
     """
@@ -303,25 +314,39 @@ class CarriedLook:
         self.overlay_share = float(_field_numbers(table, "OverlayShare")[0])
         agreement = _field_numbers(table, "ShapeAgreement")
         self.shape_agreement, self.shapes_agree = float(agreement[0]), bool(agreement[1])
+        kind = _field_string(table, "Kind")
+        self.kind = json.loads(kind) if kind else None
+        self.kind_differs = bool(self.kind and self.kind["differs"])
         self.seconds = float(_field_numbers(table, "Timings")[0])
         self.iterations = int(_field_numbers(table, "Iterations")[0])
         self.image = _rgb(images, images.GetPointData().GetArray("Image")).astype("uint8")
 
     def __repr__(self):
         return (
-            "CarriedLook(%d regions, colour distance %.1f -> %.1f, shape agreement %.2f%s, %.1f s)"
+            "CarriedLook(%d regions, colour distance %.1f -> %.1f, shape agreement %.2f%s%s, %.1f s)"
             % (
                 len(self.regions),
                 self.distance_start,
                 self.distance_end,
                 self.shape_agreement,
                 "" if self.shapes_agree else " (shapes disagree: another kind?)",
+                (
+                    ", kind agreement %.2f%s"
+                    % (
+                        self.kind["agreement"],
+                        " (another kind? under %.2f)" % self.kind["threshold"]
+                        if self.kind_differs
+                        else "",
+                    )
+                    if self.kind
+                    else ""
+                ),
                 self.seconds,
             )
         )
 
 
-def carry_look(image, source=None, initial=None, shade=None, seed=None):
+def carry_look(image, source=None, initial=None, shade=None, seed=None, kind=True):
     """The look of ``image``, a picture of *another* volume of the same kind (a figure from a
     paper, a colleague's screenshot; a file path or a numpy image (h, w, 3)), carried over to
     ``source`` (default: the active source): DDG Reconstruct Transfer Function with Carry Look
@@ -334,7 +359,10 @@ def carry_look(image, source=None, initial=None, shade=None, seed=None):
     ``source`` has in the active render view (its Shade and coefficients, which ``apply`` then
     sets; unlit when Shade is off, when it is not shown or the active view is not a render view),
     True under ParaView's default lighting (Shade on), False unlit (``--shade on|off``).
-    ``seed``: of the colour distance's directions (``--seed``; default 1).
+    ``seed``: of the colour distance's directions (``--seed``; default 1). ``kind``: True
+    (default) checks whether the picture shows a volume of this one's kind with the project's
+    kind network (Data/Models/kind, when it is there; about 10 s the first time for a volume),
+    a directory another kind network, False no check (``--kind-network``); ``.kind`` says.
 
     Returns a ``CarriedLook`` (``.tf`` for ``apply``, ``.regions`` says what was matched with
     what). Raises DDGError with the filter's reason (a picture of nothing but its background,
@@ -356,6 +384,15 @@ def carry_look(image, source=None, initial=None, shade=None, seed=None):
     )
     if seed is not None:
         props["Seed"] = _seed(seed, "carry_look")
+    if kind is True:
+        shipped = data_path("Models/kind")
+        props["KindNetwork"] = shipped if os.path.exists(os.path.join(shipped, "kind.json")) else ""
+    elif kind:
+        if not os.path.exists(os.path.join(str(kind), "kind.json")):
+            raise DDGError("carry_look: %r is not a kind network (no kind.json)" % (kind,))
+        props["KindNetwork"] = os.path.abspath(str(kind))
+    else:
+        props["KindNetwork"] = ""
     proxy = _proxy("DDGReconstructTransferFunction", source, **props)
     return _fit_picture(proxy, "carry_look", CarriedLook, image)
 

@@ -450,6 +450,14 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
     check(carried && again && state.lastMatch().Carried && start > 0 &&
         std::abs(other - start) <= 1e-6 * start && !state.lastMatch().View.contains("lighting"),
       QString("carried look's start with two designs shown: %1, %2").arg(start).arg(other));
+    // the shipped kind network checked the picture (a Tooth screenshot) against Tooth: the same
+    // kind, said in the panel's words
+    const auto& m = state.lastMatch();
+    check(m.Kind.value("agreement").toDouble(-1) >= m.Kind.value("threshold").toDouble(2) &&
+        !m.kindDiffers() && m.kindText().startsWith("kind agreement") &&
+        m.Kind.value("volume_like").toString() == "tooth",
+      "kind check of a Tooth picture on Tooth: " +
+        QString::fromUtf8(QJsonDocument(m.Kind).toJson(QJsonDocument::Compact)));
     // the volume shown with Shade on: the look is carried over under it (its View says so; the
     // dock's Apply sets the View's lighting, as for a match)
     shaded = true;

@@ -6,7 +6,7 @@ electron density of the same kind: the CarriedLook holds 1-4 regions of NegHip's
 value order, colours in [0, 1]), the colour distance goes down, its image is the view's size;
 ddg.apply(look.tf) writes the preset into NegHip's colour map (1e-6). With Shade on the look is
 fitted lit (apply sets Shade on), shade=False fits it unlit at the same seed, and seed= changes
-the fit. Bad input: a uniform
+the fit. The shipped kind network's figure comes with the look (kind=False: none). Bad input: a uniform
 picture raises DDGError naming it, and the colour map is unchanged.
 
 Usage: build/bin/pvpython TestCarryLook.py DDG OUTDIR
@@ -54,9 +54,23 @@ assert all(0 <= c <= 1 for r in look.regions for c in r["colour"])
 assert look.distance_end < look.distance_start, (look.distance_start, look.distance_end)
 assert look.image.shape == (256, 256, 3), look.image.shape
 assert look.view["size"] == [256, 256]
+# the shipped kind network checked the picture against NegHip (kind=True, the default): its
+# figure, the threshold it was calibrated to, and the verdict that follows from the two
+with open(ddg.data_path("Models/kind/kind.json")) as f:
+    threshold = json.load(f)["threshold"]
+assert look.kind is not None and 0 <= look.kind["agreement"] <= 1 + 1e-9, look.kind
+assert abs(look.kind["threshold"] - threshold) < 1e-12, (look.kind, threshold)
+assert look.kind_differs == (look.kind["agreement"] < threshold), look.kind
+assert "kind agreement %.2f" % look.kind["agreement"] in repr(look), repr(look)
+try:
+    ddg.carry_look(picture, neghip, kind=outdir)
+    raise AssertionError("a directory without kind.json was taken for a kind network")
+except ddg.DDGError as e:
+    assert "is not a kind network" in str(e), e
 # from a TF of this volume (a query's design, here the look itself): the fit starts there, so
 # its start is already nearer the picture than the regions' rank-matched colours were
-again = ddg.carry_look(picture, neghip, initial=look)
+again = ddg.carry_look(picture, neghip, initial=look, kind=False)
+assert again.kind is None and not again.kind_differs, again.kind
 print("from the look: %.2f -> %.2f" % (again.distance_start, again.distance_end))
 assert again.distance_start < look.distance_start, (again.distance_start, look.distance_start)
 assert len(again.regions) == len(look.regions)

@@ -1,0 +1,131 @@
+// KindNetwork.h: whether a picture shows a volume of the kind the user's volume is (issue 20, bad
+// input "a picture of a volume of another kind"). A small network is taught to tell several
+// volumes apart from their design-space exemplars (random TFs, views, lighting, drawn as users'
+// pictures); a picture and a volume agree in kind when the network's answers for the picture and
+// for the volume's own exemplars overlap (Bhattacharyya coefficient). It never saw the volume
+// that is checked: it only needs its answers for both to look alike.
+#pragma once
+
+#include "Design/DesignSpace.h"
+#include "Image/Image.h"
+#include "Volume/Volume.h"
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace ddg
+{
+
+/// Training options (defaults in brackets: the shipped network's, scripts/train_kind.sh).
+struct KindTrainOptions
+{
+  int epochs = 40;                ///< passes over the training exemplars [40]
+  int batch = 128;                ///< exemplars per step [128]
+  double maxLearningRate = 3e-3;  ///< Adam, one-cycle schedule up to this rate [3e-3]
+  double weightDecay = 1e-4;      ///< [1e-4]
+  double validationShare = 0.1;   ///< exemplars held out to report accuracy [0.1]
+  std::uint64_t seed = 5;         ///< weights, split, order and augmentation [5]
+  int threads = 0;                ///< libtorch threads, 0 = all cores
+};
+
+struct KindTrainReport
+{
+  int trainingExemplars = 0, validationExemplars = 0;
+  double validationAccuracy = 0; ///< held-out exemplars named right, after the last epoch
+  double seconds = 0;
+};
+
+/// What the network says of a picture, and how that compares with a volume's exemplars.
+struct KindCheck
+{
+  /// Bhattacharyya coefficient of the picture's class probabilities and the volume's mean ones:
+  /// 1 = the network answers the same for both, 0 = nothing in common.
+  double agreement = 1;
+  double threshold = 0; ///< the network's calibrated threshold
+  bool differs = false; ///< agreement < threshold: the picture may show another kind of volume
+  std::string pictureLike, volumeLike; ///< the training volume each is most like
+};
+
+class KindNetwork
+{
+public:
+  KindNetwork();
+  ~KindNetwork();
+  KindNetwork(KindNetwork&&) noexcept;
+  KindNetwork& operator=(KindNetwork&&) noexcept;
+
+  /// Trains on generated datasets (`ddg generate`, one per named volume; ExemplarDataset), their
+  /// analyzer images (users' pictures framed as a query, or clean renders) augmented with flips,
+  /// quarter turns, shuffled channels, grey and brightness. All datasets must have one image size
+  /// and one spec (recorded: the volume's exemplars in kindReference are drawn with it). Progress
+  /// gets (epoch, mean loss, held-out accuracy) after each epoch and may cancel (ddg::Cancelled).
+  /// Throws ddg::Error for fewer than two datasets, a name given twice, or mismatched datasets.
+  static KindNetwork train(const std::vector<std::string>& names,
+    const std::vector<std::string>& datasetDirs, const KindTrainOptions& options,
+    KindTrainReport* report = nullptr,
+    const std::function<bool(int, double, double)>& progress = {});
+
+  /// `dir`/kind.pt (weights) and `dir`/kind.json (format, classes, image size, spec, threshold,
+  /// reference count and seed, training record), kind.json last.
+  void save(const std::string& dir) const;
+  /// Throws ddg::Error naming the directory for a missing or corrupt network.
+  static KindNetwork load(const std::string& dir);
+
+  const std::vector<std::string>& kinds() const;
+  int imageSize() const;
+  const DesignSpaceSpec& spec() const;
+  /// Below this agreement a picture is said to show another kind of volume (calibrated on
+  /// pictures of known kind, `ddg kind --calibrate`; 0 until then: never).
+  double threshold() const;
+  void setThreshold(double t);
+  /// The volume's exemplars kindReference draws: count and seed [128, 99].
+  int referenceCount() const;
+  std::uint64_t referenceSeed() const;
+  /// How the network was trained (kind.json "training"), as JSON text.
+  const std::string& trainingRecord() const;
+
+  /// Class probabilities of a picture as a query frames it (prepareQueryImage at imageSize(),
+  /// after halving one over kQueryPictureSide), averaged over its 8 flips and quarter turns.
+  std::vector<double> pictureProbabilities(const Image& picture) const;
+  /// The same for images already framed at imageSize() (RGB, [0, 1]), averaged over all.
+  std::vector<double> meanProbabilities(const std::vector<Image>& framed) const;
+
+private:
+  struct Internals;
+  std::unique_ptr<Internals> In;
+};
+
+/// The volume's mean class probabilities: referenceCount() exemplars generated with the
+/// network's spec and referenceSeed() (screened as `ddg generate --screen`, no viewport images;
+/// written to a temporary directory that is removed). About 10 s for 128 exemplars at 64 px on
+/// 2 cores. Progress gets the fraction done and may cancel (ddg::Cancelled).
+std::vector<double> kindReference(const KindNetwork& network, const Volume& volume,
+  int threads = 0, const std::function<bool(double)>& progress = {});
+
+/// The picture's probabilities against a reference from kindReference.
+KindCheck checkKind(
+  const KindNetwork& network, const Image& picture, const std::vector<double>& reference);
+
+/// A kind network loaded once, and the reference of each volume it has checked kept (by volume
+/// fingerprint): the kind check of the filter (a carried look) and of `ddg reconstruct`.
+class KindChecker
+{
+public:
+  /// checkKind of the picture against the volume with the network in `dir` (loaded when it is
+  /// not the last one; throws ddg::Error as KindNetwork::load does).
+  KindCheck check(const std::string& dir, const Image& picture, const Volume& volume,
+    int threads = 0, const std::function<bool(double)>& progress = {});
+
+private:
+  std::string Dir;
+  std::unique_ptr<KindNetwork> Network;
+  std::vector<std::pair<std::string, std::vector<double>>> References;
+};
+
+/// sum_i sqrt(p_i q_i); throws ddg::Error for lengths that differ.
+double bhattacharyya(const std::vector<double>& p, const std::vector<double>& q);
+
+} // namespace ddg

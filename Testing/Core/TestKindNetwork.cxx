@@ -1,0 +1,219 @@
+// TestKindNetwork.cxx: the kind network on two tiny synthetic volumes — training refuses what it
+// cannot use, the files round-trip exactly and bad ones are refused naming the directory, the
+// probabilities are the same for every flip and quarter turn of a picture (the 8-fold average),
+// the Bhattacharyya coefficient, the reference leaves no temporary files, and the check's
+// verdict follows the threshold. Tolerances: exact for round trips; 1e-5 for the symmetry
+// (float sums in another order).
+#include "Neural/KindNetwork.h"
+
+#include "Common/Error.h"
+#include "Design/ExemplarGenerator.h"
+
+#include "TempDir.h"
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numeric>
+
+using namespace ddg;
+namespace fs = std::filesystem;
+
+namespace
+{
+// A ball in a shell (kind 0) or three bars (kind 1).
+Volume synthetic(int kind)
+{
+  const int n = 24;
+  std::vector<float> v;
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+      {
+        const double r =
+          std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
+        const bool bar = (std::abs(i - 6) < 2 || std::abs(i - 17) < 2) && std::abs(k - 12) < 8;
+        v.push_back(kind == 0 ? (r < 5 ? 200.0f : (r < 9 ? 100.0f : 10.0f))
+                              : (bar ? 180.0f : (std::abs(j - 12) < 2 ? 90.0f : 10.0f)));
+      }
+  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::Float32);
+}
+
+DesignSpaceSpec pictureSpec()
+{
+  DesignSpaceSpec s;
+  s.pictureFraction = 0.5;
+  return s;
+}
+
+std::string dataset(int kind, int size = 16)
+{
+  const std::string d = ddg::testing::tempDir() + "/kind_data_" + std::to_string(kind) + "_" +
+    std::to_string(size);
+  if (!fs::exists(d + "/dataset.json"))
+  {
+    GenerateOptions opt;
+    opt.count = 32;
+    opt.size = size;
+    opt.seed = 3 + kind;
+    opt.viewport = false;
+    opt.threads = 1;
+    generateExemplars(synthetic(kind), pictureSpec(), d, opt);
+  }
+  return d;
+}
+
+KindTrainOptions quick()
+{
+  KindTrainOptions o;
+  o.epochs = 2;
+  o.batch = 16;
+  o.threads = 1;
+  return o;
+}
+
+const KindNetwork& trained()
+{
+  static const KindNetwork net =
+    KindNetwork::train({ "ball", "bars" }, { dataset(0), dataset(1) }, quick());
+  return net;
+}
+
+Image turned(const Image& im) // a quarter turn
+{
+  Image out(im.height, im.width, im.channels);
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x)
+      for (int c = 0; c < im.channels; ++c)
+        out.pixels[(static_cast<size_t>(im.width - 1 - x) * out.width + y) * im.channels + c] =
+          im.pixels[(static_cast<size_t>(y) * im.width + x) * im.channels + c];
+  return out;
+}
+
+Image mirrored(const Image& im)
+{
+  Image out(im.width, im.height, im.channels);
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x)
+      for (int c = 0; c < im.channels; ++c)
+        out.pixels[(static_cast<size_t>(y) * im.width + (im.width - 1 - x)) * im.channels + c] =
+          im.pixels[(static_cast<size_t>(y) * im.width + x) * im.channels + c];
+  return out;
+}
+} // namespace
+
+TEST(KindNetwork, TrainingRefusesWhatItCannotUse)
+{
+  EXPECT_THROW(KindNetwork::train({ "ball" }, { dataset(0) }, quick()), Error);
+  EXPECT_THROW(
+    KindNetwork::train({ "ball", "ball" }, { dataset(0), dataset(1) }, quick()), Error);
+  try
+  {
+    KindNetwork::train({ "ball", "bars" }, { dataset(0), dataset(1, 24) }, quick());
+    FAIL() << "datasets of two sizes were accepted";
+  }
+  catch (const Error& e)
+  {
+    EXPECT_NE(std::string(e.what()).find("another image size or spec"), std::string::npos);
+  }
+}
+
+TEST(KindNetwork, ProbabilitiesAreTheSameForEveryFlipAndTurn)
+{
+  const KindNetwork& net = trained();
+  EXPECT_EQ(net.kinds(), (std::vector<std::string>{ "ball", "bars" }));
+  EXPECT_EQ(net.imageSize(), 16);
+  const ExemplarDataset ds(dataset(1));
+  const Image im = ds.images(5).rgbExp;
+  const auto p = net.meanProbabilities({ im });
+  ASSERT_EQ(p.size(), 2u);
+  EXPECT_NEAR(p[0] + p[1], 1.0, 1e-5);
+  for (const Image& other : { turned(im), turned(turned(im)), mirrored(im), mirrored(turned(im)) })
+  {
+    const auto q = net.meanProbabilities({ other });
+    EXPECT_NEAR(q[0], p[0], 1e-5);
+  }
+  // a picture is framed as a query frames it; an image of another size is refused as input
+  EXPECT_THROW(net.meanProbabilities({ Image(20, 20, 3) }), Error);
+  EXPECT_NO_THROW(net.pictureProbabilities(ds.images(6).rgbExp));
+}
+
+TEST(KindNetwork, FilesRoundTripAndBadOnesAreRefused)
+{
+  KindNetwork net = KindNetwork::train({ "ball", "bars" }, { dataset(0), dataset(1) }, quick());
+  net.setThreshold(0.42);
+  EXPECT_THROW(net.setThreshold(1.5), Error);
+  const std::string dir = ddg::testing::tempDir() + "/kind_net";
+  net.save(dir);
+  const KindNetwork back = KindNetwork::load(dir);
+  EXPECT_EQ(back.kinds(), net.kinds());
+  EXPECT_EQ(back.threshold(), 0.42);
+  EXPECT_EQ(back.referenceCount(), net.referenceCount());
+  EXPECT_NE(back.trainingRecord().find("validation_accuracy"), std::string::npos);
+  const ExemplarDataset ds(dataset(0));
+  std::vector<Image> images;
+  for (int i = 0; i < 8; ++i)
+    images.push_back(ds.images(i).rgbExp);
+  EXPECT_EQ(back.meanProbabilities(images), net.meanProbabilities(images));
+
+  auto refused = [](const std::string& d, const std::string& words)
+  {
+    try
+    {
+      KindNetwork::load(d);
+      ADD_FAILURE() << "loaded " << d;
+    }
+    catch (const Error& e)
+    {
+      const std::string m = e.what();
+      EXPECT_NE(m.find(d), std::string::npos) << m;
+      EXPECT_NE(m.find(words), std::string::npos) << m;
+      EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    }
+  };
+  refused(dir + "/nowhere", "has no kind.json");
+  const std::string bad = ddg::testing::tempDir() + "/kind_bad";
+  fs::create_directories(bad);
+  fs::copy_file(dir + "/kind.json", bad + "/kind.json", fs::copy_options::overwrite_existing);
+  std::ofstream(bad + "/kind.pt") << "not weights";
+  refused(bad, "missing or corrupt");
+  std::ofstream(bad + "/kind.json") << R"({"format": "ddg-exemplars", "version": 1})";
+  refused(bad, "not a kind network");
+}
+
+TEST(KindNetwork, BhattacharyyaCoefficient)
+{
+  EXPECT_NEAR(bhattacharyya({ 0.2, 0.8 }, { 0.2, 0.8 }), 1.0, 1e-12);
+  EXPECT_NEAR(bhattacharyya({ 1, 0 }, { 0, 1 }), 0.0, 1e-12);
+  EXPECT_NEAR(bhattacharyya({ 0.5, 0.5 }, { 1, 0 }), std::sqrt(0.5), 1e-12);
+  EXPECT_THROW(bhattacharyya({ 1 }, { 0.5, 0.5 }), Error);
+}
+
+TEST(KindNetwork, TheCheckFollowsTheThresholdAndLeavesNoFiles)
+{
+  KindNetwork net = KindNetwork::train({ "ball", "bars" }, { dataset(0), dataset(1) }, quick());
+  auto tempFiles = []
+  {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(fs::temp_directory_path()))
+      n += e.path().filename().string().rfind("ddg-kind-", 0) == 0;
+    return n;
+  };
+  const int before = tempFiles();
+  const auto reference = kindReference(net, synthetic(0), 1);
+  EXPECT_EQ(tempFiles(), before);
+  ASSERT_EQ(reference.size(), 2u);
+  EXPECT_NEAR(reference[0] + reference[1], 1.0, 1e-5);
+  const Image picture = ExemplarDataset(dataset(1)).images(3).rgbExp;
+  net.setThreshold(0);
+  const KindCheck never = checkKind(net, picture, reference);
+  EXPECT_FALSE(never.differs);
+  EXPECT_GT(never.agreement, 0.0);
+  EXPECT_LE(never.agreement, 1.0 + 1e-9);
+  net.setThreshold(1);
+  const KindCheck always = checkKind(net, picture, reference);
+  EXPECT_EQ(always.agreement, never.agreement);
+  EXPECT_EQ(always.differs, always.agreement < 1);
+  EXPECT_TRUE(always.pictureLike == "ball" || always.pictureLike == "bars");
+}
