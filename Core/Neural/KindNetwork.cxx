@@ -80,7 +80,8 @@ torch::Tensor augment(torch::Tensor x, std::mt19937_64& rng)
 void oneCycle(torch::optim::Adam& opt, double maxLr, int step, int total)
 {
   const double rise = 0.3 * total - 1, lo = maxLr / 25, end = lo / 1e4;
-  auto cosine = [](double a, double b, double pct) { return b + (a - b) / 2 * (1 + std::cos(M_PI * pct)); };
+  auto cosine = [](double a, double b, double pct)
+  { return b + (a - b) / 2 * (1 + std::cos(M_PI * pct)); };
   double lr, beta;
   if (step <= rise)
   {
@@ -143,19 +144,40 @@ KindNetwork::~KindNetwork() = default;
 KindNetwork::KindNetwork(KindNetwork&&) noexcept = default;
 KindNetwork& KindNetwork::operator=(KindNetwork&&) noexcept = default;
 
-const std::vector<std::string>& KindNetwork::kinds() const { return In->Kinds; }
-int KindNetwork::imageSize() const { return In->Size; }
-const DesignSpaceSpec& KindNetwork::spec() const { return In->Spec; }
-double KindNetwork::threshold() const { return In->Threshold; }
+const std::vector<std::string>& KindNetwork::kinds() const
+{
+  return In->Kinds;
+}
+int KindNetwork::imageSize() const
+{
+  return In->Size;
+}
+const DesignSpaceSpec& KindNetwork::spec() const
+{
+  return In->Spec;
+}
+double KindNetwork::threshold() const
+{
+  return In->Threshold;
+}
 void KindNetwork::setThreshold(double t)
 {
   if (!(t >= 0 && t <= 1))
     throw Error("kind threshold must lie in [0, 1]");
   In->Threshold = t;
 }
-int KindNetwork::referenceCount() const { return In->ReferenceCount; }
-std::uint64_t KindNetwork::referenceSeed() const { return In->ReferenceSeed; }
-const std::string& KindNetwork::trainingRecord() const { return In->Training; }
+int KindNetwork::referenceCount() const
+{
+  return In->ReferenceCount;
+}
+std::uint64_t KindNetwork::referenceSeed() const
+{
+  return In->ReferenceSeed;
+}
+const std::string& KindNetwork::trainingRecord() const
+{
+  return In->Training;
+}
 
 KindNetwork KindNetwork::train(const std::vector<std::string>& names,
   const std::vector<std::string>& dirs, const KindTrainOptions& opt, KindTrainReport* report,
@@ -359,8 +381,8 @@ std::vector<double> kindReference(const KindNetwork& network, const Volume& volu
   const std::function<bool(double)>& progress)
 {
   std::random_device rd;
-  const fs::path dir = fs::temp_directory_path() /
-    ("ddg-kind-" + std::to_string(rd()) + "-" + std::to_string(rd()));
+  const fs::path dir =
+    fs::temp_directory_path() / ("ddg-kind-" + std::to_string(rd()) + "-" + std::to_string(rd()));
   struct Remove
   {
     fs::path p;
@@ -424,8 +446,8 @@ KindCheck KindChecker::check(const std::string& dir, const Image& picture, const
     References.clear();
   }
   const std::string fingerprint = volumeFingerprint(volume);
-  auto it = std::find_if(References.begin(), References.end(),
-    [&](const auto& r) { return r.first == fingerprint; });
+  auto it = std::find_if(
+    References.begin(), References.end(), [&](const auto& r) { return r.first == fingerprint; });
   if (it == References.end())
   {
     References.emplace_back(fingerprint, kindReference(*Network, volume, threads, progress));

@@ -22,13 +22,13 @@ namespace ddg
 /// Training options (defaults in brackets: the shipped network's, scripts/train_kind.sh).
 struct KindTrainOptions
 {
-  int epochs = 40;                ///< passes over the training exemplars [40]
-  int batch = 128;                ///< exemplars per step [128]
-  double maxLearningRate = 3e-3;  ///< Adam, one-cycle schedule up to this rate [3e-3]
-  double weightDecay = 1e-4;      ///< [1e-4]
-  double validationShare = 0.1;   ///< exemplars held out to report accuracy [0.1]
-  std::uint64_t seed = 5;         ///< weights, split, order and augmentation [5]
-  int threads = 0;                ///< libtorch threads, 0 = all cores
+  int epochs = 40;               ///< passes over the training exemplars [40]
+  int batch = 128;               ///< exemplars per step [128]
+  double maxLearningRate = 3e-3; ///< Adam, one-cycle schedule up to this rate [3e-3]
+  double weightDecay = 1e-4;     ///< [1e-4]
+  double validationShare = 0.1;  ///< exemplars held out to report accuracy [0.1]
+  std::uint64_t seed = 5;        ///< weights, split, order and augmentation [5]
+  int threads = 0;               ///< libtorch threads, 0 = all cores
 };
 
 struct KindTrainReport
@@ -102,8 +102,8 @@ private:
 /// network's spec and referenceSeed() (screened as `ddg generate --screen`, no viewport images;
 /// written to a temporary directory that is removed). About 10 s for 128 exemplars at 64 px on
 /// 2 cores. Progress gets the fraction done and may cancel (ddg::Cancelled).
-std::vector<double> kindReference(const KindNetwork& network, const Volume& volume,
-  int threads = 0, const std::function<bool(double)>& progress = {});
+std::vector<double> kindReference(const KindNetwork& network, const Volume& volume, int threads = 0,
+  const std::function<bool(double)>& progress = {});
 
 /// The picture's probabilities against a reference from kindReference.
 KindCheck checkKind(

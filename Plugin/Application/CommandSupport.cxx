@@ -7,6 +7,9 @@
 #include "Render/View.h"
 #ifdef DDG_WITH_TORCH
 #include "Gallery/DesignReference.h"
+#ifdef DDG_WITH_TORCH
+#include "Neural/KindNetwork.h"
+#endif
 #endif
 
 #include <cstdio>
@@ -109,5 +112,24 @@ void printEvaluation(const EvaluationReport& e)
     e.count, e.psnr, e.ssim, e.emd, e.invariance, e.analyzerMs, e.rendererMs);
 }
 #endif
+
+void printKindCheck(const std::string& dir, int threads, const Image& picture, const Volume& volume)
+{
+  if (dir.empty())
+    return;
+#ifdef DDG_WITH_TORCH
+  const auto c = KindChecker().check(dir, picture, volume, threads);
+  std::printf("kind agreement %.3f (threshold %.3f): %s; the picture is most like %s, this "
+              "volume like %s\n",
+    c.agreement, c.threshold,
+    c.differs ? "the picture may show a volume of another kind" : "the same kind",
+    c.pictureLike.c_str(), c.volumeLike.c_str());
+#else
+  (void)threads;
+  (void)picture;
+  (void)volume;
+  throw Error("--kind-network needs a build with libtorch");
+#endif
+}
 
 } // namespace ddg::cli

@@ -19,6 +19,7 @@
 namespace ddg
 {
 struct View;
+struct Image;
 class Volume;
 
 namespace cli
@@ -40,6 +41,12 @@ double msSince(Clock::time_point t0);
 std::vector<double> parseNumbers(const std::string& text, size_t count, const char* what);
 /// Comma-separated integers; ddg::Error names `what`.
 std::vector<int> parseInts(const std::string& text, const char* what);
+
+/// The kind network `dir`'s check of a picture against a volume, printed as one line ("" prints
+/// nothing; without libtorch a network given is an error): --kind-network of ddg query and
+/// ddg reconstruct --carry-look.
+void printKindCheck(
+  const std::string& dir, int threads, const Image& picture, const Volume& volume);
 
 #ifdef DDG_WITH_TORCH
 /// --box x0,y0,x1,y1 on the outline plane (x0 < x1, y0 < y1).

@@ -31,6 +31,7 @@ using namespace ddg::cli;
 struct QueryArgs
 {
   std::string model, volume, image, view, outPreview, outTF, outInput, format = "paraview", history;
+  std::string kindNetwork;
   int neighbours = 5;
   bool noKey = false;
 };
@@ -63,6 +64,7 @@ int runQuery(const QueryArgs& a)
   std::printf("against the picture: %.2f dB (both framed on their content; the design %s, the "
               "better of unlit and lit)\n",
     r.picturePSNR, r.pictureLit ? "lit" : "unlit");
+  printKindCheck(a.kindNetwork, 0, image, session->volume());
   if (!a.outInput.empty())
     ddg::writeImage(r.input, a.outInput);
   if (!a.history.empty())
@@ -113,6 +115,9 @@ ddg::cli::Command ddg::cli::addQueryCommand(CLI::App& app)
     "Start a history file that replays this path (ddg edit --history, ddg replay)");
   query->add_option("--neighbours", qa->neighbours, "Nearest designs listed (default 5)")
     ->check(CLI::Range(0, 1000));
+  query->add_option("--kind-network", qa->kindNetwork,
+    "Check whether the picture shows a volume of this volume's kind with this kind network "
+    "(e.g. Data/Models/kind; `ddg kind`; about 10 s; default: no check)");
   query->add_flag("--no-key", qa->noKey,
     "Find the nearest designs by the latents as they are, not by the bundle's query key "
     "(query_key.json); the distances printed say which (key or latent)");

@@ -9,10 +9,6 @@
 #include "Render/DifferentiableRenderer.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
-#ifdef DDG_WITH_TORCH
-#include "Neural/KindNetwork.h"
-#endif
-
 #include <cstdio>
 #include <filesystem>
 
@@ -28,33 +24,6 @@ const char* const kNotForCarry[] = { "--bins", "--gradient-bins", "--primitives"
   "--smoothness", "--lr", "--rays", "--resample", "--ssim-weight", "--camera-candidates",
   "--background" };
 
-// The kind network's check of the picture against the volume (--kind-network).
-void printKind(const ddg::cli::reconstruct::ReconstructArgs& a, const ddg::Image& picture,
-  const ddg::Volume& volume)
-{
-#ifdef DDG_WITH_TORCH
-  std::string dir = a.kindNetwork;
-  if (dir == "none")
-    return;
-  if (dir.empty())
-  {
-    dir = DDG_DATA_DIR "/Models/kind";
-    if (!std::filesystem::exists(dir + "/kind.json"))
-      return;
-  }
-  const auto c = ddg::KindChecker().check(dir, picture, volume, a.threads);
-  std::printf("kind agreement %.3f (threshold %.3f): %s; the picture is most like %s, this "
-              "volume like %s\n",
-    c.agreement, c.threshold,
-    c.differs ? "the picture may show a volume of another kind" : "the same kind",
-    c.pictureLike.c_str(), c.volumeLike.c_str());
-#else
-  if (!a.kindNetwork.empty() && a.kindNetwork != "none")
-    throw ddg::Error("--kind-network needs a build with libtorch");
-  (void)picture;
-  (void)volume;
-#endif
-}
 } // namespace
 
 namespace ddg::cli::reconstruct
@@ -125,7 +94,11 @@ int runCarry(const ReconstructArgs& a)
     ddg::writeImage(ddg::compositeOverBackground(
                       ddg::renderResult(renderer.caster(), r.fit, view, {}), view.background),
       a.outImage);
-  printKind(a, picture, volume);
+  // the kind check: --kind-network, by default the shipped network when it is there
+  std::string kind = a.kindNetwork == "none" ? "" : a.kindNetwork;
+  if (a.kindNetwork.empty() && std::filesystem::exists(DDG_DATA_DIR "/Models/kind/kind.json"))
+    kind = DDG_DATA_DIR "/Models/kind";
+  printKindCheck(kind, a.threads, picture, volume);
   return 0;
 }
 

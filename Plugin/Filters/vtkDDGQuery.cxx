@@ -6,6 +6,7 @@
 #include "DDGBundleSession.h"
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
+#include "DDGKindCheck.h"
 #include "DDGPieces.h"
 #include "DDGVolumeAdaptor.h"
 
@@ -37,7 +38,8 @@ vtkStandardNewMacro(vtkDDGQuery);
 
 struct vtkDDGQuery::Internals
 {
-  ddg::FilterGallery Gallery; // in one process or over the ranks' pieces
+  ddg::FilterGallery Gallery;              // in one process or over the ranks' pieces
+  std::shared_ptr<ddg::KindChecker> Kinds; // the kind network and its references (KindNetwork)
 };
 
 namespace
@@ -125,6 +127,7 @@ void vtkDDGQuery::PrintSelf(ostream& os, vtkIndent indent)
   os << indent << "ImageData: " << this->ImageData.size() << " characters\n";
   os << indent << "Neighbours: " << this->Neighbours << "\n";
   os << indent << "ThumbnailSize: " << this->ThumbnailSize << "\n";
+  os << indent << "KindNetwork: " << this->KindNetwork << "\n";
 }
 
 int vtkDDGQuery::FillOutputPortInformation(int port, vtkInformation* info)
@@ -163,6 +166,9 @@ void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputV
     tf.is2D ? ddg::paraViewTransferFunction2DJson(gallery.space().paraviewMapping2D(view), tf.tf2D)
             : "",
     view, vtkImageData::GetData(outputVector, 0), vtkTable::GetData(outputVector, 1));
+  if (!this->Ranks()) // the reference's exemplars need the whole volume
+    ddg::addKindCheck(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
+      this->Internal->Kinds, this->KindNetwork, image, gallery.volume());
   const size_t shown = std::min<size_t>(r.neighbours.size(), kMaxNeighbourThumbnails);
   if (this->ThumbnailSize > 0 && shown > 0) // the nearest designs as the outline shows them
   {

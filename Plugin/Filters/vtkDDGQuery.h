@@ -32,6 +32,8 @@
  * pixels between and around them ("Image" RGB over the view's background, "RGBA"); else empty.
  * The table then also holds "NeighbourPicturePSNR": each of those designs against the picture as
  * the query's own design is judged (NaN for rows without a thumbnail).
+ * With KindNetwork, the table's field data also holds "Kind": whether the picture shows a
+ * volume of the input's kind (ddg::addKindCheck; not under MPI), warned when it may not.
  *
  * The bundle and its outline are loaded once per ModelDirectory and input. Bad input (missing
  * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one
@@ -94,6 +96,14 @@ public:
   vtkGetMacro(ThumbnailSize, int);
   ///@}
 
+  ///@{
+  /// The kind network (a directory such as Data/Models/kind; ddg::KindNetwork) that checks
+  /// whether the picture shows a volume of the input's kind (the field "Kind"; about 10 s the
+  /// first time for a volume, then kept). (default: empty, no check)
+  vtkSetStdStringFromCharMacro(KindNetwork);
+  vtkGetCharFromStdStringMacro(KindNetwork);
+  ///@}
+
 protected:
   vtkDDGQuery();
   ~vtkDDGQuery() override;
@@ -118,6 +128,7 @@ private:
   std::string ImageData;
   int Neighbours = 5;
   int ThumbnailSize = 0;
+  std::string KindNetwork;
 
   struct Internals;
   std::unique_ptr<Internals> Internal;

@@ -5,6 +5,7 @@
 
 #include "DDGFilterInputs.h"
 #include "DDGFilterSupport.h"
+#include "DDGKindCheck.h"
 #include "DDGPieces.h"
 #include "DDGVolumeAdaptor.h"
 #include "Gallery/Export.h"
@@ -14,9 +15,6 @@
 #include "Image/Image.h"
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/CarryLook.h"
-#ifdef DDG_WITH_TORCH
-#include "Neural/KindNetwork.h"
-#endif
 #include "Reconstruct/Match.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/TransferFunctionIO.h"
@@ -33,8 +31,6 @@
 #include <vtkStringArray.h>
 #include <vtkTable.h>
 #include <vtkUnsignedCharArray.h>
-
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
@@ -753,7 +749,8 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
       presetName(input, array, "carried look", this->OutputFile));
     describeCarriedLook(output->GetFieldData(), result, view);
     if (!ranks) // the reference's exemplars need the whole volume
-      this->CheckKind(output->GetFieldData(), picture, *volume.volume);
+      ddg::addKindCheck(
+        this, output->GetFieldData(), this->Kinds, this->KindNetwork, picture, *volume.volume);
   };
   if (ranks)
   {
@@ -771,44 +768,6 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   addImageArray(vtkImageData::GetData(outputVector, 1), overBackground(rendered, view), "Image", 3);
   if (!this->OutputFile.empty())
     ddg::writeFileAtomic(this->OutputFile, json, "transfer function");
-}
-
-void vtkDDGReconstructTransferFunction::CheckKind(
-  vtkFieldData* fd, const ddg::Image& picture, const ddg::Volume& volume)
-{
-#ifdef DDG_WITH_TORCH
-  if (this->KindNetwork.empty())
-    return;
-  if (!this->Kinds)
-    this->Kinds = std::make_shared<ddg::KindChecker>();
-  this->SetProgressText("kind");
-  try
-  {
-    const ddg::KindCheck c = this->Kinds->check(this->KindNetwork, picture, volume, 0,
-      [&](double f)
-      {
-        this->UpdateProgress(f);
-        return keepGoing(this, nullptr);
-      });
-    const nlohmann::json j{ { "agreement", c.agreement }, { "threshold", c.threshold },
-      { "differs", c.differs }, { "picture_like", c.pictureLike },
-      { "volume_like", c.volumeLike } };
-    addString(fd, "Kind", j.dump());
-    if (c.differs)
-      vtkWarningMacro(<< "the picture may show a volume of another kind: kind agreement "
-                      << c.agreement << " < " << c.threshold << " (the picture is most like "
-                      << c.pictureLike << ", this volume like " << c.volumeLike << ")");
-  }
-  catch (const ddg::Error& e)
-  {
-    vtkWarningMacro(<< "the kind of the picture was not checked: " << e.what());
-  }
-  this->SetProgressText(nullptr);
-#else
-  (void)fd;
-  (void)picture;
-  (void)volume;
-#endif
 }
 
 namespace

@@ -11,13 +11,10 @@
 #include <memory>
 #include <string>
 
-class vtkFieldData;
 class vtkImageData;
 namespace ddg
 {
 struct ReconstructionOptions;
-struct Image;
-class Volume;
 class KindChecker;
 }
 
@@ -283,8 +280,6 @@ protected:
   void ExecuteMatch(vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector);
   void ExecuteCarryLook(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector);
-  /// The "Kind" field of a carried look (KindNetwork), or nothing.
-  void CheckKind(vtkFieldData* fd, const ddg::Image& picture, const ddg::Volume& volume);
 
 private:
   vtkDDGReconstructTransferFunction(const vtkDDGReconstructTransferFunction&) = delete;

@@ -99,7 +99,10 @@ void pqDDGDesignGalleryDock::showDesign()
     against =
       tr("\nAgainst the picture: %1 dB (framed alike, the design %2; Match finds its camera)")
         .arg(this->State->queryPicturePSNR(), 0, 'f', 1)
-        .arg(this->State->queryPictureLit() ? tr("lit") : tr("unlit"));
+        .arg(this->State->queryPictureLit() ? tr("lit") : tr("unlit")) +
+      (this->State->queryKind().isEmpty()
+          ? QString()
+          : QStringLiteral("\n") + pqDDGDesignState::kindText(this->State->queryKind()));
   else if (std::isfinite(pickedAgainst))
     against = tr("\nAgainst the picture: %1 dB (framed alike; nearest design %2 of the query "
                  "'%3')")

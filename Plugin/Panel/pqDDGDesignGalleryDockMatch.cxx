@@ -119,7 +119,7 @@ void pqDDGDesignGalleryDock::showMatch()
                  ? QString()
                  : tr(" \u2014 the shapes disagree: the picture may show a volume of another "
                       "kind")) +
-          (m.Kind.isEmpty() ? QString() : QStringLiteral("; ") + m.kindText()))
+          (m.Kind.isEmpty() ? QString() : QStringLiteral(". ") + m.kindText()))
         .arg(lit));
     return;
   }

@@ -96,7 +96,7 @@ public:
     /// picture_like, volume_like); empty when it was not checked
     QJsonObject Kind;
     /// Carried: the check in a sentence ("" when not checked).
-    QString kindText() const;
+    QString kindText() const { return pqDDGDesignState::kindText(this->Kind); }
     /// Carried: the kind network says the picture may show a volume of another kind.
     bool kindDiffers() const { return Kind.value("differs").toBool(); }
   };
@@ -225,6 +225,14 @@ public:
   /// Whether that figure is of the design lit (the better of unlit and lit is taken: the
   /// picture's lighting is not known).
   bool queryPictureLit() const { return this->QueryLit; }
+  /// The last query's kind check (DDG Query's "Kind": agreement, threshold, differs, ...), empty
+  /// when it was not checked.
+  const QJsonObject& queryKind() const { return this->QueryKind; }
+  /// The shipped kind network (DDG_DATA_DIR/Models/kind) when it is there, else "": what the
+  /// query and the carried look check the picture's kind of volume with.
+  static QString kindNetwork();
+  /// A kind check (the filters' "Kind" field) in a sentence ("" when there is none).
+  static QString kindText(const QJsonObject& kind);
   /// A nearest design of the last query against its picture (dB, as in the strip; NaN when
   /// `row` is not one of them or was not scored).
   double neighbourPicturePSNR(int row) const;
@@ -355,6 +363,7 @@ private:
   bool Queried = false; ///< the query's position on the outline is known
   double QueryPSNR = std::numeric_limits<double>::quiet_NaN();
   bool QueryLit = false;
+  QJsonObject QueryKind; // the query's kind check (DDG Query's "Kind"), empty when none
   QPointF QueryPosition;
   QVector<int> QueryNeighbours;
   QVector<QImage> QueryThumbnails;

@@ -104,9 +104,8 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   vtkSMPropertyHelper(p, "InitialTransferFunction")
     .Set(twoD || otherVolume ? "" : this->Current.Preset.toUtf8().constData());
   // the carried look's picture is checked for another kind of volume by the project's network
-  const QString kind = QString::fromUtf8(DDG_DATA_DIR "/Models/kind");
   vtkSMPropertyHelper(p, "KindNetwork")
-    .Set(otherVolume && QFileInfo::exists(kind + "/kind.json") ? kind.toUtf8().constData() : "");
+    .Set(otherVolume ? pqDDGDesignState::kindNetwork().toUtf8().constData() : "");
   vtkSMPropertyHelper(p, "PreviewEvery").Set(10);
   p->UpdateVTKObjects();
 
@@ -243,20 +242,26 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   return true;
 }
 
-QString pqDDGDesignState::Match::kindText() const
+QString pqDDGDesignState::kindNetwork()
 {
-  if (this->Kind.isEmpty())
+  const QString dir = QString::fromUtf8(DDG_DATA_DIR "/Models/kind");
+  return QFileInfo::exists(dir + "/kind.json") ? dir : QString();
+}
+
+QString pqDDGDesignState::kindText(const QJsonObject& kind)
+{
+  if (kind.isEmpty())
     return QString();
-  const double agreement = this->Kind.value("agreement").toDouble();
-  const double threshold = this->Kind.value("threshold").toDouble();
-  if (!this->kindDiffers())
-    return tr("kind agreement %1 (the same kind: %2 or more)")
+  const double agreement = kind.value("agreement").toDouble();
+  const double threshold = kind.value("threshold").toDouble();
+  if (!kind.value("differs").toBool())
+    return tr("Kind agreement %1 (the same kind: %2 or more)")
       .arg(agreement, 0, 'f', 2)
       .arg(threshold, 0, 'f', 2);
   return tr("The picture may show a volume of another kind: kind agreement %1, under %2 (the "
             "picture looks most like %3, this volume like %4)")
     .arg(agreement, 0, 'f', 2)
     .arg(threshold, 0, 'f', 2)
-    .arg(this->Kind.value("picture_like").toString())
-    .arg(this->Kind.value("volume_like").toString());
+    .arg(kind.value("picture_like").toString())
+    .arg(kind.value("volume_like").toString());
 }

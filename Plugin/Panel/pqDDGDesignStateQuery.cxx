@@ -9,6 +9,8 @@
 #include <vtkSMSourceProxy.h>
 #include <vtkTable.h>
 
+#include <QJsonDocument>
+
 #include <limits>
 
 void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
@@ -34,6 +36,9 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     .Set(ddgpanel::jsonText(view).toUtf8().constData());
   vtkSMPropertyHelper(this->QueryProxy, "Neighbours").Set(QueryNeighbourCount);
   vtkSMPropertyHelper(this->QueryProxy, "ThumbnailSize").Set(ThumbnailSize);
+  if (this->QueryProxy->GetProperty("KindNetwork")) // is the picture of this kind of volume?
+    vtkSMPropertyHelper(this->QueryProxy, "KindNetwork")
+      .Set(pqDDGDesignState::kindNetwork().toUtf8().constData());
   this->QueryProxy->UpdateVTKObjects();
   this->QueryProxy->UpdatePipeline();
   vtkSmartPointer<vtkTable> table = vtkTable::SafeDownCast(ddgpanel::fetch(this->QueryProxy, 1));
@@ -82,6 +87,11 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     const QString warning = ddgpanel::fieldText(table, "Warning");
     if (!warning.isEmpty()) // the filter's VTK warning is in Output Messages already
       this->report(tr("Query with '%1': %2.").arg(name, warning));
+    this->QueryKind = QJsonDocument::fromJson(ddgpanel::fieldText(table, "Kind").toUtf8()).object();
+    if (this->QueryKind.value("differs").toBool())
+      this->report(tr("Query with '%1': %2. The design is this model's nearest reading of it.")
+                     .arg(name, kindText(this->QueryKind)),
+        true);
     Q_EMIT this->queryDone();
   }
 }

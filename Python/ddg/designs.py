@@ -11,7 +11,7 @@ import paraview.simple as simple
 from vtkmodules.util import numpy_support
 
 from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _history, _run, _tf_text
-from .plugin import _vtk_module, data_path
+from .plugin import _kind_network, _kind_of, _vtk_module, data_path
 from .scene import (
     _display,
     _image_text,
@@ -160,6 +160,8 @@ class Design:
         self.picture_psnr = None  # queries: against the picture (query())
         self.picture_lit = None  # queries: whether that figure is of the design lit
         self.warning = None  # queries: why the design is a guess (a photograph), else None
+        self.kind = None  # queries: the kind check (query(kind=...)), else None
+        self.kind_differs = False
         self._cache = {}
 
     @property
@@ -249,7 +251,7 @@ def pick(row, model=None, source=None):
     return Design(model, history)
 
 
-def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_size=0):
+def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_size=0, kind=True):
     """Queries the model's design space with an image (a file path or a numpy image): the
     analyzer's design, placed on the outline, with its ``neighbours`` nearest outline rows.
     ``view`` is where its preview is rendered and its explicit TF made (default: the active
@@ -260,7 +262,12 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
     be read as a rendered volume (a photograph) gives a design with a ``warning`` (also warned).
     With ``thumbnail_size`` > 0 (up to 512; the panel's is 64) the design's ``neighbour_thumbnails`` are the nearest designs'
     thumbnails (the first 64) at ``view``'s camera, ``thumbnail_size`` pixels square, and its
-    ``neighbour_picture_psnr`` how each of them looks against the picture (as ``picture_psnr``)."""
+    ``neighbour_picture_psnr`` how each of them looks against the picture (as ``picture_psnr``).
+    ``kind``: True (default) checks whether the picture shows a volume of this one's kind with
+    the shipped kind network (Data/Models/kind; about 10 s the first time for a volume), a
+    directory another kind network, False no check: the Design's ``kind`` (a dict: "agreement",
+    "threshold", "differs", "picture_like", "volume_like"; None when not checked) and
+    ``kind_differs`` (also warned)."""
     if not 0 <= int(thumbnail_size) <= 512:
         raise DDGError("thumbnail_size must be 0 (none) to 512, not %s" % thumbnail_size)
     model, source = _model(model, source)
@@ -273,6 +280,7 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
         ImageData=_image_text(image),
         Neighbours=int(neighbours),
         ThumbnailSize=int(thumbnail_size),
+        KindNetwork=_kind_network(kind, "query"),
     )
     with _errors_named("query", image):
         _run(proxy)
@@ -300,6 +308,13 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
     design.warning = _field_string(table, "Warning")
     if design.warning:
         warnings.warn("query: " + design.warning)
+    design.kind = _kind_of(table)
+    design.kind_differs = bool(design.kind and design.kind["differs"])
+    if design.kind_differs:
+        warnings.warn(
+            "query: the picture may show a volume of another kind (kind agreement %.2f < %.2f)"
+            % (design.kind["agreement"], design.kind["threshold"])
+        )
     return design
 
 

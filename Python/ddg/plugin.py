@@ -5,6 +5,7 @@ server too (the filters' proxy definitions come from the server). The helpers be
 filter and read its outputs' field data; the package's other modules build on them.
 """
 import importlib
+import json
 import os
 import sys
 
@@ -122,6 +123,25 @@ def _run(proxy):
     error = proxy.GetPropertyValue("LastError") if proxy.GetProperty("LastError") else ""
     if error:
         raise DDGError(error)
+
+
+def _kind_network(kind, caller):
+    """The filters' KindNetwork for ``kind=``: True the shipped Data/Models/kind (when it is
+    there), a directory that kind network, False none."""
+    if kind is True:
+        shipped = data_path("Models/kind")
+        return shipped if os.path.exists(os.path.join(shipped, "kind.json")) else ""
+    if not kind:
+        return ""
+    if not os.path.exists(os.path.join(str(kind), "kind.json")):
+        raise DDGError("%s: %r is not a kind network (no kind.json)" % (caller, kind))
+    return os.path.abspath(str(kind))
+
+
+def _kind_of(table):
+    """A result's kind check (the "Kind" field) as a dict, or None."""
+    text = _field_string(table, "Kind")
+    return json.loads(text) if text else None
 
 
 def _field_string(table, name):

@@ -3,14 +3,14 @@ users have it (camera and background estimated), converted to ParaView's Transfe
 exported as files.
 """
 import json
-import os
 import re
 
 from paraview import servermanager
 from paraview import simple
 
 from .designs import Design
-from .plugin import DDGError, _field_numbers, data_path, _field_string, _first_tf, _run, _tf_text
+from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _kind_network, _kind_of
+from .plugin import _run, _tf_text
 from .scene import _errors_named, _image_text, _proxy, _rgb, _scene, _source, view_json
 
 
@@ -314,8 +314,7 @@ class CarriedLook:
         self.overlay_share = float(_field_numbers(table, "OverlayShare")[0])
         agreement = _field_numbers(table, "ShapeAgreement")
         self.shape_agreement, self.shapes_agree = float(agreement[0]), bool(agreement[1])
-        kind = _field_string(table, "Kind")
-        self.kind = json.loads(kind) if kind else None
+        self.kind = _kind_of(table)
         self.kind_differs = bool(self.kind and self.kind["differs"])
         self.seconds = float(_field_numbers(table, "Timings")[0])
         self.iterations = int(_field_numbers(table, "Iterations")[0])
@@ -384,15 +383,7 @@ def carry_look(image, source=None, initial=None, shade=None, seed=None, kind=Tru
     )
     if seed is not None:
         props["Seed"] = _seed(seed, "carry_look")
-    if kind is True:
-        shipped = data_path("Models/kind")
-        props["KindNetwork"] = shipped if os.path.exists(os.path.join(shipped, "kind.json")) else ""
-    elif kind:
-        if not os.path.exists(os.path.join(str(kind), "kind.json")):
-            raise DDGError("carry_look: %r is not a kind network (no kind.json)" % (kind,))
-        props["KindNetwork"] = os.path.abspath(str(kind))
-    else:
-        props["KindNetwork"] = ""
+    props["KindNetwork"] = _kind_network(kind, "carry_look")
     proxy = _proxy("DDGReconstructTransferFunction", source, **props)
     return _fit_picture(proxy, "carry_look", CarriedLook, image)
 

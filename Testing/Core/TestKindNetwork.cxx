@@ -49,8 +49,8 @@ DesignSpaceSpec pictureSpec()
 
 std::string dataset(int kind, int size = 16)
 {
-  const std::string d = ddg::testing::tempDir() + "/kind_data_" + std::to_string(kind) + "_" +
-    std::to_string(size);
+  const std::string d =
+    ddg::testing::tempDir() + "/kind_data_" + std::to_string(kind) + "_" + std::to_string(size);
   if (!fs::exists(d + "/dataset.json"))
   {
     GenerateOptions opt;
@@ -106,8 +106,7 @@ Image mirrored(const Image& im)
 TEST(KindNetwork, TrainingRefusesWhatItCannotUse)
 {
   EXPECT_THROW(KindNetwork::train({ "ball" }, { dataset(0) }, quick()), Error);
-  EXPECT_THROW(
-    KindNetwork::train({ "ball", "ball" }, { dataset(0), dataset(1) }, quick()), Error);
+  EXPECT_THROW(KindNetwork::train({ "ball", "ball" }, { dataset(0), dataset(1) }, quick()), Error);
   try
   {
     KindNetwork::train({ "ball", "bars" }, { dataset(0), dataset(1, 24) }, quick());

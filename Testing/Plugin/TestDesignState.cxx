@@ -243,6 +243,11 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       latentStep.value("latent").toArray().size() == latentSize && latentStep.keys().size() == 3,
     "query step: action latent, image " + latentStep.value("image").toString());
   check(neighbours.size() == 5, QString("query neighbours: %1").arg(neighbours.size()));
+  // the query's kind check with the shipped kind network: Tooth's screenshot on Tooth
+  check(!state.queryKind().isEmpty() && !state.queryKind().value("differs").toBool(true) &&
+      pqDDGDesignState::kindText(state.queryKind()).startsWith("Kind agreement"),
+    "query's kind check: " +
+      QString::fromUtf8(QJsonDocument(state.queryKind()).toJson(QJsonDocument::Compact)));
   // their thumbnails, as the outline's (64 px at the view's camera): each shows a design
   int drawn = 0;
   for (const QImage& t : neighbourThumbnails)
@@ -454,7 +459,7 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
     // kind, said in the panel's words
     const auto& m = state.lastMatch();
     check(m.Kind.value("agreement").toDouble(-1) >= m.Kind.value("threshold").toDouble(2) &&
-        !m.kindDiffers() && m.kindText().startsWith("kind agreement") &&
+        !m.kindDiffers() && m.kindText().startsWith("Kind agreement") &&
         m.Kind.value("volume_like").toString() == "tooth",
       "kind check of a Tooth picture on Tooth: " +
         QString::fromUtf8(QJsonDocument(m.Kind).toJson(QJsonDocument::Compact)));

@@ -496,6 +496,35 @@ check(
     (guessed.warning or "no warning")[:100],
 )
 check("the shipped screenshot gets no warning", found.warning is None, str(found.warning))
+# the kind check (the shipped kind network): Tooth's screenshot on Tooth is the same kind; the
+# engine's screenshot on Tooth is said to be of another kind (warned), and kind=False skips it
+with open(ddg.data_path("Models/kind/kind.json")) as f:
+    kind_threshold = json.load(f)["threshold"]
+check(
+    "the query's kind check: a Tooth picture on Tooth",
+    found.kind is not None
+    and not found.kind_differs
+    and found.kind["agreement"] >= kind_threshold == found.kind["threshold"]
+    and found.kind["volume_like"] == "tooth",
+    str(found.kind),
+)
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    engine_on_tooth = ddg.query(
+        ddg.data_path("Screenshots/engine_block_oblique.png"), source=tooth, view=view_file
+    )
+check(
+    "the query's kind check: the engine's picture on Tooth",
+    engine_on_tooth.kind_differs
+    and engine_on_tooth.kind["agreement"] < kind_threshold
+    and any("another kind" in str(w.message) for w in caught),
+    str(engine_on_tooth.kind),
+)
+check(
+    "kind=False: no check",
+    ddg.query(shot, source=tooth, view=view_file, kind=False).kind is None,
+    "",
+)
 
 # the query's design against its picture, framed alike: a finite PSNR, the better of the
 # design unlit and lit (the shipped screenshot is unlit)
