@@ -2,7 +2,7 @@
 # Makes the shipped kind network Data/Models/kind (Core's KindNetwork; `ddg kind`) with the
 # project's own commands: 1 000 exemplars of each of the eight shipped volumes
 # (`ddg generate --spec Data/DesignSpaces/kind.json --seed 11 --screen`), then `ddg train-kind`
-# (40 epochs, seed 5; about 20 minutes on 2 cores), then the threshold calibrated on pictures of
+# (40 epochs, seed 5, 2 threads; about 25 minutes on 2 cores), then the threshold calibrated on pictures of
 # known kind (`ddg kind --calibrate LIST`, a JSON list of [picture, volume] pairs; the project's
 # list is the realistic-picture suite of issue 20, outside the repository, so it is optional).
 # Usage: scripts/train_kind.sh [WORKDIR [CALIBRATION_LIST]]  (WORKDIR keeps the datasets; default
@@ -22,7 +22,7 @@ for v in tooth engine chest headsq mri bonsai neghip ironprot; do
   fi
   args+=(--dataset "$v=$WORK/train_$v")
 done
-"$DDG" train-kind "${args[@]}" --out "$OUT" --epochs 40 --seed 5
+"$DDG" train-kind "${args[@]}" --out "$OUT" --epochs 40 --seed 5 --threads 2
 if [ -n "$LIST" ]; then
   "$DDG" kind --model "$OUT" --calibrate "$LIST"
 fi

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <random>
 
@@ -276,7 +277,10 @@ KindNetwork KindNetwork::train(const std::vector<std::string>& names,
   k.In->Net->eval();
   const double seconds =
     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  json record{ { "datasets", dirs }, { "exemplars", n }, { "validation_exemplars", nv },
+  std::vector<std::string> datasetNames; // the directories' names (not this machine's paths)
+  for (const auto& d : dirs)
+    datasetNames.push_back(fs::path(d).filename().string());
+  json record{ { "datasets", datasetNames }, { "exemplars", n }, { "validation_exemplars", nv },
     { "validation_accuracy", accuracy }, { "epochs", opt.epochs }, { "batch", opt.batch },
     { "max_learning_rate", opt.maxLearningRate }, { "weight_decay", opt.weightDecay },
     { "seed", opt.seed }, { "seconds", seconds } };
@@ -434,6 +438,24 @@ KindCheck checkKind(
   c.pictureLike = top(p);
   c.volumeLike = top(reference);
   return c;
+}
+
+std::string kindCheckToJson(const KindCheck& c)
+{
+  return json{
+    { "agreement", c.agreement }, { "threshold", c.threshold }, { "differs", c.differs },
+    { "picture_like", c.pictureLike }, { "volume_like", c.volumeLike }
+  }.dump();
+}
+
+std::string describeKindCheck(const KindCheck& c)
+{
+  char figures[96];
+  std::snprintf(
+    figures, sizeof figures, "kind agreement %.3f (threshold %.3f): ", c.agreement, c.threshold);
+  return figures +
+    std::string(c.differs ? "the picture may show a volume of another kind" : "the same kind") +
+    "; the picture is most like " + c.pictureLike + ", the volume like " + c.volumeLike;
 }
 
 KindCheck KindChecker::check(const std::string& dir, const Image& picture, const Volume& volume,

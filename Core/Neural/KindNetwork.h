@@ -125,6 +125,11 @@ private:
   std::vector<std::pair<std::string, std::vector<double>>> References;
 };
 
+/// The check as JSON {"agreement", "threshold", "differs", "picture_like", "volume_like"} (the
+/// filters' "Kind" field) and in words (one line: the CLI's and the filters' warning).
+std::string kindCheckToJson(const KindCheck& check);
+std::string describeKindCheck(const KindCheck& check);
+
 /// sum_i sqrt(p_i q_i); throws ddg::Error for lengths that differ.
 double bhattacharyya(const std::vector<double>& p, const std::vector<double>& q);
 

@@ -7,9 +7,7 @@
 #include "Render/View.h"
 #ifdef DDG_WITH_TORCH
 #include "Gallery/DesignReference.h"
-#ifdef DDG_WITH_TORCH
 #include "Neural/KindNetwork.h"
-#endif
 #endif
 
 #include <cstdio>
@@ -113,22 +111,36 @@ void printEvaluation(const EvaluationReport& e)
 }
 #endif
 
+std::string kindNetworkOption(const std::string& option)
+{
+  if (option.empty() || option == "none")
+    return "";
+#ifdef DDG_WITH_TORCH
+  (void)KindNetwork::load(option);
+  return option;
+#else
+  throw Error("--kind-network needs a build with libtorch");
+#endif
+}
+
 void printKindCheck(const std::string& dir, int threads, const Image& picture, const Volume& volume)
 {
   if (dir.empty())
     return;
 #ifdef DDG_WITH_TORCH
-  const auto c = KindChecker().check(dir, picture, volume, threads);
-  std::printf("kind agreement %.3f (threshold %.3f): %s; the picture is most like %s, this "
-              "volume like %s\n",
-    c.agreement, c.threshold,
-    c.differs ? "the picture may show a volume of another kind" : "the same kind",
-    c.pictureLike.c_str(), c.volumeLike.c_str());
+  try
+  {
+    std::printf(
+      "%s\n", describeKindCheck(KindChecker().check(dir, picture, volume, threads)).c_str());
+  }
+  catch (const Error& e)
+  {
+    std::fprintf(stderr, "warning: the kind of the picture was not checked: %s\n", e.what());
+  }
 #else
   (void)threads;
   (void)picture;
   (void)volume;
-  throw Error("--kind-network needs a build with libtorch");
 #endif
 }
 

@@ -42,9 +42,12 @@ std::vector<double> parseNumbers(const std::string& text, size_t count, const ch
 /// Comma-separated integers; ddg::Error names `what`.
 std::vector<int> parseInts(const std::string& text, const char* what);
 
+/// --kind-network of ddg query and ddg reconstruct --carry-look: "" or "none" is no check (""
+/// returned), else the directory, its network loaded now so that a bad one fails before any
+/// work is done (without libtorch a network given is an error).
+std::string kindNetworkOption(const std::string& option);
 /// The kind network `dir`'s check of a picture against a volume, printed as one line ("" prints
-/// nothing; without libtorch a network given is an error): --kind-network of ddg query and
-/// ddg reconstruct --carry-look.
+/// nothing); a failure is a warning on stderr (the command's outputs are written by then).
 void printKindCheck(
   const std::string& dir, int threads, const Image& picture, const Volume& volume);
 

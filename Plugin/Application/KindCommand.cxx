@@ -119,11 +119,7 @@ int runKind(const KindArgs& a)
   for (const auto& path : a.images)
   {
     const auto c = ddg::checkKind(net, ddg::readImage(path), ref);
-    std::printf("%s: kind agreement %.3f (threshold %.3f): %s; the picture is most like %s, the "
-                "volume like %s\n",
-      path.c_str(), c.agreement, c.threshold,
-      c.differs ? "it may show a volume of another kind" : "the same kind", c.pictureLike.c_str(),
-      c.volumeLike.c_str());
+    std::printf("%s: %s\n", path.c_str(), ddg::describeKindCheck(c).c_str());
   }
   return 0;
 }

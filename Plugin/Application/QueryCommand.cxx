@@ -39,6 +39,7 @@ struct QueryArgs
 int runQuery(const QueryArgs& a)
 {
   const auto t0 = Clock::now();
+  const std::string kind = kindNetworkOption(a.kindNetwork); // a bad one fails first
   const auto session = openBundle(a.model, a.volume);
   ddg::DesignGallery& g = session->gallery();
   if (a.noKey)
@@ -64,7 +65,7 @@ int runQuery(const QueryArgs& a)
   std::printf("against the picture: %.2f dB (both framed on their content; the design %s, the "
               "better of unlit and lit)\n",
     r.picturePSNR, r.pictureLit ? "lit" : "unlit");
-  printKindCheck(a.kindNetwork, 0, image, session->volume());
+  printKindCheck(kind, 0, image, session->volume());
   if (!a.outInput.empty())
     ddg::writeImage(r.input, a.outInput);
   if (!a.history.empty())
@@ -117,7 +118,7 @@ ddg::cli::Command ddg::cli::addQueryCommand(CLI::App& app)
     ->check(CLI::Range(0, 1000));
   query->add_option("--kind-network", qa->kindNetwork,
     "Check whether the picture shows a volume of this volume's kind with this kind network "
-    "(e.g. Data/Models/kind; `ddg kind`; about 10 s; default: no check)");
+    "(e.g. Data/Models/kind; `ddg kind`; about 10 s; default and none: no check)");
   query->add_flag("--no-key", qa->noKey,
     "Find the nearest designs by the latents as they are, not by the bundle's query key "
     "(query_key.json); the distances printed say which (key or latent)");

@@ -53,6 +53,14 @@ int runCarry(const ReconstructArgs& a)
       "--init, --seed, --shade, --threads, --array, --out-image, --kind-network and --quiet)");
   }
   const auto t0 = Clock::now();
+  // the kind check: --kind-network, by default the shipped network when it is there (loaded
+  // before the fit: a bad one fails before anything is written)
+  std::string kindOption = a.kindNetwork;
+#ifdef DDG_WITH_TORCH
+  if (kindOption.empty() && std::filesystem::exists(DDG_DATA_DIR "/Models/kind/kind.json"))
+    kindOption = DDG_DATA_DIR "/Models/kind";
+#endif
+  const std::string kind = kindNetworkOption(kindOption);
   const ddg::Image picture = readTarget(a.targets[0], nullptr, false);
   const ddg::Volume volume = ddg::readVolumeFile(a.volume, a.array);
   const ddg::DifferentiableRenderer renderer(volume);
@@ -94,10 +102,6 @@ int runCarry(const ReconstructArgs& a)
     ddg::writeImage(ddg::compositeOverBackground(
                       ddg::renderResult(renderer.caster(), r.fit, view, {}), view.background),
       a.outImage);
-  // the kind check: --kind-network, by default the shipped network when it is there
-  std::string kind = a.kindNetwork == "none" ? "" : a.kindNetwork;
-  if (a.kindNetwork.empty() && std::filesystem::exists(DDG_DATA_DIR "/Models/kind/kind.json"))
-    kind = DDG_DATA_DIR "/Models/kind";
   printKindCheck(kind, a.threads, picture, volume);
   return 0;
 }

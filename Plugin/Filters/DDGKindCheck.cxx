@@ -7,8 +7,6 @@
 #include "Render/RayCaster.h" // ddg::Cancelled
 #endif
 
-#include <nlohmann/json.hpp>
-
 #include <vtkAlgorithm.h>
 #include <vtkFieldData.h>
 #include <vtkSmartPointer.h>
@@ -25,9 +23,18 @@ void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd, std::shared_ptr<KindCh
     return;
   if (!checker)
     checker = std::make_shared<KindChecker>();
-  const char* stage = filter->GetProgressText();
-  const std::string before = stage ? stage : "";
-  filter->SetProgressText("kind");
+  struct Stage // the filter's progress text is "kind" meanwhile, whatever ends the check
+  {
+    vtkAlgorithm* filter;
+    std::string before;
+    explicit Stage(vtkAlgorithm* f)
+      : filter(f)
+      , before(f->GetProgressText() ? f->GetProgressText() : "")
+    {
+      filter->SetProgressText("kind");
+    }
+    ~Stage() { filter->SetProgressText(before.empty() ? nullptr : before.c_str()); }
+  } stage(filter);
   try
   {
     const KindCheck c = checker->check(dir, picture, volume, 0,
@@ -36,24 +43,22 @@ void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd, std::shared_ptr<KindCh
         filter->UpdateProgress(f);
         return !filter->GetAbortExecute();
       });
-    const nlohmann::json j{ { "agreement", c.agreement }, { "threshold", c.threshold },
-      { "differs", c.differs }, { "picture_like", c.pictureLike },
-      { "volume_like", c.volumeLike } };
     auto a = vtkSmartPointer<vtkStringArray>::New();
     a->SetName("Kind");
-    a->InsertNextValue(j.dump());
+    a->InsertNextValue(kindCheckToJson(c));
     fd->AddArray(a);
     if (c.differs)
-      vtkWarningWithObjectMacro(filter,
-        << "the picture may show a volume of another kind: kind agreement " << c.agreement
-        << " < " << c.threshold << " (the picture is most like " << c.pictureLike
-        << ", this volume like " << c.volumeLike << ")");
+      vtkWarningWithObjectMacro(filter, << describeKindCheck(c));
   }
-  catch (const Error& e)
+  catch (const Cancelled&) // the user's Abort: the filter's run ends as cancelled
   {
-    vtkWarningWithObjectMacro(filter, << "the kind of the picture was not checked: " << e.what());
+    throw;
   }
-  filter->SetProgressText(before.empty() ? nullptr : before.c_str());
+  catch (const std::exception& e) // an unreadable network, a full disk: the result stands
+  {
+    vtkWarningWithObjectMacro(
+      filter, << "the kind of the picture was not checked: " << firstLine(e.what()));
+  }
 #else
   (void)filter;
   (void)fd;

@@ -20,8 +20,9 @@ class KindChecker;
 /// either): the field "Kind" on `fd`, JSON {"agreement", "threshold", "differs", "picture_like",
 /// "volume_like"}, and a warning from `filter` (Output Messages) when the picture may show a
 /// volume of another kind. `checker` (created on first use) keeps the network and each volume's
-/// reference for the next run. A network that cannot be read is a warning, not an error; the
-/// filter's progress text is "kind" meanwhile and its AbortExecute cancels (ddg::Cancelled).
+/// reference for the next run. A network that cannot be read (any failure of the check) is a
+/// warning, not an error; the filter's progress text is "kind" meanwhile and its AbortExecute
+/// cancels (ddg::Cancelled is thrown on, as the filter's own cancel).
 DDGFILTERS_EXPORT void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd,
   std::shared_ptr<KindChecker>& checker, const std::string& dir, const Image& picture,
   const Volume& volume);

@@ -38,8 +38,8 @@ vtkStandardNewMacro(vtkDDGQuery);
 
 struct vtkDDGQuery::Internals
 {
-  ddg::FilterGallery Gallery;              // in one process or over the ranks' pieces
-  std::shared_ptr<ddg::KindChecker> Kinds; // the kind network and its references (KindNetwork)
+  ddg::FilterGallery Gallery;                       // in one process or over the ranks' pieces
+  std::shared_ptr<ddg::KindChecker> KindReferences; // the kind network and what it keeps
 };
 
 namespace
@@ -168,7 +168,7 @@ void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputV
     view, vtkImageData::GetData(outputVector, 0), vtkTable::GetData(outputVector, 1));
   if (!this->Ranks()) // the reference's exemplars need the whole volume
     ddg::addKindCheck(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
-      this->Internal->Kinds, this->KindNetwork, image, gallery.volume());
+      this->Internal->KindReferences, this->KindNetwork, image, gallery.volume());
   const size_t shown = std::min<size_t>(r.neighbours.size(), kMaxNeighbourThumbnails);
   if (this->ThumbnailSize > 0 && shown > 0) // the nearest designs as the outline shows them
   {

@@ -749,8 +749,8 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
       presetName(input, array, "carried look", this->OutputFile));
     describeCarriedLook(output->GetFieldData(), result, view);
     if (!ranks) // the reference's exemplars need the whole volume
-      ddg::addKindCheck(
-        this, output->GetFieldData(), this->Kinds, this->KindNetwork, picture, *volume.volume);
+      ddg::addKindCheck(this, output->GetFieldData(), this->KindReferences, this->KindNetwork,
+        picture, *volume.volume);
   };
   if (ranks)
   {

@@ -305,7 +305,7 @@ private:
   bool EstimateCamera = false;
   std::string InitialTransferFunction;
   std::string KindNetwork;
-  std::shared_ptr<ddg::KindChecker> Kinds; // the loaded network and the references it keeps
+  std::shared_ptr<ddg::KindChecker> KindReferences; // the loaded network and what it keeps
   double OpacityUnitDistance = 0.0;
   int CameraCandidates = 6;
   double MinimumOverlap = 0.6;

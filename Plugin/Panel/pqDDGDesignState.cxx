@@ -83,6 +83,7 @@ void pqDDGDesignState::clearModel()
   this->QueryName.clear();
   this->Queried = false;
   this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
+  this->QueryKind = QJsonObject();
   this->QueryNeighbours.clear();
   this->QueryThumbnails.clear();
   this->QueryNeighbourPSNR.clear();

@@ -317,6 +317,7 @@ private:
     QString QueryName;
     double QueryPSNR = 0;
     bool QueryLit = false;
+    QJsonObject QueryKind;
     bool Queried = false;
     QPointF QueryPosition;
     QVector<int> QueryNeighbours;

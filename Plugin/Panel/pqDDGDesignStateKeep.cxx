@@ -81,6 +81,7 @@ void pqDDGDesignState::keepVolumeState()
   k.QueryName = this->QueryName;
   k.QueryPSNR = this->QueryPSNR;
   k.QueryLit = this->QueryLit;
+  k.QueryKind = this->QueryKind;
   k.Queried = this->Queried;
   k.QueryPosition = this->QueryPosition;
   k.QueryNeighbours = this->QueryNeighbours;
@@ -116,6 +117,7 @@ void pqDDGDesignState::restoreVolumeState(Kept& kept)
   this->QueryName = kept.QueryName;
   this->QueryPSNR = kept.QueryPSNR;
   this->QueryLit = kept.QueryLit;
+  this->QueryKind = kept.QueryKind;
   this->Queried = kept.Queried;
   this->QueryPosition = kept.QueryPosition;
   this->QueryNeighbours = kept.QueryNeighbours;

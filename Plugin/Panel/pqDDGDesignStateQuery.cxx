@@ -24,6 +24,7 @@ void pqDDGDesignState::query(const QByteArray& imageFile, const QString& name)
     this->QueryPicture = imageFile;
     this->QueryName = name;
     this->QueryPSNR = std::numeric_limits<double>::quiet_NaN();
+    this->QueryKind = QJsonObject();
     this->report(tr("No model for this volume: Match fits a transfer function (and the camera) "
                     "to '%1' without one. Build or Load a model to browse designs like it.")
                    .arg(name));
@@ -103,6 +104,7 @@ void pqDDGDesignState::dropQueryPicture()
     this->QueryPicture.clear(); // a new picture: the match of the last one goes
     this->QueryPSNR = std::numeric_limits<double>::quiet_NaN(); // and its figures
     this->QueryLit = false;
+    this->QueryKind = QJsonObject();
     this->LastMatch = Match();
     Q_EMIT this->matchChanged();
   }

@@ -8,13 +8,17 @@
 
 #include "Common/Error.h"
 #include "Design/ExemplarGenerator.h"
+#include "Render/RayCaster.h" // ddg::Cancelled
 
 #include "TempDir.h"
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <numeric>
 
 using namespace ddg;
@@ -189,30 +193,42 @@ TEST(KindNetwork, BhattacharyyaCoefficient)
   EXPECT_THROW(bhattacharyya({ 1 }, { 0.5, 0.5 }), Error);
 }
 
-TEST(KindNetwork, TheCheckFollowsTheThresholdAndLeavesNoFiles)
+TEST(KindNetwork, TheReferenceCancelsAndLeavesNoFilesAndTheVerdictFollowsTheThreshold)
 {
   KindNetwork net = KindNetwork::train({ "ball", "bars" }, { dataset(0), dataset(1) }, quick());
-  auto tempFiles = []
-  {
-    int n = 0;
-    for (const auto& e : fs::directory_iterator(fs::temp_directory_path()))
-      n += e.path().filename().string().rfind("ddg-kind-", 0) == 0;
-    return n;
-  };
-  const int before = tempFiles();
+  // a temporary directory of this test alone: nothing else writes there
+  const std::string tmp = ddg::testing::tempDir() + "/kind_tmp";
+  fs::create_directories(tmp);
+  const char* saved = std::getenv("TMPDIR");
+  const std::string before = saved ? saved : "";
+  ::setenv("TMPDIR", tmp.c_str(), 1);
+  auto leftOver = [&]
+  { return std::distance(fs::directory_iterator(tmp), fs::directory_iterator()); };
+  int calls = 0;
+  EXPECT_THROW(kindReference(net, synthetic(0), 1, [&](double) { return ++calls < 2; }), Cancelled);
+  EXPECT_EQ(calls, 2);
+  EXPECT_EQ(leftOver(), 0) << "a cancelled reference left its exemplars";
   const auto reference = kindReference(net, synthetic(0), 1);
-  EXPECT_EQ(tempFiles(), before);
+  EXPECT_EQ(leftOver(), 0);
+  saved ? (void)::setenv("TMPDIR", before.c_str(), 1) : (void)::unsetenv("TMPDIR");
   ASSERT_EQ(reference.size(), 2u);
   EXPECT_NEAR(reference[0] + reference[1], 1.0, 1e-5);
+
+  // differs exactly when the agreement lies under the threshold; the words and the JSON say it
   const Image picture = ExemplarDataset(dataset(1)).images(3).rgbExp;
-  net.setThreshold(0);
-  const KindCheck never = checkKind(net, picture, reference);
-  EXPECT_FALSE(never.differs);
-  EXPECT_GT(never.agreement, 0.0);
-  EXPECT_LE(never.agreement, 1.0 + 1e-9);
-  net.setThreshold(1);
-  const KindCheck always = checkKind(net, picture, reference);
-  EXPECT_EQ(always.agreement, never.agreement);
-  EXPECT_EQ(always.differs, always.agreement < 1);
-  EXPECT_TRUE(always.pictureLike == "ball" || always.pictureLike == "bars");
+  const double agreement = checkKind(net, picture, reference).agreement;
+  ASSERT_GT(agreement, 0.0);
+  ASSERT_LT(agreement, 1.0);
+  const double step = std::min({ 0.005, agreement / 2, (1 - agreement) / 2 });
+  net.setThreshold(agreement + step);
+  const KindCheck under = checkKind(net, picture, reference);
+  net.setThreshold(agreement - step);
+  const KindCheck over = checkKind(net, picture, reference);
+  EXPECT_EQ(under.agreement, over.agreement);
+  EXPECT_TRUE(under.differs);
+  EXPECT_FALSE(over.differs);
+  EXPECT_NE(describeKindCheck(under).find("may show a volume of another kind"), std::string::npos);
+  EXPECT_NE(describeKindCheck(over).find("the same kind"), std::string::npos);
+  EXPECT_NE(kindCheckToJson(under).find("\"differs\":true"), std::string::npos);
+  EXPECT_TRUE(under.pictureLike == "ball" || under.pictureLike == "bars");
 }
