@@ -458,15 +458,19 @@ std::string describeKindCheck(const KindCheck& c)
     "; the picture is most like " + c.pictureLike + ", the volume like " + c.volumeLike;
 }
 
+void KindChecker::load(const std::string& dir)
+{
+  if (Network && dir == Dir)
+    return;
+  Network = std::make_unique<KindNetwork>(KindNetwork::load(dir));
+  Dir = dir;
+  References.clear();
+}
+
 KindCheck KindChecker::check(const std::string& dir, const Image& picture, const Volume& volume,
   int threads, const std::function<bool(double)>& progress)
 {
-  if (!Network || dir != Dir)
-  {
-    Network = std::make_unique<KindNetwork>(KindNetwork::load(dir));
-    Dir = dir;
-    References.clear();
-  }
+  load(dir);
   const std::string fingerprint = volumeFingerprint(volume);
   auto it = std::find_if(
     References.begin(), References.end(), [&](const auto& r) { return r.first == fingerprint; });

@@ -118,6 +118,8 @@ public:
   /// not the last one; throws ddg::Error as KindNetwork::load does).
   KindCheck check(const std::string& dir, const Image& picture, const Volume& volume,
     int threads = 0, const std::function<bool(double)>& progress = {});
+  /// Loads the network in `dir` now unless it is the one loaded (what check does first).
+  void load(const std::string& dir);
 
 private:
   std::string Dir;

@@ -111,12 +111,24 @@ void printEvaluation(const EvaluationReport& e)
 }
 #endif
 
+#ifdef DDG_WITH_TORCH
+namespace
+{
+// The command's kind network: loaded once by kindNetworkOption, used by printKindCheck.
+KindChecker& commandKindChecker()
+{
+  static KindChecker checker;
+  return checker;
+}
+} // namespace
+#endif
+
 std::string kindNetworkOption(const std::string& option)
 {
   if (option.empty() || option == "none")
     return "";
 #ifdef DDG_WITH_TORCH
-  (void)KindNetwork::load(option);
+  commandKindChecker().load(option);
   return option;
 #else
   throw Error("--kind-network needs a build with libtorch");
@@ -131,7 +143,7 @@ void printKindCheck(const std::string& dir, int threads, const Image& picture, c
   try
   {
     std::printf(
-      "%s\n", describeKindCheck(KindChecker().check(dir, picture, volume, threads)).c_str());
+      "%s\n", describeKindCheck(commandKindChecker().check(dir, picture, volume, threads)).c_str());
   }
   catch (const Error& e)
   {

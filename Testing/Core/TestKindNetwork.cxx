@@ -11,6 +11,7 @@
 #include "Render/RayCaster.h" // ddg::Cancelled
 
 #include "TempDir.h"
+#include "TestVolumes.h"
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -29,19 +30,14 @@ namespace
 // A ball in a shell (kind 0) or three bars (kind 1).
 Volume synthetic(int kind)
 {
-  const int n = 24;
-  std::vector<float> v;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-      {
-        const double r =
-          std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
-        const bool bar = (std::abs(i - 6) < 2 || std::abs(i - 17) < 2) && std::abs(k - 12) < 8;
-        v.push_back(kind == 0 ? (r < 5 ? 200.0f : (r < 9 ? 100.0f : 10.0f))
-                              : (bar ? 180.0f : (std::abs(j - 12) < 2 ? 90.0f : 10.0f)));
-      }
-  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::Float32);
+  if (kind == 0)
+    return ddg::testing::ballInShell();
+  return ddg::testing::gridVolume(24, ScalarType::Float32,
+    [](double, int i, int j, int k)
+    {
+      const bool bar = (std::abs(i - 6) < 2 || std::abs(i - 17) < 2) && std::abs(k - 12) < 8;
+      return bar ? 180.0 : (std::abs(j - 12) < 2 ? 90.0 : 10.0);
+    });
 }
 
 DesignSpaceSpec pictureSpec()

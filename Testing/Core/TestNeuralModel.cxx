@@ -5,6 +5,7 @@
 #include "Neural/NeuralDesignModel.h"
 
 #include "TempDir.h"
+#include "TestVolumes.h"
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,17 +23,7 @@ namespace
 {
 Volume blobs()
 {
-  const int n = 24;
-  std::vector<float> v;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-      {
-        const double r =
-          std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
-        v.push_back(r < 5 ? 200.0f : (r < 9 ? 100.0f : 10.0f));
-      }
-  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::Float32);
+  return ddg::testing::ballInShell();
 }
 
 const ExemplarDataset& dataset()

@@ -4,6 +4,7 @@
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/Reconstruction.h"
 
+#include "TestVolumes.h"
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -16,17 +17,8 @@ constexpr double kRecoveredDb = 35.0;
 
 Volume sphereVolume()
 {
-  const int n = 24;
-  std::vector<float> v;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i)
-      {
-        const double r =
-          std::sqrt((i - 11.5) * (i - 11.5) + (j - 11.5) * (j - 11.5) + (k - 11.5) * (k - 11.5));
-        v.push_back(static_cast<float>(std::floor(std::clamp(255.0 - 18.0 * r, 0.0, 255.0))));
-      }
-  return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, ScalarType::UInt8);
+  return ddg::testing::gridVolume(24, ScalarType::UInt8,
+    [](double r, int, int, int) { return std::floor(std::clamp(255.0 - 18.0 * r, 0.0, 255.0)); });
 }
 } // namespace
 
