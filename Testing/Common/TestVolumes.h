@@ -19,8 +19,8 @@ Volume gridVolume(int n, ScalarType type, Value value)
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
       for (int i = 0; i < n; ++i)
-        v.push_back(static_cast<float>(value(
-          std::sqrt((i - c) * (i - c) + (j - c) * (j - c) + (k - c) * (k - c)), i, j, k)));
+        v.push_back(static_cast<float>(
+          value(std::sqrt((i - c) * (i - c) + (j - c) * (j - c) + (k - c) * (k - c)), i, j, k)));
   return Volume({ n, n, n }, { 0, 0, 0 }, { 1, 1, 1 }, v, type);
 }
 
