@@ -467,19 +467,38 @@ void KindChecker::load(const std::string& dir)
   References.clear();
 }
 
+bool KindChecker::hasReference(const std::string& dir, const std::string& fingerprint)
+{
+  load(dir);
+  return std::any_of(
+    References.begin(), References.end(), [&](const auto& r) { return r.first == fingerprint; });
+}
+
+void KindChecker::addReference(const std::string& dir, const std::string& fingerprint,
+  const Volume& volume, int threads, const std::function<bool(double)>& progress)
+{
+  if (hasReference(dir, fingerprint))
+    return;
+  References.emplace_back(fingerprint, kindReference(*Network, volume, threads, progress));
+}
+
+KindCheck KindChecker::check(
+  const std::string& dir, const Image& picture, const std::string& fingerprint)
+{
+  load(dir);
+  const auto it = std::find_if(
+    References.begin(), References.end(), [&](const auto& r) { return r.first == fingerprint; });
+  if (it == References.end())
+    throw Error("the kind check has no reference of this volume");
+  return checkKind(*Network, picture, it->second);
+}
+
 KindCheck KindChecker::check(const std::string& dir, const Image& picture, const Volume& volume,
   int threads, const std::function<bool(double)>& progress)
 {
-  load(dir);
   const std::string fingerprint = volumeFingerprint(volume);
-  auto it = std::find_if(
-    References.begin(), References.end(), [&](const auto& r) { return r.first == fingerprint; });
-  if (it == References.end())
-  {
-    References.emplace_back(fingerprint, kindReference(*Network, volume, threads, progress));
-    it = References.end() - 1;
-  }
-  return checkKind(*Network, picture, it->second);
+  addReference(dir, fingerprint, volume, threads, progress);
+  return check(dir, picture, fingerprint);
 }
 
 } // namespace ddg

@@ -120,6 +120,16 @@ public:
     int threads = 0, const std::function<bool(double)>& progress = {});
   /// Loads the network in `dir` now unless it is the one loaded (what check does first).
   void load(const std::string& dir);
+  /// Whether the reference of the volume whose volumeFingerprint is `fingerprint` is kept for the
+  /// network in `dir` (loaded first).
+  bool hasReference(const std::string& dir, const std::string& fingerprint);
+  /// Keeps kindReference of `volume` under `fingerprint` (the fingerprint of the volume it
+  /// stands for: under MPI the whole volume's, `volume` its design-space volume assembled on one
+  /// process) for the network in `dir`.
+  void addReference(const std::string& dir, const std::string& fingerprint, const Volume& volume,
+    int threads = 0, const std::function<bool(double)>& progress = {});
+  /// checkKind against the kept reference of `fingerprint` (throws ddg::Error when none is kept).
+  KindCheck check(const std::string& dir, const Image& picture, const std::string& fingerprint);
 
 private:
   std::string Dir;

@@ -37,6 +37,14 @@ public:
   void run(const RankGroup* ranks, vtkImageData* input, vtkDataArray* array,
     const int wholeExtent[6], const std::string& bundleDir,
     const std::function<void(DesignGallery& gallery)>& work);
+  /// Collective, after `run` with the same arguments: the pieces it used (kept) and, on the first
+  /// rank, the whole volume's fingerprint (empty elsewhere).
+  const RankVolume& pieces(
+    const RankGroup& ranks, vtkImageData* input, vtkDataArray* array, const int wholeExtent[6])
+  {
+    return Pieces.get(ranks, input, array, wholeExtent);
+  }
+  const std::string& fingerprint() const { return Pieces.fingerprint(); }
 
 private:
   BundleSessionCache Sessions; // one process, or the first rank's over the pieces

@@ -2,6 +2,7 @@
 #include "DDGKindCheck.h"
 
 #include "Common/Error.h"
+#include "DDGPieces.h"
 #ifdef DDG_WITH_TORCH
 #include "Neural/KindNetwork.h"
 #include "Render/RayCaster.h" // ddg::Cancelled
@@ -12,8 +13,67 @@
 #include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
 
+#include <optional>
+
 namespace ddg
 {
+#ifdef DDG_WITH_TORCH
+namespace
+{
+/// The filter's progress text is "kind" while it lives, whatever ends the check.
+struct Stage
+{
+  vtkAlgorithm* filter;
+  std::string before;
+  explicit Stage(vtkAlgorithm* f)
+    : filter(f)
+    , before(f->GetProgressText() ? f->GetProgressText() : "")
+  {
+    filter->SetProgressText("kind");
+  }
+  ~Stage() { filter->SetProgressText(before.empty() ? nullptr : before.c_str()); }
+};
+
+std::function<bool(double)> progressOf(vtkAlgorithm* filter)
+{
+  return [filter](double f)
+  {
+    filter->UpdateProgress(f);
+    return !filter->GetAbortExecute();
+  };
+}
+
+void notChecked(vtkAlgorithm* filter, const std::string& why)
+{
+  vtkWarningWithObjectMacro(filter, << "the kind of the picture was not checked: " << why);
+}
+
+/// The field and the warning of `check`'s result; the user's Abort ends the filter's run as
+/// cancelled, any other failure (an unreadable network, a full disk) is a warning and the result
+/// stands.
+void report(vtkAlgorithm* filter, vtkFieldData* fd, const std::function<KindCheck()>& check)
+{
+  try
+  {
+    const KindCheck c = check();
+    auto a = vtkSmartPointer<vtkStringArray>::New();
+    a->SetName("Kind");
+    a->InsertNextValue(kindCheckToJson(c));
+    fd->AddArray(a);
+    if (c.differs)
+      vtkWarningWithObjectMacro(filter, << describeKindCheck(c));
+  }
+  catch (const Cancelled&)
+  {
+    throw;
+  }
+  catch (const std::exception& e)
+  {
+    notChecked(filter, firstLine(e.what()));
+  }
+}
+} // namespace
+#endif
 
 void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd, std::shared_ptr<KindChecker>& checker,
   const std::string& dir, const Image& picture, const Volume& volume)
@@ -23,42 +83,8 @@ void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd, std::shared_ptr<KindCh
     return;
   if (!checker)
     checker = std::make_shared<KindChecker>();
-  struct Stage // the filter's progress text is "kind" meanwhile, whatever ends the check
-  {
-    vtkAlgorithm* filter;
-    std::string before;
-    explicit Stage(vtkAlgorithm* f)
-      : filter(f)
-      , before(f->GetProgressText() ? f->GetProgressText() : "")
-    {
-      filter->SetProgressText("kind");
-    }
-    ~Stage() { filter->SetProgressText(before.empty() ? nullptr : before.c_str()); }
-  } stage(filter);
-  try
-  {
-    const KindCheck c = checker->check(dir, picture, volume, 0,
-      [&](double f)
-      {
-        filter->UpdateProgress(f);
-        return !filter->GetAbortExecute();
-      });
-    auto a = vtkSmartPointer<vtkStringArray>::New();
-    a->SetName("Kind");
-    a->InsertNextValue(kindCheckToJson(c));
-    fd->AddArray(a);
-    if (c.differs)
-      vtkWarningWithObjectMacro(filter, << describeKindCheck(c));
-  }
-  catch (const Cancelled&) // the user's Abort: the filter's run ends as cancelled
-  {
-    throw;
-  }
-  catch (const std::exception& e) // an unreadable network, a full disk: the result stands
-  {
-    vtkWarningWithObjectMacro(
-      filter, << "the kind of the picture was not checked: " << firstLine(e.what()));
-  }
+  const Stage stage(filter);
+  report(filter, fd, [&] { return checker->check(dir, picture, volume, 0, progressOf(filter)); });
 #else
   (void)filter;
   (void)fd;
@@ -66,6 +92,87 @@ void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd, std::shared_ptr<KindCh
   (void)dir;
   (void)picture;
   (void)volume;
+#endif
+}
+
+void addKindCheckOnRanks(vtkAlgorithm* filter, vtkFieldData* fd,
+  std::shared_ptr<KindChecker>& checker, const std::string& dir, const Image& picture,
+  const RankGroup& ranks, const RankVolume& pieces, const std::string& firstRankFingerprint)
+{
+#ifdef DDG_WITH_TORCH
+  if (dir.empty())
+    return;
+  if (!checker)
+    checker = std::make_shared<KindChecker>();
+  const bool first = ranks.rank() == 0;
+  std::optional<Stage> stage;
+  if (first)
+    stage.emplace(filter);
+  std::string failure; // the first rank's: why the check was not made
+  // collective: `work` on the first rank, its failure kept as `failure`; the user's Abort stops
+  // every rank (RankGroup::step)
+  auto onFirst = [&](const std::function<void()>& work)
+  {
+    ranks.step(
+      [&]
+      {
+        if (!first || !failure.empty())
+          return;
+        try
+        {
+          work();
+        }
+        catch (const Cancelled&)
+        {
+          throw;
+        }
+        catch (const std::exception& e)
+        {
+          failure = firstLine(e.what());
+        }
+      });
+  };
+  std::string fingerprint = ranks.broadcast(firstRankFingerprint);
+  if (fingerprint.empty())
+    fingerprint = fingerprintOnRanks(ranks, pieces);
+  std::string need;
+  onFirst([&] { need = checker->hasReference(dir, fingerprint) ? "" : "new"; });
+  if (!ranks.broadcast(need).empty())
+  {
+    // the reference's exemplars are drawn on the first rank from the design-space volume (the
+    // whole volume itself up to kMaxDesignSpaceVoxels: then the same reference as one process's)
+    DesignSpaceInput input;
+    try
+    {
+      input = designSpaceInputOnRanks(ranks, pieces, kMaxDesignSpaceVoxels);
+    }
+    catch (const RankFailed&) // the first rank says why
+    {
+      failure = "another rank failed";
+    }
+    catch (const std::exception& e)
+    {
+      failure = firstLine(e.what());
+    }
+    if (failure.empty()) // every rank agrees: the assembly fails on all of them together
+      onFirst(
+        [&] { checker->addReference(dir, fingerprint, input.volume, 0, progressOf(filter)); });
+  }
+  if (!first)
+    return;
+  if (!failure.empty())
+    notChecked(filter, failure);
+  else
+    report(filter, fd, [&] { return checker->check(dir, picture, fingerprint); });
+#else
+  (void)filter;
+  (void)fd;
+  (void)checker;
+  (void)dir;
+  (void)picture;
+  (void)ranks;
+  (void)pieces;
+  (void)firstRankFingerprint;
 #endif
 }
 

@@ -15,6 +15,8 @@ namespace ddg
 struct Image;
 class Volume;
 class KindChecker;
+class RankGroup;
+struct RankVolume;
 
 /// With the kind network `dir` (empty: nothing is done; a build without libtorch: nothing
 /// either): the field "Kind" on `fd`, JSON {"agreement", "threshold", "differs", "picture_like",
@@ -26,5 +28,17 @@ class KindChecker;
 DDGFILTERS_EXPORT void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd,
   std::shared_ptr<KindChecker>& checker, const std::string& dir, const Image& picture,
   const Volume& volume);
+
+/// addKindCheck under MPI, collective over `ranks` (every rank calls it with the same `dir`): the
+/// field and the warning on the first rank. When the first rank keeps no reference of the whole
+/// volume (`firstRankFingerprint`, the first rank's fingerprintOnRanks of `pieces`, or empty on
+/// every rank to have it computed here), every rank streams its points to the first, which
+/// assembles the design-space volume (designSpaceInputOnRanks, kMaxDesignSpaceVoxels) and draws
+/// the reference's exemplars from it; no other rank holds more than its piece and a slab.
+/// `picture` is read on the first rank only. Failures are warnings on the first rank; the user's
+/// Abort stops every rank (ddg::Cancelled on the first, RankFailed elsewhere).
+DDGFILTERS_EXPORT void addKindCheckOnRanks(vtkAlgorithm* filter, vtkFieldData* fd,
+  std::shared_ptr<KindChecker>& checker, const std::string& dir, const Image& picture,
+  const RankGroup& ranks, const RankVolume& pieces, const std::string& firstRankFingerprint);
 
 } // namespace ddg

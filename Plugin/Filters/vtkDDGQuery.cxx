@@ -149,8 +149,17 @@ int vtkDDGQuery::PieceGhostLevels()
 void vtkDDGQuery::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
-  this->Internal->Gallery.run(this->Ranks(), input, array, this->InputWholeExtent(),
-    this->ModelDirectory, [&](ddg::DesignGallery& gallery) { this->Run(gallery, outputVector); });
+  const ddg::RankGroup* ranks = this->Ranks();
+  auto& gallery = this->Internal->Gallery;
+  gallery.run(ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
+    [&](ddg::DesignGallery& g) { this->Run(g, outputVector); });
+  if (ranks) // after the query, every rank together (DDGKindCheck.h)
+    ddg::addKindCheckOnRanks(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
+      this->Internal->KindReferences, this->KindNetwork,
+      ranks->rank() == 0 ? ddg::filterImage(this->ImageData, this->ImageFile, "Image")
+                         : ddg::Image(),
+      *ranks, gallery.pieces(*ranks, input, array, this->InputWholeExtent()),
+      gallery.fingerprint());
 }
 
 void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)
@@ -166,7 +175,7 @@ void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputV
     tf.is2D ? ddg::paraViewTransferFunction2DJson(gallery.space().paraviewMapping2D(view), tf.tf2D)
             : "",
     view, vtkImageData::GetData(outputVector, 0), vtkTable::GetData(outputVector, 1));
-  if (!this->Ranks()) // the reference's exemplars need the whole volume
+  if (!this->Ranks()) // under MPI after the query (Execute)
     ddg::addKindCheck(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
       this->Internal->KindReferences, this->KindNetwork, image, gallery.volume());
   const size_t shown = std::min<size_t>(r.neighbours.size(), kMaxNeighbourThumbnails);

@@ -748,7 +748,7 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
     json = writeTable(output, result.fit, volume.caster(), view,
       presetName(input, array, "carried look", this->OutputFile));
     describeCarriedLook(output->GetFieldData(), result, view);
-    if (!ranks) // the reference's exemplars need the whole volume
+    if (!ranks)
       ddg::addKindCheck(this, output->GetFieldData(), this->KindReferences, this->KindNetwork,
         picture, *volume.volume);
   };
@@ -756,6 +756,8 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   {
     ranks->step(describe);
     json = ranks->broadcast(json);
+    ddg::addKindCheckOnRanks(this, output->GetFieldData(), this->KindReferences, this->KindNetwork,
+      picture, *ranks, *volume.pieces, "");
   }
   else
     describe();

@@ -228,3 +228,26 @@ TEST(KindNetwork, TheReferenceCancelsAndLeavesNoFilesAndTheVerdictFollowsTheThre
   EXPECT_NE(kindCheckToJson(under).find("\"differs\":true"), std::string::npos);
   EXPECT_TRUE(under.pictureLike == "ball" || under.pictureLike == "bars");
 }
+
+TEST(KindNetwork, TheCheckerKeepsAReferenceByTheFingerprintItIsGiven)
+{
+  // under MPI the reference is drawn from the volume assembled on the first rank and kept under
+  // the whole volume's fingerprint (Plugin/Filters/DDGKindCheck.cxx)
+  const std::string dir = ddg::testing::tempDir() + "/kind_checker";
+  trained().save(dir);
+  const Image picture = ExemplarDataset(dataset(1)).images(2).rgbExp;
+  KindChecker checker;
+  EXPECT_FALSE(checker.hasReference(dir, "the whole"));
+  EXPECT_THROW(checker.check(dir, picture, "the whole"), Error);
+  checker.addReference(dir, "the whole", synthetic(0), 1);
+  EXPECT_TRUE(checker.hasReference(dir, "the whole"));
+  int calls = 0; // kept: not drawn again
+  checker.addReference(dir, "the whole", synthetic(1), 1, [&](double) { return ++calls > 0; });
+  EXPECT_EQ(calls, 0);
+  const KindCheck kept = checker.check(dir, picture, "the whole");
+  const KindCheck drawn = checker.check(dir, picture, synthetic(0), 1); // by its own fingerprint
+  EXPECT_DOUBLE_EQ(kept.agreement, drawn.agreement);
+  EXPECT_EQ(kept.volumeLike, drawn.volumeLike);
+  EXPECT_TRUE(checker.hasReference(dir, volumeFingerprint(synthetic(0))));
+  EXPECT_NE(checker.check(dir, picture, synthetic(1), 1).agreement, kept.agreement);
+}
