@@ -695,6 +695,7 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   ddg::CarryLookOptions opt;
   opt.fit.snapshotEvery = this->PreviewEvery;
   opt.fit.seed = static_cast<unsigned>(this->Seed);
+  opt.fit.iterations = std::min(opt.fit.iterations, this->Iterations); // its steps: XML
   opt.lighting = lighting;
   if (!this->InitialTransferFunction.empty()) // a query's design: free bins from it
     ddg::carryLookFrom(opt,

@@ -30,7 +30,9 @@ then computes the same in a builtin session:
 - query and gallery (9 thumbnails): the preview and the sheet within RENDER_TOL (renders over
   pieces, as above), the designs tables identical (rows, latent, outline position, the Preset
   string) but for the picture's figure (PicturePSNR, from the preview: within 0.1 dB); after
-  each the reader's points are the pieces' (no rank read the whole volume);
+  each the reader's points are the pieces' (no rank read the whole volume); the query's kind
+  check (shipped Kind Network; its reference drawn on the first rank from the volume the ranks
+  stream to it) within 1e-4 of the builtin's agreement, the same verdict;
 - reconstruction: same columns, rows, field data names and steps, values within
   RECONSTRUCT_TOL (1e-3, a quarter of one 8-bit level of a table entry): each piece stops its
   rays at ParaView's opacity threshold on its own (the images of a step differ by up to 1/255
@@ -41,6 +43,8 @@ then computes the same in a builtin session:
   the builtin's and at most 2 dB below its PSNR against the picture (each piece stops its rays on
   its own: the fits' steps differ a little, and the search follows them; one process's own runs
   spread over 1 dB);
+- carried look (Carry Look, Iterations 5, shipped Kind Network; 2 ranks): 5 steps, its kind check
+  within 1e-4 of the builtin's, the same verdict;
 - no rank logged an error.
 Then the query's preset is applied to the distributed volume and rendered by both ranks. The
 server must exit by itself (status 0) when the client leaves; on any failure its ranks are killed
@@ -283,6 +287,16 @@ def run_filters(remote):
             PreviewEvery=50,
         )
         filters.append(("match", match, [0, 1]))
+        # a short carried look: its kind check over pieces (the reference drawn from the volume
+        # the ranks stream to the first) against the builtin session's
+        carry = simple.DDGReconstructTransferFunction(
+            Input=tooth,
+            TargetImageFile=shot,
+            CarryLook=1,
+            Iterations=5,
+            KindNetwork=os.path.join(data, "Models", "kind"),
+        )
+        filters.append(("carry", carry, [0]))
     for name, proxy, ports in filters:
         start = time.time()
         proxy.UpdatePipeline()
@@ -459,6 +473,7 @@ def compare(mpi, builtin):
         and "Kind" in mpi["query:1"]["field"]
     ), "query: no designs, preset or kind check"
     compare_match(mpi, builtin)
+    compare_carry(mpi, builtin)
     return compare_reconstructions(mpi, builtin)
 
 
@@ -473,8 +488,9 @@ def compare_match(mpi, builtin):
     degree and 1 % in distance, the found TF's render at the found view as the builtin's (>= 30 dB
     between the two) and not more than 2 dB further from the picture (one process's own runs
     spread over 1 dB: 46.3-47.3 dB in 4 runs, its threads adding in varying order until the
-    backward pass dealt its rays in a fixed way; the pieces still add in another order). (Carry Look
-    over pieces, 70 s here, is checked over threads: Core.ColourDistribution.CarriesALookOverPieces.)
+    backward pass dealt its rays in a fixed way; the pieces still add in another order). (Carry
+    Look's full fit over pieces, 70 s here, is checked over threads:
+    Core.ColourDistribution.CarriesALookOverPieces; compare_carry runs 5 steps.)
     """
     m, b = mpi["match:0"]["field"], builtin["match:0"]["field"]
     orbit = max(abs(x - y) for x, y in zip(m["Orbit"], b["Orbit"]))
@@ -491,6 +507,25 @@ def compare_match(mpi, builtin):
         f"match: {ranks} ranks vs builtin, camera {orbit:.3f} deg / zoom {100 * zoom:.2f} % apart, "
         f"renders at {agree:.1f} dB PSNR of each other, against the picture {m['PicturePSNR'][1]:.2f} vs "
         f"{b['PicturePSNR'][1]:.2f} dB, fit {m['FitPSNR'][0]:.2f} vs {b['FitPSNR'][0]:.2f} dB"
+    )
+
+
+def compare_carry(mpi, builtin):
+    """The short carried look over pieces (2 ranks): its steps (Iterations caps them) and its
+    kind check as the builtin session's (agreement within 1e-4, the same verdict and reading)."""
+    if "carry:0" not in mpi:
+        return
+    m, b = mpi["carry:0"]["field"], builtin["carry:0"]["field"]
+    assert m["Iterations"][0] == b["Iterations"][0] == 5, (m["Iterations"], b["Iterations"])
+    km, kb = (json.loads(f["Kind"][0]) for f in (m, b))
+    assert (
+        abs(km["agreement"] - kb["agreement"]) <= 1e-4
+        and km["differs"] == kb["differs"]
+        and km["volume_like"] == kb["volume_like"]
+    ), f"carried look's kind check {km} against the builtin session's {kb}"
+    print(
+        f"carry: {ranks} ranks vs builtin, 5 steps, kind agreement {km['agreement']:.6f} vs "
+        f"{kb['agreement']:.6f} ({km['volume_like']})"
     )
 
 
