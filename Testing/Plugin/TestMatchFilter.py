@@ -18,7 +18,9 @@ over all pixels).
   over to NegHip: 1-4 regions in value order with colours and shares in [0, 1], the colour
   distance down, View 256 x 256 over the estimated palette background, output 1 equal to DDG
   Volume Render of the preset at View (>= 40 dB), OutputFile the preset; cancelled: nothing
-  written, empty outputs; a uniform picture refused with one message.
+  written, empty outputs; cancelled in its kind check (shipped Kind Network): the same, then run
+  again the field Kind and at most Iterations (5) steps; a uniform picture refused with one
+  message.
 - Bad input: a uniform picture, a 6x6 picture, a file that is no image, a picture of another
   volume (Engine's shipped screenshot): LastError says why, one error message each, empty
   outputs.
@@ -278,6 +280,37 @@ def main_cases():
 main_cases()
 
 
+def kind_check_cancelled(out_file):
+    """The kind check (shipped Kind Network), cancelled while it draws the volume's reference
+    (progress text "kind"): cancelled, nothing written, empty outputs; run again, it completes
+    (the field Kind) and Iterations caps the carried look's steps."""
+    steps = match.Iterations
+    texts = []
+
+    def abort_in_kind(obj, event):
+        texts.append(obj.GetProgressText())
+        if obj.GetProgressText() == "kind":
+            obj.SetAbortExecute(1)
+
+    observer = algorithm.AddObserver(vtkCommand.ProgressEvent, abort_in_kind)
+    error, table, images = run(
+        PreviewEvery=0, Iterations=5, KindNetwork=os.path.join(data, "Models", "kind")
+    )
+    algorithm.RemoveObserver(observer)
+    assert "kind" in texts and error == "cancelled", (error, sorted(set(map(str, texts))))
+    assert table.GetNumberOfRows() == 0 and images.GetNumberOfPoints() == 0
+    assert not os.path.exists(out_file), "a carry cancelled in its kind check wrote its file"
+    error, table, images = run(PreviewEvery=48)  # a change: the filter runs again
+    assert error == "", error
+    kind = json.loads(field(table, "Kind"))
+    assert 0 < kind["agreement"] <= 1 and 0 < kind["threshold"] < 1, kind
+    assert field(table, "Iterations")[0] <= 5, field(table, "Iterations")
+    assert os.path.exists(out_file)
+    print(f"carry, cancelled in the kind check, then checked: {kind}")
+    match.KindNetwork = ""
+    match.Iterations = steps
+
+
 def carry_cases():
     """CarryLook on: a picture of the iron protein (another volume of the same kind) carried
     over to NegHip."""
@@ -320,6 +353,8 @@ def carry_cases():
     assert error == "cancelled", error
     assert table.GetNumberOfRows() == 0 and images.GetNumberOfPoints() == 0
     assert not os.path.exists(out_file), "a cancelled carry wrote its file"
+    if os.environ.get("DDG_TEST_KIND") == "1":  # a build with libtorch
+        kind_check_cancelled(out_file)
     # a uniform picture: no look to carry
     messages.clear()
     error, table, images = run(
