@@ -16,7 +16,7 @@ PACKAGES=(
   qtxmlpatterns5-dev-tools
   # Core
   libtorch-dev python3-torch libopenimageio-dev openimageio-tools libeigen3-dev
-  nlohmann-json3-dev libcli11-dev zlib1g-dev liblemon-dev
+  nlohmann-json3-dev libcli11-dev zlib1g-dev liblemon-dev libboost-dev
   # build, tests, benchmarks, charts
   cmake ninja-build g++ python3-dev googletest libgtest-dev libbenchmark-dev
   python3-numpy python3-matplotlib python3-pil clang-format black

@@ -9,6 +9,8 @@
 #include <lemon/network_simplex.h>
 #include <lemon/static_graph.h>
 
+#include <boost/sort/pdqsort/pdqsort.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -373,7 +375,7 @@ double slicedWassersteinOf(const std::vector<std::array<float, D>>& a,
         s.pa[i] = project(a[i]);
       for (size_t j = 0; j < m; ++j)
         s.pb[j] = project(b[j]);
-      std::sort(s.pb.begin(), s.pb.end());
+      boost::sort::pdqsort_branchless(s.pb.begin(), s.pb.end()); // the same order, faster
       std::iota(s.order.begin(), s.order.end(), size_t(0));
       std::sort(
         s.order.begin(), s.order.end(), [&](size_t x, size_t y) { return s.pa[x] < s.pa[y]; });
