@@ -4,6 +4,7 @@
 
 #include "Common/Error.h"
 #include "Common/FileUtil.h"
+#include "Common/Hash.h"
 #include "Design/ExemplarGenerator.h"
 #include "Gallery/QueryImage.h"
 #include "Neural/NeuralNetworks.h"
@@ -15,6 +16,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <random>
 
@@ -27,6 +29,9 @@ namespace nn = torch::nn;
 using json = nlohmann::json;
 
 constexpr const char* kFormat = "ddg-kind";
+// Bump when kindReference draws its exemplars otherwise: the references kept on disk by
+// KindChecker then no longer match.
+constexpr int kReferenceVersion = 1;
 
 struct KindNetImpl : nn::Module
 {
@@ -116,6 +121,7 @@ struct KindNetwork::Internals
   double Threshold = 0;
   int ReferenceCount = 128;
   std::uint64_t ReferenceSeed = 99;
+  std::uint64_t Identity = 0; // of a loaded network: its weights and how references are drawn
   std::string Training = "{}";
 
   // Mean class probabilities of framed images (N x 3 x S x S in [0, 1]) over 8 flips / turns.
@@ -166,6 +172,10 @@ void KindNetwork::setThreshold(double t)
   if (!(t >= 0 && t <= 1))
     throw Error("kind threshold must lie in [0, 1]");
   In->Threshold = t;
+}
+std::uint64_t KindNetwork::identity() const
+{
+  return In->Identity;
 }
 int KindNetwork::referenceCount() const
 {
@@ -340,7 +350,18 @@ KindNetwork KindNetwork::load(const std::string& dir)
     k.In->Training = j.value("training", json::object()).dump();
     k.In->Net = KindNet(static_cast<int>(k.In->Kinds.size()));
     torch::serialize::InputArchive ar;
-    ar.load_from((fs::path(dir) / "kind.pt").string());
+    const std::string weights = (fs::path(dir) / "kind.pt").string();
+    ar.load_from(weights);
+    // what a kept reference depends on: the weights, the exemplars' spec, count and seed, and
+    // how kindReference draws them (kReferenceVersion)
+    Fnv1a id;
+    const std::string bytes = readTextFile(weights, "kind network weights");
+    const std::string how = designSpaceSpecToJson(k.In->Spec) + " " +
+      std::to_string(k.In->ReferenceCount) + " " + std::to_string(k.In->ReferenceSeed) + " " +
+      std::to_string(kReferenceVersion) + " " + std::to_string(k.In->Size);
+    id.add(bytes.data(), bytes.size());
+    id.add(how.data(), how.size());
+    k.In->Identity = id.value();
     k.In->Net->load(ar);
     k.In->Net->eval();
   }
@@ -474,12 +495,77 @@ bool KindChecker::hasReference(const std::string& dir, const std::string& finger
     References.begin(), References.end(), [&](const auto& r) { return r.first == fingerprint; });
 }
 
+std::string kindCacheDirectory()
+{
+  if (const char* d = std::getenv("DDG_CACHE_DIR"))
+    return std::string(d) == "none" ? std::string() : std::string(d);
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+    return (fs::path(x) / "ddg").string();
+  if (const char* h = std::getenv("HOME"); h && *h)
+    return (fs::path(h) / ".cache" / "ddg").string();
+  return std::string();
+}
+
+namespace
+{
+// The file a reference is kept in: kind-references/<hash of network and volume>.json.
+std::string keptReferencePath(std::uint64_t network, const std::string& fingerprint)
+{
+  const std::string dir = kindCacheDirectory();
+  if (dir.empty() || network == 0)
+    return std::string();
+  Fnv1a key;
+  key.add(&network, sizeof network);
+  key.add(fingerprint.data(), fingerprint.size());
+  char name[40];
+  std::snprintf(name, sizeof name, "%016llx.json", static_cast<unsigned long long>(key.value()));
+  return (fs::path(dir) / "kind-references" / name).string();
+}
+} // namespace
+
 void KindChecker::addReference(const std::string& dir, const std::string& fingerprint,
   const Volume& volume, int threads, const std::function<bool(double)>& progress)
 {
   if (hasReference(dir, fingerprint))
     return;
+  const std::uint64_t network = Network->identity();
+  const std::string kept = keptReferencePath(network, fingerprint);
+  char id[20];
+  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(network));
+  if (!kept.empty()) // drawn before, by this network for this volume: read back
+  {
+    try
+    {
+      const json j = json::parse(readTextFile(kept, "kept kind reference"));
+      auto r = j.at("reference").get<std::vector<double>>();
+      if (j.at("network").get<std::string>() == id &&
+        j.at("fingerprint").get<std::string>() == fingerprint &&
+        r.size() == Network->kinds().size())
+      {
+        References.emplace_back(fingerprint, std::move(r));
+        return;
+      }
+    }
+    catch (const std::exception&) // none, or unreadable: drawn again and written over
+    {
+    }
+  }
   References.emplace_back(fingerprint, kindReference(*Network, volume, threads, progress));
+  if (kept.empty())
+    return;
+  try
+  {
+    std::error_code ec;
+    fs::create_directories(fs::path(kept).parent_path(), ec);
+    writeFileAtomic(kept,
+      json{ { "network", id }, { "fingerprint", fingerprint },
+        { "reference", References.back().second } }
+        .dump(),
+      "kept kind reference");
+  }
+  catch (const std::exception&) // a read-only cache: the reference is still kept in memory
+  {
+  }
 }
 
 KindCheck KindChecker::check(

@@ -86,6 +86,9 @@ public:
   std::uint64_t referenceSeed() const;
   /// How the network was trained (kind.json "training"), as JSON text.
   const std::string& trainingRecord() const;
+  /// A hash of what a volume's reference depends on (the weights, the reference's spec, count,
+  /// seed and way of drawing), set by load; 0 for a network not loaded from files.
+  std::uint64_t identity() const;
 
   /// Class probabilities of a picture as a query frames it (prepareQueryImage at imageSize(),
   /// after halving one over kQueryPictureSide), averaged over its 8 flips and quarter turns.
@@ -109,8 +112,16 @@ std::vector<double> kindReference(const KindNetwork& network, const Volume& volu
 KindCheck checkKind(
   const KindNetwork& network, const Image& picture, const std::vector<double>& reference);
 
+/// Where KindChecker keeps references between sessions: $DDG_CACHE_DIR ("none": nowhere), else
+/// $XDG_CACHE_HOME/ddg, else $HOME/.cache/ddg; empty when none is known.
+std::string kindCacheDirectory();
+
 /// A kind network loaded once, and the reference of each volume it has checked kept (by volume
-/// fingerprint): the kind check of the filter (a carried look) and of `ddg reconstruct`.
+/// fingerprint): the kind check of the filters, the panel and `ddg reconstruct`. A reference is
+/// also kept on disk (kindCacheDirectory()/kind-references/, one small JSON file per network and
+/// volume, written atomically), so that the next session reads it instead of drawing its
+/// exemplars again (7-10 s); a missing, unreadable or mismatched file is drawn again, and a
+/// cache that cannot be written is left alone.
 class KindChecker
 {
 public:

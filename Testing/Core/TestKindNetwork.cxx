@@ -236,6 +236,13 @@ TEST(KindNetwork, TheCheckerKeepsAReferenceByTheFingerprintItIsGiven)
   const std::string dir = ddg::testing::tempDir() + "/kind_checker";
   trained().save(dir);
   const Image picture = ExemplarDataset(dataset(1)).images(2).rgbExp;
+  // references kept on disk in a directory of this test alone
+  const std::string cache = ddg::testing::tempDir() + "/kind_cache";
+  fs::remove_all(cache);
+  const char* saved = std::getenv("DDG_CACHE_DIR");
+  const std::string before = saved ? saved : "";
+  ::setenv("DDG_CACHE_DIR", cache.c_str(), 1);
+  EXPECT_EQ(kindCacheDirectory(), cache);
   KindChecker checker;
   EXPECT_FALSE(checker.hasReference(dir, "the whole"));
   EXPECT_THROW(checker.check(dir, picture, "the whole"), Error);
@@ -250,4 +257,38 @@ TEST(KindNetwork, TheCheckerKeepsAReferenceByTheFingerprintItIsGiven)
   EXPECT_EQ(kept.volumeLike, drawn.volumeLike);
   EXPECT_TRUE(checker.hasReference(dir, volumeFingerprint(synthetic(0))));
   EXPECT_NE(checker.check(dir, picture, synthetic(1), 1).agreement, kept.agreement);
+
+  // the next session reads the kept reference back instead of drawing it (the volume given is
+  // another: the file is keyed by the network and the fingerprint)
+  const fs::path files = fs::path(cache) / "kind-references";
+  ASSERT_EQ(std::distance(fs::directory_iterator(files), fs::directory_iterator()), 3);
+  int draws = 0;
+  auto counting = [&](double)
+  {
+    ++draws;
+    return true;
+  };
+  KindChecker next;
+  next.addReference(dir, "the whole", synthetic(1), 1, counting);
+  EXPECT_EQ(draws, 0);
+  EXPECT_DOUBLE_EQ(next.check(dir, picture, "the whole").agreement, kept.agreement);
+  // an unreadable file is draws again and written over
+  for (const auto& f : fs::directory_iterator(files))
+    std::ofstream(f.path()) << "{ not json";
+  KindChecker third;
+  third.addReference(dir, "the whole", synthetic(0), 1, counting);
+  EXPECT_GT(draws, 0);
+  EXPECT_DOUBLE_EQ(third.check(dir, picture, "the whole").agreement, kept.agreement);
+  draws = 0;
+  KindChecker fourth;
+  fourth.addReference(dir, "the whole", synthetic(1), 1, counting);
+  EXPECT_EQ(draws, 0) << "the file draws again was not written over";
+  // "none": nothing kept, nothing read
+  ::setenv("DDG_CACHE_DIR", "none", 1);
+  EXPECT_EQ(kindCacheDirectory(), "");
+  KindChecker off;
+  off.addReference(dir, "the whole", synthetic(1), 1, counting);
+  EXPECT_GT(draws, 0);
+  EXPECT_NE(off.check(dir, picture, "the whole").agreement, kept.agreement);
+  saved ? (void)::setenv("DDG_CACHE_DIR", before.c_str(), 1) : (void)::unsetenv("DDG_CACHE_DIR");
 }

@@ -48,6 +48,8 @@ from vtkmodules.vtkCommonDataModel import vtkImageData
 from vtkmodules.vtkIOImage import vtkPNGWriter
 
 plugin, ddg, data, testdata, outdir = sys.argv[1:6]
+# the kind check draws its references here (its cancel, its MPI path): none kept between runs
+os.environ["DDG_CACHE_DIR"] = "none"
 os.makedirs(outdir, exist_ok=True)
 LoadPlugin(plugin, remote=False)
 
