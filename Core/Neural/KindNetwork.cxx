@@ -488,13 +488,6 @@ void KindChecker::load(const std::string& dir)
   References.clear();
 }
 
-bool KindChecker::hasReference(const std::string& dir, const std::string& fingerprint)
-{
-  load(dir);
-  return std::any_of(
-    References.begin(), References.end(), [&](const auto& r) { return r.first == fingerprint; });
-}
-
 std::string kindCacheDirectory()
 {
   if (const char* d = std::getenv("DDG_CACHE_DIR"))
@@ -523,34 +516,49 @@ std::string keptReferencePath(std::uint64_t network, const std::string& fingerpr
 }
 } // namespace
 
+namespace
+{
+std::string networkId(std::uint64_t network)
+{
+  char id[20];
+  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(network));
+  return id;
+}
+} // namespace
+
+bool KindChecker::hasReference(const std::string& dir, const std::string& fingerprint)
+{
+  load(dir);
+  if (std::any_of(References.begin(), References.end(),
+        [&](const auto& r) { return r.first == fingerprint; }))
+    return true;
+  // drawn in an earlier session by this network for this volume: read back
+  const std::string kept = keptReferencePath(Network->identity(), fingerprint);
+  if (kept.empty() || !fs::exists(kept))
+    return false;
+  try
+  {
+    const json j = json::parse(readTextFile(kept, "kept kind reference"));
+    auto r = j.at("reference").get<std::vector<double>>();
+    if (j.at("network").get<std::string>() != networkId(Network->identity()) ||
+      j.at("fingerprint").get<std::string>() != fingerprint || r.size() != Network->kinds().size())
+      return false;
+    References.emplace_back(fingerprint, std::move(r));
+    return true;
+  }
+  catch (const std::exception&) // unreadable: drawn again and written over
+  {
+    return false;
+  }
+}
+
 void KindChecker::addReference(const std::string& dir, const std::string& fingerprint,
   const Volume& volume, int threads, const std::function<bool(double)>& progress)
 {
   if (hasReference(dir, fingerprint))
     return;
-  const std::uint64_t network = Network->identity();
-  const std::string kept = keptReferencePath(network, fingerprint);
-  char id[20];
-  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(network));
-  if (!kept.empty()) // drawn before, by this network for this volume: read back
-  {
-    try
-    {
-      const json j = json::parse(readTextFile(kept, "kept kind reference"));
-      auto r = j.at("reference").get<std::vector<double>>();
-      if (j.at("network").get<std::string>() == id &&
-        j.at("fingerprint").get<std::string>() == fingerprint &&
-        r.size() == Network->kinds().size())
-      {
-        References.emplace_back(fingerprint, std::move(r));
-        return;
-      }
-    }
-    catch (const std::exception&) // none, or unreadable: drawn again and written over
-    {
-    }
-  }
   References.emplace_back(fingerprint, kindReference(*Network, volume, threads, progress));
+  const std::string kept = keptReferencePath(Network->identity(), fingerprint);
   if (kept.empty())
     return;
   try
@@ -558,7 +566,7 @@ void KindChecker::addReference(const std::string& dir, const std::string& finger
     std::error_code ec;
     fs::create_directories(fs::path(kept).parent_path(), ec);
     writeFileAtomic(kept,
-      json{ { "network", id }, { "fingerprint", fingerprint },
+      json{ { "network", networkId(Network->identity()) }, { "fingerprint", fingerprint },
         { "reference", References.back().second } }
         .dump(),
       "kept kind reference");

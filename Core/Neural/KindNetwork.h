@@ -132,7 +132,7 @@ public:
   /// Loads the network in `dir` now unless it is the one loaded (what check does first).
   void load(const std::string& dir);
   /// Whether the reference of the volume whose volumeFingerprint is `fingerprint` is kept for the
-  /// network in `dir` (loaded first).
+  /// network in `dir` (loaded first): in memory, or on disk (then read into memory).
   bool hasReference(const std::string& dir, const std::string& fingerprint);
   /// Keeps kindReference of `volume` under `fingerprint` (the fingerprint of the volume it
   /// stands for: under MPI the whole volume's, `volume` its design-space volume assembled on one
