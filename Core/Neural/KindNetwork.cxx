@@ -16,7 +16,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <random>
 
@@ -477,122 +476,6 @@ std::string describeKindCheck(const KindCheck& c)
   return figures +
     std::string(c.differs ? "the picture may show a volume of another kind" : "the same kind") +
     "; the picture is most like " + c.pictureLike + ", the volume like " + c.volumeLike;
-}
-
-void KindChecker::load(const std::string& dir)
-{
-  if (Network && dir == Dir)
-    return;
-  Network = std::make_unique<KindNetwork>(KindNetwork::load(dir));
-  Dir = dir;
-  References.clear();
-}
-
-std::string kindCacheDirectory()
-{
-  if (const char* d = std::getenv("DDG_CACHE_DIR"))
-    return std::string(d) == "none" ? std::string() : std::string(d);
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
-    return (fs::path(x) / "ddg").string();
-  if (const char* h = std::getenv("HOME"); h && *h)
-    return (fs::path(h) / ".cache" / "ddg").string();
-  return std::string();
-}
-
-namespace
-{
-// The file a reference is kept in: kind-references/<hash of network and volume>.json.
-std::string keptReferencePath(std::uint64_t network, const std::string& fingerprint)
-{
-  const std::string dir = kindCacheDirectory();
-  if (dir.empty() || network == 0)
-    return std::string();
-  Fnv1a key;
-  key.add(&network, sizeof network);
-  key.add(fingerprint.data(), fingerprint.size());
-  char name[40];
-  std::snprintf(name, sizeof name, "%016llx.json", static_cast<unsigned long long>(key.value()));
-  return (fs::path(dir) / "kind-references" / name).string();
-}
-} // namespace
-
-namespace
-{
-std::string networkId(std::uint64_t network)
-{
-  char id[20];
-  std::snprintf(id, sizeof id, "%016llx", static_cast<unsigned long long>(network));
-  return id;
-}
-} // namespace
-
-bool KindChecker::hasReference(const std::string& dir, const std::string& fingerprint)
-{
-  load(dir);
-  if (std::any_of(References.begin(), References.end(),
-        [&](const auto& r) { return r.first == fingerprint; }))
-    return true;
-  // drawn in an earlier session by this network for this volume: read back
-  const std::string kept = keptReferencePath(Network->identity(), fingerprint);
-  if (kept.empty() || !fs::exists(kept))
-    return false;
-  try
-  {
-    const json j = json::parse(readTextFile(kept, "kept kind reference"));
-    auto r = j.at("reference").get<std::vector<double>>();
-    if (j.at("network").get<std::string>() != networkId(Network->identity()) ||
-      j.at("fingerprint").get<std::string>() != fingerprint || r.size() != Network->kinds().size())
-      return false;
-    References.emplace_back(fingerprint, std::move(r));
-    return true;
-  }
-  catch (const std::exception&) // unreadable: drawn again and written over
-  {
-    return false;
-  }
-}
-
-void KindChecker::addReference(const std::string& dir, const std::string& fingerprint,
-  const Volume& volume, int threads, const std::function<bool(double)>& progress)
-{
-  if (hasReference(dir, fingerprint))
-    return;
-  References.emplace_back(fingerprint, kindReference(*Network, volume, threads, progress));
-  const std::string kept = keptReferencePath(Network->identity(), fingerprint);
-  if (kept.empty())
-    return;
-  try
-  {
-    std::error_code ec;
-    fs::create_directories(fs::path(kept).parent_path(), ec);
-    writeFileAtomic(kept,
-      json{ { "network", networkId(Network->identity()) }, { "fingerprint", fingerprint },
-        { "reference", References.back().second } }
-        .dump(),
-      "kept kind reference");
-  }
-  catch (const std::exception&) // a read-only cache: the reference is still kept in memory
-  {
-  }
-}
-
-KindCheck KindChecker::check(
-  const std::string& dir, const Image& picture, const std::string& fingerprint)
-{
-  load(dir);
-  const auto it = std::find_if(
-    References.begin(), References.end(), [&](const auto& r) { return r.first == fingerprint; });
-  if (it == References.end())
-    throw Error("the kind check has no reference of this volume");
-  return checkKind(*Network, picture, it->second);
-}
-
-KindCheck KindChecker::check(const std::string& dir, const Image& picture, const Volume& volume,
-  int threads, const std::function<bool(double)>& progress)
-{
-  const std::string fingerprint = volumeFingerprint(volume);
-  addReference(dir, fingerprint, volume, threads, progress);
-  return check(dir, picture, fingerprint);
 }
 
 } // namespace ddg
