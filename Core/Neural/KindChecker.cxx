@@ -30,9 +30,10 @@ void KindChecker::load(const std::string& dir)
 
 std::string kindCacheDirectory()
 {
-  if (const char* d = std::getenv("DDG_CACHE_DIR"))
+  if (const char* d = std::getenv("DDG_CACHE_DIR"); d && *d)
     return std::string(d) == "none" ? std::string() : std::string(d);
-  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x)
+  // the XDG base directories: a relative XDG_CACHE_HOME is ignored
+  if (const char* x = std::getenv("XDG_CACHE_HOME"); x && *x && fs::path(x).is_absolute())
     return (fs::path(x) / "ddg").string();
   if (const char* h = std::getenv("HOME"); h && *h)
     return (fs::path(h) / ".cache" / "ddg").string();
@@ -74,7 +75,8 @@ bool KindChecker::hasReference(const std::string& dir, const std::string& finger
     return true;
   // drawn in an earlier session by this network for this volume: read back
   const std::string kept = keptReferencePath(Network->identity(), fingerprint);
-  if (kept.empty() || !fs::exists(kept))
+  std::error_code ec;
+  if (kept.empty() || !fs::exists(kept, ec)) // an unreachable cache: drawn again
     return false;
   try
   {

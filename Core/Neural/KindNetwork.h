@@ -113,7 +113,8 @@ KindCheck checkKind(
   const KindNetwork& network, const Image& picture, const std::vector<double>& reference);
 
 /// Where KindChecker keeps references between sessions: $DDG_CACHE_DIR ("none": nowhere), else
-/// $XDG_CACHE_HOME/ddg, else $HOME/.cache/ddg; empty when none is known.
+/// $XDG_CACHE_HOME/ddg (when absolute), else $HOME/.cache/ddg; empty when none is known. (Unset
+/// and empty variables are passed over.)
 std::string kindCacheDirectory();
 
 /// A kind network loaded once, and the reference of each volume it has checked kept (by volume

@@ -3,6 +3,7 @@
 
 #include "Common/Error.h"
 #include "DDGPieces.h"
+#include "DDGVolumeAdaptor.h" // volumeVersion
 #ifdef DDG_WITH_TORCH
 #include "Neural/KindNetwork.h"
 #include "Render/RayCaster.h" // ddg::Cancelled
@@ -132,9 +133,11 @@ void addKindCheckOnRanks(vtkAlgorithm* filter, vtkFieldData* fd,
         }
       });
   };
-  std::string fingerprint = ranks.broadcast(firstRankFingerprint);
-  if (fingerprint.empty())
-    fingerprint = fingerprintOnRanks(ranks, pieces);
+  // a reference drawn from a volume averaged down is not one process's of the whole: kept apart
+  const int factor = designSpaceFactor(pieces.brick.wholeDims, kMaxDesignSpaceVoxels);
+  const std::string fingerprint = factor == 1
+    ? firstRankFingerprint
+    : firstRankFingerprint + " averaged down by " + std::to_string(factor);
   std::string need;
   onFirst([&] { need = checker->hasReference(dir, fingerprint) ? "" : "new"; });
   if (!ranks.broadcast(need).empty())
@@ -174,6 +177,23 @@ void addKindCheckOnRanks(vtkAlgorithm* filter, vtkFieldData* fd,
   (void)pieces;
   (void)firstRankFingerprint;
 #endif
+}
+
+const std::string& RanksFingerprint::get(
+  const RankGroup& ranks, const RankVolume& pieces, vtkImageData* input, vtkDataArray* array)
+{
+  const std::uint64_t version = volumeVersion(input, array);
+  double stale = !Known || Version != version || Array != array ? 1.0 : 0.0;
+  ranks.allMax(&stale, 1);
+  if (stale > 0)
+  {
+    Known = false;
+    Value = fingerprintOnRanks(ranks, pieces);
+    Version = version;
+    Array = array;
+    Known = true;
+  }
+  return Value;
 }
 
 } // namespace ddg

@@ -4,11 +4,14 @@
 
 #include "DDGFiltersModule.h" // export macro
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
 class vtkAlgorithm;
+class vtkDataArray;
 class vtkFieldData;
+class vtkImageData;
 
 namespace ddg
 {
@@ -30,15 +33,33 @@ DDGFILTERS_EXPORT void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd,
   const Volume& volume);
 
 /// addKindCheck under MPI, collective over `ranks` (every rank calls it with the same `dir`): the
-/// field and the warning on the first rank. When the first rank keeps no reference of the whole
-/// volume (`firstRankFingerprint`, the first rank's fingerprintOnRanks of `pieces`, or empty on
-/// every rank to have it computed here), every rank streams its points to the first, which
-/// assembles the design-space volume (designSpaceInputOnRanks, kMaxDesignSpaceVoxels) and draws
-/// the reference's exemplars from it; no other rank holds more than its piece and a slab.
-/// `picture` is read on the first rank only. Failures are warnings on the first rank; the user's
-/// Abort stops every rank (ddg::Cancelled on the first, RankFailed elsewhere).
+/// field and the warning on the first rank. `firstRankFingerprint` is the whole volume's
+/// (fingerprintOnRanks of `pieces`, on the first rank; RankVolumeCache or RanksFingerprint keep
+/// it). When the first rank keeps no reference of the volume (in memory or on disk), every rank
+/// streams its points to it, which assembles the design-space volume (designSpaceInputOnRanks,
+/// kMaxDesignSpaceVoxels) and draws the reference's exemplars from it; no other rank holds more
+/// than its piece and a slab. A reference drawn from a volume averaged down is kept under the
+/// fingerprint and the factor, apart from one process's of the whole. `picture` is read on the
+/// first rank only. Failures are warnings on the first rank; the user's Abort stops every rank
+/// (ddg::Cancelled on the first, RankFailed elsewhere).
 DDGFILTERS_EXPORT void addKindCheckOnRanks(vtkAlgorithm* filter, vtkFieldData* fd,
   std::shared_ptr<KindChecker>& checker, const std::string& dir, const Image& picture,
   const RankGroup& ranks, const RankVolume& pieces, const std::string& firstRankFingerprint);
+
+/// A filter's whole-volume fingerprint under MPI (fingerprintOnRanks: on the first rank, empty
+/// elsewhere), kept between its runs and streamed again only when any rank's input or array
+/// changed (collective).
+class DDGFILTERS_EXPORT RanksFingerprint
+{
+public:
+  const std::string& get(
+    const RankGroup& ranks, const RankVolume& pieces, vtkImageData* input, vtkDataArray* array);
+
+private:
+  bool Known = false;
+  std::uint64_t Version = 0;
+  vtkDataArray* Array = nullptr;
+  std::string Value;
+};
 
 } // namespace ddg

@@ -153,13 +153,19 @@ void vtkDDGQuery::Execute(
   auto& gallery = this->Internal->Gallery;
   gallery.run(ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
     [&](ddg::DesignGallery& g) { this->Run(g, outputVector); });
-  if (ranks) // after the query, every rank together (DDGKindCheck.h)
+  if (ranks && !this->KindNetwork.empty()) // after the query, every rank together
+  {
+    ddg::Image picture; // the first rank's, read in a step: a failure stops every rank
+    ranks->step(
+      [&]
+      {
+        if (ranks->rank() == 0)
+          picture = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
+      });
     ddg::addKindCheckOnRanks(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
-      this->Internal->KindReferences, this->KindNetwork,
-      ranks->rank() == 0 ? ddg::filterImage(this->ImageData, this->ImageFile, "Image")
-                         : ddg::Image(),
-      *ranks, gallery.pieces(*ranks, input, array, this->InputWholeExtent()),
-      gallery.fingerprint());
+      this->Internal->KindReferences, this->KindNetwork, picture, *ranks,
+      gallery.pieces(*ranks, input, array, this->InputWholeExtent()), gallery.fingerprint());
+  }
 }
 
 void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)

@@ -43,6 +43,7 @@
 vtkStandardNewMacro(vtkDDGReconstructTransferFunction);
 
 vtkDDGReconstructTransferFunction::vtkDDGReconstructTransferFunction()
+  : KindFingerprint(std::make_shared<ddg::RanksFingerprint>())
 {
   this->SetNumberOfOutputPorts(2);
 }
@@ -757,8 +758,10 @@ void vtkDDGReconstructTransferFunction::ExecuteCarryLook(
   {
     ranks->step(describe);
     json = ranks->broadcast(json);
-    ddg::addKindCheckOnRanks(this, output->GetFieldData(), this->KindReferences, this->KindNetwork,
-      picture, *ranks, *volume.pieces, "");
+    if (!this->KindNetwork.empty()) // the fingerprint streamed once per volume
+      ddg::addKindCheckOnRanks(this, output->GetFieldData(), this->KindReferences,
+        this->KindNetwork, picture, *ranks, *volume.pieces,
+        this->KindFingerprint->get(*ranks, *volume.pieces, input, array));
   }
   else
     describe();

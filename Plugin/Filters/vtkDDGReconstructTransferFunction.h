@@ -16,6 +16,7 @@ namespace ddg
 {
 struct ReconstructionOptions;
 class KindChecker;
+class RanksFingerprint;
 }
 
 /**
@@ -305,7 +306,8 @@ private:
   bool EstimateCamera = false;
   std::string InitialTransferFunction;
   std::string KindNetwork;
-  std::shared_ptr<ddg::KindChecker> KindReferences; // the loaded network and what it keeps
+  std::shared_ptr<ddg::KindChecker> KindReferences;       // the loaded network and what it keeps
+  std::shared_ptr<ddg::RanksFingerprint> KindFingerprint; // under MPI: the input's, kept
   double OpacityUnitDistance = 0.0;
   int CameraCandidates = 6;
   double MinimumOverlap = 0.6;

@@ -3,9 +3,9 @@
 // picture's projections (up to 16 384 colours) are sorted, which had taken about 60 % of the
 // carried look's time. Prints, side by side in one run, the sort of a real picture's projections
 // with std::sort and with Boost's pattern-defeating quicksort (pdqsort_branchless, what
-// slicedWasserstein uses), the same order checked; then the carried look of Engine's shipped
-// screenshot onto Tooth (Core's carryLook, 2 threads) and its share of the distance's time. A
-// program that prints figures: no timed assertions.
+// slicedWasserstein uses; sorted values are the same whichever sort), then the carried look of
+// Engine's shipped screenshot onto Tooth (Core's carryLook, 2 threads) and its share of the
+// distance's time. A program that prints figures: no timed assertions.
 //
 //   BenchCarryLook [--repeat N]    (default 5)
 #include "DDGVolumeAdaptor.h"
@@ -77,7 +77,6 @@ int main(int argc, char** argv)
       p.push_back((u[0] * c[0] + u[1] * c[1] + u[2] * c[2]) / len);
   }
   std::vector<double> stdTimes, pdqTimes;
-  bool same = true;
   for (int r = 0; r < repeat; ++r)
   {
     auto a = projections, b = projections;
@@ -89,15 +88,11 @@ int main(int argc, char** argv)
     for (auto& p : b)
       boost::sort::pdqsort_branchless(p.begin(), p.end());
     pdqTimes.push_back(seconds(t));
-    same = same && a == b;
   }
   std::printf("sort of 64 x %zu projections of the picture's colours (median of %d):\n",
     colours.size(), repeat);
-  std::printf(
-    "  std::sort           %.2f ms\n  pdqsort_branchless  %.2f ms  (%.2fx faster; the same "
-    "order: %s)\n",
-    1e3 * median(stdTimes), 1e3 * median(pdqTimes), median(stdTimes) / median(pdqTimes),
-    same ? "yes" : "NO");
+  std::printf("  std::sort           %.2f ms\n  pdqsort_branchless  %.2f ms  (%.2fx faster)\n",
+    1e3 * median(stdTimes), 1e3 * median(pdqTimes), median(stdTimes) / median(pdqTimes));
 
   // one call of the distance at the fit's sizes (a render's 4 096 colours against the picture's)
   std::vector<std::array<float, 3>> render(colours.begin(), colours.begin() + 4096);
@@ -125,5 +120,5 @@ int main(int argc, char** argv)
   std::printf("carried look, Engine's screenshot onto Tooth (%d steps, 2 threads): %.2f s; the "
               "distance's calls at the ratio above (6 a step) ~%.2f s of it\n",
     result.fit.iterations, total, result.fit.iterations * 6 * median(swTimes));
-  return same ? 0 : 1;
+  return 0;
 }

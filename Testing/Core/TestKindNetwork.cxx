@@ -239,8 +239,16 @@ TEST(KindNetwork, TheCheckerKeepsAReferenceByTheFingerprintItIsGiven)
   // references kept on disk in a directory of this test alone
   const std::string cache = ddg::testing::tempDir() + "/kind_cache";
   fs::remove_all(cache);
-  const char* saved = std::getenv("DDG_CACHE_DIR");
-  const std::string before = saved ? saved : "";
+  struct Restore // DDG_CACHE_DIR as it was, however the test ends
+  {
+    const char* saved = std::getenv("DDG_CACHE_DIR");
+    std::string before = saved ? saved : "";
+    ~Restore()
+    {
+      saved ? (void)::setenv("DDG_CACHE_DIR", before.c_str(), 1)
+            : (void)::unsetenv("DDG_CACHE_DIR");
+    }
+  } restore;
   ::setenv("DDG_CACHE_DIR", cache.c_str(), 1);
   EXPECT_EQ(kindCacheDirectory(), cache);
   KindChecker checker;
@@ -290,5 +298,4 @@ TEST(KindNetwork, TheCheckerKeepsAReferenceByTheFingerprintItIsGiven)
   off.addReference(dir, "the whole", synthetic(1), 1, counting);
   EXPECT_GT(draws, 0);
   EXPECT_NE(off.check(dir, picture, "the whole").agreement, kept.agreement);
-  saved ? (void)::setenv("DDG_CACHE_DIR", before.c_str(), 1) : (void)::unsetenv("DDG_CACHE_DIR");
 }
