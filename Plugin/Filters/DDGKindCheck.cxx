@@ -76,8 +76,10 @@ void report(vtkAlgorithm* filter, vtkFieldData* fd, const std::function<KindChec
 } // namespace
 #endif
 
-void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd, std::shared_ptr<KindChecker>& checker,
-  const std::string& dir, const Image& picture, const Volume& volume)
+// (the parameters are unused in a build without libtorch)
+void addKindCheck([[maybe_unused]] vtkAlgorithm* filter, [[maybe_unused]] vtkFieldData* fd,
+  [[maybe_unused]] std::shared_ptr<KindChecker>& checker, [[maybe_unused]] const std::string& dir,
+  [[maybe_unused]] const Image& picture, [[maybe_unused]] const Volume& volume)
 {
 #ifdef DDG_WITH_TORCH
   if (dir.empty())
@@ -86,19 +88,14 @@ void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd, std::shared_ptr<KindCh
     checker = std::make_shared<KindChecker>();
   const Stage stage(filter);
   report(filter, fd, [&] { return checker->check(dir, picture, volume, 0, progressOf(filter)); });
-#else
-  (void)filter;
-  (void)fd;
-  (void)checker;
-  (void)dir;
-  (void)picture;
-  (void)volume;
 #endif
 }
 
-void addKindCheckOnRanks(vtkAlgorithm* filter, vtkFieldData* fd,
-  std::shared_ptr<KindChecker>& checker, const std::string& dir, const Image& picture,
-  const RankGroup& ranks, const RankVolume& pieces, const std::string& firstRankFingerprint)
+void addKindCheckOnRanks([[maybe_unused]] vtkAlgorithm* filter, [[maybe_unused]] vtkFieldData* fd,
+  [[maybe_unused]] std::shared_ptr<KindChecker>& checker, [[maybe_unused]] const std::string& dir,
+  [[maybe_unused]] const Image& picture, [[maybe_unused]] const RankGroup& ranks,
+  [[maybe_unused]] const RankVolume& pieces,
+  [[maybe_unused]] const std::string& firstRankFingerprint)
 {
 #ifdef DDG_WITH_TORCH
   if (dir.empty())
@@ -167,15 +164,6 @@ void addKindCheckOnRanks(vtkAlgorithm* filter, vtkFieldData* fd,
     notChecked(filter, failure);
   else
     report(filter, fd, [&] { return checker->check(dir, picture, fingerprint); });
-#else
-  (void)filter;
-  (void)fd;
-  (void)checker;
-  (void)dir;
-  (void)picture;
-  (void)ranks;
-  (void)pieces;
-  (void)firstRankFingerprint;
 #endif
 }
 
