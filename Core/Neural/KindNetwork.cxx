@@ -28,9 +28,6 @@ namespace nn = torch::nn;
 using json = nlohmann::json;
 
 constexpr const char* kFormat = "ddg-kind";
-// Bump when kindReference draws its exemplars otherwise: the references kept on disk by
-// KindChecker then no longer match.
-constexpr int kReferenceVersion = 1;
 
 struct KindNetImpl : nn::Module
 {
@@ -351,13 +348,13 @@ KindNetwork KindNetwork::load(const std::string& dir)
     torch::serialize::InputArchive ar;
     const std::string weights = (fs::path(dir) / "kind.pt").string();
     ar.load_from(weights);
-    // what a kept reference depends on: the weights, the exemplars' spec, count and seed, and
-    // how kindReference draws them (kReferenceVersion)
+    // what a kept reference depends on in the files: the weights, the exemplars' spec, count,
+    // seed and size (how they are drawn: KindChecker's probe)
     Fnv1a id;
     const std::string bytes = readTextFile(weights, "kind network weights");
     const std::string how = designSpaceSpecToJson(k.In->Spec) + " " +
       std::to_string(k.In->ReferenceCount) + " " + std::to_string(k.In->ReferenceSeed) + " " +
-      std::to_string(kReferenceVersion) + " " + std::to_string(k.In->Size);
+      std::to_string(k.In->Size);
     id.add(bytes.data(), bytes.size());
     id.add(how.data(), how.size());
     k.In->Identity = id.value();
@@ -402,7 +399,7 @@ std::vector<double> KindNetwork::pictureProbabilities(const Image& picture) cons
 }
 
 std::vector<double> kindReference(const KindNetwork& network, const Volume& volume, int threads,
-  const std::function<bool(double)>& progress)
+  const std::function<bool(double)>& progress, int count)
 {
   std::random_device rd;
   const fs::path dir =
@@ -417,7 +414,7 @@ std::vector<double> kindReference(const KindNetwork& network, const Volume& volu
     }
   } remove{ dir };
   GenerateOptions g;
-  g.count = network.referenceCount();
+  g.count = count > 0 ? count : network.referenceCount();
   g.size = network.imageSize();
   g.seed = network.referenceSeed();
   g.threads = threads;

@@ -86,8 +86,8 @@ public:
   std::uint64_t referenceSeed() const;
   /// How the network was trained (kind.json "training"), as JSON text.
   const std::string& trainingRecord() const;
-  /// A hash of what a volume's reference depends on (the weights, the reference's spec, count,
-  /// seed and way of drawing), set by load; 0 for a network not loaded from files.
+  /// A hash of the network's files (the weights, the reference's spec, count, seed and image
+  /// size), set by load; 0 for a network not loaded from files.
   std::uint64_t identity() const;
 
   /// Class probabilities of a picture as a query frames it (prepareQueryImage at imageSize(),
@@ -104,9 +104,10 @@ private:
 /// The volume's mean class probabilities: referenceCount() exemplars generated with the
 /// network's spec and referenceSeed() (screened as `ddg generate --screen`, no viewport images;
 /// written to a temporary directory that is removed). About 10 s for 128 exemplars at 64 px on
-/// 2 cores. Progress gets the fraction done and may cancel (ddg::Cancelled).
+/// 2 cores. Progress gets the fraction done and may cancel (ddg::Cancelled). `count` > 0: the
+/// first `count` exemplars only (KindChecker's probe of how references are drawn).
 std::vector<double> kindReference(const KindNetwork& network, const Volume& volume, int threads = 0,
-  const std::function<bool(double)>& progress = {});
+  const std::function<bool(double)>& progress = {}, int count = 0);
 
 /// The picture's probabilities against a reference from kindReference.
 KindCheck checkKind(
@@ -122,7 +123,9 @@ std::string kindCacheDirectory();
 /// also kept on disk (kindCacheDirectory()/kind-references/, one small JSON file per network and
 /// volume, written atomically), so that the next session reads it instead of drawing its
 /// exemplars again (7-10 s); a missing, unreadable or mismatched file is drawn again, and a
-/// cache that cannot be written is left alone.
+/// cache that cannot be written is left alone. The files' key holds the network's identity and
+/// its reference of a fixed small volume (4 exemplars, drawn once per network), so that a
+/// change in how references are drawn leaves the old files unread.
 class KindChecker
 {
 public:
@@ -144,9 +147,13 @@ public:
   KindCheck check(const std::string& dir, const Image& picture, const std::string& fingerprint);
 
 private:
+  /// The network's identity and its reference of a fixed small volume, hashed: the files' key
+  /// (0: the network was not loaded from files, nothing is kept on disk).
+  std::uint64_t diskKey();
   std::string Dir;
   std::unique_ptr<KindNetwork> Network;
   std::vector<std::pair<std::string, std::vector<double>>> References;
+  std::uint64_t DiskKey = 0;
 };
 
 /// The check as JSON {"agreement", "threshold", "differs", "picture_like", "volume_like"} (the
