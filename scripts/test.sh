@@ -9,10 +9,9 @@ bash scripts/setup.sh
 bash scripts/build.sh
 # A failed test gets one more run (a real failure fails both). X tests run under
 # scripts/with-xvfb.sh, which fixed the "bad X server connection" seen with xvfb-run -a.
-# The kind check's references kept between sessions (Core's kindCacheDirectory): in the build
-# tree, empty at each run, not the user's ~/.cache.
-export DDG_CACHE_DIR="$PWD/build/Testing/kind-cache"
-rm -rf "$DDG_CACHE_DIR"
+# The kind check's references kept between sessions (Core's kindCacheDirectory): every test
+# keeps them in the build tree (Testing/CMakeLists.txt), emptied at each run.
+rm -rf build/Testing/kind-cache
 (cd build && ctest --output-on-failure -j "$JOBS" --repeat until-pass:2 "$@")
 
 echo "test: sanitizer build of Core and its tests (ASan + UBSan)"

@@ -79,6 +79,8 @@ public:
   BundleSession& get(const std::string& bundleDir, const std::string& fingerprint,
     const std::shared_ptr<const DesignVolume>& volume);
   void clear() { Session.reset(); }
+  /// The session last opened (nullptr: none, or the last get threw).
+  const BundleSession* current() const { return Session.get(); }
 
 private:
   std::unique_ptr<BundleSession> Session;

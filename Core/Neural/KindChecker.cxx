@@ -58,10 +58,7 @@ std::string keptReferencePath(std::uint64_t network, const std::string& fingerpr
   std::snprintf(name, sizeof name, "%016llx.json", static_cast<unsigned long long>(key.value()));
   return (fs::path(dir) / "kind-references" / name).string();
 }
-} // namespace
 
-namespace
-{
 std::string networkId(std::uint64_t network)
 {
   char id[20];
@@ -111,10 +108,9 @@ bool KindChecker::hasReference(const std::string& dir, const std::string& finger
     return true;
   // drawn in an earlier session by this network for this volume: read back
   const std::string kept = keptReferencePath(diskKey(), fingerprint);
-  std::error_code ec;
-  if (kept.empty() || !fs::exists(kept, ec)) // an unreachable cache: drawn again
+  if (kept.empty())
     return false;
-  try
+  try // missing, unreachable or unreadable: drawn again (and written over)
   {
     const json j = json::parse(readTextFile(kept, "kept kind reference"));
     auto r = j.at("reference").get<std::vector<double>>();
@@ -124,7 +120,7 @@ bool KindChecker::hasReference(const std::string& dir, const std::string& finger
     References.emplace_back(fingerprint, std::move(r));
     return true;
   }
-  catch (const std::exception&) // unreadable: drawn again and written over
+  catch (const std::exception&)
   {
     return false;
   }

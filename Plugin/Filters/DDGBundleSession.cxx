@@ -43,4 +43,12 @@ void FilterGallery::run(const RankGroup* ranks, vtkImageData* input, vtkDataArra
     });
 }
 
+const std::string& FilterGallery::fingerprint(const RankGroup* ranks) const
+{
+  static const std::string none;
+  if (ranks)
+    return Pieces.fingerprint();
+  return Sessions.current() ? Sessions.current()->fingerprint() : none;
+}
+
 } // namespace ddg

@@ -37,14 +37,15 @@ public:
   void run(const RankGroup* ranks, vtkImageData* input, vtkDataArray* array,
     const int wholeExtent[6], const std::string& bundleDir,
     const std::function<void(DesignGallery& gallery)>& work);
-  /// Collective, after `run` with the same arguments: the pieces it used (kept) and, on the first
-  /// rank, the whole volume's fingerprint (empty elsewhere).
+  /// Collective, after `run` with the same arguments: the pieces it used (kept).
   const RankVolume& pieces(
     const RankGroup& ranks, vtkImageData* input, vtkDataArray* array, const int wholeExtent[6])
   {
     return Pieces.get(ranks, input, array, wholeExtent);
   }
-  const std::string& fingerprint() const { return Pieces.fingerprint(); }
+  /// After `run`: the volume's fingerprint (the session's, computed when it opened); under MPI
+  /// the whole volume's on the first rank (empty elsewhere).
+  const std::string& fingerprint(const RankGroup* ranks) const;
 
 private:
   BundleSessionCache Sessions; // one process, or the first rank's over the pieces

@@ -3,7 +3,6 @@
 
 #include "Common/Error.h"
 #include "DDGPieces.h"
-#include "DDGVolumeAdaptor.h" // volumeVersion
 #ifdef DDG_WITH_TORCH
 #include "Neural/KindNetwork.h"
 #include "Render/RayCaster.h" // ddg::Cancelled
@@ -14,6 +13,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkStringArray.h>
 
+#include <algorithm>
 #include <optional>
 
 namespace ddg
@@ -35,11 +35,14 @@ struct Stage
   ~Stage() { filter->SetProgressText(before.empty() ? nullptr : before.c_str()); }
 };
 
+/// The check's progress f in [0, 1] as the rest of the filter's run, from where it stands (the
+/// bar does not start again at 0).
 std::function<bool(double)> progressOf(vtkAlgorithm* filter)
 {
-  return [filter](double f)
+  const double from = std::clamp(filter->GetProgress(), 0.0, 1.0);
+  return [filter, from](double f)
   {
-    filter->UpdateProgress(f);
+    filter->UpdateProgress(from + (1.0 - from) * f);
     return !filter->GetAbortExecute();
   };
 }
@@ -79,7 +82,8 @@ void report(vtkAlgorithm* filter, vtkFieldData* fd, const std::function<KindChec
 // (the parameters are unused in a build without libtorch)
 void addKindCheck([[maybe_unused]] vtkAlgorithm* filter, [[maybe_unused]] vtkFieldData* fd,
   [[maybe_unused]] std::shared_ptr<KindChecker>& checker, [[maybe_unused]] const std::string& dir,
-  [[maybe_unused]] const Image& picture, [[maybe_unused]] const Volume& volume)
+  [[maybe_unused]] const Image& picture, [[maybe_unused]] const Volume& volume,
+  [[maybe_unused]] const std::string& fingerprint)
 {
 #ifdef DDG_WITH_TORCH
   if (dir.empty())
@@ -87,7 +91,14 @@ void addKindCheck([[maybe_unused]] vtkAlgorithm* filter, [[maybe_unused]] vtkFie
   if (!checker)
     checker = std::make_shared<KindChecker>();
   const Stage stage(filter);
-  report(filter, fd, [&] { return checker->check(dir, picture, volume, 0, progressOf(filter)); });
+  report(filter, fd,
+    [&]
+    {
+      if (fingerprint.empty())
+        return checker->check(dir, picture, volume, 0, progressOf(filter));
+      checker->addReference(dir, fingerprint, volume, 0, progressOf(filter));
+      return checker->check(dir, picture, fingerprint);
+    });
 #endif
 }
 
@@ -170,16 +181,11 @@ void addKindCheckOnRanks([[maybe_unused]] vtkAlgorithm* filter, [[maybe_unused]]
 const std::string& RanksFingerprint::get(
   const RankGroup& ranks, const RankVolume& pieces, vtkImageData* input, vtkDataArray* array)
 {
-  const std::uint64_t version = volumeVersion(input, array);
-  double stale = !Known || Version != version || Array != array ? 1.0 : 0.0;
-  ranks.allMax(&stale, 1);
-  if (stale > 0)
+  if (Stamp.stale(ranks, input, array))
   {
-    Known = false;
+    Stamp.clear();
     Value = fingerprintOnRanks(ranks, pieces);
-    Version = version;
-    Array = array;
-    Known = true;
+    Stamp.keep(input, array);
   }
   return Value;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "DDGFiltersModule.h" // export macro
+#include "DDGPieces.h"        // RanksInputStamp
 
 #include <cstdint>
 #include <memory>
@@ -28,9 +29,10 @@ struct RankVolume;
 /// reference for the next run. A network that cannot be read (any failure of the check) is a
 /// warning, not an error; the filter's progress text is "kind" meanwhile and its AbortExecute
 /// cancels (ddg::Cancelled is thrown on, as the filter's own cancel).
+/// `fingerprint`, when known, is the volume's volumeFingerprint (not computed again).
 DDGFILTERS_EXPORT void addKindCheck(vtkAlgorithm* filter, vtkFieldData* fd,
   std::shared_ptr<KindChecker>& checker, const std::string& dir, const Image& picture,
-  const Volume& volume);
+  const Volume& volume, const std::string& fingerprint = {});
 
 /// addKindCheck under MPI, collective over `ranks` (every rank calls it with the same `dir`): the
 /// field and the warning on the first rank. `firstRankFingerprint` is the whole volume's
@@ -56,9 +58,7 @@ public:
     const RankGroup& ranks, const RankVolume& pieces, vtkImageData* input, vtkDataArray* array);
 
 private:
-  bool Known = false;
-  std::uint64_t Version = 0;
-  vtkDataArray* Array = nullptr;
+  RanksInputStamp Stamp;
   std::string Value;
 };
 

@@ -512,22 +512,33 @@ void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
   ranks.step([] {});
 }
 
+bool RanksInputStamp::stale(const RankGroup& ranks, vtkImageData* input, vtkDataArray* array) const
+{
+  double stale = !Known || Version != volumeVersion(input, array) || Array != array ? 1.0 : 0.0;
+  ranks.allMax(&stale, 1);
+  return stale > 0;
+}
+
+void RanksInputStamp::keep(vtkImageData* input, vtkDataArray* array)
+{
+  Version = volumeVersion(input, array);
+  Array = array;
+  Known = true;
+}
+
 const RankVolume& RankVolumeCache::get(
   const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6])
 {
-  const std::uint64_t version = volumeVersion(piece, array);
-  double stale = !Pieces || Version != version || Array != array ? 1.0 : 0.0;
-  ranks.allMax(&stale, 1);
-  if (stale > 0)
+  if (Stamp.stale(ranks, piece, array))
   {
+    Stamp.clear();
     Pieces.reset();
     Fingerprint.clear();
     auto pieces = std::make_unique<RankVolume>(
       RankVolume::gather(ranks, piece, array, wholeExtent, true, true));
     Fingerprint = fingerprintOnRanks(ranks, *pieces);
     Pieces = std::move(pieces);
-    Version = version;
-    Array = array;
+    Stamp.keep(piece, array);
   }
   return *Pieces;
 }

@@ -101,6 +101,22 @@ using RanksTableRender = std::function<Image(const DesignTable& table, const Vie
 DDGFILTERS_EXPORT void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
   const std::function<void(const RanksTableRender& render)>& work);
 
+/// Which input and array a filter's kept result under MPI came from: stale() is collective and
+/// true on every rank when any rank's input or array changed since keep() (or nothing is kept).
+class DDGFILTERS_EXPORT RanksInputStamp
+{
+public:
+  bool stale(const RankGroup& ranks, vtkImageData* input, vtkDataArray* array) const;
+  /// After the result is kept: the input and array it came from.
+  void keep(vtkImageData* input, vtkDataArray* array);
+  void clear() { Known = false; }
+
+private:
+  bool Known = false;
+  std::uint64_t Version = 0; // volumeVersion of the input kept
+  vtkDataArray* Array = nullptr;
+};
+
 /// A filter's pieces under MPI and the whole volume's fingerprint (fingerprintOnRanks: on the
 /// first rank), agreed again when any rank's input or array changed.
 class DDGFILTERS_EXPORT RankVolumeCache
@@ -114,8 +130,7 @@ public:
 private:
   std::unique_ptr<RankVolume> Pieces;
   std::string Fingerprint;
-  std::uint64_t Version = 0; // volumeVersion of the pieces kept
-  vtkDataArray* Array = nullptr;
+  RanksInputStamp Stamp;
 };
 
 /// A volume split over the ranks as a design gallery sees it: the whole's ranges and bounds,

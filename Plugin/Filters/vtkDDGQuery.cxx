@@ -164,7 +164,7 @@ void vtkDDGQuery::Execute(
       });
     ddg::addKindCheckOnRanks(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
       this->Internal->KindReferences, this->KindNetwork, picture, *ranks,
-      gallery.pieces(*ranks, input, array, this->InputWholeExtent()), gallery.fingerprint());
+      gallery.pieces(*ranks, input, array, this->InputWholeExtent()), gallery.fingerprint(ranks));
   }
 }
 
@@ -183,7 +183,8 @@ void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputV
     view, vtkImageData::GetData(outputVector, 0), vtkTable::GetData(outputVector, 1));
   if (!this->Ranks()) // under MPI after the query (Execute)
     ddg::addKindCheck(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
-      this->Internal->KindReferences, this->KindNetwork, image, gallery.volume());
+      this->Internal->KindReferences, this->KindNetwork, image, gallery.volume(),
+      this->Internal->Gallery.fingerprint(nullptr));
   const size_t shown = std::min<size_t>(r.neighbours.size(), kMaxNeighbourThumbnails);
   if (this->ThumbnailSize > 0 && shown > 0) // the nearest designs as the outline shows them
   {

@@ -33,7 +33,8 @@
  * The table then also holds "NeighbourPicturePSNR": each of those designs against the picture as
  * the query's own design is judged (NaN for rows without a thumbnail).
  * With KindNetwork, the table's field data also holds "Kind": whether the picture shows a
- * volume of the input's kind (ddg::addKindCheck; not under MPI), warned when it may not.
+ * volume of the input's kind (ddg::addKindCheck; under MPI addKindCheckOnRanks), warned when
+ * it may not.
  *
  * The bundle and its outline are loaded once per ModelDirectory and input. Bad input (missing
  * or corrupt bundle, another volume's bundle, an unusable image, a degenerate view) gives one
