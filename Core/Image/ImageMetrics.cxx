@@ -319,16 +319,10 @@ double colorHistogramEMD(const Image& a, const Image& b)
 namespace
 {
 template <size_t D>
-double slicedWassersteinOf(const std::vector<std::array<float, D>>& a,
-  const std::vector<std::array<float, D>>& b, int directions, std::mt19937_64& rng,
-  std::vector<std::array<float, D>>* gradient, int threads)
+std::vector<std::array<double, D>> drawDirections(int count, std::mt19937_64& rng)
 {
-  if (a.empty() || b.empty() || directions < 1)
-    throw Error("slicedWasserstein needs two non-empty sets and at least one direction");
-  const size_t n = a.size(), m = b.size();
-  // the directions first, in the order they were always drawn (the same for any thread count)
   std::normal_distribution<double> normal(0.0, 1.0);
-  std::vector<std::array<double, D>> u(static_cast<size_t>(directions));
+  std::vector<std::array<double, D>> u(static_cast<size_t>(count));
   for (auto& v : u)
   {
     double len = 0;
@@ -345,10 +339,30 @@ double slicedWassersteinOf(const std::vector<std::array<float, D>>& a,
     for (double& x : v)
       x /= len;
   }
-  // each direction's sum and gradient terms apart, added up in direction order after: the
-  // result does not depend on the thread count
-  std::vector<double> sums(static_cast<size_t>(directions), 0.0);
-  std::vector<std::array<float, D>> terms(gradient ? n * static_cast<size_t>(directions) : 0);
+  return u;
+}
+
+template <size_t D>
+double project(const std::array<double, D>& v, const std::array<float, D>& p)
+{
+  double x = 0;
+  for (size_t c = 0; c < D; ++c)
+    x += v[c] * p[c];
+  return x;
+}
+
+/// The distance of a to b along `dirs`, b's projections on the d-th ascending from
+/// sortedB(d, scratch) (m values): each direction's sum and gradient terms apart,
+/// added up in direction order after, so the result does not depend on the thread count.
+template <size_t D, typename Sorted>
+double slicedWassersteinAlong(const std::vector<std::array<float, D>>& a, size_t m,
+  const std::vector<const std::array<double, D>*>& dirs, const Sorted& sortedB,
+  std::vector<std::array<float, D>>* gradient, int threads)
+{
+  const size_t n = a.size();
+  const int directions = static_cast<int>(dirs.size());
+  std::vector<double> sums(dirs.size(), 0.0);
+  std::vector<std::array<float, D>> terms(gradient ? n * dirs.size() : 0);
   struct Scratch
   {
     std::vector<double> pa, pb;
@@ -361,21 +375,11 @@ double slicedWassersteinOf(const std::vector<std::array<float, D>>& a,
     {
       Scratch& s = scratch[static_cast<size_t>(t)];
       s.pa.resize(n);
-      s.pb.resize(m);
       s.order.resize(n);
-      const auto& v = u[static_cast<size_t>(d)];
-      const auto project = [&v](const std::array<float, D>& p)
-      {
-        double x = 0;
-        for (size_t c = 0; c < D; ++c)
-          x += v[c] * p[c];
-        return x;
-      };
+      const auto& v = *dirs[static_cast<size_t>(d)];
       for (size_t i = 0; i < n; ++i)
-        s.pa[i] = project(a[i]);
-      for (size_t j = 0; j < m; ++j)
-        s.pb[j] = project(b[j]);
-      boost::sort::pdqsort_branchless(s.pb.begin(), s.pb.end()); // the same order, faster
+        s.pa[i] = project(v, a[i]);
+      const auto pb = sortedB(static_cast<size_t>(d), s.pb);
       std::iota(s.order.begin(), s.order.end(), size_t(0));
       std::sort(
         s.order.begin(), s.order.end(), [&](size_t x, size_t y) { return s.pa[x] < s.pa[y]; });
@@ -385,7 +389,7 @@ double slicedWassersteinOf(const std::vector<std::array<float, D>>& a,
         // b's quantile at a's rank r
         const double q = std::clamp((r + 0.5) / n * m - 0.5, 0.0, static_cast<double>(m - 1));
         const size_t lo = std::min(static_cast<size_t>(q), m - 1), hi = std::min(lo + 1, m - 1);
-        const double partner = s.pb[lo] + (q - lo) * (s.pb[hi] - s.pb[lo]);
+        const double partner = pb[lo] + (q - lo) * (pb[hi] - pb[lo]);
         const size_t i = s.order[r];
         const double diff = s.pa[i] - partner;
         total += diff * diff;
@@ -409,6 +413,76 @@ double slicedWassersteinOf(const std::vector<std::array<float, D>>& a,
     total += x;
   return total / (static_cast<double>(n) * directions);
 }
+
+template <size_t D>
+double slicedWassersteinOf(const std::vector<std::array<float, D>>& a,
+  const std::vector<std::array<float, D>>& b, int directions, std::mt19937_64& rng,
+  std::vector<std::array<float, D>>* gradient, int threads)
+{
+  if (a.empty() || b.empty() || directions < 1)
+    throw Error("slicedWasserstein needs two non-empty sets and at least one direction");
+  // the directions first, in the order they were always drawn (the same for any thread count)
+  const auto u = drawDirections<D>(directions, rng);
+  std::vector<const std::array<double, D>*> dirs;
+  for (const auto& v : u)
+    dirs.push_back(&v);
+  return slicedWassersteinAlong<D>(
+    a, b.size(), dirs,
+    [&](size_t d, std::vector<double>& pb) -> const double*
+    {
+      pb.resize(b.size());
+      for (size_t j = 0; j < b.size(); ++j)
+        pb[j] = project(u[d], b[j]);
+      boost::sort::pdqsort_branchless(pb.begin(), pb.end());
+      return pb.data();
+    },
+    gradient, threads);
+}
+
+template <size_t D>
+SortedProjections<D> sortedProjectionsOf(
+  const std::vector<std::array<float, D>>& b, int pool, std::mt19937_64& rng, int threads)
+{
+  if (b.empty() || pool < 1)
+    throw Error("sortedProjections needs a non-empty set and a pool of at least one direction");
+  SortedProjections<D> r;
+  r.directions = drawDirections<D>(pool, rng);
+  r.count = b.size();
+  r.sorted.resize(static_cast<size_t>(pool) * b.size());
+  parallelFor(pool, resolveThreadCount(threads, pool),
+    [&](std::int64_t d, int)
+    {
+      float* out = r.sorted.data() + static_cast<size_t>(d) * b.size();
+      for (size_t j = 0; j < b.size(); ++j)
+        out[j] = static_cast<float>(project(r.directions[static_cast<size_t>(d)], b[j]));
+      boost::sort::pdqsort_branchless(out, out + b.size());
+    });
+  return r;
+}
+
+template <size_t D>
+double slicedWassersteinPooled(const std::vector<std::array<float, D>>& a,
+  const SortedProjections<D>& b, int directions, std::mt19937_64& rng,
+  std::vector<std::array<float, D>>* gradient, int threads)
+{
+  if (a.empty() || b.count == 0 || directions < 1)
+    throw Error("slicedWasserstein needs two non-empty sets and at least one direction");
+  // `directions` distinct ones of the pool (a partial shuffle), or all of them
+  std::vector<size_t> pick(b.directions.size());
+  std::iota(pick.begin(), pick.end(), size_t(0));
+  const size_t k = std::min(pick.size(), static_cast<size_t>(directions));
+  for (size_t i = 0; i < k; ++i)
+    std::swap(
+      pick[i], pick[i + std::uniform_int_distribution<size_t>(0, pick.size() - 1 - i)(rng)]);
+  std::vector<const std::array<double, D>*> dirs;
+  for (size_t i = 0; i < k; ++i)
+    dirs.push_back(&b.directions[pick[i]]);
+  return slicedWassersteinAlong<D>(
+    a, b.count, dirs,
+    [&](size_t d, std::vector<double>&) -> const float*
+    { return b.sorted.data() + pick[d] * b.count; },
+    gradient, threads);
+}
 } // namespace
 
 double slicedWasserstein(const std::vector<std::array<float, 3>>& a,
@@ -423,6 +497,30 @@ double slicedWasserstein(const std::vector<std::array<float, 2>>& a,
   std::vector<std::array<float, 2>>* gradient, int threads)
 {
   return slicedWassersteinOf<2>(a, b, directions, rng, gradient, threads);
+}
+
+SortedProjections<3> sortedProjections(
+  const std::vector<std::array<float, 3>>& b, int pool, std::mt19937_64& rng, int threads)
+{
+  return sortedProjectionsOf<3>(b, pool, rng, threads);
+}
+
+SortedProjections<2> sortedProjections(
+  const std::vector<std::array<float, 2>>& b, int pool, std::mt19937_64& rng, int threads)
+{
+  return sortedProjectionsOf<2>(b, pool, rng, threads);
+}
+
+double slicedWasserstein(const std::vector<std::array<float, 3>>& a, const SortedProjections<3>& b,
+  int directions, std::mt19937_64& rng, std::vector<std::array<float, 3>>* gradient, int threads)
+{
+  return slicedWassersteinPooled<3>(a, b, directions, rng, gradient, threads);
+}
+
+double slicedWasserstein(const std::vector<std::array<float, 2>>& a, const SortedProjections<2>& b,
+  int directions, std::mt19937_64& rng, std::vector<std::array<float, 2>>* gradient, int threads)
+{
+  return slicedWassersteinPooled<2>(a, b, directions, rng, gradient, threads);
 }
 
 } // namespace ddg

@@ -492,6 +492,30 @@ public:
           placed.push_back({ lab.back()[0], static_cast<float>(opt.colourPlacement * t.radii[q]) });
       }
     }
+    if (opt.directionPool < 0)
+      throw Error("directionPool must be 0 (fresh directions) or more");
+    if (opt.directionPool == 0)
+      return;
+    // each target's colours sorted once along the pool (one pool for targets of equal colours)
+    std::mt19937_64 pool(0x9e3779b97f4a7c15ULL ^ opt.seed);
+    for (size_t i = 0; i < Lab.size(); ++i)
+    {
+      size_t same = 0;
+      while (same < i && !(Lab[same] == Lab[i] && Placed[same] == Placed[i]))
+        ++same;
+      if (same < i)
+      {
+        LabPool.push_back(LabPool[same]);
+        PlacedPool.push_back(PlacedPool[same]);
+        continue;
+      }
+      LabPool.push_back(std::make_shared<const SortedProjections<3>>(
+        sortedProjections(Lab[i], opt.directionPool, pool, opt.render.threads)));
+      PlacedPool.push_back(Placed[i].empty()
+          ? nullptr
+          : std::make_shared<const SortedProjections<2>>(
+              sortedProjections(Placed[i], opt.directionPool, pool, opt.render.threads)));
+    }
   }
 
   double evaluate(TableStage& stage, std::mt19937& rng) override
@@ -532,16 +556,20 @@ public:
       std::mt19937_64 directions(rng());
       const double k = 1.0 / static_cast<double>(Targets.size());
       loss += k *
-        slicedWasserstein(
-          Colours, Lab[ti], Opt.directions, directions, &Gradient, Opt.render.threads);
+        (LabPool.empty() ? slicedWasserstein(Colours, Lab[ti], Opt.directions, directions,
+                             &Gradient, Opt.render.threads)
+                         : slicedWasserstein(Colours, *LabPool[ti], Opt.directions, directions,
+                             &Gradient, Opt.render.threads));
       if (placed) // lightness with where it lies (the radius is the frame's: not differentiated)
       {
         Points.clear();
         for (size_t q = 0; q < Colours.size(); ++q)
           Points.push_back({ Colours[q][0], static_cast<float>(Opt.colourPlacement * Radii[q]) });
         loss += k *
-          slicedWasserstein(
-            Points, Placed[ti], Opt.directions, directions, &PointGradient, Opt.render.threads);
+          (PlacedPool.empty() ? slicedWasserstein(Points, Placed[ti], Opt.directions, directions,
+                                  &PointGradient, Opt.render.threads)
+                              : slicedWasserstein(Points, *PlacedPool[ti], Opt.directions,
+                                  directions, &PointGradient, Opt.render.threads));
         for (size_t q = 0; q < PointGradient.size(); ++q)
           Gradient[q][0] += PointGradient[q][0];
       }
@@ -572,6 +600,8 @@ private:
   const ReconstructionOptions& Opt;
   std::vector<std::vector<std::array<float, 3>>> Lab;    // the targets' colours
   std::vector<std::vector<std::array<float, 2>>> Placed; // lightness and radius (placement)
+  std::vector<std::shared_ptr<const SortedProjections<3>>> LabPool;    // directionPool > 0
+  std::vector<std::shared_ptr<const SortedProjections<2>>> PlacedPool; // and placement
   std::vector<std::array<float, 3>> Colours, Gradient;
   std::vector<std::array<float, 2>> Points, PointGradient;
   std::vector<float> Radii;

@@ -233,10 +233,10 @@ def run_case(args, pair, tf, spec, volumes, previous):
         # from the query's design: this run's, or an earlier run's of the same picture
         jobs["query_carry"] = [args.ddg, "reconstruct", "--volume", b, "--quiet"]
         jobs["query_carry"] += ["--threads", str(args.threads), "--target", image]
-        jobs["query_carry"] += ["--carry-look", "--init", query_tf]
+        jobs["query_carry"] += ["--carry-look", "--init", query_tf, "--seed", str(args.seed)]
         jobs["query_carry"] += ["--out", os.path.join(work, "query_carry.json")]
     base = [args.ddg, "reconstruct", "--volume", b, "--quiet"] + threads
-    jobs["carry"] = base + ["--target", image, "--other-volume"]
+    jobs["carry"] = base + ["--target", image, "--other-volume", "--seed", str(args.seed)]
     jobs["carry"] += ["--out", os.path.join(work, "carry.json")]
     jobs["match_other"] = base + [
         "--target",
@@ -341,6 +341,9 @@ def main():
     parser.add_argument("--pairs", default=os.path.join(HERE, "carry_look_pairs.json"))
     parser.add_argument("--budget", type=float, default=6.0, help="ddg build --budget (minutes)")
     parser.add_argument("--threads", type=int, default=0)
+    parser.add_argument(
+        "--seed", type=int, default=1, help="the carried looks' --seed (their directions)"
+    )
     parser.add_argument("--methods", nargs="+", default=list(METHODS), choices=METHODS)
     parser.add_argument("--case", action="append", help="only this pair name (repeatable)")
     parser.add_argument("--chart")

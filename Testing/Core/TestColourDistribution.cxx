@@ -70,11 +70,12 @@ TEST(ColourDistribution, LabJacobianMatchesFiniteDifferences)
 
 namespace
 {
-// slicedWasserstein's gradient `g` of a against b (8 directions of seed 7) against central
-// differences of step h with the same directions, at points 0, 7 and 23.
-template <size_t D>
-void expectGradientMatches(const std::vector<std::array<float, D>>& a,
-  const std::vector<std::array<float, D>>& b, const std::vector<std::array<float, D>>& g, float h)
+// slicedWasserstein's gradient `g` of a against b (its points or their pooled projections; 8
+// directions of seed 7) against central differences of step h with the same directions, at
+// points 0, 7 and 23.
+template <size_t D, typename B>
+void expectGradientMatches(const std::vector<std::array<float, D>>& a, const B& b,
+  const std::vector<std::array<float, D>>& g, float h)
 {
   for (size_t i : { 0, 7, 23 })
     for (size_t c = 0; c < D; ++c)
@@ -88,17 +89,34 @@ void expectGradientMatches(const std::vector<std::array<float, D>>& a,
       EXPECT_NEAR(g[i][c], fd, 1e-3 + 1e-3 * std::abs(fd));
     }
 }
+// Points uniform in [0, 50)^3 from `seed`: a (40) and b (70, its first coordinate shifted by 10);
+// a2 and b2 the same points' first coordinates with another uniform one (2D).
+struct PointSets
+{
+  std::vector<std::array<float, 3>> a, b;
+  std::vector<std::array<float, 2>> a2, b2;
+};
+PointSets pointSets(unsigned seed)
+{
+  std::mt19937 pick(seed);
+  std::uniform_real_distribution<float> u(0.0f, 50.0f);
+  PointSets s{ std::vector<std::array<float, 3>>(40), std::vector<std::array<float, 3>>(70), {},
+    {} };
+  for (auto& p : s.a)
+    p = { u(pick), u(pick), u(pick) };
+  for (auto& p : s.b)
+    p = { u(pick) + 10, u(pick), u(pick) };
+  for (const auto& p : s.a)
+    s.a2.push_back({ p[0], u(pick) });
+  for (const auto& p : s.b)
+    s.b2.push_back({ p[0], u(pick) });
+  return s;
+}
 } // namespace
 
 TEST(ColourDistribution, SlicedWassersteinAndItsGradient)
 {
-  std::mt19937 pick(3);
-  std::uniform_real_distribution<float> u(0.0f, 50.0f);
-  std::vector<std::array<float, 3>> a(40), b(70);
-  for (auto& p : a)
-    p = { u(pick), u(pick), u(pick) };
-  for (auto& p : b)
-    p = { u(pick) + 10, u(pick), u(pick) };
+  const auto [a, b, a2, b2] = pointSets(3);
   // a set against itself, and against itself repeated (another size, the same distribution)
   std::mt19937_64 rng(1);
   EXPECT_NEAR(slicedWasserstein(a, a, 16, rng), 0.0, 1e-9);
@@ -124,16 +142,55 @@ TEST(ColourDistribution, SlicedWassersteinAndItsGradient)
   EXPECT_THROW(slicedWasserstein(a, b, 0, r3), Error);
 
   // in 2D (a lightness and where it lies): the same gradient check
-  std::vector<std::array<float, 2>> a2, b2, g2;
-  for (const auto& p : a)
-    a2.push_back({ p[0], u(pick) });
-  for (const auto& p : b)
-    b2.push_back({ p[0], u(pick) });
+  std::vector<std::array<float, 2>> g2;
   std::mt19937_64 r4(7);
   EXPECT_GT(slicedWasserstein(a2, b2, 8, r4, &g2), 10.0);
   std::mt19937_64 r5(1);
   EXPECT_NEAR(slicedWasserstein(a2, a2, 16, r5), 0.0, 1e-9);
   expectGradientMatches(a2, b2, g2, 1e-3f);
+}
+
+TEST(ColourDistribution, PooledDirectionsSortTheTargetOnce)
+{
+  const auto [a, b, a2, b2] = pointSets(5);
+  // a pool of 12 is the 12 directions slicedWasserstein draws from the same seed: drawing all of
+  // it gives the same distance (b's projections kept as floats)
+  std::mt19937_64 poolRng(5), freshRng(5), drawRng(1);
+  const auto pool = sortedProjections(b, 12, poolRng);
+  ASSERT_EQ(pool.directions.size(), 12u);
+  ASSERT_EQ(pool.sorted.size(), 12u * b.size());
+  for (size_t d = 0; d < 12; ++d)
+    EXPECT_TRUE(
+      std::is_sorted(pool.sorted.begin() + d * b.size(), pool.sorted.begin() + (d + 1) * b.size()));
+  const double fresh = slicedWasserstein(a, b, 12, freshRng);
+  EXPECT_NEAR(slicedWasserstein(a, pool, 12, drawRng), fresh, 1e-5 * fresh);
+  std::mt19937_64 moreRng(1); // more directions than the pool holds: all of them
+  EXPECT_NEAR(slicedWasserstein(a, pool, 40, moreRng), fresh, 1e-5 * fresh);
+  // a set against its own pool
+  std::mt19937_64 selfPool(2), selfDraw(3);
+  EXPECT_NEAR(slicedWasserstein(a, sortedProjections(a, 16, selfPool), 8, selfDraw), 0.0, 1e-6);
+  // 8 of the 12 drawn: the gradient against central differences with the same draw, and the
+  // same distance and gradient for any thread count
+  std::vector<std::array<float, 3>> g, gThreads;
+  std::mt19937_64 r0(7), r1(7);
+  const double d0 = slicedWasserstein(a, pool, 8, r0, &g);
+  EXPECT_GT(d0, 10.0);
+  expectGradientMatches(a, pool, g, 1e-2f);
+  EXPECT_NEAR(slicedWasserstein(a, pool, 8, r1, &gThreads, 3), d0, 1e-12 * d0);
+  for (size_t i = 0; i < g.size(); ++i)
+    for (size_t c = 0; c < 3; ++c)
+      EXPECT_EQ(gThreads[i][c], g[i][c]);
+  // in 2D
+  std::vector<std::array<float, 2>> g2;
+  std::mt19937_64 pool2Rng(6), r2(7);
+  const auto pool2 = sortedProjections(b2, 12, pool2Rng, 2);
+  EXPECT_GT(slicedWasserstein(a2, pool2, 8, r2, &g2), 10.0);
+  expectGradientMatches(a2, pool2, g2, 1e-3f);
+  std::mt19937_64 r3(1);
+  EXPECT_THROW(sortedProjections(std::vector<std::array<float, 3>>{}, 8, r3), Error);
+  EXPECT_THROW(sortedProjections(b, 0, r3), Error);
+  EXPECT_THROW(slicedWasserstein(std::vector<std::array<float, 3>>{}, pool, 8, r3), Error);
+  EXPECT_THROW(slicedWasserstein(a, pool, 0, r3), Error);
 }
 
 TEST(ColourDistribution, FramesTheContentWithoutItsOverlays)
@@ -227,6 +284,17 @@ TEST(ColourDistribution, ReconstructsALookFromAnotherCamera)
   // the core's primitive took the core's colour (blue-green), the shell's its orange
   ASSERT_EQ(result.primitives.size(), 2u);
   EXPECT_GT(result.primitives[1].rgb[2], result.primitives[1].rgb[0]);
+  // the same with its directions drawn from a pool (the target sorted once): the same look
+  ReconstructionOptions pooled = opt;
+  pooled.directionPool = 256;
+  const auto fromPool = reconstructFromColours(renderer, { target, target }, pooled);
+  EXPECT_LT(fromPool.loss.back(), 0.2 * fromPool.loss.front());
+  EXPECT_GT(psnr(compositeOverBackground(
+                   renderResult(renderer.caster(), fromPool, picture), picture.background),
+              shot),
+    25.0);
+  pooled.directionPool = -1;
+  EXPECT_THROW(reconstructFromColours(renderer, { target }, pooled), Error);
 
   EXPECT_THROW(reconstructFromColours(renderer, { ColourTarget{ target.view, {} } }, opt), Error);
   opt.initialPrimitives.pop_back();
