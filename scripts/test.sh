@@ -15,6 +15,7 @@ rm -rf build/Testing/kind-cache
 (cd build && ctest --output-on-failure -j "$JOBS" --repeat until-pass:2 "$@")
 
 echo "test: sanitizer build of Core and its tests (ASan + UBSan)"
+rm -rf build-asan/Testing/kind-cache
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DDDG_SANITIZE=ON -DDDG_BUILD_PLUGIN=OFF \
   -DDDG_BUILD_BENCHMARKS=OFF > build-asan.log 2>&1 || { cat build-asan.log; exit 1; }
 cmake --build build-asan -j "$JOBS"

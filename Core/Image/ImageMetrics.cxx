@@ -467,6 +467,9 @@ double slicedWassersteinPooled(const std::vector<std::array<float, D>>& a,
 {
   if (a.empty() || b.count == 0 || directions < 1)
     throw Error("slicedWasserstein needs two non-empty sets and at least one direction");
+  if (b.directions.empty() || b.sorted.size() != b.directions.size() * b.count)
+    throw Error("slicedWasserstein: the pooled projections hold no directions or not count per "
+                "direction");
   // `directions` distinct ones of the pool (a partial shuffle), or all of them
   std::vector<size_t> pick(b.directions.size());
   std::iota(pick.begin(), pick.end(), size_t(0));

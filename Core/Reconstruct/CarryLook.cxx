@@ -237,6 +237,7 @@ double distanceOf(const DifferentiableRenderer& renderer, const std::vector<Colo
   start.iterations = 1;
   start.learningRate = 1e-12;
   start.directions = 256;
+  start.directionPool = 0; // fresh directions: the same measure whatever the fit drew from
   start.seed = 1;
   start.colourPlacement = 0; // the colours alone: comparable with and without placement
   return reconstructFromColours(renderer, targets, start).loss.front();

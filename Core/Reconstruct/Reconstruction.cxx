@@ -494,10 +494,13 @@ public:
     }
     if (opt.directionPool < 0)
       throw Error("directionPool must be 0 (fresh directions) or more");
-    if (opt.directionPool == 0)
-      return;
-    // each target's colours sorted once along the pool (one pool for targets of equal colours)
-    std::mt19937_64 pool(0x9e3779b97f4a7c15ULL ^ opt.seed);
+  }
+
+  // Each target's colours sorted once along the pool (one pool for targets of equal colours),
+  // at the first step: after the fit's own checks of its options.
+  void sortAlongPool()
+  {
+    std::mt19937_64 pool(0x9e3779b97f4a7c15ULL ^ Opt.seed);
     for (size_t i = 0; i < Lab.size(); ++i)
     {
       size_t same = 0;
@@ -510,16 +513,18 @@ public:
         continue;
       }
       LabPool.push_back(std::make_shared<const SortedProjections<3>>(
-        sortedProjections(Lab[i], opt.directionPool, pool, opt.render.threads)));
+        sortedProjections(Lab[i], Opt.directionPool, pool, Opt.render.threads)));
       PlacedPool.push_back(Placed[i].empty()
           ? nullptr
           : std::make_shared<const SortedProjections<2>>(
-              sortedProjections(Placed[i], opt.directionPool, pool, opt.render.threads)));
+              sortedProjections(Placed[i], Opt.directionPool, pool, Opt.render.threads)));
     }
   }
 
   double evaluate(TableStage& stage, std::mt19937& rng) override
   {
+    if (Opt.directionPool > 0 && LabPool.empty())
+      sortAlongPool();
     double loss = 0;
     for (size_t ti = 0; ti < Targets.size(); ++ti)
     {

@@ -98,7 +98,7 @@ struct ReconstructionOptions
   /// Colour targets: when above 0, the directions are drawn from a fixed pool of this many,
   /// along which each target's colours are sorted once (ImageMetrics.h: SortedProjections;
   /// targets with the same colours share it), instead of fresh ones along which the target is
-  /// sorted again at every call [0: fresh directions]. 512 makes the carried look 2.9x faster
+  /// sorted again at every call [0: fresh directions]. 512 makes the carried look 2.6x faster
   /// (BenchCarryLook); not the default: on the pairs it moved one case's EMD by +31 %
   /// (Documentation/DesignSpaces.md, "Directions from a pool").
   int directionPool = 0;

@@ -181,7 +181,7 @@ void addKindCheckOnRanks([[maybe_unused]] vtkAlgorithm* filter, [[maybe_unused]]
 const std::string& RanksFingerprint::get(
   const RankGroup& ranks, const RankVolume& pieces, vtkImageData* input, vtkDataArray* array)
 {
-  if (Stamp.stale(ranks, input, array))
+  if (Stamp.changedOnAnyRank(ranks, input, array))
   {
     Stamp.clear();
     Value = fingerprintOnRanks(ranks, pieces);

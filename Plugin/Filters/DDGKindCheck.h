@@ -3,7 +3,7 @@
 #pragma once
 
 #include "DDGFiltersModule.h" // export macro
-#include "DDGPieces.h"        // RanksInputStamp
+#include "DDGPieces.h"        // InputStamp
 
 #include <cstdint>
 #include <memory>
@@ -58,7 +58,7 @@ public:
     const RankGroup& ranks, const RankVolume& pieces, vtkImageData* input, vtkDataArray* array);
 
 private:
-  RanksInputStamp Stamp;
+  InputStamp Stamp;
   std::string Value;
 };
 

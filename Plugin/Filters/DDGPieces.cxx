@@ -512,14 +512,20 @@ void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
   ranks.step([] {});
 }
 
-bool RanksInputStamp::stale(const RankGroup& ranks, vtkImageData* input, vtkDataArray* array) const
+bool InputStamp::changed(vtkImageData* input, vtkDataArray* array) const
 {
-  double stale = !Known || Version != volumeVersion(input, array) || Array != array ? 1.0 : 0.0;
+  return !Known || Version != volumeVersion(input, array) || Array != array;
+}
+
+bool InputStamp::changedOnAnyRank(
+  const RankGroup& ranks, vtkImageData* input, vtkDataArray* array) const
+{
+  double stale = changed(input, array) ? 1.0 : 0.0;
   ranks.allMax(&stale, 1);
   return stale > 0;
 }
 
-void RanksInputStamp::keep(vtkImageData* input, vtkDataArray* array)
+void InputStamp::keep(vtkImageData* input, vtkDataArray* array)
 {
   Version = volumeVersion(input, array);
   Array = array;
@@ -529,7 +535,7 @@ void RanksInputStamp::keep(vtkImageData* input, vtkDataArray* array)
 const RankVolume& RankVolumeCache::get(
   const RankGroup& ranks, vtkImageData* piece, vtkDataArray* array, const int wholeExtent[6])
 {
-  if (Stamp.stale(ranks, piece, array))
+  if (Stamp.changedOnAnyRank(ranks, piece, array))
   {
     Stamp.clear();
     Pieces.reset();

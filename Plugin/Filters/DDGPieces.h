@@ -101,12 +101,14 @@ using RanksTableRender = std::function<Image(const DesignTable& table, const Vie
 DDGFILTERS_EXPORT void renderForFirstRank(const RankGroup& ranks, const RankVolume& volume,
   const std::function<void(const RanksTableRender& render)>& work);
 
-/// Which input and array a filter's kept result under MPI came from: stale() is collective and
-/// true on every rank when any rank's input or array changed since keep() (or nothing is kept).
-class DDGFILTERS_EXPORT RanksInputStamp
+/// Which input and array (volumeVersion, the array object) a filter's kept result came from.
+class DDGFILTERS_EXPORT InputStamp
 {
 public:
-  bool stale(const RankGroup& ranks, vtkImageData* input, vtkDataArray* array) const;
+  /// In this process: whether the input or array changed since keep() (or nothing is kept).
+  bool changed(vtkImageData* input, vtkDataArray* array) const;
+  /// Collective: true on every rank when any rank's input or array changed.
+  bool changedOnAnyRank(const RankGroup& ranks, vtkImageData* input, vtkDataArray* array) const;
   /// After the result is kept: the input and array it came from.
   void keep(vtkImageData* input, vtkDataArray* array);
   void clear() { Known = false; }
@@ -130,7 +132,7 @@ public:
 private:
   std::unique_ptr<RankVolume> Pieces;
   std::string Fingerprint;
-  RanksInputStamp Stamp;
+  InputStamp Stamp;
 };
 
 /// A volume split over the ranks as a design gallery sees it: the whole's ranges and bounds,

@@ -31,8 +31,7 @@ struct vtkDDGVolumeRender::Internals
 {
   std::unique_ptr<ddg::RayCaster> Caster;
   std::unique_ptr<ddg::RankVolume> Pieces; // distributed: this rank's piece, agreed with the others
-  std::uint64_t InputVersion = 0;          // ddg::volumeVersion of what the cache was made of
-  vtkDataArray* Array = nullptr;
+  ddg::InputStamp Stamp;                   // the input and array the cache was made of
 };
 
 namespace
@@ -113,10 +112,9 @@ void vtkDDGVolumeRender::Execute(
   vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector)
 {
   vtkImageData* output = vtkImageData::GetData(outputVector);
-  const std::uint64_t inputVersion = ddg::volumeVersion(input, array);
   if (const ddg::RankGroup* ranks = this->Ranks())
   {
-    this->ExecuteOnRanks(*ranks, input, array, inputVersion, output);
+    this->ExecuteOnRanks(*ranks, input, array, output);
     return;
   }
   if (this->TransferFunctionFile.empty() && this->TransferFunctionJSON.empty())
@@ -127,9 +125,9 @@ void vtkDDGVolumeRender::Execute(
   const ddg::TransferFunctionFile file = this->TransferFunctionJSON.empty()
     ? ddg::readTransferFunctionFile(this->TransferFunctionFile)
     : ddg::parseTransferFunctionFile(this->TransferFunctionJSON, "TransferFunctionJSON");
-  if (!this->Internal->Caster || this->Internal->InputVersion != inputVersion ||
-    this->Internal->Array != array)
+  if (this->Internal->Stamp.changed(input, array))
   {
+    this->Internal->Stamp.clear();
     this->Internal->Caster.reset();
     this->Internal->Pieces.reset();
     const ddg::Volume volume = ddg::toCoreVolume(input, array);
@@ -140,8 +138,7 @@ void vtkDDGVolumeRender::Execute(
                       << volume.range()[0]);
     }
     this->Internal->Caster = std::make_unique<ddg::RayCaster>(volume);
-    this->Internal->InputVersion = inputVersion;
-    this->Internal->Array = array;
+    this->Internal->Stamp.keep(input, array);
   }
   const ddg::RayCaster& caster = *this->Internal->Caster;
 
@@ -150,8 +147,8 @@ void vtkDDGVolumeRender::Execute(
   writeOutput(image, caster, file, tf, view, output);
 }
 
-void vtkDDGVolumeRender::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input,
-  vtkDataArray* array, std::uint64_t inputVersion, vtkImageData* output)
+void vtkDDGVolumeRender::ExecuteOnRanks(
+  const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array, vtkImageData* output)
 {
   // the files as the first rank sees them (the others may not see its paths)
   std::string viewText = this->ViewJSON, tfText = this->TransferFunctionJSON;
@@ -184,13 +181,9 @@ void vtkDDGVolumeRender::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageDat
           : std::string("TransferFunctionJSON"));
     });
   // the pieces, agreed again when any rank's input changed
-  double stale = !this->Internal->Pieces || this->Internal->InputVersion != inputVersion ||
-      this->Internal->Array != array
-    ? 1.0
-    : 0.0;
-  ranks.allMax(&stale, 1);
-  if (stale > 0)
+  if (this->Internal->Stamp.changedOnAnyRank(ranks, input, array)) // every rank calls it
   {
+    this->Internal->Stamp.clear();
     this->Internal->Caster.reset();
     this->Internal->Pieces.reset();
     auto pieces = std::make_unique<ddg::RankVolume>(
@@ -199,8 +192,7 @@ void vtkDDGVolumeRender::ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageDat
       vtkWarningMacro(<< pieces->nonFiniteCount
                       << " NaN/infinite voxels are rendered as their piece's minimum value");
     this->Internal->Pieces = std::move(pieces);
-    this->Internal->InputVersion = inputVersion;
-    this->Internal->Array = array;
+    this->Internal->Stamp.keep(input, array);
   }
   const ddg::RankVolume& pieces = *this->Internal->Pieces;
   const ddg::Image image =

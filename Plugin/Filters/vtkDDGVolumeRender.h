@@ -5,7 +5,6 @@
 #include "DDGFiltersModule.h" // export macro
 #include "vtkDDGAlgorithm.h"
 
-#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -87,8 +86,8 @@ protected:
   void PreviewSize(int& width, int& height) override;
   int PieceGhostLevels() override;
   // Distributed: the ranks' pieces agreed (cached while the input stays), rendered sort-last.
-  void ExecuteOnRanks(const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array,
-    std::uint64_t inputVersion, vtkImageData* output);
+  void ExecuteOnRanks(
+    const ddg::RankGroup& ranks, vtkImageData* input, vtkDataArray* array, vtkImageData* output);
 
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;

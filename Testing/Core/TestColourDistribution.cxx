@@ -191,6 +191,11 @@ TEST(ColourDistribution, PooledDirectionsSortTheTargetOnce)
   EXPECT_THROW(sortedProjections(b, 0, r3), Error);
   EXPECT_THROW(slicedWasserstein(std::vector<std::array<float, 3>>{}, pool, 8, r3), Error);
   EXPECT_THROW(slicedWasserstein(a, pool, 0, r3), Error);
+  SortedProjections<3> broken = pool; // not count projections per direction
+  broken.sorted.pop_back();
+  EXPECT_THROW(slicedWasserstein(a, broken, 8, r3), Error);
+  broken.directions.clear();
+  EXPECT_THROW(slicedWasserstein(a, broken, 8, r3), Error);
 }
 
 TEST(ColourDistribution, FramesTheContentWithoutItsOverlays)
