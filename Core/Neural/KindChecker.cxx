@@ -164,9 +164,15 @@ KindCheck KindChecker::check(
 KindCheck KindChecker::check(const std::string& dir, const Image& picture, const Volume& volume,
   int threads, const std::function<bool(double)>& progress)
 {
-  const std::string fingerprint = volumeFingerprint(volume);
-  addReference(dir, fingerprint, volume, threads, progress);
-  return check(dir, picture, fingerprint);
+  return check(dir, picture, volume, std::string(), threads, progress);
+}
+
+KindCheck KindChecker::check(const std::string& dir, const Image& picture, const Volume& volume,
+  const std::string& fingerprint, int threads, const std::function<bool(double)>& progress)
+{
+  const std::string key = fingerprint.empty() ? volumeFingerprint(volume) : fingerprint;
+  addReference(dir, key, volume, threads, progress);
+  return check(dir, picture, key);
 }
 
 } // namespace ddg

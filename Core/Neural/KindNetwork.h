@@ -133,6 +133,11 @@ public:
   /// not the last one; throws ddg::Error as KindNetwork::load does).
   KindCheck check(const std::string& dir, const Image& picture, const Volume& volume,
     int threads = 0, const std::function<bool(double)>& progress = {});
+  /// The same with the volume's volumeFingerprint already known (a filter's bundle session
+  /// computed it): not computed again (empty: computed here).
+  KindCheck check(const std::string& dir, const Image& picture, const Volume& volume,
+    const std::string& fingerprint, int threads = 0,
+    const std::function<bool(double)>& progress = {});
   /// Loads the network in `dir` now unless it is the one loaded (what check does first).
   void load(const std::string& dir);
   /// Whether the reference of the volume whose volumeFingerprint is `fingerprint` is kept for the

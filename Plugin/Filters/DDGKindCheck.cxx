@@ -92,13 +92,7 @@ void addKindCheck([[maybe_unused]] vtkAlgorithm* filter, [[maybe_unused]] vtkFie
     checker = std::make_shared<KindChecker>();
   const Stage stage(filter);
   report(filter, fd,
-    [&]
-    {
-      if (fingerprint.empty())
-        return checker->check(dir, picture, volume, 0, progressOf(filter));
-      checker->addReference(dir, fingerprint, volume, 0, progressOf(filter));
-      return checker->check(dir, picture, fingerprint);
-    });
+    [&] { return checker->check(dir, picture, volume, fingerprint, 0, progressOf(filter)); });
 #endif
 }
 
