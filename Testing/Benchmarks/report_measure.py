@@ -152,16 +152,18 @@ def methods(m, volume, case, budgets, unet):
 
 PALETTE = [0.32, 0.34, 0.43]  # ParaView 5.11's default palette background (a new view's)
 PALETTE2 = [0.0, 0.0, 0.16]  # the palette's Background2: the top of its gradient
-# the perturbations the match runs on in --quick (every strength; the others only unperturbed)
-QUICK_MATCH_KINDS = ("viewpoint (deg)", "roll (deg)", "background (view gives it)")
+# the perturbation the match runs on in --quick (its strongest; elsewhere only the unperturbed)
+QUICK_MATCH_KINDS = ("viewpoint (deg)",)
 
 
-def runs_on(method, kind, index, count, quick):
-    """Whether `method` runs on the index-th of a kind's `count` strengths (0: unperturbed).
-    The match runs on every strength (--quick: on QUICK_MATCH_KINDS); the query + match, as long,
-    on the unperturbed and the strongest of each kind (--quick: nowhere); the others everywhere."""
+def runs_on(method, kind, index, strength, count, quick):
+    """Whether `method` runs on the index-th of a kind's `count` strengths (`strength` 0: the
+    unperturbed screenshot, run once and shared). The match runs on every strength (--quick: on
+    the unperturbed and the strongest of QUICK_MATCH_KINDS, about 40 s each); the query + match,
+    as long, on the unperturbed and the strongest of each kind (--quick: nowhere); the others
+    everywhere."""
     if method == MATCH:
-        return not quick or index == 0 or kind in QUICK_MATCH_KINDS
+        return not quick or strength == 0 or (kind in QUICK_MATCH_KINDS and index == count - 1)
     if method == QUERY_MATCH:
         return not quick and index in (0, count - 1)
     return True
@@ -316,7 +318,7 @@ def stability(m, volume, case, quick):
         for index, (label, strength, image, vfile) in enumerate(items):
             done = []
             for name, run in runs.items():
-                if not runs_on(name, kind, index, len(items), quick):
+                if not runs_on(name, kind, index, strength, len(items), quick):
                     continue
                 if strength == 0 and name in baseline:
                     rows.append(dict(baseline[name], perturbation=kind, label=str(label)))
