@@ -91,8 +91,28 @@ Image readImage(const std::string& path)
 
 namespace
 {
+Image halve(const Image& image, bool alphaWeighted);
+
+/// How many times shrinkPicture halves a width x height picture for `longest`.
+int halvings(int width, int height, int longest)
+{
+  if (longest < 1)
+    throw Error("a picture's longest side must be at least 1 pixel");
+  int k = 0;
+  for (int w = width, h = height; std::max(w, h) > longest && std::min(w, h) >= 32; ++k)
+  {
+    w /= 2;
+    h /= 2;
+  }
+  return k;
+}
+
 /// readImage through `proxy` (nullptr: the file `path`); `path` names the format and the errors.
-Image readImageFrom(const std::string& path, ImageFileInfo* info, OIIO::Filesystem::IOProxy* proxy)
+/// With `longest` > 0 the picture is read as shrinkPicture(picture, longest) gives it, in strips
+/// of 2^k scanlines each halved k times (a 2 x 2 block never crosses a strip, and both floor the
+/// sizes alike, so the pixels are the same).
+Image readImageFrom(
+  const std::string& path, ImageFileInfo* info, OIIO::Filesystem::IOProxy* proxy, int longest = 0)
 {
   // Keep alpha as stored (straight for PNG); OpenImageIO would premultiply otherwise.
   OIIO::ImageSpec config;
@@ -122,20 +142,50 @@ Image readImageFrom(const std::string& path, ImageFileInfo* info, OIIO::Filesyst
     info->format = spec.format.c_str();
     info->channels = spec.nchannels;
   }
-  Image img(spec.width, spec.height, spec.nchannels);
-  if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+  auto failed = [&]()
   {
     const std::string reason = firstLine(input->geterror());
-    throw Error("cannot read image '" + path + "': " + (reason.empty() ? "read error" : reason));
+    return Error("cannot read image '" + path + "': " + (reason.empty() ? "read error" : reason));
+  };
+  const int k = longest > 0 ? halvings(spec.width, spec.height, longest) : 0;
+  if (k == 0 || spec.tile_width > 0)
+  {
+    Image img(spec.width, spec.height, spec.nchannels);
+    if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+      throw failed();
+    input->close();
+    return k == 0 ? img : shrinkPicture(img, longest);
+  }
+  const int rows = 1 << k;
+  const bool alpha = spec.nchannels == 2 || spec.nchannels == 4;
+  Image out(spec.width >> k, spec.height >> k, spec.nchannels);
+  Image strip(spec.width, rows, spec.nchannels);
+  const size_t rowValues = static_cast<size_t>(out.width) * static_cast<size_t>(out.channels);
+  for (int y = 0; y < out.height; ++y)
+  {
+    if (!input->read_scanlines(0, 0, spec.y + y * rows, spec.y + (y + 1) * rows, 0, 0,
+          spec.nchannels, OIIO::TypeDesc::FLOAT, strip.pixels.data()))
+      throw failed();
+    Image row = halve(strip, alpha);
+    while (row.height > 1)
+      row = halve(row, alpha);
+    std::copy_n(
+      row.pixels.begin(), rowValues, out.pixels.begin() + static_cast<long>(rowValues) * y);
   }
   input->close();
-  return img;
+  return out;
 }
 } // namespace
 
 Image readImage(const std::string& path, ImageFileInfo* info)
 {
   return readImageFrom(path, info, nullptr);
+}
+
+Image readShrunkPicture(const std::string& path, int longest, ImageFileInfo* info)
+{
+  halvings(1, 1, longest); // refuses longest < 1 before the file is opened
+  return readImageFrom(path, info, nullptr, longest);
 }
 
 Image decodeImage(const std::string& bytes, const std::string& origin)
@@ -483,16 +533,10 @@ Image shrinkImage(Image image, int width, int height, int halveFrom)
 
 Image shrinkPicture(const Image& picture, int longest)
 {
-  if (longest < 1)
-    throw Error("a picture's longest side must be at least 1 pixel");
-  int w = picture.width, h = picture.height;
-  while (std::max(w, h) > longest && std::min(w, h) >= 32)
-  {
-    w /= 2;
-    h /= 2;
-  }
-  if (w == picture.width)
+  const int k = halvings(picture.width, picture.height, longest);
+  if (k == 0)
     return picture;
+  const int w = picture.width >> k;
   // halved to exactly w x h (no filtered resize); the first halving reads the picture in place,
   // so a large picture is not copied whole
   const bool alpha = picture.channels == 2 || picture.channels == 4;

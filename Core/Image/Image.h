@@ -102,6 +102,12 @@ Image shrinkImage(Image image, int width, int height, int halveFrom = 2);
 /// at most 512 (readPictureObject).
 Image shrinkPicture(const Image& picture, int longest);
 
+/// shrinkPicture(readImage(path, info), longest), the same pixels to the bit, read strip by strip
+/// (2^k scanlines at a time, each strip halved k times as it is read) so that a large picture is
+/// never held whole: an 8K screenshot costs its halved size, not 566 MB of float. Tiled files are
+/// read whole first. Throws ddg::Error as readImage.
+Image readShrunkPicture(const std::string& path, int longest, ImageFileInfo* info = nullptr);
+
 /// Writes an image; the format follows the extension. 8-bit formats (PNG, JPEG, ...) get
 /// round(255 clamp(v, 0, 1)); EXR and TIFF ".tif(f)" keep float. 1, 3 or 4 channels.
 /// Values are written as given (an RGBA image is stored as is: pass straight alpha for PNG).

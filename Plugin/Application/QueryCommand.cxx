@@ -46,7 +46,8 @@ int runQuery(const QueryArgs& a)
     g.setQueryKey({});
   const bool keyed = !g.outline().queryKey().empty();
   const ddg::View view = ddg::readView(a.view);
-  const ddg::Image image = ddg::readImage(a.image);
+  // read as the query reads it (at most kQueryPictureSide a side: an 8K picture is not held whole)
+  const ddg::Image image = ddg::readShrunkPicture(a.image, ddg::kQueryPictureSide);
   const double loadMs = msSince(t0);
   const auto t1 = Clock::now();
   const auto r = g.query(image, view, a.neighbours);

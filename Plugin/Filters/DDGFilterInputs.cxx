@@ -46,13 +46,14 @@ void filterViewSize(
   }
 }
 
-Image filterImage(const std::string& base64, const std::string& file, const std::string& what)
+Image filterImage(
+  const std::string& base64, const std::string& file, const std::string& what, int longest)
 {
   if (base64.empty())
   {
     if (file.empty())
       throw Error("no " + what + "File or " + what + "Data set");
-    return readImage(file);
+    return longest > 0 ? readShrunkPicture(file, longest) : readImage(file);
   }
   std::string text;
   text.reserve(base64.size());
@@ -67,8 +68,9 @@ Image filterImage(const std::string& base64, const std::string& file, const std:
   const size_t n = vtkBase64Utilities::DecodeSafely(
     reinterpret_cast<const unsigned char*>(text.data()), text.size(), bytes.data(), bytes.size());
   // errors say "the picture", not the property: the panel and pvpython name its file
-  return decodeImage(
-    std::string(bytes.begin(), bytes.begin() + static_cast<long>(n)), "the picture");
+  const Image image =
+    decodeImage(std::string(bytes.begin(), bytes.begin() + static_cast<long>(n)), "the picture");
+  return longest > 0 ? shrinkPicture(image, longest) : image;
 }
 
 } // namespace ddg

@@ -29,8 +29,10 @@ DDGFILTERS_EXPORT void filterViewSize(
 
 /// The image of `base64` (an image file's contents, base64-encoded: PNG, JPEG or TIFF) when it
 /// is not empty, else of `file`. Throws ddg::Error naming `what` when both are empty or the text
-/// is not base64, and "the picture" (the file, when read from one) when it cannot be read.
+/// is not base64, and "the picture" (the file, when read from one) when it cannot be read. With
+/// `longest` > 0 the picture is as shrinkPicture(picture, longest) gives it (a file read strip by
+/// strip: readShrunkPicture).
 DDGFILTERS_EXPORT Image filterImage(
-  const std::string& base64, const std::string& file, const std::string& what);
+  const std::string& base64, const std::string& file, const std::string& what, int longest = 0);
 
 } // namespace ddg

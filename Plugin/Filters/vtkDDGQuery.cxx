@@ -160,7 +160,8 @@ void vtkDDGQuery::Execute(
       [&]
       {
         if (ranks->rank() == 0)
-          picture = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
+          picture =
+            ddg::filterImage(this->ImageData, this->ImageFile, "Image", ddg::kQueryPictureSide);
       });
     ddg::addKindCheckOnRanks(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
       this->Internal->KindReferences, this->KindNetwork, picture, *ranks,
@@ -171,7 +172,9 @@ void vtkDDGQuery::Execute(
 void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)
 {
   const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
-  const ddg::Image image = ddg::filterImage(this->ImageData, this->ImageFile, "Image");
+  // read as the query reads it (at most kQueryPictureSide a side: an 8K picture is not held whole)
+  const ddg::Image image =
+    ddg::filterImage(this->ImageData, this->ImageFile, "Image", ddg::kQueryPictureSide);
   this->UpdateProgress(0.5);
   const auto r = gallery.query(image, view, this->Neighbours);
   const auto tf = gallery.explicitTransferFunction(r.latent, view);

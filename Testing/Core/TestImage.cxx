@@ -344,6 +344,60 @@ TEST(Image, ShrinkPictureHalvesLargePicturesOnly)
   EXPECT_THROW(shrinkPicture(small, 0), Error);
 }
 
+// readShrunkPicture reads a file strip by strip as shrinkPicture(readImage(file)) gives it, to the
+// bit: RGB PNG and JPEG, straight-alpha RGBA and grey + alpha, odd sizes (rows and columns left
+// over at every halving), a picture small enough (read whole), a strip under 32 pixels, a tiled
+// TIFF (read whole, then shrunk), and a longest side under 1 refused
+TEST(Image, ReadShrunkPictureIsTheShrunkReadStripByStrip)
+{
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  auto noise = [&](int w, int h, int channels)
+  {
+    Image image(w, h, channels);
+    for (float& v : image.pixels)
+      v = u(rng);
+    if (channels == 2 || channels == 4) // some transparent, some half-transparent pixels
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+          image.at(x, y, channels - 1) = (x + y) % 5 == 0 ? 0.0f : ((x * y) % 3 == 0 ? 0.5f : 1.0f);
+    return image;
+  };
+  struct Case
+  {
+    int w, h, channels, longest;
+    const char* ext;
+  };
+  for (const Case c : { Case{ 1031, 517, 3, 256, ".png" }, Case{ 1031, 517, 3, 256, ".jpg" },
+         Case{ 999, 1201, 4, 200, ".png" }, Case{ 515, 259, 2, 100, ".png" },
+         Case{ 300, 200, 3, 512, ".png" }, Case{ 3000, 20, 3, 256, ".png" },
+         Case{ 777, 333, 3, 128, ".tif" } })
+  {
+    const std::string path = ddg::testing::tempDir() + "/ddg_shrunk" + std::to_string(c.w) + "x" +
+      std::to_string(c.channels) + c.ext;
+    { // 8-bit, as OpenImageIO writes it (grey + alpha too); the TIFF in 64-pixel tiles
+      const Image image = noise(c.w, c.h, c.channels);
+      OIIO::ImageSpec spec(c.w, c.h, c.channels, OIIO::TypeDesc::UINT8);
+      if (std::string(c.ext) == ".tif")
+        spec.tile_width = spec.tile_height = 64;
+      auto out = OIIO::ImageOutput::create(path);
+      ASSERT_TRUE(out && out->open(path, spec)) << path;
+      ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data())) << path;
+      out->close();
+    }
+    const Image expected = shrinkPicture(readImage(path), c.longest);
+    ImageFileInfo info;
+    const Image read = readShrunkPicture(path, c.longest, &info);
+    EXPECT_EQ(read.width, expected.width) << path;
+    EXPECT_EQ(read.height, expected.height) << path;
+    EXPECT_EQ(read.channels, c.channels) << path;
+    EXPECT_EQ(info.channels, c.channels) << path;
+    EXPECT_TRUE(read.pixels == expected.pixels) << path;
+  }
+  EXPECT_THROW(readShrunkPicture(ddg::testing::tempDir() + "/missing.png", 256), Error);
+  EXPECT_THROW(readShrunkPicture(ddg::testing::tempDir() + "/ddg_shrunk300x3.png", 0), Error);
+}
+
 // resizeImage applies OpenImageIO's resize (its default filter, its taps, its clamped edges) one
 // axis at a time: equal to ImageBufAlgo::resize to float rounding, shrinking, enlarging, both at
 // once, from 1-pixel sources, for 1 to 4 channels (2x2 -> 2x3 and 4x2 -> 4x3: a filter taller
