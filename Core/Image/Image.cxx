@@ -16,6 +16,7 @@
 #include <memory>
 #include <string>
 #include <unistd.h>
+#include <utility>
 #include <vector>
 
 namespace ddg
@@ -93,11 +94,16 @@ namespace
 {
 Image halve(const Image& image, bool alphaWeighted);
 
-/// How many times shrinkPicture halves a width x height picture for `longest`.
-int halvings(int width, int height, int longest)
+void checkLongest(int longest)
 {
   if (longest < 1)
     throw Error("a picture's longest side must be at least 1 pixel");
+}
+
+/// How many times shrinkPicture halves a width x height picture for `longest`.
+int halvings(int width, int height, int longest)
+{
+  checkLongest(longest);
   int k = 0;
   for (int w = width, h = height; std::max(w, h) > longest && std::min(w, h) >= 32; ++k)
   {
@@ -154,7 +160,9 @@ Image readImageFrom(
     if (!input->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
       throw failed();
     input->close();
-    return k == 0 ? img : shrinkPicture(img, longest);
+    if (k == 0)
+      return img;
+    return shrinkPicture(std::move(img), longest);
   }
   const int rows = 1 << k;
   const bool alpha = spec.nchannels == 2 || spec.nchannels == 4;
@@ -184,7 +192,7 @@ Image readImage(const std::string& path, ImageFileInfo* info)
 
 Image readShrunkPicture(const std::string& path, int longest, ImageFileInfo* info)
 {
-  halvings(1, 1, longest); // refuses longest < 1 before the file is opened
+  checkLongest(longest); // before the file is opened
   return readImageFrom(path, info, nullptr, longest);
 }
 
@@ -531,7 +539,15 @@ Image shrinkImage(Image image, int width, int height, int halveFrom)
   return image.width == width && image.height == height ? image : resizeImage(image, width, height);
 }
 
-Image shrinkPicture(const Image& picture, int longest)
+Image shrinkPicture(Image picture, int longest)
+{
+  Image shrunk;
+  if (&shrinkPicture(picture, longest, shrunk) == &picture)
+    return picture;
+  return shrunk;
+}
+
+const Image& shrinkPicture(const Image& picture, int longest, Image& shrunk)
 {
   const int k = halvings(picture.width, picture.height, longest);
   if (k == 0)
@@ -540,10 +556,10 @@ Image shrinkPicture(const Image& picture, int longest)
   // halved to exactly w x h (no filtered resize); the first halving reads the picture in place,
   // so a large picture is not copied whole
   const bool alpha = picture.channels == 2 || picture.channels == 4;
-  Image out = halve(picture, alpha);
-  while (out.width > w)
-    out = halve(out, alpha);
-  return out;
+  shrunk = halve(picture, alpha);
+  while (shrunk.width > w)
+    shrunk = halve(shrunk, alpha);
+  return shrunk;
 }
 
 Image tileImages(const std::vector<Image>& images, int columns, int gap, float background)

@@ -97,10 +97,13 @@ Image shrinkImage(Image image, int width, int height, int halveFrom = 2);
 /// shrinkImage halves) while its longer side is over `longest` and its shorter side at least 32 (a
 /// strip stays longer). 2 and 4 channels carry straight alpha last (grey or RGB and alpha, as PNG
 /// stores them): the other channels are averaged weighted by it (premultiplied), so a transparent
-/// pixel's colour does not bleed in. A picture already small enough is returned unchanged.
-/// The query reads pictures at most 2048 pixels a side (kQueryPictureSide), the carried look
-/// at most 512 (readPictureObject).
-Image shrinkPicture(const Image& picture, int longest);
+/// pixel's colour does not bleed in. A picture already small enough is returned unchanged (moved,
+/// not copied, when it is passed with std::move). The query reads pictures at most 2048 pixels a
+/// side (kQueryPictureSide), the carried look at most 512 (readPictureObject).
+Image shrinkPicture(Image picture, int longest);
+/// shrinkPicture without the copy of a picture already small enough: `picture` itself then,
+/// else `shrunk` holding shrinkPicture(picture, longest) (keep `shrunk` while the result is used).
+const Image& shrinkPicture(const Image& picture, int longest, Image& shrunk);
 
 /// shrinkPicture(readImage(path, info), longest), the same pixels to the bit, read strip by strip
 /// (2^k scanlines at a time, each strip halved k times as it is read) so that a large picture is

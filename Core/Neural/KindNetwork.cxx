@@ -394,8 +394,9 @@ std::vector<double> KindNetwork::meanProbabilities(const std::vector<Image>& fra
 
 std::vector<double> KindNetwork::pictureProbabilities(const Image& picture) const
 {
+  Image shrunk;
   return meanProbabilities(
-    { prepareQueryImage(shrinkPicture(picture, kQueryPictureSide), In->Size) });
+    { prepareQueryImage(shrinkPicture(picture, kQueryPictureSide, shrunk), In->Size) });
 }
 
 std::vector<double> kindReference(const KindNetwork& network, const Volume& volume, int threads,

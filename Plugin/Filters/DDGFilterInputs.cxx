@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <utility>
 #include <vector>
 
 namespace ddg
@@ -68,9 +69,11 @@ Image filterImage(
   const size_t n = vtkBase64Utilities::DecodeSafely(
     reinterpret_cast<const unsigned char*>(text.data()), text.size(), bytes.data(), bytes.size());
   // errors say "the picture", not the property: the panel and pvpython name its file
-  const Image image =
+  Image image =
     decodeImage(std::string(bytes.begin(), bytes.begin() + static_cast<long>(n)), "the picture");
-  return longest > 0 ? shrinkPicture(image, longest) : image;
+  if (longest > 0)
+    return shrinkPicture(std::move(image), longest);
+  return image;
 }
 
 } // namespace ddg

@@ -151,30 +151,23 @@ void vtkDDGQuery::Execute(
 {
   const ddg::RankGroup* ranks = this->Ranks();
   auto& gallery = this->Internal->Gallery;
+  ddg::Image picture; // read by the query on the first rank (a failure there stops every rank)
   gallery.run(ranks, input, array, this->InputWholeExtent(), this->ModelDirectory,
-    [&](ddg::DesignGallery& g) { this->Run(g, outputVector); });
+    [&](ddg::DesignGallery& g) { this->Run(g, outputVector, picture); });
   if (ranks && !this->KindNetwork.empty()) // after the query, every rank together
   {
-    ddg::Image picture; // the first rank's, read in a step: a failure stops every rank
-    ranks->step(
-      [&]
-      {
-        if (ranks->rank() == 0)
-          picture =
-            ddg::filterImage(this->ImageData, this->ImageFile, "Image", ddg::kQueryPictureSide);
-      });
     ddg::addKindCheckOnRanks(this, vtkTable::GetData(outputVector, 1)->GetFieldData(),
       this->Internal->KindReferences, this->KindNetwork, picture, *ranks,
       gallery.pieces(*ranks, input, array, this->InputWholeExtent()), gallery.fingerprint(ranks));
   }
 }
 
-void vtkDDGQuery::Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector)
+void vtkDDGQuery::Run(
+  ddg::DesignGallery& gallery, vtkInformationVector* outputVector, ddg::Image& image)
 {
   const ddg::View view = ddg::filterView(this->ViewJSON, this->ViewFile);
   // read as the query reads it (at most kQueryPictureSide a side: an 8K picture is not held whole)
-  const ddg::Image image =
-    ddg::filterImage(this->ImageData, this->ImageFile, "Image", ddg::kQueryPictureSide);
+  image = ddg::filterImage(this->ImageData, this->ImageFile, "Image", ddg::kQueryPictureSide);
   this->UpdateProgress(0.5);
   const auto r = gallery.query(image, view, this->Neighbours);
   const auto tf = gallery.explicitTransferFunction(r.latent, view);

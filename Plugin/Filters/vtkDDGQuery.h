@@ -43,6 +43,7 @@
 namespace ddg
 {
 class DesignGallery;
+struct Image;
 }
 
 class DDGFILTERS_EXPORT vtkDDGQuery : public vtkDDGAlgorithm
@@ -115,8 +116,8 @@ protected:
   void Execute(
     vtkImageData* input, vtkDataArray* array, vtkInformationVector* outputVector) override;
   // the query of `gallery`'s design space (under `mpiexec -np N pvserver` on the first rank, the
-  // gallery rendering over every rank's piece)
-  void Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector);
+  // gallery rendering over every rank's piece); `image` gets the picture as the query read it
+  void Run(ddg::DesignGallery& gallery, vtkInformationVector* outputVector, ddg::Image& image);
 
 private:
   vtkDDGQuery(const vtkDDGQuery&) = delete;

@@ -344,6 +344,31 @@ TEST(Image, ShrinkPictureHalvesLargePicturesOnly)
   EXPECT_THROW(shrinkPicture(small, 0), Error);
 }
 
+TEST(Image, ShrinkPictureKeepsASmallPictureWithoutACopy)
+{
+  // into a caller's storage: a picture small enough is the picture itself, a larger one the
+  // storage, holding what the by-value form gives
+  Image big(300, 200, 3), shrunk;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  for (float& v : big.pixels)
+    v = u(rng);
+  const Image small(100, 80, 4, 0.3f);
+  EXPECT_EQ(&shrinkPicture(small, 100, shrunk), &small);
+  EXPECT_TRUE(shrunk.empty());
+  const Image& half = shrinkPicture(big, 150, shrunk);
+  EXPECT_EQ(&half, &shrunk);
+  EXPECT_EQ(half.width, 150);
+  EXPECT_EQ(half.pixels, shrinkPicture(big, 150).pixels);
+  EXPECT_THROW(shrinkPicture(small, 0, shrunk), Error);
+  // by value: a small picture passed with std::move is handed back, its pixels not copied
+  Image moved(small);
+  const float* data = moved.pixels.data();
+  const Image back = shrinkPicture(std::move(moved), 100);
+  EXPECT_EQ(back.pixels.data(), data);
+  EXPECT_EQ(back.pixels, small.pixels);
+}
+
 // readShrunkPicture reads a file strip by strip as shrinkPicture(readImage(file)) gives it, to the
 // bit: RGB PNG and JPEG, straight-alpha RGBA and grey + alpha, odd sizes (rows and columns left
 // over at every halving), a picture small enough (read whole), a strip under 32 pixels, a tiled
