@@ -26,11 +26,15 @@ namespace cli
 {
 
 /// A subcommand: its CLI11 app (registered on the program's) and how to run it once parsed
-/// (returns the exit code; errors are thrown as ddg::Error and printed by main).
+/// (returns the exit code; errors are thrown as ddg::Error and printed by main). `neural`, once
+/// parsed, says whether this run needs libtorch after all (reconstruct's carried look, for its
+/// kind check): the `ddg` program then hands the whole command line to its neural commands
+/// (ddg.cxx); unset: never.
 struct Command
 {
   CLI::App* app = nullptr;
   std::function<int()> run;
+  std::function<bool()> neural;
 };
 
 using Clock = std::chrono::steady_clock;

@@ -434,5 +434,7 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     {
       noteCarryOptions(*reconstruct, *rc);
       return runReconstruct(*rc);
-    } };
+    },
+    // the carried look checks the picture's kind (the kind network: libtorch) unless told not to
+    [rc] { return rc->otherVolume && rc->kindNetwork != "none"; } };
 }

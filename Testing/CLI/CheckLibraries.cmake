@@ -1,0 +1,16 @@
+# Runs CMD ("|"-separated) with the dynamic loader's trace (LD_DEBUG=libs) and fails when a
+# library matching ABSENT was loaded, or when the command failed.
+string(REPLACE "|" ";" cmd "${CMD}")
+set(ENV{LD_DEBUG} libs)
+execute_process(COMMAND ${cmd} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(NOT code EQUAL 0)
+  message(FATAL_ERROR "exit code ${code}\n${err}")
+endif()
+string(REGEX MATCH "calling init: [^\n]*${ABSENT}[^\n]*" loaded "${err}")
+if(loaded)
+  message(FATAL_ERROR "loaded a library it should not: ${loaded}")
+endif()
+string(REGEX MATCH "calling init: [^\n]*libDDGCore" core "${err}")
+if(NOT core)
+  message(FATAL_ERROR "no trace of the loader's initialisations (LD_DEBUG=libs):\n${err}")
+endif()
