@@ -98,9 +98,8 @@ struct ReconstructionOptions
   /// Colour targets: when above 0, the directions are drawn from a fixed pool of this many,
   /// along which each target's colours are sorted once (ImageMetrics.h: SortedProjections;
   /// targets with the same colours share it), instead of fresh ones along which the target is
-  /// sorted again at every call [0: fresh directions]. 512 makes the carried look 2.6x faster
-  /// (BenchCarryLook); not the default: on the pairs it moved one case's EMD by +31 %
-  /// (Documentation/DesignSpaces.md, "Directions from a pool").
+  /// sorted again at every call [0: fresh directions]. The carried look draws from 512
+  /// (CarryLookOptions::fit; BenchCarryLook prints both side by side).
   int directionPool = 0;
   /// Colour targets: where lightness lies counts too: the distance gains the sliced
   /// Wasserstein distance of the points (L, colourPlacement x radius in the framed square,

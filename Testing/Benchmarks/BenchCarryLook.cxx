@@ -7,8 +7,8 @@
 // with fresh directions (the picture sorted in the call) and with directions drawn from the
 // picture's pooled projections (sorted once: SortedProjections); then the carried look of
 // Engine's shipped screenshot onto Tooth (Core's carryLook, 2 threads) with fresh directions
-// (directionPool 0, the default) and with a pool of 512. A program that prints figures: no timed
-// assertions.
+// (directionPool 0) and with a pool of 512 (the carried look's default). A program that prints
+// figures: no timed assertions.
 //
 //   BenchCarryLook [--repeat N]    (default 5)
 #include "DDGVolumeAdaptor.h"

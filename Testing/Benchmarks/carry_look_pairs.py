@@ -30,6 +30,8 @@ The Debian volumes need the package mricron-data (scripts/setup.sh installs it).
 carry_look_pairs_holdout.json holds two more TFs per pair, written before any figure of them, and
 their pictures; volumes and pairs come from carry_look_pairs.json
 (--pairs Testing/Benchmarks/carry_look_pairs_holdout.json; Documentation/DesignSpaces.md).
+carry_look_pairs_holdout2.json holds two more again (2026-12-04), written for the rule that made
+the pool of directions the carried look's default (Documentation/DesignSpaces.md).
 """
 import argparse
 import json
