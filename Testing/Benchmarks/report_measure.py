@@ -152,18 +152,16 @@ def methods(m, volume, case, budgets, unet):
 
 PALETTE = [0.32, 0.34, 0.43]  # ParaView 5.11's default palette background (a new view's)
 PALETTE2 = [0.0, 0.0, 0.16]  # the palette's Background2: the top of its gradient
-# the perturbation the match runs on in --quick (its strongest; elsewhere only the unperturbed)
-QUICK_MATCH_KINDS = ("viewpoint (deg)",)
 
 
 def runs_on(method, kind, index, strength, count, quick):
     """Whether `method` runs on the index-th of a kind's `count` strengths (`strength` 0: the
     unperturbed screenshot, run once and shared). The match runs on every strength (--quick: on
-    the unperturbed and the strongest of QUICK_MATCH_KINDS, about 40 s each); the query + match,
+    the unperturbed screenshot only, about 40 s); the query + match,
     as long, on the unperturbed and the strongest of each kind (--quick: nowhere); the others
     everywhere."""
     if method == MATCH:
-        return not quick or strength == 0 or (kind in QUICK_MATCH_KINDS and index == count - 1)
+        return not quick or strength == 0
     if method == QUERY_MATCH:
         return not quick and index in (0, count - 1)
     return True

@@ -9,7 +9,7 @@ Two comparisons per (volume, 2D TF, view):
    differ. With Shade off, on (ParaView's default
    coefficients) and on with Specular 0.5 / SpecularPower 30 (--lighting). Shade on with an 8-bit
    volume is checked against ParaView with Mesa's exact texture filtering (GALLIVM_PERF=
-   no_aos_sampling, in a pvpython of its own): Mesa's default path for 8-bit textures returns
+   no_aos_sampling, in a pvpython of their own, all in one): Mesa's default path for 8-bit textures returns
    8-bit filtered values, and a lit 2D sample's gradient, the difference of two of them, moves
    in steps of 1/255 (measured: that path alone costs the Tooth 13 dB; Documentation/
    Rendering.md). The figures on Mesa's default path are printed and written to parity2d.md,
@@ -34,7 +34,7 @@ from pvrender import (  # noqa: E402
     EXACT_SAMPLING,
     LIGHTINGS,
     paraview_render,
-    paraview_render_in_process_of_its_own,
+    paraview_renders_in_process_of_their_own,
 )
 
 
@@ -68,7 +68,9 @@ def main():
     def compare(a, b):
         return json.loads(ddg("compare", "--json", a, b))
 
-    exact_rows, fit_rows, failed = [], [], 0
+    # Renderer parity (1.): the pairs to compare, in the order printed; ParaView's renders with
+    # Mesa's exact filtering are made together afterwards, in one pvpython of their own
+    pending, exact_jobs, fit_rows, failed = [], [], [], 0
     for volume, tf_name, check_conversion in CASES:
         volume_path = os.path.join(args.data, "Volumes", volume + ".vti")
         # 8-bit scalars (`ddg info`): Mesa filters their texture on its 8-bit path
@@ -132,24 +134,18 @@ def main():
                     pv_png = f"{stem}_{lighting}{'_exact' if kind == 'Mesa exact' else ''}"
                     pv_png += "_boxes_paraview.png"
                     if kind == "Mesa exact":
-                        paraview_render_in_process_of_its_own(
-                            volume_path, lit_json, pv_png, EXACT_SAMPLING, boxes_2d=boxes_json
+                        exact_jobs.append(
+                            {
+                                "volume": volume_path,
+                                "view": lit_json,
+                                "out": pv_png,
+                                "boxes": boxes_json,
+                            }
                         )
                     else:
                         paraview_render(volume_path, None, lit_json, pv_png, boxes_2d=boxes_json)
-                    m = compare(pv_png, ddg_png)
                     checked = kind == kinds[-1]  # 8-bit and lit: Mesa's exact filtering
-                    ok = m["psnr"] >= args.min_psnr_exact or not checked
-                    failed += 0 if ok else 1
-                    exact_rows.append(
-                        (volume, view_name, lighting, kind, m["psnr"], m["ssim"], checked)
-                    )
-                    print(
-                        f"{volume:7s} {view_name:8s} {lighting:15s} {kind:12s} same boxes: "
-                        f"{m['psnr']:6.2f} dB / SSIM {m['ssim']:.4f}  "
-                        f"{('ok' if ok else 'FAIL') if checked else '(not checked)'}",
-                        flush=True,
-                    )
+                    pending.append((volume, view_name, lighting, kind, pv_png, ddg_png, checked))
 
             # 2. our 2D TF against ParaView's render of the boxes fitted to it (unlit)
             if not check_conversion:
@@ -186,6 +182,19 @@ def main():
                 f"(fit RMSE {result['placed'][2]:.4f} -> {result['fitted'][2]:.4f})  {'ok' if ok else 'FAIL'}",
                 flush=True,
             )
+    paraview_renders_in_process_of_their_own(exact_jobs, EXACT_SAMPLING)
+    exact_rows = []
+    for volume, view_name, lighting, kind, pv_png, ddg_png, checked in pending:
+        m = compare(pv_png, ddg_png)
+        ok = m["psnr"] >= args.min_psnr_exact or not checked
+        failed += 0 if ok else 1
+        exact_rows.append((volume, view_name, lighting, kind, m["psnr"], m["ssim"], checked))
+        print(
+            f"{volume:7s} {view_name:8s} {lighting:15s} {kind:12s} same boxes: "
+            f"{m['psnr']:6.2f} dB / SSIM {m['ssim']:.4f}  "
+            f"{('ok' if ok else 'FAIL') if checked else '(not checked)'}",
+            flush=True,
+        )
     with open(os.path.join(args.out, "parity2d.md"), "w") as f:
         f.write(
             "Renderer parity: the same ParaView 2D TF (fitted boxes) rendered by ParaView and by "

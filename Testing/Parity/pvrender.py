@@ -1,8 +1,8 @@
 """ParaView renders of a volume with a preset and a view JSON, shared by the parity and
 round-trip tests (run with pvpython under a display).
 
-As a program it renders one image in a process of its own, so that Mesa's settings can be its
-own: `pvpython pvrender.py VOLUME VIEW_JSON OUT_PNG (--preset FILE | --boxes FILE)`."""
+As a program it renders every job of a JSON list in a process of its own, so that Mesa's settings
+can be its own: `pvpython pvrender.py JOBS_FILE` (paraview_renders_in_process_of_their_own)."""
 import argparse
 import json
 import os
@@ -89,47 +89,39 @@ def paraview_render(volume_path, preset, view_json, out_png, boxes_2d=None):
 EXACT_SAMPLING = {"GALLIVM_PERF": "no_aos_sampling"}
 
 
-def paraview_render_in_process_of_its_own(
-    volume_path, view_json, out_png, env, preset=None, boxes_2d=None
-):
-    """paraview_render in a pvpython of its own, with ``env`` added to its environment (Mesa reads
-    its settings once per process)."""
-    folder = os.path.dirname(os.path.abspath(out_png))
-    stem = os.path.splitext(os.path.basename(out_png))[0]
-    view_path = os.path.join(folder, stem + "_pvrender_view.json")
-    with open(view_path, "w") as f:
-        json.dump(view_json, f)
-    tf_path = os.path.join(folder, stem + "_pvrender_tf.json")
-    with open(tf_path, "w") as f:
-        json.dump(boxes_2d if boxes_2d else preset, f)
+def paraview_renders_in_process_of_their_own(jobs, env):
+    """paraview_render of every job in one pvpython of its own, with ``env`` added to its
+    environment (Mesa reads its settings once per process, so they cannot be changed in this
+    one). A job is a dict: "volume" (path), "view" (view JSON), "out" (PNG) and "preset" (1D) or
+    "boxes" (2D, `ddg export --format paraview-2d`). One process for all of them: a pvpython's
+    start and ParaView's set-up cost about as much as a render."""
+    if not jobs:
+        return
+    folder = os.path.dirname(os.path.abspath(jobs[0]["out"]))
+    stem = os.path.splitext(os.path.basename(jobs[0]["out"]))[0]
+    jobs_path = os.path.join(folder, stem + "_pvrender_jobs.json")
+    with open(jobs_path, "w") as f:
+        json.dump(jobs, f)
     pvpython = shutil.which("pvpython") or "/usr/bin/pvpython"
     subprocess.run(
-        [pvpython, os.path.abspath(__file__), volume_path, view_path, out_png]
-        + ["--boxes" if boxes_2d else "--preset", tf_path],
+        [pvpython, os.path.abspath(__file__), jobs_path],
         check=True,
         env={**os.environ, **env},
     )
 
 
+def _render_job(job):
+    preset = job.get("preset")
+    if isinstance(preset, list):
+        preset = preset[0]
+    paraview_render(job["volume"], preset, job["view"], job["out"], boxes_2d=job.get("boxes"))
+
+
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("volume")
-    parser.add_argument("view")
-    parser.add_argument("out")
-    tf = parser.add_mutually_exclusive_group(required=True)
-    tf.add_argument("--preset", help="a ParaView preset JSON (1D)")
-    tf.add_argument("--boxes", help="ParaView 2D TF boxes (`ddg export --format paraview-2d`)")
-    args = parser.parse_args()
-    with open(args.view) as f:
-        view_json = json.load(f)
-    with open(args.preset or args.boxes) as f:
-        tf_json = json.load(f)
-    if args.preset and isinstance(tf_json, list):
-        tf_json = tf_json[0]
-    paraview_render(
-        args.volume,
-        tf_json if args.preset else None,
-        view_json,
-        args.out,
-        boxes_2d=tf_json if args.boxes else None,
+    parser.add_argument(
+        "jobs", help="a JSON list of jobs (paraview_renders_in_process_of_their_own)"
     )
+    with open(parser.parse_args().jobs) as f:
+        for job in json.load(f):
+            _render_job(job)
