@@ -34,7 +34,7 @@ struct Command
 {
   CLI::App* app = nullptr;
   std::function<int()> run;
-  std::function<bool()> neural;
+  std::function<bool()> neural = {}; // (= {}: commands that never need libtorch leave it out)
 };
 
 using Clock = std::chrono::steady_clock;
