@@ -621,13 +621,16 @@ Animation DesignGallery::animate(const std::vector<float>& a, const std::vector<
     Image real;
     if (twoD)
     {
-      DesignTable table{ 2, {}, t2[k] };
+      DesignTable table;
+      table.dimensions = 2;
+      table.twoD = t2[k];
       table.twoD.rgba = mix(t2[k].rgba, t2[k1].rgba);
       real = Space->render(table, view);
     }
     else
     {
-      DesignTable table{ 1, t1[k], {} };
+      DesignTable table;
+      table.oneD = t1[k];
       table.oneD.rgba = mix(t1[k].rgba, t1[k1].rgba);
       real = Space->render(table, view);
     }

@@ -143,7 +143,8 @@ bool vtkDDGDesignHistory::AddEdit(const std::string& viewJson, int cluster, int 
   return this->Internal->attempt(
     [&]
     {
-      (void)nlohmann::json::parse(viewJson); // the history holds the view as JSON
+      // the history holds the view as JSON: refused here if it is not
+      [[maybe_unused]] const auto view = nlohmann::json::parse(viewJson);
       this->Internal->History.steps.push_back(ddg::HistoryStep::edit(
         viewJson, cluster, pickX, pickY, clusters, hue, saturation, lightness, visibility, white));
       this->Modified();

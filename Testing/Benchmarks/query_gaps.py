@@ -22,7 +22,10 @@ and, with no query at all:
   family        `ddg reconstruct --primitives 4` of the true TF's six canonical renders by ddg
                 (200 x 150): how close four free Gaussian primitives hold the TF, i.e. whether
                 the kind of TF the decoder writes could reach it
-The gap between two rungs is what the step between them costs the query.
+The gap between two rungs is what the step between them costs the query. Beside the screenshot
+rung, a diagnosis of what it misses: the query's TF scored again with the true TF's colour map
+(its opacity kept: "true colours") and with the true TF's opacity (its colours kept: "true
+opacity").
 
 Writes OUT/query_gaps.json (every figure), OUT/query_gaps.md and OUT/query_gaps.png.
 Run (pvpython under a display; about 5 min per volume on 2 cores):
@@ -45,6 +48,7 @@ sys.path.insert(0, os.path.join(ROOT, "Testing", "Suite"))
 from score import score  # noqa: E402
 
 RUNGS = ("screenshot", "camera", "canonical", "paraview_tfs", "design_space", "family")
+HALVES = ("true_colours", "true_opacity")
 LABELS = {
     "screenshot": "the user's screenshot (GUI look, camera unknown)",
     "camera": "clean render at the picture's camera, black",
@@ -52,6 +56,8 @@ LABELS = {
     "paraview_tfs": "ParaView-style TFs, clean canonical render",
     "design_space": "the design space's own designs, clean canonical render",
     "family": "4 free Gaussian primitives fitted (no query)",
+    "true_colours": "the screenshot's query with the true TF's colours (diagnosis)",
+    "true_opacity": "the screenshot's query with the true TF's opacity (diagnosis)",
 }
 SHORT = {
     "screenshot": "screenshot\n(GUI look)",
@@ -115,6 +121,28 @@ def query_score(args, volume, model, picture, view, true_tf, work, stem):
         found,
     )
     return score(volume, found, true_tf)["psnr"]
+
+
+def halves_scores(volume, found, true_tf, work, stem):
+    """The query's TF `found` with the true TF's colours, then with its opacity, each scored."""
+
+    def preset(path):
+        with open(path) as f:
+            p = json.load(f)
+        return p[0] if isinstance(p, list) else p
+
+    q, t = preset(found), preset(true_tf)
+    mixes = {
+        "true_colours": dict(q, RGBPoints=t["RGBPoints"], ColorSpace=t.get("ColorSpace", "RGB")),
+        "true_opacity": dict(q, Points=t["Points"]),
+    }
+    out = {}
+    for half, tf in mixes.items():
+        path = os.path.join(work, "%s_%s.json" % (stem, half))
+        with open(path, "w") as f:
+            json.dump([tf], f)
+        out[half] = score(volume, path, true_tf)["psnr"]
+    return out
 
 
 def increasing(points):
@@ -219,7 +247,7 @@ def measure_volume(args, volume_name, model, cases, work):
     canonical = view_file(
         args, volume, os.path.join(work, "canonical.json"), 0, (400, 300), (0, 0, 0)
     )
-    rows = {rung: [] for rung in RUNGS}
+    rows = {rung: [] for rung in RUNGS + HALVES}
 
     def clean_query(tf, stem):
         picture = os.path.join(work, stem + "_canonical.png")
@@ -244,6 +272,10 @@ def measure_volume(args, volume_name, model, cases, work):
                 ),
             }
         )
+        for half, value in halves_scores(
+            volume, os.path.join(work, name + "_query.json"), case["true_tf"], work, name
+        ).items():
+            rows[half].append({"case": name, "psnr": value})
         with open(case["true_view"]) as f:
             at_camera = json.load(f)
         at_camera["background"] = [0.0, 0.0, 0.0]
@@ -364,7 +396,7 @@ def markdown(result):
     volumes = list(result["volumes"])
     lines.append("| rung | " + " | ".join("%s: mean (lowest), n" % v for v in volumes) + " |")
     lines.append("|---|" + "---|" * len(volumes))
-    for rung in RUNGS:
+    for rung in RUNGS + HALVES:
         cells = []
         for v in volumes:
             s = result["volumes"][v]["summary"].get(rung)
@@ -372,8 +404,8 @@ def markdown(result):
         lines.append("| %s | %s |" % (LABELS[rung], " | ".join(cells)))
     lines += ["", "Every figure:", ""]
     for v in volumes:
-        for rung in RUNGS:
-            entries = result["volumes"][v]["rows"][rung]
+        for rung in RUNGS + HALVES:
+            entries = result["volumes"][v]["rows"].get(rung, [])
             lines.append(
                 "- %s, %s: %s"
                 % (v, rung, ", ".join("%s %.2f" % (e["case"], e["psnr"]) for e in entries))

@@ -154,8 +154,8 @@ PALETTE = [0.32, 0.34, 0.43]  # ParaView 5.11's default palette background (a ne
 PALETTE2 = [0.0, 0.0, 0.16]  # the palette's Background2: the top of its gradient
 
 
-def runs_on(method, kind, index, strength, count, quick):
-    """Whether `method` runs on the index-th of a kind's `count` strengths (`strength` 0: the
+def runs_on(method, index, strength, count, quick):
+    """Whether `method` runs on the index-th of a perturbation's `count` strengths (`strength` 0: the
     unperturbed screenshot, run once and shared). The match runs on every strength (--quick: on
     the unperturbed screenshot only, about 40 s); the query + match,
     as long, on the unperturbed and the strongest of each kind (--quick: nowhere); the others
@@ -316,7 +316,7 @@ def stability(m, volume, case, quick):
         for index, (label, strength, image, vfile) in enumerate(items):
             done = []
             for name, run in runs.items():
-                if not runs_on(name, kind, index, strength, len(items), quick):
+                if not runs_on(name, index, strength, len(items), quick):
                     continue
                 if strength == 0 and name in baseline:
                     rows.append(dict(baseline[name], perturbation=kind, label=str(label)))

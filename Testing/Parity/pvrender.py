@@ -111,10 +111,9 @@ def paraview_renders_in_process_of_their_own(jobs, env):
 
 
 def _render_job(job):
-    preset = job.get("preset")
-    if isinstance(preset, list):
-        preset = preset[0]
-    paraview_render(job["volume"], preset, job["view"], job["out"], boxes_2d=job.get("boxes"))
+    paraview_render(
+        job["volume"], job.get("preset"), job["view"], job["out"], boxes_2d=job.get("boxes")
+    )
 
 
 if __name__ == "__main__":
