@@ -159,11 +159,14 @@ def runs_on(method, index, strength, count, quick):
     unperturbed screenshot, run once and shared). The match runs on every strength (--quick: on
     the unperturbed screenshot only, about 40 s); the query + match,
     as long, on the unperturbed and the strongest of each kind (--quick: nowhere); the others
-    everywhere."""
+    everywhere (--quick: the query and the reconstruction alone beyond the unperturbed one, the
+    methods that start from them being run on the screenshot itself)."""
     if method == MATCH:
         return not quick or strength == 0
     if method == QUERY_MATCH:
         return not quick and index in (0, count - 1)
+    if method in (REFINE, PRIMITIVE_FIT):
+        return not quick or strength == 0
     return True
 
 
