@@ -45,7 +45,7 @@ import tempfile
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "Testing", "Suite"))
-from score import score  # noqa: E402
+from score import load_preset, score  # noqa: E402
 
 RUNGS = ("screenshot", "camera", "canonical", "paraview_tfs", "design_space", "family")
 HALVES = ("true_colours", "true_opacity")
@@ -103,9 +103,14 @@ def view_file(args, volume, path, azimuth, size, background):
     return path
 
 
+def query_tf(work, stem):
+    """Where query_score writes the query's TF."""
+    return os.path.join(work, stem + "_query.json")
+
+
 def query_score(args, volume, model, picture, view, true_tf, work, stem):
-    """The query's TF for `picture` scored against `true_tf` at the canonical views."""
-    found = os.path.join(work, stem + "_query.json")
+    """The query's TF for `picture` (query_tf) scored against `true_tf` at the canonical views."""
+    found = query_tf(work, stem)
     ddg(
         args,
         "query",
@@ -126,12 +131,7 @@ def query_score(args, volume, model, picture, view, true_tf, work, stem):
 def halves_scores(volume, found, true_tf, work, stem):
     """The query's TF `found` with the true TF's colours, then with its opacity, each scored."""
 
-    def preset(path):
-        with open(path) as f:
-            p = json.load(f)
-        return p[0] if isinstance(p, list) else p
-
-    q, t = preset(found), preset(true_tf)
+    q, t = load_preset(found), load_preset(true_tf)
     mixes = {
         "true_colours": dict(q, RGBPoints=t["RGBPoints"], ColorSpace=t.get("ColorSpace", "RGB")),
         "true_opacity": dict(q, Points=t["Points"]),
@@ -273,7 +273,7 @@ def measure_volume(args, volume_name, model, cases, work):
             }
         )
         for half, value in halves_scores(
-            volume, os.path.join(work, name + "_query.json"), case["true_tf"], work, name
+            volume, query_tf(work, name), case["true_tf"], work, name
         ).items():
             rows[half].append({"case": name, "psnr": value})
         with open(case["true_view"]) as f:

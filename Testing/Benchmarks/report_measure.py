@@ -156,16 +156,13 @@ PALETTE2 = [0.0, 0.0, 0.16]  # the palette's Background2: the top of its gradien
 
 def runs_on(method, index, strength, count, quick):
     """Whether `method` runs on the index-th of a perturbation's `count` strengths (`strength` 0: the
-    unperturbed screenshot, run once and shared). The match runs on every strength (--quick: on
-    the unperturbed screenshot only, about 40 s); the query + match,
-    as long, on the unperturbed and the strongest of each kind (--quick: nowhere); the others
-    everywhere (--quick: the query and the reconstruction alone beyond the unperturbed one, the
-    methods that start from them being run on the screenshot itself)."""
-    if method == MATCH:
-        return not quick or strength == 0
+    unperturbed screenshot, run once and shared). The query + match runs on the unperturbed and
+    the strongest of each kind (--quick: nowhere); the others on every strength, except with
+    --quick, where the match (about 40 s), b' + reconstruction and the 12-primitive fit run on the
+    unperturbed screenshot only (the query and the reconstruction still on every strength)."""
     if method == QUERY_MATCH:
         return not quick and index in (0, count - 1)
-    if method in (REFINE, PRIMITIVE_FIT):
+    if method in (MATCH, REFINE, PRIMITIVE_FIT):
         return not quick or strength == 0
     return True
 
