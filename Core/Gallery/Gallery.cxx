@@ -360,17 +360,16 @@ const Image& DesignGallery::thumbnail(int row, const View& view)
 
 std::vector<float> DesignGallery::analyzeImage(const Image& image) const
 {
-  Image shrunk;
-  return Model.analyze(
-    prepareQueryImage(shrinkPicture(image, kQueryPictureSide, shrunk), Model.config().imageSize));
+  Image held;
+  return Model.analyze(prepareQueryImage(queryPicture(image, held), Model.config().imageSize));
 }
 
 QueryResult DesignGallery::query(const Image& picture, const View& view, int neighbours) const
 {
   if (neighbours < 0)
     throw Error("the neighbour count must be >= 0");
-  Image shrunk;
-  const Image& image = shrinkPicture(picture, kQueryPictureSide, shrunk);
+  Image held;
+  const Image& image = queryPicture(picture, held);
   QueryResult r;
   r.input = prepareQueryImage(image, Model.config().imageSize);
   // a chart is refused; a picture that cannot be read as a rendered volume gets a warning
@@ -391,9 +390,8 @@ QueryResult DesignGallery::query(const Image& picture, const View& view, int nei
 std::vector<double> DesignGallery::picturePSNR(const Image& picture,
   const std::vector<std::vector<float>>& latents, const View& view, std::vector<bool>* lit) const
 {
-  Image shrunk;
-  return againstPicture(
-    shrinkPicture(picture, kQueryPictureSide, shrunk), latents, view, lit, nullptr);
+  Image held;
+  return againstPicture(queryPicture(picture, held), latents, view, lit, nullptr);
 }
 
 std::vector<double> DesignGallery::againstPicture(const Image& picture,

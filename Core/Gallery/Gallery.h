@@ -164,11 +164,13 @@ public:
   /// view empties the cache: it holds at most one view's thumbnails, never one per camera).
   const Image& thumbnail(int row, const View& view);
 
-  /// The analyzer's latent of any image, framed as a query (prepareQueryImage).
+  /// The analyzer's latent of any image, read (queryPicture) and framed (prepareQueryImage) as a
+  /// query's.
   std::vector<float> analyzeImage(const Image& image) const;
 
-  /// Analyzer -> latent -> place on the outline, nearest designs and a preview at `view`. A
-  /// picture over kQueryPictureSide on its longer side is halved first (shrinkPicture).
+  /// Analyzer -> latent -> place on the outline, nearest designs and a preview at `view`. The
+  /// picture is read as queryPicture reads it: inside a letterbox, at the render view of a
+  /// window's screenshot, halved while over kQueryPictureSide.
   /// Throws ddg::Error for an unusable image (prepareQueryImage) or a picture of lines or text
   /// (a chart: checkQueryPicture); a picture that cannot be read as a rendered volume (a
   /// photograph) is answered with a warning.

@@ -241,6 +241,15 @@ Image squareOf(const Image& rgb, int side, int ox, int oy, const std::array<floa
 }
 } // namespace
 
+const Image& queryPicture(const Image& picture, Image& held)
+{
+  const std::array<int, 4> part = matchparts::renderedPart(picture);
+  if (part[2] == picture.width && part[3] == picture.height)
+    return shrinkPicture(picture, kQueryPictureSide, held);
+  held = shrinkPicture(matchparts::cropTo(picture, part), kQueryPictureSide);
+  return held;
+}
+
 Image prepareQueryImage(const Image& image, int size)
 {
   if (size < 8)

@@ -41,6 +41,13 @@ Image prepareQueryImage(const Image& image, int size);
 /// colours but spares time and memory (DesignGallery::query, analyzeImage, picturePSNR).
 constexpr int kQueryPictureSide = 2048;
 
+/// The part of a user's picture a query reads (DesignGallery's query, analyzeImage and
+/// picturePSNR, the kind check): its rendered part (inside a letterbox; the render view of a
+/// screenshot of a whole window: matchparts::renderedPart, as the match and the carried look read
+/// it), halved while over kQueryPictureSide on its longer side (shrinkPicture). `picture` itself
+/// when that is all of it and small enough, else `held` holding it (keep `held` while it is used).
+const Image& queryPicture(const Image& picture, Image& held);
+
 /// Whether prepareQueryImage finds content in an RGB image: a pixel that differs from the median
 /// of the border by more than 0.04 in a channel.
 bool hasQueryContent(const Image& rgb);

@@ -394,9 +394,8 @@ std::vector<double> KindNetwork::meanProbabilities(const std::vector<Image>& fra
 
 std::vector<double> KindNetwork::pictureProbabilities(const Image& picture) const
 {
-  Image shrunk;
-  return meanProbabilities(
-    { prepareQueryImage(shrinkPicture(picture, kQueryPictureSide, shrunk), In->Size) });
+  Image held;
+  return meanProbabilities({ prepareQueryImage(queryPicture(picture, held), In->Size) });
 }
 
 std::vector<double> kindReference(const KindNetwork& network, const Volume& volume, int threads,

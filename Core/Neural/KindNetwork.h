@@ -90,8 +90,8 @@ public:
   /// size), set by load; 0 for a network not loaded from files.
   std::uint64_t identity() const;
 
-  /// Class probabilities of a picture as a query frames it (prepareQueryImage at imageSize(),
-  /// after halving one over kQueryPictureSide), averaged over its 8 flips and quarter turns.
+  /// Class probabilities of a picture as a query reads and frames it (queryPicture, then
+  /// prepareQueryImage at imageSize()), averaged over its 8 flips and quarter turns.
   std::vector<double> pictureProbabilities(const Image& picture) const;
   /// The same for images already framed at imageSize() (RGB, [0, 1]), averaged over all.
   std::vector<double> meanProbabilities(const std::vector<Image>& framed) const;

@@ -199,36 +199,6 @@ double shapeAgreementOf(const DifferentiableRenderer& renderer, const matchparts
   return best;
 }
 
-// The share of the object's pixels deeper inside it than 2 % of its box's longer side: a
-// rendered volume is a solid shape (most of it survives), lines and text are not. An object under
-// 25 pixels on that side (where 2 % is under half a pixel) is too small to tell: 1.
-double solidShareOf(const matchparts::Mask& object)
-{
-  using namespace matchparts;
-  int x0 = object.w, y0 = object.h, x1 = -1, y1 = -1;
-  long count = 0;
-  for (int y = 0; y < object.h; ++y)
-    for (int x = 0; x < object.w; ++x)
-      if (object(x, y))
-      {
-        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
-        ++count;
-      }
-  if (count == 0)
-    return 0;
-  const int r = static_cast<int>(std::lround(0.02 * std::max(x1 - x0 + 1, y1 - y0 + 1)));
-  if (r < 1)
-    return 1;
-  Mask outside(object.w, object.h);
-  for (size_t i = 0; i < object.m.size(); ++i)
-    outside.m[i] = !object.m[i];
-  const Mask near = dilate(outside, r);
-  long deep = 0;
-  for (size_t i = 0; i < object.m.size(); ++i)
-    deep += object.m[i] && !near.m[i];
-  return static_cast<double>(deep) / count;
-}
-
 // The colour distance of the TF `start` describes (its initialPrimitives, or its initial1D for
 // free bins) over the targets (fixed directions: comparable figures).
 double distanceOf(const DifferentiableRenderer& renderer, const std::vector<ColourTarget>& targets,
@@ -255,12 +225,13 @@ PictureObject readPictureObject(const Image& input)
   if (input.channels < 3 || input.width < 16 || input.height < 16)
     throw Error("the picture must be RGB or RGBA and at least 16 x 16 pixels");
   PictureObject r;
-  // RGB over black, inside its letterbox (its bands are not the picture's background); a large
+  // RGB over black, inside its letterbox and, in a window's screenshot, its render view (the
+  // bands and the panels are not the picture's background: matchparts::renderedPart); a large
   // picture halved by 2 x 2 box averages until it is at most 512 on its longer side (colours,
   // not detail, count), or its shorter side under 32 (a strip stays wider than 512), without a
   // filtered resize: OpenImageIO's took 130-200 ms for an 800 x 600 or 1000 x 700 picture
   std::array<int, 4> crop{};
-  const Image inside = insideLetterbox(input, crop);
+  const Image inside = insideRenderedPart(input, crop);
   r.picture = shrinkPicture(
     inside.channels == 4 ? compositeOverBackground(inside, { 0, 0, 0 }) : toChannels(inside, 3),
     512);

@@ -60,7 +60,8 @@ struct CarryLookOptions
 };
 
 /// What a picture shows, read before any volume is involved (the carried look's first step and
-/// the query's check): the picture inside its letterbox (when it has one) RGB over black, its
+/// the query's check): the picture inside its letterbox (when it has one) and, in a screenshot
+/// of a whole window, its render view (matchparts::renderedPart), RGB over black, its
 /// longer side at most 512; its background, estimated from its border (estimateBackground); its
 /// foreground (pixels off the background by more than its noise allows) in connected parts,
 /// those under 20 % of the largest being overlays (axes, text, a scalar bar) and the rest the

@@ -105,8 +105,9 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   MatchResult result;
   Picture pic;
   {
-    // a letterbox's bands are not the picture's background: matched inside them
-    const Image inside = insideLetterbox(input, result.crop);
+    // a letterbox's bands, and a window's panels around its render view, are not the picture's
+    // background: matched inside them
+    const Image inside = insideRenderedPart(input, result.crop);
     const int longest = std::max(inside.width, inside.height);
     Image work = inside;
     if (longest > 1024)

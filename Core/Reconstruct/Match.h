@@ -141,7 +141,8 @@ struct MatchResult
   ReconstructionResult tf; ///< the fitted TF (1D or 2D)
   View view; ///< the picture's camera, at the size of `crop` (the picture's) and its background
   /// The part of the picture matched {x, y, width, height}: the whole picture, or what is inside
-  /// a letterbox (bands of one colour along its edges, each followed by another colour).
+  /// a letterbox (bands of one colour along its edges, each followed by another colour), or the
+  /// render view of a screenshot of a whole window (matchparts::renderedPart).
   std::array<int, 4> crop{ 0, 0, 0, 0 };
   PictureBackground background;   ///< estimated or given
   PictureMasks masks;             ///< what was compared and what was ignored

@@ -2,8 +2,11 @@
 // (MatchParts.h).
 #include "Reconstruct/MatchParts.h"
 
+#include "Common/Error.h"
+
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 namespace ddg
 {
@@ -353,18 +356,192 @@ std::array<int, 4> letterbox(const Image& img)
   return { left, top, w - left - right, h - top - bottom };
 }
 
-Image insideLetterbox(const Image& img, std::array<int, 4>& crop)
+namespace
 {
-  crop = letterbox(img);
-  if (crop[2] == img.width && crop[3] == img.height)
+// Regions of smoothly varying colour in an RGB picture: 4-neighbours whose colours differ by at
+// most `tol` in every channel are joined (a uniform background or ParaView's gradient is one
+// region; text, widgets and frames split the rest). Label per pixel, areas and boxes
+// {x0, y0, x1, y1} (inclusive).
+std::vector<int> smoothRegions(
+  const Image& rgb, double tol, std::vector<int>& area, std::vector<std::array<int, 4>>& box)
+{
+  const int w = rgb.width, h = rgb.height;
+  std::vector<int> parent(static_cast<size_t>(w) * h);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int p)
+  {
+    while (parent[static_cast<size_t>(p)] != p)
+      p = parent[static_cast<size_t>(p)] =
+        parent[static_cast<size_t>(parent[static_cast<size_t>(p)])];
+    return p;
+  };
+  auto near = [&](size_t a, size_t b)
+  {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(rgb.pixels[3 * a + c] - rgb.pixels[3 * b + c]) > tol)
+        return false;
+    return true;
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+    {
+      const size_t p = static_cast<size_t>(y) * w + x;
+      if (x + 1 < w && near(p, p + 1))
+        parent[static_cast<size_t>(find(static_cast<int>(p)))] = find(static_cast<int>(p + 1));
+      if (y + 1 < h && near(p, p + static_cast<size_t>(w)))
+        parent[static_cast<size_t>(find(static_cast<int>(p)))] =
+          find(static_cast<int>(p + static_cast<size_t>(w)));
+    }
+  std::vector<int> label(parent.size(), -1), id(parent.size(), -1);
+  area.clear();
+  box.clear();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+    {
+      const size_t p = static_cast<size_t>(y) * w + x;
+      const auto root = static_cast<size_t>(find(static_cast<int>(p)));
+      if (id[root] < 0)
+      {
+        id[root] = static_cast<int>(area.size());
+        area.push_back(0);
+        box.push_back({ x, y, x, y });
+      }
+      const int r = label[p] = id[root];
+      ++area[static_cast<size_t>(r)];
+      auto& b = box[static_cast<size_t>(r)];
+      b = { std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y) };
+    }
+  return label;
+}
+
+// Whether the box's border has one colour (or one gradient) and the box holds a solid object.
+bool holdsARender(const Image& part)
+{
+  PictureBackground bg;
+  try
+  {
+    bg = estimateBackground(part);
+  }
+  catch (const Error&)
+  {
+    return false;
+  }
+  View view;
+  view.width = part.width;
+  view.height = part.height;
+  bg.applyTo(view);
+  const Mask foreground = foregroundOf(part, view, bg.noise);
+  std::vector<int> area;
+  const std::vector<int> label = components(foreground, area);
+  if (area.empty() || *std::max_element(area.begin(), area.end()) < 16)
+    return false;
+  const std::vector<char> small = smallParts(area, 0.2);
+  Mask object(part.width, part.height);
+  for (size_t i = 0; i < label.size(); ++i)
+    object.m[i] = label[i] >= 0 && !small[static_cast<size_t>(label[i])];
+  return solidShareOf(object) >= 0.25;
+}
+} // namespace
+
+Image cropTo(const Image& img, const std::array<int, 4>& part)
+{
+  if (part[0] == 0 && part[1] == 0 && part[2] == img.width && part[3] == img.height)
     return img;
-  Image inside(crop[2], crop[3], img.channels);
+  Image inside(part[2], part[3], img.channels);
   for (int y = 0; y < inside.height; ++y)
     std::copy_n(
-      &img.pixels[(static_cast<size_t>(y + crop[1]) * img.width + crop[0]) * img.channels],
+      &img.pixels[(static_cast<size_t>(y + part[1]) * img.width + part[0]) * img.channels],
       static_cast<size_t>(inside.width) * img.channels,
       &inside.pixels[static_cast<size_t>(y) * inside.width * img.channels]);
   return inside;
+}
+
+std::array<int, 4> renderView(const Image& img)
+{
+  const int w = img.width, h = img.height;
+  const std::array<int, 4> whole{ 0, 0, w, h };
+  if (img.channels < 3 || w < 16 || h < 16)
+    return whole;
+  if (img.channels == 4) // a picture saved with transparency is a render, not a window's grab
+    for (size_t i = 3; i < img.pixels.size(); i += 4)
+      if (img.pixels[i] < 254.5f / 255.0f)
+        return whole;
+  // read at most 512 a side: a pixel (x, y) there is the average of [x 2^k, (x + 1) 2^k) here
+  Image held;
+  if (img.channels != 3)
+    held = shrinkPicture(toChannels(img, 3), 512);
+  const Image& small = img.channels == 3 ? shrinkPicture(img, 512, held) : held;
+  int k = 0;
+  while ((w >> k) > small.width)
+    ++k;
+  try
+  {
+    (void)estimateBackground(small);
+    return whole; // one background colour: the picture is the render
+  }
+  catch (const Error&)
+  {
+  }
+  const int sw = small.width, sh = small.height;
+  std::vector<int> area;
+  std::vector<std::array<int, 4>> box;
+  (void)smoothRegions(small, 3.0 / 255.0, area, box);
+  long best = 0;
+  std::array<int, 4> view = whole;
+  for (size_t r = 0; r < area.size(); ++r)
+  {
+    const auto& b = box[r];
+    const int bw = b[2] - b[0] + 1, bh = b[3] - b[1] + 1;
+    if (area[r] <= best || area[r] < 0.02 * sw * sh || area[r] < 0.3 * bw * bh || bw < 16 ||
+      bh < 16 || (bw == sw && bh == sh))
+      continue;
+    if (!holdsARender(cropTo(small, { b[0], b[1], bw, bh })))
+      continue;
+    best = area[r];
+    view = { b[0] << k, b[1] << k, std::min(bw << k, w - (b[0] << k)),
+      std::min(bh << k, h - (b[1] << k)) };
+  }
+  return view;
+}
+
+std::array<int, 4> renderedPart(const Image& img)
+{
+  // a window's panels and status bar can pass for a letterbox's bands: its view is looked for
+  // first
+  const std::array<int, 4> view = renderView(img);
+  return view[2] < img.width || view[3] < img.height ? view : letterbox(img);
+}
+
+Image insideRenderedPart(const Image& img, std::array<int, 4>& crop)
+{
+  crop = renderedPart(img);
+  return cropTo(img, crop);
+}
+
+double solidShareOf(const Mask& object)
+{
+  int x0 = object.w, y0 = object.h, x1 = -1, y1 = -1;
+  long count = 0;
+  for (int y = 0; y < object.h; ++y)
+    for (int x = 0; x < object.w; ++x)
+      if (object(x, y))
+      {
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+        ++count;
+      }
+  if (count == 0)
+    return 0;
+  const int r = static_cast<int>(std::lround(0.02 * std::max(x1 - x0 + 1, y1 - y0 + 1)));
+  if (r < 1)
+    return 1;
+  Mask outside(object.w, object.h);
+  for (size_t i = 0; i < object.m.size(); ++i)
+    outside.m[i] = !object.m[i];
+  const Mask near = dilate(outside, r);
+  long deep = 0;
+  for (size_t i = 0; i < object.m.size(); ++i)
+    deep += object.m[i] && !near.m[i];
+  return static_cast<double>(deep) / count;
 }
 
 } // namespace matchparts

@@ -1,6 +1,7 @@
 // MatchParts.h: the picture match's inner parts (Match.cxx and the reading of a picture it
 // shares with the carried look and the query's framing): binary rasters, their moments and
-// overlaps, connected parts, the volume's block silhouettes, and a picture's letterbox.
+// overlaps, connected parts, the volume's block silhouettes, and the part of a picture that shows
+// the render (inside a letterbox, the render view of a window's screenshot).
 #pragma once
 
 #include "Image/Image.h"
@@ -114,9 +115,28 @@ private:
 /// Bands of one colour along the picture's edges, each followed by a line of another colour:
 /// a letterbox (or pillarbox). The part inside {x, y, width, height} (all when there is none).
 std::array<int, 4> letterbox(const Image& img);
-/// The picture inside its letterbox (the whole picture when there is none); `crop` gets the
-/// letterbox's inside.
-Image insideLetterbox(const Image& img, std::array<int, 4>& crop);
+/// In a screenshot of a whole window (ParaView's GUI: toolbars, the pipeline browser and the
+/// properties around the render view), the render view {x, y, width, height}; the whole picture
+/// when its border has one colour (estimateBackground reads it) or no view is found. The view is
+/// the largest region of smoothly varying colour (4-neighbours within 3 levels of 255 in every
+/// channel, read at most 512 pixels a side by box halvings) that covers at least 2 % of the
+/// picture and 30 % of its box, whose box's border has one colour or one vertical gradient
+/// (estimateBackground) and holds an object: parts off that background of which the ones of at
+/// least a fifth of the largest are a solid shape (solidShareOf at least 0.25: a panel of text
+/// is not). The box is mapped back to the picture's pixels it was halved from.
+std::array<int, 4> renderView(const Image& img);
+/// The part of a picture that shows the rendered scene {x, y, width, height}: the render view of
+/// a window's screenshot (renderView), else the inside of its letterbox (letterbox).
+std::array<int, 4> renderedPart(const Image& img);
+/// The part {x, y, width, height} of a picture (a copy of it all when that is the part).
+Image cropTo(const Image& img, const std::array<int, 4>& part);
+/// The picture's renderedPart (the picture itself when that is all of it); `crop` gets the part.
+Image insideRenderedPart(const Image& img, std::array<int, 4>& crop);
+/// The share of a mask's set pixels deeper inside it than 2 % of its box's longer side: a
+/// rendered volume is a solid shape (most of it survives), lines and text are not. A mask under
+/// 25 pixels on that side (where 2 % is under half a pixel) is too small to tell: 1; an empty
+/// one 0.
+double solidShareOf(const Mask& object);
 
 } // namespace matchparts
 } // namespace ddg

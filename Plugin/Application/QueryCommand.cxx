@@ -97,7 +97,8 @@ ddg::cli::Command ddg::cli::addQueryCommand(CLI::App& app)
     "Query the design space with an image (paper 5.2): a screenshot of this volume, another "
     "volume or a figure; any size and aspect, RGB or RGBA; any uniform background (one neither "
     "black nor white, ParaView's palette say, becomes the nearer of the two with the overlays over "
-    "it) or ParaView's gradient (framed around its content, see README). Prints its outline "
+    "it) or ParaView's gradient (framed around its content, see README); a screenshot of "
+    "ParaView's whole window is read at its render view. Prints its outline "
     "position, nearest designs and PSNR "
     "against the picture (both framed on their content; the better of the design unlit and lit), "
     "writes the model's render at the view and the explicit TF.");

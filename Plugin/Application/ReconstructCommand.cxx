@@ -332,7 +332,8 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
   reconstruct
     ->add_option("--target", rc->targets,
       "Target image: RGB screenshot over the view's background, or RGBA with straight alpha "
-      "(repeat for multi-view)")
+      "(repeat for multi-view); one target: a letterbox is cut away, and a screenshot of "
+      "ParaView's whole window (toolbars, panels) is matched at its render view")
     ->required();
   reconstruct->add_option("--view", rc->views,
     "View JSON of each target, in the same order. One target: optional — without it the camera "

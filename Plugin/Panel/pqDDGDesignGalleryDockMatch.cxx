@@ -19,6 +19,7 @@
 #include <QJsonDocument>
 #include <QMimeData>
 #include <QPainter>
+#include <QRegion>
 #include <QScrollArea>
 #include <QShortcut>
 #include <QTimer>
@@ -52,7 +53,8 @@ void pqDDGDesignGalleryDock::showMatch()
   const bool has = this->State->hasMatch();
   ui.applyMatch->setEnabled(has);
   ui.match->setEnabled(!this->State->queryPicture().isEmpty());
-  // the picture, with what the match left out (overlays) tinted red
+  // the picture, with what the match left out (overlays; the bands of a letterbox and the panels
+  // around a window's render view: outside its crop) tinted red
   QImage picture = QImage::fromData(this->State->queryPicture());
   const QRect part = m.Crop.isValid() ? m.Crop : QRect(QPoint(0, 0), m.Overlay.size());
   if (!picture.isNull() && has && m.Overlay.size() == part.size() && picture.rect().contains(part))
@@ -70,6 +72,8 @@ void pqDDGDesignGalleryDock::showMatch()
     }
     QPainter painter(&picture);
     painter.drawImage(part.topLeft(), tint);
+    painter.setClipRegion(QRegion(picture.rect()).subtracted(QRegion(part)));
+    painter.fillRect(picture.rect(), QColor(255, 0, 0, 140));
   }
   if (picture.isNull())
     ui.pictureView->clear();

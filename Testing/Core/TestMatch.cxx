@@ -1,11 +1,16 @@
 // TestMatch.cxx: the picture match's parts on synthetic pictures and a small synthetic volume —
 // background estimation (uniform, ParaView's gradient, none), the camera moves (vtkCamera's
 // roll, pan in view heights, dolly), and the refusals (tiny, uniform, cancelled, another
-// object). The match on a shipped volume is in Testing/Reconstruction/TestMatch.cxx.
+// object), and the part of a picture that shows the render (a window's screenshot). The match on a
+// shipped volume is in Testing/Reconstruction/TestMatch.cxx.
 #include "Reconstruct/Match.h"
 
 #include "Common/Error.h"
+#include "Gallery/QueryImage.h"
+#include "Image/Image.h"
 #include "Image/ImageMetrics.h"
+#include "Reconstruct/CarryLook.h"
+#include "Reconstruct/MatchParts.h"
 #include "Render/RayCaster.h"
 #include "VolumePieces.h"
 
@@ -418,4 +423,163 @@ TEST(MatchBackground, SteepGradientIsNoLetterbox)
   EXPECT_EQ(m.crop, (std::array<int, 4>{ 0, 0, 120, 80 }));
   EXPECT_TRUE(m.background.gradient);
   EXPECT_NEAR(m.background.top[0], (*v.background2)[0], 2 * kLevel);
+}
+
+namespace
+{
+// A screenshot of a whole window, as ParaView's GUI looks: a toolbar of icons, a panel of text
+// and widgets, and the render view (`inner`, over its own background) in a blue frame of 2
+// pixels at (frameX, frameY). Everything is then scaled by `scale` (nearest) and moved right and
+// down by `shift` pixels of the window's grey.
+struct Window
+{
+  Image picture;
+  std::array<int, 4> view; // the render view's inside
+};
+Window windowAround(const Image& inner, int frameX, int frameY, int scale, int shift)
+{
+  const int w = frameX + inner.width + 4 + 12, h = frameY + inner.height + 4 + 20;
+  Image win(w, h, 3);
+  auto paint = [&](int x0, int y0, int x1, int y1, std::array<float, 3> c)
+  {
+    for (int y = std::max(0, y0); y < std::min(h, y1); ++y)
+      for (int x = std::max(0, x0); x < std::min(w, x1); ++x)
+        for (int k = 0; k < 3; ++k)
+          win.pixels[3 * (static_cast<size_t>(y) * w + x) + k] = c[static_cast<size_t>(k)];
+  };
+  paint(0, 0, w, h, { 0.94f, 0.94f, 0.94f });
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(0, 1);
+  for (int x = 6; x + 16 < w; x += 26) // the toolbar's icons
+    paint(x, 8, x + 16, 24, { u(rng), u(rng), u(rng) });
+  paint(0, 34, frameX - 8, h - 24, { 1, 1, 1 }); // the panel, its lines of text and widgets
+  for (int y = 44; y + 10 < h - 24; y += 18)
+    for (int x = 10; x + 8 < frameX - 14; x += 9)
+      if (u(rng) < 0.8f)
+      {
+        paint(x, y, x + 1, y + 9, { 0.1f, 0.1f, 0.1f });
+        paint(x, y + 4, x + 6, y + 5, { 0.1f, 0.1f, 0.1f });
+        paint(x + 5, y + 2, x + 6, y + 9, { 0.1f, 0.1f, 0.1f });
+      }
+  paint(frameX, frameY, frameX + inner.width + 4, frameY + inner.height + 4, { 0.2f, 0.4f, 0.9f });
+  for (int y = 0; y < inner.height; ++y)
+    for (int x = 0; x < inner.width; ++x)
+      for (int k = 0; k < 3; ++k)
+        win.pixels[3 * (static_cast<size_t>(y + frameY + 2) * w + x + frameX + 2) + k] =
+          inner.pixels[3 * (static_cast<size_t>(y) * inner.width + x) + k];
+  paint(0, h - 16, w, h, { 0.85f, 0.85f, 0.85f }); // the status bar
+  Window r;
+  r.picture = Image(w * scale + shift, h * scale + shift, 3);
+  for (size_t i = 0; i < r.picture.pixels.size(); ++i)
+    r.picture.pixels[i] = 0.94f;
+  for (int y = 0; y < h * scale; ++y)
+    for (int x = 0; x < w * scale; ++x)
+      for (int k = 0; k < 3; ++k)
+        r.picture.pixels[3 * (static_cast<size_t>(y + shift) * r.picture.width + x + shift) + k] =
+          win.pixels[3 * (static_cast<size_t>(y / scale) * w + x / scale) + k];
+  r.view = { (frameX + 2) * scale + shift, (frameY + 2) * scale + shift, inner.width * scale,
+    inner.height * scale };
+  return r;
+}
+
+struct BlobScene
+{
+  Volume vol = blobVolume();
+  DifferentiableRenderer renderer{ vol };
+  View view;
+  Image picture;
+  explicit BlobScene(int w, int h)
+  {
+    TransferFunction1D tf;
+    tf.color = { { 0, 0.2, 0.4, 0.9 }, { 120, 0.9, 0.5, 0.2 }, { 255, 1, 1, 0.8 } };
+    tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.3 }, { 200, 0.9 }, { 255, 0.9 } };
+    view = cameraMove(defaultView(vol, w, h), 20, 10, 0, 1.1, { 0, 0 });
+    view.background = { 82 / 255.0, 87 / 255.0, 110 / 255.0 };
+    picture = compositeOverBackground(
+      renderer.caster().render(renderer.caster().paraviewTable(tf), view), view.background);
+  }
+};
+} // namespace
+
+// `part` lies inside `view` and loses at most `slack` pixels on each side.
+void expectInside(const std::array<int, 4>& part, const std::array<int, 4>& view, int slack)
+{
+  EXPECT_GE(part[0], view[0]);
+  EXPECT_GE(part[1], view[1]);
+  EXPECT_LE(part[0], view[0] + slack);
+  EXPECT_LE(part[1], view[1] + slack);
+  EXPECT_LE(part[0] + part[2], view[0] + view[2]);
+  EXPECT_LE(part[1] + part[3], view[1] + view[3]);
+  EXPECT_GE(part[0] + part[2], view[0] + view[2] - slack);
+  EXPECT_GE(part[1] + part[3], view[1] + view[3] - slack);
+}
+
+TEST(MatchParts, RenderViewOfAWindowsScreenshot)
+{
+  const BlobScene scene(208, 150);
+  // the window as drawn: its render view exactly
+  const Window plain = windowAround(scene.picture, 150, 40, 1, 0);
+  EXPECT_EQ(matchparts::renderView(plain.picture), plain.view);
+  EXPECT_EQ(matchparts::renderedPart(plain.picture), plain.view);
+  // scaled four times (1496 x 856, read halved twice to at most 512 a side): the halved pixels
+  // line up with the view's edges, so the same view
+  const Window large = windowAround(scene.picture, 150, 40, 4, 0);
+  EXPECT_EQ(matchparts::renderView(large.picture), large.view);
+  // moved by 3 pixels they do not: inside the view, within one halved pixel (4) of each edge
+  const Window moved = windowAround(scene.picture, 150, 40, 4, 3);
+  expectInside(matchparts::renderView(moved.picture), moved.view, 4);
+  // JPEG at quality 85 rings beside the frame: inside the view, within a JPEG block (8 pixels)
+  // of each edge
+  expectInside(matchparts::renderView(jpegRoundTrip(plain.picture, 85)), plain.view, 8);
+}
+
+TEST(MatchParts, RenderViewOfParaViewsWindow)
+{
+  // ParaView 5.11's window (Testing/Data/README.md): the inside of its render view, read from
+  // the pixels (the blue frame's inner edge), is the 844 x 527 pixels from (303, 200); the
+  // window's border has no one colour (60-70 % of it)
+  const Image window = readImage(std::string(DDG_DATA_DIR) + "/../Testing/Data/window_tooth.jpg");
+  EXPECT_THROW(estimateBackground(window), Error);
+  expectInside(matchparts::renderedPart(window), { 303, 200, 844, 527 }, 8);
+}
+
+TEST(MatchParts, RenderViewLeavesOtherPicturesWhole)
+{
+  const BlobScene scene(208, 150);
+  const std::array<int, 4> whole{ 0, 0, 208, 150 };
+  // a render: its border has one colour
+  EXPECT_EQ(matchparts::renderView(scene.picture), whole);
+  // a window with no render in its view (the view painted as the panel, text and all): the
+  // panel's text is not a solid object, so no part of it is taken for a render view
+  Image empty(208, 150, 3);
+  for (size_t i = 0; i < empty.pixels.size(); ++i)
+    empty.pixels[i] = 1.0f;
+  const Window blank = windowAround(empty, 150, 40, 1, 0);
+  EXPECT_EQ(matchparts::renderView(blank.picture),
+    (std::array<int, 4>{ 0, 0, blank.picture.width, blank.picture.height }));
+  // a picture saved with transparency is a render
+  Image rgba(40, 30, 4);
+  for (size_t i = 0; i < rgba.pixels.size(); ++i)
+    rgba.pixels[i] = (i % 4 == 3) ? 0.0f : static_cast<float>(i % 7) / 7.0f;
+  EXPECT_EQ(matchparts::renderView(rgba), (std::array<int, 4>{ 0, 0, 40, 30 }));
+}
+
+TEST(Match, WindowsScreenshotIsMatchedAtItsRenderView)
+{
+  const BlobScene scene(208, 150);
+  const Window window = windowAround(scene.picture, 150, 40, 1, 0);
+  // before, the window's border (grey, a status bar, text) refused the picture
+  EXPECT_THROW(estimateBackground(window.picture), Error);
+  MatchOptions opt;
+  opt.view = scene.view; // the camera given: this is about the part matched
+  const auto m = matchPicture(scene.renderer, window.picture, opt);
+  EXPECT_EQ(m.crop, window.view);
+  EXPECT_GT(m.fitPSNR, 30.0);
+  EXPECT_EQ(m.view.width, 208);
+  EXPECT_NEAR(m.background.bottom[2], 110 / 255.0, kLevel);
+  // the carried look's and the query's reading of a picture take the same part
+  EXPECT_EQ(readPictureObject(window.picture).picture.width, 208);
+  Image held;
+  EXPECT_EQ(queryPicture(window.picture, held).width, 208);
+  EXPECT_EQ(checkQueryPicture(window.picture), "");
 }

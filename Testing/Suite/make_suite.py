@@ -12,6 +12,14 @@ ParaView's Camera Parallel Projection) it writes, under OUT/<case>/:
   case.json           volume, image, true TF, true view, size, format, seed, drawn camera
 and OUT/suite.json, the list of case files.
 
+A case with "window": [width, height] is a screenshot of ParaView's whole window instead (the
+toolbars, the pipeline browser and the properties around the render view, as a user's grab of the
+window has them): the GUI (`paraview --dr`, default settings) is started under an X server of its
+own with that screen size (Xvfb, its frame buffer in a file), shows the scene in its render view
+through a script, and the window is cut from the frame buffer (everything but the black root
+window). The render view's own screenshot is kept beside it (view.png) and true_view.json is the
+render view's camera and size. "size" is then not given: the window's is recorded.
+
 Cameras: ParaView's reset camera on the volume (looking down -z, +y up), then, drawn from the
 case's seed with Python's random.Random: azimuth in [-180, 180), elevation in [-45, 45], roll in
 [-20, 20] degrees, pan by up to 5 % of the view height along the view's right and up, and a zoom
@@ -27,6 +35,8 @@ import random
 import shutil
 import sys
 import time
+
+import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
@@ -77,6 +87,120 @@ def load_cases(path, names=None):
     return cases
 
 
+GUI_SCRIPT = """
+import json, os, sys
+sys.path.insert(0, {here!r})
+from paraview import simple
+from suite_paraview import VolumeScene, use_default_palette
+from make_suite import place_camera
+use_default_palette()
+scene = VolumeScene({volume!r}, None, gui_look=True, lighting={lighting!r},
+                    view=simple.GetActiveViewOrCreate("RenderView"))
+scene.apply({preset!r})
+place_camera(scene, {moves!r}, {parallel!r})
+simple.Render(scene.view)
+scene.screenshot({view_png!r})
+simple.Render(scene.view)
+with open({done!r} + ".part", "w") as f:
+    json.dump({{"camera": scene.camera_json(), "size": scene.size}}, f)
+os.rename({done!r} + ".part", {done!r})
+"""
+
+
+def read_frame_buffer(path):
+    """The screen of an Xvfb started with -fbdir (an XWD file of 32-bit pixels), as (h, w, 3)."""
+    import struct
+
+    with open(path, "rb") as f:
+        data = f.read()
+    header = struct.unpack(">25I", data[:100])
+    size, width, height, line, colours = header[0], header[4], header[5], header[12], header[19]
+    if header[11] != 32:
+        raise RuntimeError("%s: %d bits per pixel, 32 expected" % (path, header[11]))
+    pixels = np.frombuffer(data, np.uint8, line * height, size + 12 * colours)
+    bgrx = pixels.reshape(height, line // 4, 4)[:, :width]
+    return np.ascontiguousarray(bgrx[:, :, 2::-1])
+
+
+def write_image(path, rgb, quality=None):
+    """An (h, w, 3) uint8 array as PNG, or JPEG at ``quality``, through VTK's writers."""
+    from vtkmodules.util import numpy_support
+    from vtkmodules.vtkCommonDataModel import vtkImageData
+    from vtkmodules.vtkIOImage import vtkJPEGWriter, vtkPNGWriter
+
+    h, w, _ = rgb.shape
+    image = vtkImageData()
+    image.SetDimensions(w, h, 1)
+    flat = np.ascontiguousarray(rgb[::-1]).reshape(-1, 3)
+    image.GetPointData().SetScalars(numpy_support.numpy_to_vtk(flat, deep=True))
+    writer = vtkJPEGWriter() if quality else vtkPNGWriter()
+    if quality:
+        writer.SetQuality(quality)
+    writer.SetFileName(path)
+    writer.SetInputData(image)
+    writer.Write()
+
+
+def grab_window(case, volume, preset, moves, image, view_png):
+    """Case "window": ParaView's GUI under an X server of its own shows the scene; the window is
+    cut from the screen into ``image``. Returns the render view's camera JSON and size."""
+    import subprocess
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as tmp:
+        display = next(n for n in range(140, 400) if not os.path.exists("/tmp/.X%d-lock" % n))
+        screen = "%dx%dx24" % tuple(case["window"])
+        xvfb = subprocess.Popen(
+            ["Xvfb", ":%d" % display, "-screen", "0", screen, "-fbdir", tmp, "-nolisten", "tcp"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        gui = None
+        try:
+            done = os.path.join(tmp, "done.json")
+            script = os.path.join(tmp, "scene.py")
+            with open(script, "w") as f:
+                f.write(
+                    GUI_SCRIPT.format(
+                        here=HERE,
+                        volume=volume,
+                        lighting=case.get("lighting"),
+                        preset=preset,
+                        moves=moves,
+                        parallel=case.get("projection") == "parallel",
+                        view_png=view_png,
+                        done=done,
+                    )
+                )
+            time.sleep(1)
+            env = dict(os.environ, DISPLAY=":%d" % display)
+            gui = subprocess.Popen(
+                ["paraview", "--dr", "--script=" + script],
+                env=env,
+                stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL,
+            )
+            deadline = time.time() + 180
+            while not os.path.exists(done):
+                if time.time() > deadline or gui.poll() is not None:
+                    raise RuntimeError("%s: ParaView's GUI did not show the scene" % case["name"])
+                time.sleep(0.5)
+            time.sleep(3)  # the window repainted after the script
+            screen_rgb = read_frame_buffer(os.path.join(tmp, "Xvfb_screen0"))
+            with open(done) as f:
+                shown = json.load(f)
+        finally:
+            for process in (gui, xvfb):
+                if process is not None:
+                    process.terminate()
+                    process.wait()
+    rows = np.flatnonzero(screen_rgb.any(axis=(1, 2)))
+    cols = np.flatnonzero(screen_rgb.any(axis=(0, 2)))
+    window = screen_rgb[rows[0] : rows[-1] + 1, cols[0] : cols[-1] + 1]
+    write_image(image, window, JPEG_QUALITY if case["format"] == "jpg" else None)
+    return shown["camera"], shown["size"]
+
+
 def make_case(case, data_dir, out_dir):
     """Writes one case's files; returns its case JSON (dict)."""
     case_dir = os.path.join(out_dir, case["name"])
@@ -88,20 +212,34 @@ def make_case(case, data_dir, out_dir):
         preset = json.load(f)[0]
     background = use_default_palette()
     moves = draw_camera(case["seed"])
+    image = os.path.join(case_dir, "screenshot." + case["format"])
+    if case.get("window"):
+        view_png = os.path.join(case_dir, "view.png")
+        camera, size = grab_window(case, volume, preset, moves, image, view_png)
+        return write_records(
+            case, case_dir, volume, true_tf, image, size, moves, background, camera
+        )
     scene = VolumeScene(volume, case["size"], gui_look=True, lighting=case.get("lighting"))
     try:
         scene.apply(preset)
         place_camera(scene, moves, case.get("projection") == "parallel")
-        image = os.path.join(case_dir, "screenshot." + case["format"])
         options = {"Quality": JPEG_QUALITY} if case["format"] == "jpg" else {}
         scene.screenshot(image, **options)
         camera = scene.camera_json()
     finally:
         scene.close()
+    return write_records(
+        case, case_dir, volume, true_tf, image, case["size"], moves, background, camera
+    )
+
+
+def write_records(case, case_dir, volume, true_tf, image, view_size, moves, background, camera):
+    """true_view.json (the render view's camera and size) and case.json; returns the latter."""
     pixels = read_image(image)
-    if list(pixels.shape[:2]) != [case["size"][1], case["size"][0]]:
-        raise RuntimeError("%s: screenshot is %s, not %s" % (image, pixels.shape, case["size"]))
-    view = {"camera": camera, "size": list(case["size"]), "background": background}
+    shape = [pixels.shape[1], pixels.shape[0]]
+    if not case.get("window") and shape != list(case["size"]):
+        raise RuntimeError("%s: screenshot is %s, not %s" % (image, shape, case["size"]))
+    view = {"camera": camera, "size": list(view_size), "background": background}
     if case.get("lighting"):
         view["lighting"] = case["lighting"]
     true_view = os.path.join(case_dir, "true_view.json")
@@ -113,14 +251,16 @@ def make_case(case, data_dir, out_dir):
         "image": os.path.abspath(image),
         "true_tf": os.path.abspath(true_tf),
         "true_view": os.path.abspath(true_view),
-        "size": list(case["size"]),
+        "size": shape,
+        "window": case.get("window"),
         "format": case["format"],
         "jpeg_quality": JPEG_QUALITY if case["format"] == "jpg" else None,
         "seed": case["seed"],
         "camera_moves": moves,
         "background": background,
         "lighting": case.get("lighting"),
-        # top-right pixel: the background as written (the orientation axes sit bottom left)
+        # top-right pixel: the background as written (the orientation axes sit bottom left; a
+        # window's screenshot: its frame's)
         "corner_pixel": [int(x) for x in pixels[0, -1]],
     }
     with open(os.path.join(case_dir, "case.json"), "w") as f:
@@ -147,7 +287,7 @@ def main():
         listing.append(os.path.join(os.path.abspath(args.out), case["name"], "case.json"))
         m = record["camera_moves"]
         print(
-            f"{case['name']:9s} {case['volume']:7s} {case['size'][0]}x{case['size'][1]} "
+            f"{case['name']:9s} {case['volume']:7s} {record['size'][0]}x{record['size'][1]} "
             f"{case['format']:3s} azimuth {m['azimuth']:7.1f} elevation {m['elevation']:6.1f} "
             f"roll {m['roll']:6.1f} pan {m['pan'][0]:+.3f},{m['pan'][1]:+.3f} "
             f"zoom {m['zoom']:.2f} corner {record['corner_pixel']}  {time.time() - start:.1f} s",

@@ -52,13 +52,20 @@ class VolumeScene:
 
     ``gui_look``: the view as a new view in the GUI is (palette background, orientation axes);
     otherwise no orientation axes and a single background colour set with ``set_background``.
+    ``view``: show it in this view (the GUI's own, whose size the window sets) instead of a new
+    one of ``size``.
     """
 
-    def __init__(self, volume_path, size, gui_look=False, lighting=None):
-        self.size = [int(size[0]), int(size[1])]
+    def __init__(self, volume_path, size, gui_look=False, lighting=None, view=None):
         self.reader = simple.XMLImageDataReader(FileName=[os.path.abspath(volume_path)])
-        self.view = simple.CreateView("RenderView")
-        self.view.ViewSize = self.size
+        # ``view``: a view of the GUI's (its size is the window's; closing leaves it)
+        self.own_view = view is None
+        self.view = simple.CreateView("RenderView") if view is None else view
+        if view is None:
+            self.size = [int(size[0]), int(size[1])]
+            self.view.ViewSize = self.size
+        else:
+            self.size = [int(x) for x in self.view.ViewSize]
         if gui_look:
             self.view.UseColorPaletteForBackground = 1
             self.view.OrientationAxesVisibility = 1
@@ -147,5 +154,6 @@ class VolumeScene:
 
     def close(self):
         simple.Delete(self.display)
-        simple.Delete(self.view)
+        if self.own_view:
+            simple.Delete(self.view)
         simple.Delete(self.reader)
