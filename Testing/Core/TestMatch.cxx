@@ -487,10 +487,10 @@ struct BlobScene
   Volume vol = blobVolume();
   DifferentiableRenderer renderer{ vol };
   View view;
+  TransferFunction1D tf;
   Image picture;
   explicit BlobScene(int w, int h)
   {
-    TransferFunction1D tf;
     tf.color = { { 0, 0.2, 0.4, 0.9 }, { 120, 0.9, 0.5, 0.2 }, { 255, 1, 1, 0.8 } };
     tf.opacity = { { 0, 0 }, { 60, 0 }, { 120, 0.3 }, { 200, 0.9 }, { 255, 0.9 } };
     view = cameraMove(defaultView(vol, w, h), 20, 10, 0, 1.1, { 0, 0 });
@@ -541,6 +541,37 @@ TEST(MatchParts, RenderViewOfParaViewsWindow)
   const Image window = readImage(std::string(DDG_DATA_DIR) + "/../Testing/Data/window_tooth.jpg");
   EXPECT_THROW(estimateBackground(window), Error);
   expectInside(matchparts::renderedPart(window), { 303, 200, 844, 527 }, 8);
+}
+
+TEST(MatchParts, RenderPastedOnAPage)
+{
+  // a figure: the render (over its own background) pasted on a white page at (30, 20), a caption
+  // under it and a colour bar beside it: read inside the render's rectangle, less its edge pixel
+  const BlobScene scene(208, 150);
+  const int w = 300, h = 220;
+  Image page(w, h, 3);
+  for (size_t i = 0; i < page.pixels.size(); ++i)
+    page.pixels[i] = 1.0f;
+  for (int y = 0; y < 150; ++y)
+    for (int x = 0; x < 208; ++x)
+      for (int c = 0; c < 3; ++c)
+        page.pixels[3 * (static_cast<size_t>(y + 20) * w + x + 30) + c] =
+          scene.picture.pixels[3 * (static_cast<size_t>(y) * 208 + x) + c];
+  for (int y = 30; y < 160; ++y) // the colour bar
+    for (int x = 255; x < 265; ++x)
+      for (int c = 0; c < 3; ++c)
+        page.pixels[3 * (static_cast<size_t>(y) * w + x) + c] = static_cast<float>(y - 30) / 130.0f;
+  for (int x = 30; x < 200; x += 7) // the caption's letters
+    for (int y = 190; y < 198; ++y)
+      for (int c = 0; c < 3; ++c)
+        page.pixels[3 * (static_cast<size_t>(y) * w + x) + c] = 0.1f;
+  EXPECT_EQ(matchparts::renderView(page), (std::array<int, 4>{ 31, 21, 206, 148 }));
+  // the render over the page's white: no rectangle, read whole
+  EXPECT_EQ(
+    matchparts::renderView(compositeOverBackground(
+      scene.renderer.caster().render(scene.renderer.caster().paraviewTable(scene.tf), scene.view),
+      { 1, 1, 1 })),
+    (std::array<int, 4>{ 0, 0, 208, 150 }));
 }
 
 TEST(MatchParts, RenderViewLeavesOtherPicturesWhole)
