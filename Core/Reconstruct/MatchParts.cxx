@@ -482,41 +482,8 @@ std::array<int, 4> renderView(const Image& img)
   };
   try
   {
-    // one background colour: the picture is the render, or a page with a render pasted on it (a
-    // figure): its largest part a filled rectangle that holds a render (when that is a letterbox's
-    // inside, letterbox finds it to the pixel)
-    const PictureBackground bg = estimateBackground(small);
-    View view;
-    view.width = small.width;
-    view.height = small.height;
-    bg.applyTo(view);
-    std::vector<int> area;
-    const std::vector<int> label = components(foregroundOf(small, view, bg.noise), area);
-    if (area.empty())
-      return whole;
-    const auto largest =
-      static_cast<int>(std::max_element(area.begin(), area.end()) - area.begin());
-    std::array<int, 4> b{ small.width, small.height, -1, -1 };
-    for (size_t i = 0; i < label.size(); ++i)
-      if (label[i] == largest)
-      {
-        const int x = static_cast<int>(i % static_cast<size_t>(small.width)),
-                  y = static_cast<int>(i / static_cast<size_t>(small.width));
-        b = { std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y) };
-      }
-    const int bw = b[2] - b[0] + 1, bh = b[3] - b[1] + 1;
-    const std::array<int, 4> inside{ b[0] + 1, b[1] + 1, bw - 2, bh - 2 }; // its edge is mixed
-    if (bw < 18 || bh < 18 || area[static_cast<size_t>(largest)] < 0.97 * bw * bh ||
-      (bw >= small.width - 2 && bh >= small.height - 2) ||
-      bw * bh < 0.1 * small.width * small.height || !holdsARender(cropTo(small, inside)))
-      return whole;
-    const std::array<int, 4> pasted = full(inside), band = letterbox(img);
-    const int slack = 2 << k;
-    const bool same = std::abs(band[0] - pasted[0]) <= slack &&
-      std::abs(band[1] - pasted[1]) <= slack &&
-      std::abs(band[0] + band[2] - pasted[0] - pasted[2]) <= slack &&
-      std::abs(band[1] + band[3] - pasted[1] - pasted[3]) <= slack;
-    return same ? whole : pasted;
+    (void)estimateBackground(small);
+    return whole; // one background colour: the picture is the render
   }
   catch (const Error&)
   {
@@ -531,8 +498,10 @@ std::array<int, 4> renderView(const Image& img)
   {
     const auto& b = box[r];
     const int bw = b[2] - b[0] + 1, bh = b[3] - b[1] + 1;
+    // a window's render view lies inside its panels and frame: a region reaching the picture's
+    // edge is the picture's own (a render cut by the frame, its haze over the volume's box)
     if (area[r] <= best || area[r] < 0.02 * sw * sh || area[r] < 0.3 * bw * bh || bw < 16 ||
-      bh < 16 || (bw == sw && bh == sh))
+      bh < 16 || b[0] == 0 || b[1] == 0 || b[2] == sw - 1 || b[3] == sh - 1)
       continue;
     if (!holdsARender(cropTo(small, { b[0], b[1], bw, bh })))
       continue;
