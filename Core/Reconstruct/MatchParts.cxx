@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
 #include <numeric>
 
 namespace ddg
@@ -361,9 +360,9 @@ namespace
 {
 // Regions of smoothly varying colour in an RGB picture: 4-neighbours whose colours differ by at
 // most `tol` in every channel are joined (a uniform background or ParaView's gradient is one
-// region; text, widgets and frames split the rest). Label per pixel, areas and boxes
-// {x0, y0, x1, y1} (inclusive).
-std::vector<int> smoothRegions(
+// region; text, widgets and frames split the rest): their areas and boxes {x0, y0, x1, y1}
+// (inclusive).
+void smoothRegions(
   const Image& rgb, double tol, std::vector<int>& area, std::vector<std::array<int, 4>>& box)
 {
   const int w = rgb.width, h = rgb.height;
@@ -393,7 +392,7 @@ std::vector<int> smoothRegions(
         parent[static_cast<size_t>(find(static_cast<int>(p)))] =
           find(static_cast<int>(p + static_cast<size_t>(w)));
     }
-  std::vector<int> label(parent.size(), -1), id(parent.size(), -1);
+  std::vector<int> id(parent.size(), -1);
   area.clear();
   box.clear();
   for (int y = 0; y < h; ++y)
@@ -407,12 +406,11 @@ std::vector<int> smoothRegions(
         area.push_back(0);
         box.push_back({ x, y, x, y });
       }
-      const int r = label[p] = id[root];
+      const int r = id[root];
       ++area[static_cast<size_t>(r)];
       auto& b = box[static_cast<size_t>(r)];
       b = { std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y) };
     }
-  return label;
 }
 
 // Whether the box's border has one colour (or one gradient) and the box holds a solid object.
@@ -475,11 +473,6 @@ std::array<int, 4> renderView(const Image& img)
   int k = 0;
   while ((w >> k) > small.width)
     ++k;
-  auto full = [&](const std::array<int, 4>& b)
-  {
-    return std::array<int, 4>{ b[0] << k, b[1] << k, std::min(b[2] << k, w - (b[0] << k)),
-      std::min(b[3] << k, h - (b[1] << k)) };
-  };
   try
   {
     (void)estimateBackground(small);
@@ -491,7 +484,7 @@ std::array<int, 4> renderView(const Image& img)
   const int sw = small.width, sh = small.height;
   std::vector<int> area;
   std::vector<std::array<int, 4>> box;
-  (void)smoothRegions(small, 3.0 / 255.0, area, box);
+  smoothRegions(small, 3.0 / 255.0, area, box);
   long best = 0;
   std::array<int, 4> view = whole;
   for (size_t r = 0; r < area.size(); ++r)
@@ -506,7 +499,8 @@ std::array<int, 4> renderView(const Image& img)
     if (!holdsARender(cropTo(small, { b[0], b[1], bw, bh })))
       continue;
     best = area[r];
-    view = full({ b[0], b[1], bw, bh });
+    view = { b[0] << k, b[1] << k, std::min(bw << k, w - (b[0] << k)),
+      std::min(bh << k, h - (b[1] << k)) };
   }
   return view;
 }
