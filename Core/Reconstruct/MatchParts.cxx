@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <optional>
 
 namespace ddg
 {
@@ -440,6 +441,97 @@ bool holdsARender(const Image& part)
     object.m[i] = label[i] >= 0 && !small[static_cast<size_t>(label[i])];
   return solidShareOf(object) >= 0.25;
 }
+
+// Whether a filled rectangle's fill, on a page of colour `page`, is a render's background rather
+// than a veil over the page (a TF that paints the air shows the volume's box as such a rectangle):
+// a vertical gradient (ends 0.1 apart or more), or one colour (a gradient's mean when its ends are
+// closer) within 0.06 of black, white or ParaView's palette grey-blue, and in either case at least
+// 0.25 from the page (largest channel difference).
+bool renderBackground(const PictureBackground& fill, const std::array<double, 3>& page)
+{
+  const auto apart = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return std::max({ std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2]) });
+  };
+  if (apart(fill.bottom, page) < 0.25 && apart(fill.top, page) < 0.25)
+    return false;
+  if (fill.gradient && apart(fill.bottom, fill.top) >= 0.1)
+    return true;
+  // one colour (a JPEG's shift of a few levels between top and bottom is no gradient)
+  const std::array<double, 3> colour{ (fill.bottom[0] + fill.top[0]) / 2,
+    (fill.bottom[1] + fill.top[1]) / 2, (fill.bottom[2] + fill.top[2]) / 2 };
+  constexpr std::array<std::array<double, 3>, 3> backgrounds{ { { 0, 0, 0 }, { 1, 1, 1 },
+    { 0.32, 0.34, 0.43 } } };
+  return std::any_of(backgrounds.begin(), backgrounds.end(),
+    [&](const std::array<double, 3>& c) { return apart(colour, c) <= 0.06; });
+}
+
+// A page of one colour (`page`, read in `small`) with a render pasted on it: the pasted render's
+// inside {x, y, width, height} in `small`, or {} when the picture is no such page. A JPEG's
+// ringing reaches `reach` pixels of `small` beyond the rectangle's edges.
+std::optional<std::array<int, 4>> pastedRender(
+  const Image& small, const PictureBackground& page, int reach)
+{
+  View view;
+  view.width = small.width;
+  view.height = small.height;
+  page.applyTo(view);
+  std::vector<int> area;
+  const std::vector<int> label = components(foregroundOf(small, view, page.noise), area);
+  if (area.empty() || page.gradient)
+    return std::nullopt;
+  const auto largest = static_cast<int>(std::max_element(area.begin(), area.end()) - area.begin());
+  std::array<int, 4> b{ small.width, small.height, -1, -1 };
+  for (size_t i = 0; i < label.size(); ++i)
+    if (label[i] == largest)
+    {
+      const int x = static_cast<int>(i % static_cast<size_t>(small.width)),
+                y = static_cast<int>(i / static_cast<size_t>(small.width));
+      b = { std::min(b[0], x), std::min(b[1], y), std::max(b[2], x), std::max(b[3], y) };
+    }
+  const auto in = [&](int x, int y)
+  { return label[static_cast<size_t>(y) * static_cast<size_t>(small.width) + x] == largest; };
+  // a JPEG's ringing beside the rectangle's edges (within `reach`): rows and columns of the box
+  // under 90 % in the part are trimmed off
+  const auto share = [&](bool row, int i)
+  {
+    int n = 0;
+    for (int j = row ? b[0] : b[1]; j <= (row ? b[2] : b[3]); ++j)
+      n += row ? in(j, i) : in(i, j);
+    return static_cast<double>(n) / (row ? b[2] - b[0] + 1 : b[3] - b[1] + 1);
+  };
+  for (int t = 0; t < reach && b[1] < b[3] && share(true, b[1]) < 0.9; ++t)
+    ++b[1];
+  for (int t = 0; t < reach && b[3] > b[1] && share(true, b[3]) < 0.9; ++t)
+    --b[3];
+  for (int t = 0; t < reach && b[0] < b[2] && share(false, b[0]) < 0.9; ++t)
+    ++b[0];
+  for (int t = 0; t < reach && b[2] > b[0] && share(false, b[2]) < 0.9; ++t)
+    --b[2];
+  const int bw = b[2] - b[0] + 1, bh = b[3] - b[1] + 1;
+  long filled = 0;
+  for (int y = b[1]; y <= b[3]; ++y)
+    for (int x = b[0]; x <= b[2]; ++x)
+      filled += in(x, y);
+  // a filled rectangle (its edge pixels mixed with the page) of a tenth of the page or more
+  if (bw < 18 || bh < 18 || filled < 0.97 * bw * bh ||
+    (bw >= small.width - 2 && bh >= small.height - 2) || bw * bh < 0.1 * small.width * small.height)
+    return std::nullopt;
+  // inside its edge (mixed with the page) and a JPEG's strongest ringing: 2 pixels in
+  const std::array<int, 4> inside{ b[0] + 2, b[1] + 2, bw - 4, bh - 4 };
+  const Image pasted = cropTo(small, inside);
+  try
+  {
+    if (!renderBackground(estimateBackground(pasted), page.bottom))
+      return std::nullopt;
+  }
+  catch (const Error&)
+  {
+    return std::nullopt;
+  }
+  if (!holdsARender(pasted))
+    return std::nullopt;
+  return inside;
+}
 } // namespace
 
 Image cropTo(const Image& img, const std::array<int, 4>& part)
@@ -473,13 +565,36 @@ std::array<int, 4> renderView(const Image& img)
   int k = 0;
   while ((w >> k) > small.width)
     ++k;
+  // a pixel of `small`'s box mapped back to the picture's pixels it was halved from
+  const auto full = [&](const std::array<int, 4>& b)
+  {
+    return std::array<int, 4>{ b[0] << k, b[1] << k, std::min(b[2] << k, w - (b[0] << k)),
+      std::min(b[3] << k, h - (b[1] << k)) };
+  };
+  std::optional<PictureBackground> page;
   try
   {
-    (void)estimateBackground(small);
-    return whole; // one background colour: the picture is the render
+    page = estimateBackground(small);
   }
   catch (const Error&)
   {
+  }
+  if (page)
+  {
+    // one background colour: the picture is the render, or a figure: a page with a render
+    // pasted on it (when that is a letterbox's inside, letterbox finds it to the pixel)
+    // a JPEG rings up to a block (8 pixels) from an edge
+    const std::optional<std::array<int, 4>> inside =
+      pastedRender(small, *page, std::max(2, 8 >> k));
+    if (!inside)
+      return whole;
+    const std::array<int, 4> pasted = full(*inside), band = letterbox(img);
+    const int slack = 2 << k;
+    const bool same = std::abs(band[0] - pasted[0]) <= slack &&
+      std::abs(band[1] - pasted[1]) <= slack &&
+      std::abs(band[0] + band[2] - pasted[0] - pasted[2]) <= slack &&
+      std::abs(band[1] + band[3] - pasted[1] - pasted[3]) <= slack;
+    return same ? whole : pasted;
   }
   const int sw = small.width, sh = small.height;
   std::vector<int> area;
@@ -499,8 +614,7 @@ std::array<int, 4> renderView(const Image& img)
     if (!holdsARender(cropTo(small, { b[0], b[1], bw, bh })))
       continue;
     best = area[r];
-    view = { b[0] << k, b[1] << k, std::min(bw << k, w - (b[0] << k)),
-      std::min(bh << k, h - (b[1] << k)) };
+    view = full({ b[0], b[1], bw, bh });
   }
   return view;
 }

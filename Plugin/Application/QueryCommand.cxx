@@ -98,7 +98,8 @@ ddg::cli::Command ddg::cli::addQueryCommand(CLI::App& app)
     "volume or a figure; any size and aspect, RGB or RGBA; any uniform background (one neither "
     "black nor white, ParaView's palette say, becomes the nearer of the two with the overlays over "
     "it) or ParaView's gradient (framed around its content, see README); a screenshot of "
-    "ParaView's whole window is read at its render view. Prints its outline "
+    "ParaView's whole window is read at its render view, a figure (a render pasted on a page "
+    "of one colour) inside the pasted render. Prints its outline "
     "position, nearest designs and PSNR "
     "against the picture (both framed on their content; the better of the design unlit and lit), "
     "writes the model's render at the view and the explicit TF.");

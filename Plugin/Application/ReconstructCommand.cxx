@@ -333,7 +333,8 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     ->add_option("--target", rc->targets,
       "Target image: RGB screenshot over the view's background, or RGBA with straight alpha "
       "(repeat for multi-view); one target: a letterbox is cut away, and a screenshot of "
-      "ParaView's whole window (toolbars, panels) is matched at its render view")
+      "ParaView's whole window (toolbars, panels) is matched at its render view, and a figure (a "
+      "render pasted on a page of one colour, with a colour bar and a caption) inside the render")
     ->required();
   reconstruct->add_option("--view", rc->views,
     "View JSON of each target, in the same order. One target: optional — without it the camera "

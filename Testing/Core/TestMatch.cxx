@@ -543,6 +543,81 @@ TEST(MatchParts, RenderViewOfParaViewsWindow)
   expectInside(matchparts::renderedPart(window), { 303, 200, 844, 527 }, 8);
 }
 
+namespace
+{
+// `render` pasted on a white page at (30, 20), a colour bar beside it and a caption's letters
+// under it (a paper's figure)
+Image figureWith(const Image& render)
+{
+  const int w = render.width + 92, h = render.height + 70;
+  Image page(w, h, 3);
+  for (size_t i = 0; i < page.pixels.size(); ++i)
+    page.pixels[i] = 1.0f;
+  for (int y = 0; y < render.height; ++y)
+    for (int x = 0; x < render.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        page.pixels[3 * (static_cast<size_t>(y + 20) * w + x + 30) + c] =
+          render.pixels[3 * (static_cast<size_t>(y) * render.width + x) + c];
+  for (int y = 30; y < 160; ++y) // the colour bar
+    for (int x = w - 45; x < w - 35; ++x)
+      for (int c = 0; c < 3; ++c)
+        page.pixels[3 * (static_cast<size_t>(y) * w + x) + c] = static_cast<float>(y - 30) / 130.0f;
+  for (int x = 30; x < 200; x += 7) // the caption's letters
+    for (int y = h - 30; y < h - 22; ++y)
+      for (int c = 0; c < 3; ++c)
+        page.pixels[3 * (static_cast<size_t>(y) * w + x) + c] = 0.1f;
+  return page;
+}
+} // namespace
+
+TEST(MatchParts, RenderPastedOnAPage)
+{
+  // a figure: the render over ParaView's palette, over black, and over ParaView's gradient,
+  // pasted on a white page: read inside the render's rectangle, less 2 pixels at its edges
+  BlobScene scene(208, 150);
+  const std::array<int, 4> inside{ 32, 22, 204, 146 };
+  EXPECT_EQ(matchparts::renderView(figureWith(scene.picture)), inside);
+  const Image raw =
+    scene.renderer.caster().render(scene.renderer.caster().paraviewTable(scene.tf), scene.view);
+  EXPECT_EQ(matchparts::renderView(figureWith(compositeOverBackground(raw, { 0, 0, 0 }))), inside);
+  EXPECT_EQ(matchparts::renderView(
+              figureWith(compositeOverBackground(raw, { 0.32, 0.34, 0.43 }, { 0, 0, 0.16 }))),
+    inside);
+  // as a JPEG (quality 85): inside the rectangle, within a JPEG block of each edge
+  expectInside(matchparts::renderedPart(jpegRoundTrip(figureWith(scene.picture), 85)),
+    { 30, 20, 208, 150 }, 8);
+  // the render over the page's white: no rectangle, read whole
+  const Image onWhite = figureWith(compositeOverBackground(raw, { 1, 1, 1 }));
+  EXPECT_EQ(matchparts::renderView(onWhite), (std::array<int, 4>{ 0, 0, 300, 220 }));
+}
+
+TEST(MatchParts, HazyBoxIsNoPastedRender)
+{
+  // a TF that paints the air (as ParaView's default opacity ramp does) shows the volume's box as a
+  // filled rectangle holding the object; in parallel projection, face on, over white, black or the
+  // palette, it is a veil over the background, not a pasted render: read whole
+  BlobScene scene(208, 150);
+  scene.tf.color = { { 0, 0.23, 0.3, 0.75 }, { 120, 0.87, 0.87, 0.87 }, { 255, 0.7, 0.02, 0.15 } };
+  scene.tf.opacity = { { 0, 0.0 }, { 255, 1.0 } };
+  View face = defaultView(scene.vol, 208, 150);
+  face.camera.parallelProjection = true;
+  face.camera.parallelScale *= 1.3; // the box inside the picture
+  const Image raw =
+    scene.renderer.caster().render(scene.renderer.caster().paraviewTable(scene.tf), face);
+  for (const std::array<double, 3>& colour :
+    { std::array<double, 3>{ 1, 1, 1 }, { 0, 0, 0 }, { 0.32, 0.34, 0.43 } })
+  {
+    const Image picture = compositeOverBackground(raw, colour);
+    EXPECT_EQ(matchparts::renderedPart(picture), (std::array<int, 4>{ 0, 0, 208, 150 }))
+      << colour[0];
+  }
+  // ParaView 5.11's default TF on Tooth, parallel projection, face on, over white (a real render,
+  // Testing/Data/README.md)
+  const Image tooth = readImage(std::string(DDG_DATA_DIR) + "/../Testing/Data/hazy_tooth.jpg");
+  EXPECT_EQ(
+    matchparts::renderedPart(tooth), (std::array<int, 4>{ 0, 0, tooth.width, tooth.height }));
+}
+
 TEST(MatchParts, RenderViewLeavesOtherPicturesWhole)
 {
   const BlobScene scene(208, 150);

@@ -1,12 +1,17 @@
-"""Figures as a paper has them, from the window suite's render-view screenshots.
+"""Figures as a paper has them, from render-view screenshots.
 
-For four cases of a folder make_suite.py wrote from cases_window.json, the render view's own
-screenshot (view.png, ParaView's palette background) is pasted on a white page with matplotlib
-(150 dpi): a panel label, the true TF's colour map as a colour bar beside or below it, and a
-caption. Writes OUT/<case>/figure.png, OUT/<case>/case.json (the window case's, its image the
-figure) and OUT/suite.json, which baseline.py runs as any suite.
+A render view's screenshot is pasted on a white page with matplotlib (150 dpi): a panel label,
+the true TF's colour map as a colour bar beside or below it, and a caption. From a folder
+make_suite.py wrote from cases_figure.json, every case (its "figure" object says where the bar
+goes and the figure's format, PNG or JPEG at quality 90; the render's background was set by
+make_suite.py); from one it wrote from cases_window.json, four cases (LAYOUTS), the render
+view's own screenshot (view.png) pasted. Writes OUT/<case>/figure.png|jpg, OUT/<case>/case.json
+(the case's, its image the figure, "pasted" the whole pixels {x, y, width, height} the render
+covers, from matplotlib's transform), OUT/<case>/pasted.png (the figure cut exactly there: the
+render as the figure holds it, without the page) and OUT/suite.json, which baseline.py runs as
+any suite.
 
-    /usr/bin/python3 Testing/Suite/make_figures.py build/suite_window build/suite_figures
+    /usr/bin/python3 Testing/Suite/make_figures.py build/suite_figure build/suite_figures
 """
 import argparse
 import json
@@ -32,7 +37,7 @@ def colour_map(preset):
     return matplotlib.cm.ScalarMappable(cmap=cmap, norm=matplotlib.colors.Normalize(lo, hi))
 
 
-def figure(render, mappable, layout, volume, path):
+def figure(render, mappable, layout, volume, path, quality=None):
     """The render, its colour bar, a panel label and a caption on a white page."""
     if layout == "right":
         fig = plt.figure(figsize=(6.4, 4.4), dpi=150)
@@ -46,6 +51,12 @@ def figure(render, mappable, layout, volume, path):
         fig.colorbar(mappable, cax=bar, orientation="horizontal", label="scalar value")
     ax.imshow(render)
     ax.axis("off")
+    fig.canvas.draw()
+    # where the render lands on the page: its pixel corners through matplotlib's own transform
+    # (the display's y axis points up, the saved picture's down)
+    height, width = render.shape[:2]
+    (x0, y0), (x1, y1) = ax.transData.transform([(-0.5, height - 0.5), (width - 0.5, -0.5)])
+    page_height = fig.bbox.height
     ax.text(0.0, 1.02, "(b)", transform=ax.transAxes, fontsize=12, weight="bold")
     fig.text(
         0.05,
@@ -54,29 +65,57 @@ def figure(render, mappable, layout, volume, path):
         "function of Table 2 (colour map shown by the bar)." % volume,
         fontsize=8,
     )
-    fig.savefig(path, facecolor="white")
+    fig.savefig(
+        path, facecolor="white", **({"pil_kwargs": {"quality": quality}} if quality else {})
+    )
     plt.close(fig)
+    # the whole pixels inside it
+    return [
+        int(np.ceil(x0)),
+        int(np.ceil(page_height - y1)),
+        int(np.floor(x1)) - int(np.ceil(x0)),
+        int(np.floor(page_height - y0)) - int(np.ceil(page_height - y1)),
+    ]
 
 
 def main():
     parser = argparse.ArgumentParser(
         description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
-    parser.add_argument("suite", help="a folder make_suite.py wrote from cases_window.json")
+    parser.add_argument(
+        "suite", help="a folder make_suite.py wrote from cases_figure.json or cases_window.json"
+    )
     parser.add_argument("out", help="output folder (not committed)")
     args = parser.parse_args()
+    with open(os.path.join(args.suite, "suite.json")) as f:
+        cases = [json.load(open(path)) for path in json.load(f)["cases"]]
     listing = []
-    for name, layout in LAYOUTS.items():
-        with open(os.path.join(args.suite, name, "case.json")) as f:
-            case = json.load(f)
+    for case in cases:
+        name, look = case["name"], case.get("figure")
+        if look:
+            layout, fmt, render_file = look["bar"], look.get("format", "png"), case["image"]
+        elif name in LAYOUTS:
+            layout, fmt, render_file = (
+                LAYOUTS[name],
+                "png",
+                os.path.join(args.suite, name, "view.png"),
+            )
+        else:
+            continue
         with open(case["true_tf"]) as f:
             preset = json.load(f)[0]
-        render = np.asarray(Image.open(os.path.join(args.suite, name, "view.png")).convert("RGB"))
+        render = np.asarray(Image.open(render_file).convert("RGB"))
         os.makedirs(os.path.join(args.out, name), exist_ok=True)
-        image = os.path.abspath(os.path.join(args.out, name, "figure.png"))
+        image = os.path.abspath(os.path.join(args.out, name, "figure." + fmt))
         volume = os.path.splitext(os.path.basename(case["volume"]))[0]
-        figure(render, colour_map(preset), layout, volume, image)
-        case.update(image=image, format="png")
+        pasted = figure(
+            render, colour_map(preset), layout, volume, image, 90 if fmt == "jpg" else None
+        )
+        # the figure cut exactly where the render is (the same pixels, without the page)
+        x, y, w, h = pasted
+        cut = np.asarray(Image.open(image).convert("RGB"))[y : y + h, x : x + w]
+        Image.fromarray(cut).save(os.path.join(args.out, name, "pasted.png"))
+        case.update(image=image, format=fmt, pasted=pasted)
         record = os.path.abspath(os.path.join(args.out, name, "case.json"))
         with open(record, "w") as f:
             json.dump(case, f, indent=1)

@@ -12,6 +12,11 @@ ParaView's Camera Parallel Projection) it writes, under OUT/<case>/:
   case.json           volume, image, true TF, true view, size, format, seed, drawn camera
 and OUT/suite.json, the list of case files.
 
+A case with "figure": {"background": "black" | "gradient" | "palette", ...} (make_figures.py's
+cases) has its render view's background so: black, ParaView's gradient (the palette's
+Background at the bottom, Background2 (0, 0, 0.16) at the top, as the GUI's "Gradient" shows
+it) or the palette's colour (the default); its orientation axes stay.
+
 A case with "window": [width, height] is a screenshot of ParaView's whole window instead (the
 toolbars, the pipeline browser and the properties around the render view, as a user's grab of the
 window has them): the GUI (`paraview --dr`, default settings) is started under an X server of its
@@ -221,6 +226,7 @@ def make_case(case, data_dir, out_dir):
         )
     scene = VolumeScene(volume, case["size"], gui_look=True, lighting=case.get("lighting"))
     try:
+        background = set_figure_background(scene, case, background)
         scene.apply(preset)
         place_camera(scene, moves, case.get("projection") == "parallel")
         options = {"Quality": JPEG_QUALITY} if case["format"] == "jpg" else {}
@@ -233,13 +239,36 @@ def make_case(case, data_dir, out_dir):
     )
 
 
+GRADIENT_TOP = [0.0, 0.0, 0.16]
+
+
+def set_figure_background(scene, case, palette):
+    """The render view's background as the case's "figure" asks; returns it as the view JSON
+    states it (a colour, or {"background", "background2"} for a gradient)."""
+    wanted = (case.get("figure") or {}).get("background", "palette")
+    if wanted == "palette":
+        return palette
+    scene.view.UseColorPaletteForBackground = 0
+    if wanted == "black":
+        scene.view.BackgroundColorMode = "Single Color"
+        scene.view.Background = [0.0, 0.0, 0.0]
+        return [0.0, 0.0, 0.0]
+    if wanted == "gradient":
+        scene.view.BackgroundColorMode = "Gradient"
+        scene.view.Background = list(palette)
+        scene.view.Background2 = GRADIENT_TOP
+        return {"background": list(palette), "background2": GRADIENT_TOP}
+    raise ValueError("%s: figure background %r" % (case["name"], wanted))
+
+
 def write_records(case, case_dir, volume, true_tf, image, view_size, moves, background, camera):
     """true_view.json (the render view's camera and size) and case.json; returns the latter."""
     pixels = read_image(image)
     shape = [pixels.shape[1], pixels.shape[0]]
     if not case.get("window") and shape != list(case["size"]):
         raise RuntimeError("%s: screenshot is %s, not %s" % (image, shape, case["size"]))
-    view = {"camera": camera, "size": list(view_size), "background": background}
+    view = {"camera": camera, "size": list(view_size)}
+    view.update(background if isinstance(background, dict) else {"background": background})
     if case.get("lighting"):
         view["lighting"] = case["lighting"]
     true_view = os.path.join(case_dir, "true_view.json")
@@ -259,6 +288,7 @@ def write_records(case, case_dir, volume, true_tf, image, view_size, moves, back
         "camera_moves": moves,
         "background": background,
         "lighting": case.get("lighting"),
+        "figure": case.get("figure"),
         # top-right pixel: the background as written (the orientation axes sit bottom left; a
         # window's screenshot: its frame's)
         "corner_pixel": [int(x) for x in pixels[0, -1]],
