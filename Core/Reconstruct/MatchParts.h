@@ -123,17 +123,18 @@ std::array<int, 4> letterbox(const Image& img);
 /// box) of at least a tenth of the picture, not all of it, whose fill is a render's background,
 /// not a veil over the page (a TF that paints the air shows the volume's box so): a vertical
 /// gradient (ends 0.1 apart) or black, white or ParaView's palette grey-blue (within 0.06), at
-/// least 0.25 from the page, and that holds an object (below); it is read inside that rectangle
-/// less 2 pixels at its edges (mixed with the page; a JPEG's ringing beside them is trimmed off) (a
-/// letterbox's inside is left to letterbox, exact to the pixel). A picture whose border has no one
-/// colour is a window when it holds a view. The view is the largest region of smoothly varying
-/// colour (4-neighbours within 3 levels of 255 in every channel, read at most 512 pixels a side by
-/// box halvings) that covers at least 2 % of the picture and 30 % of its box, does not reach the
-/// picture's edge (a render cut by the frame, its haze over the volume's box, is no view), whose
-/// box's border has one colour or one vertical gradient (estimateBackground) and holds an object:
-/// parts off that background of which the ones of at least a fifth of the largest are a solid shape
-/// (solidShareOf at least 0.25: a panel of text is not). The box is mapped back to the picture's
-/// pixels it was halved from.
+/// least 0.25 from the page (at one end, for a gradient), and that holds an object (below); it is
+/// read inside that rectangle less 2 read pixels (below) at its edges, which are mixed with the
+/// page (a JPEG's ringing beside them is trimmed off first); a letterbox's inside is left to
+/// letterbox, exact to the pixel. A page with a gradient is read whole. A picture whose border has
+/// no one colour is a window when it holds a view. The view is the largest region of smoothly
+/// varying colour (4-neighbours within 3 levels of 255 in every channel, read at most 512 pixels a
+/// side by box halvings) that covers at least 2 % of the picture and 30 % of its box, does not
+/// reach the picture's edge (a render cut by the frame, its haze over the volume's box, is no
+/// view), whose box's border has one colour or one vertical gradient (estimateBackground) and holds
+/// an object: parts off that background of which the ones of at least a fifth of the largest are a
+/// solid shape (solidShareOf at least 0.25: a panel of text is not). The box is mapped back to the
+/// picture's pixels it was halved from.
 std::array<int, 4> renderView(const Image& img);
 /// The part of a picture that shows the rendered scene {x, y, width, height}: the render view of
 /// a window's screenshot (renderView), else the inside of its letterbox (letterbox).

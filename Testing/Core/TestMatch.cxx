@@ -591,6 +591,21 @@ TEST(MatchParts, RenderPastedOnAPage)
   EXPECT_EQ(matchparts::renderView(onWhite), (std::array<int, 4>{ 0, 0, 300, 220 }));
 }
 
+TEST(MatchParts, LetterboxedRenderIsLeftToLetterbox)
+{
+  // a render (over the palette) letterboxed in black bands above and below, the picture an odd
+  // size read halved (1023 x 701, the last column left out of the halving): the letterbox's exact
+  // inside, not the page reading's (a few pixels further in)
+  const BlobScene scene(1023, 400);
+  const int w = 1023, h = 701, y0 = 150;
+  Image boxed(w, h, 3);
+  std::copy(scene.picture.pixels.begin(), scene.picture.pixels.end(),
+    boxed.pixels.begin() + 3 * static_cast<std::ptrdiff_t>(y0) * w);
+  const std::array<int, 4> inside = matchparts::letterbox(boxed);
+  expectInside(inside, { 0, y0, w, 400 }, 1);
+  EXPECT_EQ(matchparts::renderedPart(boxed), inside);
+}
+
 TEST(MatchParts, HazyBoxIsNoPastedRender)
 {
   // a TF that paints the air (as ParaView's default opacity ramp does) shows the volume's box as a
@@ -598,7 +613,7 @@ TEST(MatchParts, HazyBoxIsNoPastedRender)
   // palette, it is a veil over the background, not a pasted render: read whole
   BlobScene scene(208, 150);
   scene.tf.color = { { 0, 0.23, 0.3, 0.75 }, { 120, 0.87, 0.87, 0.87 }, { 255, 0.7, 0.02, 0.15 } };
-  scene.tf.opacity = { { 0, 0.0 }, { 255, 1.0 } };
+  scene.tf.opacity = { { 0, 0.03 }, { 60, 0.03 }, { 255, 1.0 } };
   View face = defaultView(scene.vol, 208, 150);
   face.camera.parallelProjection = true;
   face.camera.parallelScale *= 1.3; // the box inside the picture
@@ -608,14 +623,35 @@ TEST(MatchParts, HazyBoxIsNoPastedRender)
     { std::array<double, 3>{ 1, 1, 1 }, { 0, 0, 0 }, { 0.32, 0.34, 0.43 } })
   {
     const Image picture = compositeOverBackground(raw, colour);
+    // the haze is there: a pixel inside the box's corner, off the object, is not the background
+    const float* haze = &picture.pixels[3 * (static_cast<size_t>(100) * 208 + 68)];
+    EXPECT_GT(std::abs(haze[2] - colour[2]) + std::abs(haze[0] - colour[0]), 0.05);
     EXPECT_EQ(matchparts::renderedPart(picture), (std::array<int, 4>{ 0, 0, 208, 150 }))
       << colour[0];
   }
   // ParaView 5.11's default TF on Tooth, parallel projection, face on, over white (a real render,
-  // Testing/Data/README.md)
-  const Image tooth = readImage(std::string(DDG_DATA_DIR) + "/../Testing/Data/hazy_tooth.jpg");
+  // Testing/Data/README.md): a filled rectangle whose fill has one colour, light blue, so its
+  // colour alone tells it from a pasted render
+  const Image tooth = readImage(std::string(DDG_DATA_DIR) + "/../Testing/Data/hazy_tooth.png");
+  const std::array<int, 4> box{ 254, 171, 292, 258 }; // inside the box's edges
+  const PictureBackground fill = estimateBackground(matchparts::cropTo(tooth, box));
+  EXPECT_FALSE(fill.gradient);
+  EXPECT_NEAR(fill.bottom[2], 1.0, 0.02);
+  EXPECT_NEAR(fill.bottom[0], 0.63, 0.03);
   EXPECT_EQ(
     matchparts::renderedPart(tooth), (std::array<int, 4>{ 0, 0, tooth.width, tooth.height }));
+  // the control: the same picture with its haze painted black (a render over black pasted on the
+  // white page) is read inside the box
+  Image pasted = tooth;
+  for (int y = 160; y < 440; ++y)
+    for (int x = 240; x < 560; ++x)
+    {
+      float* p = &pasted.pixels[3 * (static_cast<size_t>(y) * tooth.width + x)];
+      if (std::abs(p[0] - fill.bottom[0]) < 0.03 && std::abs(p[1] - fill.bottom[1]) < 0.03 &&
+        std::abs(p[2] - fill.bottom[2]) < 0.03)
+        p[0] = p[1] = p[2] = 0.0f;
+    }
+  expectInside(matchparts::renderedPart(pasted), { 250, 167, 300, 266 }, 8);
 }
 
 TEST(MatchParts, RenderViewLeavesOtherPicturesWhole)

@@ -65,10 +65,17 @@ def figure(render, mappable, layout, volume, path, quality=None):
         "function of Table 2 (colour map shown by the bar)." % volume,
         fontsize=8,
     )
+    # at the figure's own size, as drawn (the rectangle above holds in the saved picture)
     fig.savefig(
-        path, facecolor="white", **({"pil_kwargs": {"quality": quality}} if quality else {})
+        path,
+        facecolor="white",
+        dpi=fig.dpi,
+        bbox_inches=None,
+        **({"pil_kwargs": {"quality": quality}} if quality else {}),
     )
     plt.close(fig)
+    saved = Image.open(path).size
+    assert saved == (round(fig.bbox.width), round(fig.bbox.height)), (saved, fig.bbox)
     # the whole pixels inside it
     return [
         int(np.ceil(x0)),
