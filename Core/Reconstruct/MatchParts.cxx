@@ -414,18 +414,9 @@ void smoothRegions(
     }
 }
 
-// Whether the box's border has one colour (or one gradient) and the box holds a solid object.
-bool holdsARender(const Image& part)
+// Whether a part of a picture over background `bg` holds a solid object.
+bool holdsASolidObject(const Image& part, const PictureBackground& bg)
 {
-  PictureBackground bg;
-  try
-  {
-    bg = estimateBackground(part);
-  }
-  catch (const Error&)
-  {
-    return false;
-  }
   View view;
   view.width = part.width;
   view.height = part.height;
@@ -440,6 +431,19 @@ bool holdsARender(const Image& part)
   for (size_t i = 0; i < label.size(); ++i)
     object.m[i] = label[i] >= 0 && !small[static_cast<size_t>(label[i])];
   return solidShareOf(object) >= 0.25;
+}
+
+// Whether the box's border has one colour (or one gradient) and the box holds a solid object.
+bool holdsARender(const Image& part)
+{
+  try
+  {
+    return holdsASolidObject(part, estimateBackground(part));
+  }
+  catch (const Error&)
+  {
+    return false;
+  }
 }
 
 // Whether a filled rectangle's fill, on a page of colour `page`, is a render's background rather
@@ -519,16 +523,16 @@ std::optional<std::array<int, 4>> pastedRender(
   // inside its edge (mixed with the page) and a JPEG's strongest ringing: 2 pixels in
   const std::array<int, 4> inside{ b[0] + 2, b[1] + 2, bw - 4, bh - 4 };
   const Image pasted = cropTo(small, inside);
+  PictureBackground fill;
   try
   {
-    if (!renderBackground(estimateBackground(pasted), page.bottom))
-      return std::nullopt;
+    fill = estimateBackground(pasted);
   }
   catch (const Error&)
   {
     return std::nullopt;
   }
-  if (!holdsARender(pasted))
+  if (!renderBackground(fill, page.bottom) || !holdsASolidObject(pasted, fill))
     return std::nullopt;
   return inside;
 }
