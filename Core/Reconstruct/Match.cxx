@@ -708,7 +708,10 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
 
   // the fit's PSNR over the object (the picture's foreground, or what the render shows) at the
   // preview's size, overlays left out: the background, matched by construction, does not count;
-  // and each object pixel's residual (largest channel difference; -1 elsewhere)
+  // and each object pixel's residual (largest channel difference; -1 elsewhere). The render is
+  // made at the picture's size and reduced as the picture is: rendered at the preview's size, one
+  // ray a pixel, fine structure (a chest's ribs) aliases against the picture's filtered pixels
+  // (a chest at its true camera: 23.7 dB so, 35.9 dB reduced alike)
   const Image theirs =
     resizeImage(pic.alpha ? premultiplyAlpha(pic.rgba) : pic.rgb, preview.width, preview.height);
   const Image object = resizeImage(
@@ -717,7 +720,8 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   Mask edge; // the render's silhouette edge (opacity across 0.5), 2 preview pixels either side
   auto assess = [&](const ReconstructionResult& tf)
   {
-    const Image render = renderResult(renderer, tf, preview, ropt.render);
+    const Image render =
+      resizeImage(renderResult(renderer, tf, found, ropt.render), preview.width, preview.height);
     Mask inside(preview.width, preview.height), outside(preview.width, preview.height);
     for (size_t i = 0; i < inside.m.size(); ++i)
       (render.pixels[4 * i + 3] > 0.5f ? inside : outside).m[i] = 1;
