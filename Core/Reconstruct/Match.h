@@ -125,10 +125,12 @@ struct MatchOptions
   /// matchPicture throws [0.6].
   double minimumOverlap = 0.6;
   /// Below this PSNR of the fit over the object (the picture's foreground or what the render
-  /// shows, overlays left out), no camera explains the picture and matchPicture throws [25 dB:
-  /// an RMS error of 5.6 % of the range. Measured: pictures of the volume matched at 29.2-41.6 dB
-  /// (24 suite screenshots), another volume's at 14.8-22.7 dB (16 pairs; chosen on 8, checked
-  /// on 8 others)].
+  /// shows, overlays left out; at a quarter of the picture's size, the render made at the
+  /// picture's size and reduced as the picture is), no camera explains the picture and
+  /// matchPicture throws [25 dB: an RMS error of 5.6 % of the range. Chosen when the render was
+  /// made at the quarter size (pictures of the volume 29.2-41.6 dB on 24 suite screenshots,
+  /// another volume's 14.8-22.7 dB on 16 pairs). Judged at the picture's size (2026-12-04):
+  /// pictures of the volume 36.9-52.3 dB (14 screenshots), another volume's 14.8-23.6 dB (24)].
   double minimumFitPSNR = 25.0;
   /// Render a preview (the current TF at the found view, premultiplied RGBA at the picture's
   /// size divided by previewDivisor) every `reconstruction.snapshotEvery` steps [4].
