@@ -32,7 +32,7 @@ noise, JPEG, gamma, colour shift, a wrong background, backgrounds as screenshots
 ParaView's palette, black, its gradient; annotation and ParaView's orientation axes, another
 volume, shading); success = ParaView's render at the reference view within SUCCESS_DB of the
 unperturbed reference. (b'+f) runs on the unperturbed and the strongest of each kind; --quick runs
-(f), b' + reconstruction and (d) on the unperturbed screenshot only and (b'+f) nowhere. Optimisation: random initial TFs and seeds, learning
+b' + reconstruction and (d) on the unperturbed screenshot only and (f) and (b'+f) nowhere. Optimisation: random initial TFs and seeds, learning
 rates. TF resolution and smoothness prior. Renderer speed (BenchRayCaster, BenchDifferentiable,
 bench_torch_autograd.py). Model size (Testing/Benchmarks/model_sweep.py: every configuration on
 Tooth, the three decoder widths on Engine; --quick plots the last committed tables).

@@ -21,9 +21,8 @@ over all pixels).
   written, empty outputs; cancelled in its kind check (shipped Kind Network): the same, then run
   again the field Kind and at most Iterations (5) steps; a uniform picture refused with one
   message.
-- Bad input: a uniform picture, a 6x6 picture, a file that is no image, a picture of another
-  volume (Engine's shipped screenshot): LastError says why, one error message each, empty
-  outputs.
+- Bad input: a uniform picture, a 6x6 picture, a file that is no image: LastError says why, one
+  error message each, empty outputs.
 
 Usage: pvpython TestMatchFilter.py PLUGIN DDG DATA TESTDATA OUTDIR
 """
@@ -393,11 +392,8 @@ expect_error(
 )
 expect_error("6x6", "at least 16 x 16", TargetImageFile=os.path.join(testdata, "query_tiny.png"))
 expect_error("not an image", "cannot read", TargetImageFile=os.path.join(testdata, "garbage.png"))
-# Engine's shipped ParaView screenshot matched on NegHip (Core's fit-PSNR floor refuses it; a
-# picture of Tooth's side is still explained by a NegHip camera: 38 dB, see the issue)
-expect_error(
-    "another volume",
-    "no camera explains",
-    TargetImageFile=os.path.join(data, "Screenshots", "engine_block_oblique.png"),
-)
+# A picture of another volume is refused after the whole camera search ("no camera explains the
+# picture", Core's fit-PSNR floor): Core.Match.RefusesWhatItCannotUse and, on the shipped volumes,
+# Testing/Benchmarks/picture_kind.py. Through this filter it is one more Core error on the path
+# the three above take (Engine's screenshot on NegHip was 45 s of this test in a CI run).
 print("ok")
