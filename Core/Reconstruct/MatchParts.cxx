@@ -536,6 +536,34 @@ std::optional<std::array<int, 4>> pastedRender(
     return std::nullopt;
   return inside;
 }
+
+// A picture that is neither a page with a render pasted on it nor a window: the whole of it, or,
+// for a render cut from a JPEG at (or just inside) its edge, where the blocks beside the cut ring
+// with the colour cut off (a figure's page), the part inside that ringing. Read at the picture's
+// own resolution, as the match reads it (a halved reading averages the ringing away): whole when
+// its border has one colour, else inside the first border inset by up to a JPEG block (8 pixels)
+// that has one colour and holds a render; whole when none does.
+std::array<int, 4> insideJpegRinging(const Image& img)
+{
+  const int w = img.width, h = img.height;
+  Image opaque;
+  const Image& rgb = img.channels == 3 ? img : (opaque = toChannels(img, 3));
+  try
+  {
+    estimateBackground(rgb);
+    return { 0, 0, w, h };
+  }
+  catch (const Error&)
+  {
+  }
+  for (int t = 1; t <= 8 && w - 2 * t >= 16 && h - 2 * t >= 16; ++t)
+  {
+    const std::array<int, 4> inset{ t, t, w - 2 * t, h - 2 * t };
+    if (holdsARender(cropTo(rgb, inset)))
+      return inset;
+  }
+  return { 0, 0, w, h };
+}
 } // namespace
 
 Image cropTo(const Image& img, const std::array<int, 4>& part)
@@ -591,7 +619,7 @@ std::array<int, 4> renderView(const Image& img)
     const std::optional<std::array<int, 4>> inside =
       pastedRender(small, *page, std::max(2, 8 >> k));
     if (!inside)
-      return whole;
+      return insideJpegRinging(img);
     const std::array<int, 4> pasted = full(*inside), band = letterbox(img);
     // the reading lies 2 read pixels in, each edge's read pixel partly outside: within 4 of them
     const int slack = 4 << k;
@@ -621,7 +649,7 @@ std::array<int, 4> renderView(const Image& img)
     best = area[r];
     view = full({ b[0], b[1], bw, bh });
   }
-  return view;
+  return best > 0 ? view : insideJpegRinging(img);
 }
 
 std::array<int, 4> renderedPart(const Image& img)

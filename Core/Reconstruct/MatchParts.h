@@ -134,7 +134,11 @@ std::array<int, 4> letterbox(const Image& img);
 /// view), whose box's border has one colour or one vertical gradient (estimateBackground) and holds
 /// an object: parts off that background of which the ones of at least a fifth of the largest are a
 /// solid shape (solidShareOf at least 0.25: a panel of text is not). The box is mapped back to the
-/// picture's pixels it was halved from.
+/// picture's pixels it was halved from. A picture that is neither (no pasted render, no view),
+/// whose border at its own resolution has no one colour, is read inside the first border inset
+/// by up to a JPEG block (8 pixels) that has one colour and holds an object (holdsARender): a
+/// render cut from a JPEG at or just inside its edge, where the blocks beside the cut ring with
+/// the colour cut off (the halved reading averages that ringing away); else whole.
 std::array<int, 4> renderView(const Image& img);
 /// The part of a picture that shows the rendered scene {x, y, width, height}: the render view of
 /// a window's screenshot (renderView), else the inside of its letterbox (letterbox).

@@ -593,6 +593,28 @@ TEST(MatchParts, RenderPastedOnAPage)
   EXPECT_EQ(matchparts::renderView(onWhite), (std::array<int, 4>{ 0, 0, 300, 220 }));
 }
 
+TEST(MatchParts, JpegCutAtItsRenderIsReadInsideItsRinging)
+{
+  // a figure saved as a JPEG (quality 90), then cut by eye at the render's rectangle: the blocks
+  // beside the cut ring with the page's white, so the cut picture's border has no one colour (the
+  // match refused it: "the picture has no background colour"); read inside a border inset by up
+  // to a JPEG block, whose colour is the render's background. Cut 2 pixels further in, the border
+  // has one colour: read whole, as before.
+  const BlobScene scene(640, 480);
+  const Image jpeg = jpegRoundTrip(figureWith(scene.picture), 90);
+  const Image exact = matchparts::cropTo(jpeg, { 30, 20, 640, 480 });
+  EXPECT_THROW(estimateBackground(exact), Error); // the cut rings
+  const std::array<int, 4> part = matchparts::renderedPart(exact);
+  expectInside(part, { 0, 0, 640, 480 }, 8);
+  EXPECT_LT(part[2], 640);
+  const PictureBackground bg = estimateBackground(matchparts::cropTo(exact, part));
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(bg.bottom[c], scene.view.background[c], 3 * kLevel);
+  const Image inside = matchparts::cropTo(jpeg, { 32, 22, 636, 476 });
+  EXPECT_NO_THROW(estimateBackground(inside));
+  EXPECT_EQ(matchparts::renderedPart(inside), (std::array<int, 4>{ 0, 0, 636, 476 }));
+}
+
 TEST(MatchParts, LetterboxedRenderIsLeftToLetterbox)
 {
   // a render (over the palette) letterboxed in black bands above and below, the picture an odd
