@@ -213,6 +213,39 @@ struct DifferentiableRendererT<S>::Internals
         diff[ch] = spec[ch] = S(0);
   }
 
+  // lightSumsAt of `count` samples together, sample kk0 + lane[i] (in steps) of the ray e + kk st
+  // into diff[.][i], spec[.][i]: the same operations per sample (lightSumsBatch runs lightSums'
+  // operations lane by lane), in arrays the compiler vectorises.
+  template <typename T, int K>
+  void lightSumsOfLanes(const Setup& s, const T* v, GradientStencil::Cell<S>& cell, const S e[3],
+    const S st[3], std::int64_t k0, S j, const int (&lane)[K], int count, S (&diff)[3][K],
+    S (&spec)[3][K]) const
+  {
+    S m[3][K], pe[3][K], lit[K];
+    for (int i = 0; i < count; ++i)
+    {
+      const S kk = j + static_cast<S>(k0 + lane[i]);
+      const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
+      S grad[3];
+      Stencil.at(v, x, cell, grad);
+      for (int r = 0; r < 3; ++r) // sampleLightSums' maps
+      {
+        m[r][i] = static_cast<S>(s.frame.normalMap[r][0]) * grad[0] +
+          static_cast<S>(s.frame.normalMap[r][1]) * grad[1] +
+          static_cast<S>(s.frame.normalMap[r][2]) * grad[2];
+        pe[r][i] = static_cast<S>(s.frame.positionMap[r][0]) * x[0] +
+          static_cast<S>(s.frame.positionMap[r][1]) * x[1] +
+          static_cast<S>(s.frame.positionMap[r][2]) * x[2] +
+          static_cast<S>(s.frame.positionOffset[r]);
+      }
+    }
+    lightSumsBatch(s.kit, count, m, pe, diff, spec, lit);
+    for (int i = 0; i < count; ++i)
+      if (!(lit[i] > S(0)))
+        for (int ch = 0; ch < 3; ++ch)
+          diff[ch][i] = spec[ch][i] = S(0);
+  }
+
   // The lit colour of a sample from its light sums and table colour c, clamped to [0, 1] in 1D
   // (ParaView clamps it there, not in 2D); with dLit, also d(lit)/d(c) per channel (0 where the
   // clamp cuts, or no light reaches).
@@ -316,32 +349,54 @@ struct DifferentiableRendererT<S>::Internals
                   }
                 }
               }
+              S c[kB][4];
+              for (int l = l0; l < n; ++l)
+              {
+                typename Classifier<S, TwoD>::Coord coord;
+                cls.classify(value[l], TwoD ? gradient[l] : S(0), c[l], coord);
+              }
+              // Shade on: the light sums of the batch's visible samples the ray reaches (its
+              // opacity, which the lighting does not change, says where it stops), together
+              int lane[kB], lanes = 0, at[kB];
+              S diff[3][kB], spec[3][kB];
+              if (s.lit)
+              {
+                double reached = A, ignored[3] = { 0, 0, 0 };
+                const double black[3] = { 0, 0, 0 };
+                for (int l = l0; l < n; ++l)
+                  if (c[l][3] > S(0))
+                  {
+                    at[l] = lanes;
+                    lane[lanes++] = l;
+                    adjoint::blend(ignored, reached, black, static_cast<double>(c[l][3]));
+                    if (reached > static_cast<double>(s.termination))
+                      break;
+                  }
+                lightSumsOfLanes(
+                  s, Values.v, cell, e, st, k0, static_cast<S>(j), lane, lanes, diff, spec);
+              }
               for (int l = l0; l < n; ++l)
               {
                 k = k0 + l;
-                S c[4];
-                typename Classifier<S, TwoD>::Coord coord;
-                cls.classify(value[l], TwoD ? gradient[l] : S(0), c, coord);
-                if (c[3] > S(0))
+                if (c[l][3] > S(0))
                 {
-                  double col[3] = { c[0], c[1], c[2] };
+                  double col[3] = { c[l][0], c[l][1], c[l][2] };
                   if (s.lit)
                   {
-                    S diff[3], spec[3];
-                    lightSumsAt(
-                      s, Values.v, cell, e, st, static_cast<S>(j) + static_cast<S>(k), diff, spec);
+                    const S d[3] = { diff[0][at[l]], diff[1][at[l]], diff[2][at[l]] },
+                            sp[3] = { spec[0][at[l]], spec[1][at[l]], spec[2][at[l]] };
                     if (store)
                     {
                       float* light = store + stride * (k - seg.kFirst) + channels;
                       for (int ch = 0; ch < 3; ++ch)
                       {
-                        light[ch] = static_cast<float>(diff[ch]);
-                        light[3 + ch] = static_cast<float>(spec[ch]);
+                        light[ch] = static_cast<float>(d[ch]);
+                        light[3 + ch] = static_cast<float>(sp[ch]);
                       }
                     }
-                    shade(s, diff, spec, c, col, nullptr);
+                    shade(s, d, sp, c[l], col, nullptr);
                   }
-                  adjoint::blend(C, A, col, static_cast<double>(c[3]));
+                  adjoint::blend(C, A, col, static_cast<double>(c[l][3]));
                   if (A > static_cast<double>(s.termination))
                   {
                     done = true;

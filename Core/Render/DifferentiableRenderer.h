@@ -42,7 +42,9 @@ namespace ddg
 /// renderer, keep constant memory and re-interpolate. Both give the same values bit for bit,
 /// hence the same gradients. Shade on, the record also keeps each sample's light sums (24 more
 /// bytes), so that the backward pass does not light the samples a second time (the per-point
-/// gradients and the light kit cost more than the rest of both passes).
+/// gradients and the light kit cost more than the rest of both passes). The forward pass lights
+/// the visible samples of a batch that the ray reaches together (lightSumsBatch), the replay one
+/// by one: the same operations per sample, the same light sums bit for bit.
 ///
 /// Shade on (view.lighting.shade): each sample's table colour is lit as RayCaster lights it
 /// (Render/Lighting.h; clamped to [0, 1] with 1D tables, not with 2D ones, as ParaView does);

@@ -505,14 +505,22 @@ TEST(DifferentiableRenderer, StoredSamplesGiveTheReplaysGradients)
   // interpolating (and lighting) again. Compared, 1D and 2D, unlit and lit, early termination
   // on: the gradients from stored values against those from the same records emptied of them
   // (re-interpolation): equal bit for bit; and the float gradients against the double
-  // renderer's (which always re-interpolates): relative 1e-4 of the largest.
+  // renderer's (which always re-interpolates): relative 1e-4 of the largest. Lit: ParaView's
+  // default coefficients and with Specular (the forward pass lights a batch's samples together,
+  // the replay one by one: the same operations per sample).
   const Volume vol = testVolume();
   const DifferentiableRenderer renderer(vol);
   const DifferentiableRendererT<double> exact(vol);
-  for (const bool lit : { false, true })
+  for (const int lighting : { 0, 1, 2 })
   {
+    const bool lit = lighting > 0;
     View view = testView(vol, 16, 12);
     view.lighting.shade = lit;
+    if (lighting == 2)
+    {
+      view.lighting.specular = 0.5;
+      view.lighting.specularPower = 30;
+    }
     RenderOptions opt;
     opt.threads = 2; // bit for bit: each worker sums the same rays in the same order
     const std::vector<double> weights =
