@@ -49,7 +49,7 @@ struct Picture
 } // namespace
 
 MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image& input,
-  const MatchOptions& opt, const MatchProgress& progress)
+  const MatchOptions& opt, const MatchProgress& progress, CameraSearchStages* stages)
 {
   const auto t0 = Clock::now();
   auto report = [&](const std::string& stage, double fraction, const Image* preview)
@@ -160,7 +160,11 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   // a piece of a volume (ParaView's ranks): every piece runs the match in step, each rendering
   // its part of the whole's rays (collective renders: no renders side by side in threads)
   const bool pieces = renderer.exchange() != nullptr;
-  const SilhouetteModel model(renderer);
+  // the search's lighting-free stages, from an earlier match of the picture (MatchLighting.cxx)
+  const bool searched = stages && stages->model && !stages->finalists.empty();
+  const std::shared_ptr<const SilhouetteModel> silhouettes =
+    searched ? stages->model : std::make_shared<const SilhouetteModel>(renderer);
+  const SilhouetteModel& model = *silhouettes;
   if (model.levels() == 0)
   {
     throw Error("the volume has no structure to match a picture with");
@@ -201,7 +205,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
 
   CameraParams best;
   std::vector<CameraParams> finalists;
-  std::unique_ptr<EmissionScreen> screen; // the colours' screening (stage 2b)
+  std::shared_ptr<const EmissionScreen> screen; // the colours' screening (stage 2b)
   Mask scratch;
   auto iouAt = [&](const CameraParams& p, Mask& buffer)
   {
@@ -221,7 +225,12 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   };
   const int threads = opt.reconstruction.render.threads;
   const bool search = !opt.view || opt.refineGivenView;
-  if (search)
+  if (search && searched)
+  {
+    finalists = stages->finalists;
+    screen = stages->screen;
+  }
+  else if (search)
   {
     // stage 1: directions x levels, each aligned in the image plane by moments
     std::vector<CameraParams> coarse;
@@ -320,7 +329,7 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
       RenderOptions how = opt.reconstruction.render;
       how.sampleDistance = 3.0 * renderer.defaultSampleDistance();
       how.threads = pieces ? threads : 1;
-      screen = std::make_unique<EmissionScreen>(renderer, how, difference, care);
+      screen = std::make_shared<const EmissionScreen>(renderer, how, difference, care);
       auto refined = screenByColours(
         *screen, start, directions, aligned, opt.colourCandidates, pieces ? 1 : threads);
       for (auto& r : refined)
@@ -363,6 +372,8 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
     }
     std::sort(finalists.begin(), finalists.end(),
       [](const CameraParams& a, const CameraParams& b) { return a.score > b.score; });
+    if (stages)
+      *stages = { silhouettes, finalists, screen };
   }
   else
   {

@@ -96,8 +96,9 @@ struct MatchOptions
   /// The picture's lighting (ParaView's Shade and coefficients) when known; a given `view`
   /// brings its own. Unset with no view: estimated — the picture matched unlit and with Shade on
   /// (ParaView's default coefficients), the TF refitted with Shade on and Specular 0.5 /
-  /// SpecularPower 30 at the lit match's camera, the best fit over the object kept (about two
-  /// matches' time) [unset].
+  /// SpecularPower 30 at the lit match's camera, the best fit over the object kept; the camera
+  /// search's lighting-free stages (silhouettes, the colours' screening) run once for both
+  /// matches (about 3.5 times an unlit match's time: a lit render costs more) [unset].
   std::optional<Lighting> lighting;
   /// Reconstruction settings (1D/2D, bins, smoothness, iterations, rays, initial TF, threads)
   /// of the final fit. The match's defaults differ from ReconstructionOptions' in three: 512 rays

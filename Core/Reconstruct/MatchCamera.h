@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <numeric>
 #include <vector>
 
@@ -236,6 +237,18 @@ using Aligned = std::vector<std::pair<EmissionScreen::Alignment, CameraParams>>;
 std::vector<CameraParams> screenByColours(const EmissionScreen& screen, const View& start,
   const std::vector<std::pair<double, double>>& directions, std::vector<Aligned>& aligned,
   int count, int threads);
+
+/// The camera search's stages that do not depend on the lighting (Match.cxx): the volume's block
+/// silhouettes, the finalists of the silhouettes and of the colours' screening (their distances
+/// corrected) and the screening's emission model. matchPicture, estimating the lighting, keeps
+/// them from its first match of a picture for the next, which differs in the lighting alone:
+/// the same cameras, searched once.
+struct CameraSearchStages
+{
+  std::shared_ptr<const SilhouetteModel> model;
+  std::vector<CameraParams> finalists;
+  std::shared_ptr<const EmissionScreen> screen;
+};
 
 } // namespace matchparts
 } // namespace ddg

@@ -47,12 +47,15 @@ double ridgeOf(const Eigen::MatrixXd& ntn, int bins)
 } // namespace
 
 // Per cast pixel, its ray's samples counted per value bin (rows: pixels, columns: bins). A ray
-// whose samples were not kept (beyond the renderer's record budget) counts none.
+// whose samples were not kept (beyond the renderer's record budget) counts none. Cast unlit
+// whatever the view's lighting: the counts do not depend on it, and a lit pass's records would
+// also hold each sample's light sums after its value.
 Eigen::MatrixXd EmissionScreen::histograms(const View& view) const
 {
   View v = view;
   v.width = Difference.width;
   v.height = Difference.height;
+  v.lighting = Lighting{};
   const auto range = Renderer.dataRange();
   // a transparent table: every ray is marched to its end, all its samples kept
   const int tableWidth = 2;

@@ -3,6 +3,7 @@
 #include "Reconstruct/Match.h"
 
 #include "Common/Error.h"
+#include "Reconstruct/MatchCamera.h"
 #include "Reconstruct/MatchParts.h"
 
 #include <cmath>
@@ -83,12 +84,14 @@ MatchResult matchPicture(const DifferentiableRenderer& renderer, const Image& pi
     { return !progress || progress(stage, start + share * f, preview); };
   };
   std::optional<MatchResult> litMatch; // its camera and search figures
-  for (size_t i = 0; i < 2; ++i)       // unlit, Shade on: whole matches (a refusal there is final)
+  // the camera search's lighting-free stages: run by the unlit match, taken by the lit one
+  matchparts::CameraSearchStages stages;
+  for (size_t i = 0; i < 2; ++i) // unlit, Shade on: whole matches (a refusal there is final)
   {
     MatchOptions o = options;
     o.lighting = candidates[i].second;
     o.minimumFitPSNR = -std::numeric_limits<double>::infinity();
-    MatchResult r = matchPictureLit(renderer, picture, o, part(0.45 * i, 0.45));
+    MatchResult r = matchPictureLit(renderer, picture, o, part(0.45 * i, 0.45), &stages);
     if (i == 1)
       litMatch = r;
     consider(std::move(r), candidates[i].first);

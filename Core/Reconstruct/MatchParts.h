@@ -24,10 +24,18 @@ class Volume;
 std::string noCameraExplains(
   double fitPSNR, double minimum, double overlap, const std::string& matched);
 
+namespace matchparts
+{
+struct CameraSearchStages;
+}
+
 /// matchPicture with the lighting as given (options.lighting, or the view's, or unlit): the
 /// match itself (Match.cxx); matchPicture (MatchLighting.cxx) estimates the lighting with it.
+/// With `stages`, a camera search takes its lighting-free stages from there when they are
+/// filled, else fills them (MatchCamera.h).
 MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image& picture,
-  const MatchOptions& options, const MatchProgress& progress);
+  const MatchOptions& options, const MatchProgress& progress,
+  matchparts::CameraSearchStages* stages = nullptr);
 
 namespace matchparts
 {

@@ -199,59 +199,15 @@ struct DifferentiableRendererT<S>::Internals
       });
   }
 
-  // Shade on: the light sums of sample kk (in steps) of the ray e + kk st (Render/Lighting.h);
-  // zeros where no light reaches (a zero gradient), which shade() turns into black.
-  template <typename T>
-  void lightSumsAt(const Setup& s, const T* v, GradientStencil::Cell<S>& cell, const S e[3],
-    const S st[3], S kk, S diff[3], S spec[3]) const
+  // The lit colour of sample i of a sampleLightSums (Render/Lighting.h) from its light sums and
+  // table colour c, clamped to [0, 1] in 1D (ParaView clamps it there, not in 2D); with dLit, also
+  // d(lit)/d(c) per channel (0 where the clamp cuts, or no light reaches).
+  template <int K>
+  void shade(const Setup& s, const S (&diffs)[3][K], const S (&specs)[3][K], int i, const S c[4],
+    double col[3], double* dLit) const
   {
-    const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
-    S grad[3];
-    Stencil.at(v, x, cell, grad);
-    if (!sampleLightSums(s.kit, s.frame, grad, x, diff, spec))
-      for (int ch = 0; ch < 3; ++ch)
-        diff[ch] = spec[ch] = S(0);
-  }
-
-  // lightSumsAt of `count` samples together, sample kk0 + lane[i] (in steps) of the ray e + kk st
-  // into diff[.][i], spec[.][i]: the same operations per sample (lightSumsBatch runs lightSums'
-  // operations lane by lane), in arrays the compiler vectorises.
-  template <typename T, int K>
-  void lightSumsOfLanes(const Setup& s, const T* v, GradientStencil::Cell<S>& cell, const S e[3],
-    const S st[3], std::int64_t k0, S j, const int (&lane)[K], int count, S (&diff)[3][K],
-    S (&spec)[3][K]) const
-  {
-    S m[3][K], pe[3][K], lit[K];
-    for (int i = 0; i < count; ++i)
-    {
-      const S kk = j + static_cast<S>(k0 + lane[i]);
-      const S x[3] = { e[0] + kk * st[0], e[1] + kk * st[1], e[2] + kk * st[2] };
-      S grad[3];
-      Stencil.at(v, x, cell, grad);
-      for (int r = 0; r < 3; ++r) // sampleLightSums' maps
-      {
-        m[r][i] = static_cast<S>(s.frame.normalMap[r][0]) * grad[0] +
-          static_cast<S>(s.frame.normalMap[r][1]) * grad[1] +
-          static_cast<S>(s.frame.normalMap[r][2]) * grad[2];
-        pe[r][i] = static_cast<S>(s.frame.positionMap[r][0]) * x[0] +
-          static_cast<S>(s.frame.positionMap[r][1]) * x[1] +
-          static_cast<S>(s.frame.positionMap[r][2]) * x[2] +
-          static_cast<S>(s.frame.positionOffset[r]);
-      }
-    }
-    lightSumsBatch(s.kit, count, m, pe, diff, spec, lit);
-    for (int i = 0; i < count; ++i)
-      if (!(lit[i] > S(0)))
-        for (int ch = 0; ch < 3; ++ch)
-          diff[ch][i] = spec[ch][i] = S(0);
-  }
-
-  // The lit colour of a sample from its light sums and table colour c, clamped to [0, 1] in 1D
-  // (ParaView clamps it there, not in 2D); with dLit, also d(lit)/d(c) per channel (0 where the
-  // clamp cuts, or no light reaches).
-  void shade(const Setup& s, const S diff[3], const S spec[3], const S c[4], double col[3],
-    double* dLit) const
-  {
+    const S diff[3] = { diffs[0][i], diffs[1][i], diffs[2][i] },
+            spec[3] = { specs[0][i], specs[1][i], specs[2][i] };
     S lit[3];
     litColour(s.kit, diff, spec, c, lit);
     for (int ch = 0; ch < 3; ++ch)
@@ -357,23 +313,22 @@ struct DifferentiableRendererT<S>::Internals
               }
               // Shade on: the light sums of the batch's visible samples the ray reaches (its
               // opacity, which the lighting does not change, says where it stops), together
-              int lane[kB], lanes = 0, at[kB];
-              S diff[3][kB], spec[3][kB];
+              int lanes = 0, at[kB];
+              S kk[kB], diff[3][kB], spec[3][kB];
               if (s.lit)
               {
                 double reached = A, ignored[3] = { 0, 0, 0 };
-                const double black[3] = { 0, 0, 0 };
                 for (int l = l0; l < n; ++l)
                   if (c[l][3] > S(0))
                   {
                     at[l] = lanes;
-                    lane[lanes++] = l;
-                    adjoint::blend(ignored, reached, black, static_cast<double>(c[l][3]));
+                    kk[lanes++] = static_cast<S>(j) + static_cast<S>(k0 + l);
+                    adjoint::blend(ignored, reached, ignored, static_cast<double>(c[l][3]));
                     if (reached > static_cast<double>(s.termination))
                       break;
                   }
-                lightSumsOfLanes(
-                  s, Values.v, cell, e, st, k0, static_cast<S>(j), lane, lanes, diff, spec);
+                sampleLightSums(
+                  s.kit, s.frame, Stencil, Values.v, cell, e, st, kk, lanes, diff, spec);
               }
               for (int l = l0; l < n; ++l)
               {
@@ -383,18 +338,16 @@ struct DifferentiableRendererT<S>::Internals
                   double col[3] = { c[l][0], c[l][1], c[l][2] };
                   if (s.lit)
                   {
-                    const S d[3] = { diff[0][at[l]], diff[1][at[l]], diff[2][at[l]] },
-                            sp[3] = { spec[0][at[l]], spec[1][at[l]], spec[2][at[l]] };
                     if (store)
                     {
                       float* light = store + stride * (k - seg.kFirst) + channels;
                       for (int ch = 0; ch < 3; ++ch)
                       {
-                        light[ch] = static_cast<float>(d[ch]);
-                        light[3 + ch] = static_cast<float>(sp[ch]);
+                        light[ch] = static_cast<float>(diff[ch][at[l]]);
+                        light[3 + ch] = static_cast<float>(spec[ch][at[l]]);
                       }
                     }
-                    shade(s, d, sp, c[l], col, nullptr);
+                    shade(s, diff, spec, at[l], c[l], col, nullptr);
                   }
                   adjoint::blend(C, A, col, static_cast<double>(c[l][3]));
                   if (A > static_cast<double>(s.termination))
@@ -506,17 +459,20 @@ struct DifferentiableRendererT<S>::Internals
               double dLit[3] = { 1, 1, 1 }; // d(lit colour) / d(table colour), per channel
               if (s.lit && a > 0)
               {
-                S diff[3], spec[3];
+                S diff[3][1], spec[3][1];
                 if (light)
                   for (int ch = 0; ch < 3; ++ch)
                   {
-                    diff[ch] = static_cast<S>(light[ch]);
-                    spec[ch] = static_cast<S>(light[3 + ch]);
+                    diff[ch][0] = static_cast<S>(light[ch]);
+                    spec[ch][0] = static_cast<S>(light[3 + ch]);
                   }
                 else
-                  lightSumsAt(
-                    s, Values.v, litCell, e, st, static_cast<S>(j) + static_cast<S>(k), diff, spec);
-                shade(s, diff, spec, c, col, dLit);
+                {
+                  const S kk[1] = { static_cast<S>(j) + static_cast<S>(k) };
+                  sampleLightSums(
+                    s.kit, s.frame, Stencil, Values.v, litCell, e, st, kk, 1, diff, spec);
+                }
+                shade(s, diff, spec, 0, c, col, dLit);
               }
               double g_c[3] = { 0, 0, 0 }, g_a = 0;
               adjoint::blendAdjoint(gC, gA, before, col, a, g_c, g_a);

@@ -380,24 +380,38 @@ void transferGradientBatch(const float (&g)[3][kLanes], float (&out)[kLanes])
   }
 }
 
-// Shade on: the light sums of the sample at index coordinates x (diffuse multiplies the table
-// colour, specular adds; Render/Lighting.h), from the per-point gradient interpolated there
-// (GradientStencil). False: no light reaches (zero gradient), the sample is black.
-template <typename S>
-bool sampleLightSums(const LightKit& kit, const LightingFrame& frame, const S grad[3], const S x[3],
-  S diff[3], S spec[3])
+// Shade on: the light sums of samples kk[i] (in steps), i < count, of the ray e + kk st (index
+// coordinates): diffuse multiplies the table colour, specular adds; from the per-point gradient
+// interpolated at each (`stencil` over the scalars v; `cell` keeps the ray's last cell); 0 where
+// no light reaches (a zero gradient: the sample is black). The samples together
+// (lightSumsBatch: the same operations per sample for any count).
+template <typename S, typename T, int K>
+void sampleLightSums(const LightKit& kit, const LightingFrame& frame,
+  const GradientStencil& stencil, const T* v, GradientStencil::Cell<S>& cell, const S e[3],
+  const S st[3], const S (&kk)[K], int count, S (&diff)[3][K], S (&spec)[3][K])
 {
-  S m[3], pe[3];
-  for (int r = 0; r < 3; ++r)
+  S m[3][K], pe[3][K], lit[K];
+  count = K == 1 ? 1 : count; // one sample: a count the compiler knows
+  for (int i = 0; i < count; ++i)
   {
-    m[r] = static_cast<S>(frame.normalMap[r][0]) * grad[0] +
-      static_cast<S>(frame.normalMap[r][1]) * grad[1] +
-      static_cast<S>(frame.normalMap[r][2]) * grad[2];
-    pe[r] = static_cast<S>(frame.positionMap[r][0]) * x[0] +
-      static_cast<S>(frame.positionMap[r][1]) * x[1] +
-      static_cast<S>(frame.positionMap[r][2]) * x[2] + static_cast<S>(frame.positionOffset[r]);
+    const S x[3] = { e[0] + kk[i] * st[0], e[1] + kk[i] * st[1], e[2] + kk[i] * st[2] };
+    S grad[3];
+    stencil.at(v, x, cell, grad);
+    for (int r = 0; r < 3; ++r)
+    {
+      m[r][i] = static_cast<S>(frame.normalMap[r][0]) * grad[0] +
+        static_cast<S>(frame.normalMap[r][1]) * grad[1] +
+        static_cast<S>(frame.normalMap[r][2]) * grad[2];
+      pe[r][i] = static_cast<S>(frame.positionMap[r][0]) * x[0] +
+        static_cast<S>(frame.positionMap[r][1]) * x[1] +
+        static_cast<S>(frame.positionMap[r][2]) * x[2] + static_cast<S>(frame.positionOffset[r]);
+    }
   }
-  return lightSums(kit, m, pe, diff, spec);
+  lightSumsBatch(kit, count, m, pe, diff, spec, lit);
+  for (int i = 0; i < count; ++i)
+    if (!(lit[i] > S(0)))
+      for (int a = 0; a < 3; ++a)
+        diff[a][i] = spec[a][i] = S(0);
 }
 
 } // namespace ddg

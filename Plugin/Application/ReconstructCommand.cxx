@@ -424,7 +424,7 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
     ->add_option("--shade", rc->shade,
       "One target without --view: whether the picture is lit (ParaView's Shade, default\n"
       "coefficients): on, off, or auto (default: matched unlit and lit, refitted lit with\n"
-      "Specular 0.5 / power 30, the best fit kept; about twice the time). With --view, its\n"
+      "Specular 0.5 / power 30, the best fit kept; about 3.5 times off's time). With --view, its\n"
       "\"lighting\"")
     ->check(CLI::IsMember({ "auto", "on", "off" }));
   reconstruct->add_option("--out-overlay", rc->outOverlay,

@@ -88,6 +88,32 @@ TEST(MatchEmission, ResidualIsLeastAtThePicturesCamera)
     EXPECT_LT(atTruth, 0.6 * screen.residual(other));
 }
 
+// The screen counts the volume's values along the rays: its residual at a camera is the same
+// whatever the view's lighting (a lit match screens cameras as an unlit one does, and the
+// lighting estimate runs the lighting-free stages of the search once: CameraSearchStages).
+TEST(MatchEmission, ResidualDoesNotDependOnTheLighting)
+{
+  const Volume vol = ballVolume();
+  const DifferentiableRenderer renderer(vol);
+  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
+  const View base = defaultView(vol, 96, 72);
+  const View truth = cameraMove(base, 40, 15, 10, 1.1, { 0.02, -0.01 });
+  const Image picture = compositeOverBackground(
+    renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg);
+  const EmissionScreen screen(
+    renderer, RenderOptions{}, difference(picture, bg, 96, 72), all(96, 72));
+  for (const View& at : { truth, cameraMove(base, -140, -15, 190, 1.1, { 0.02, -0.01 }) })
+  {
+    View lit = at, specular = at;
+    lit.lighting.shade = specular.lighting.shade = true;
+    specular.lighting.specular = 0.5;
+    specular.lighting.specularPower = 30;
+    const double unlit = screen.residual(at);
+    EXPECT_EQ(screen.residual(lit), unlit);
+    EXPECT_EQ(screen.residual(specular), unlit);
+  }
+}
+
 // Over pieces of the volume (ParaView's ranks; here threads exchanging through a ThreadBoard),
 // the camera search's two views of the volume are the whole's: the block silhouettes (the
 // pieces' block maxima combined) pixel for pixel, the colours' residual (the pieces' sample
