@@ -70,22 +70,31 @@ Mask all(int w, int h)
 
 } // namespace
 
-TEST(MatchEmission, ResidualIsLeastAtThePicturesCamera)
+// The ball at azimuth 40, elevation 15, roll 10 over the palette's background (96 x 72) and the
+// screen of that picture.
+struct BallPicture
 {
   const Volume vol = ballVolume();
-  const DifferentiableRenderer renderer(vol);
-  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
+  const DifferentiableRenderer renderer{ vol };
   const View base = defaultView(vol, 96, 72);
   const View truth = cameraMove(base, 40, 15, 10, 1.1, { 0.02, -0.01 });
-  const Image picture = compositeOverBackground(
-    renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg);
-  const EmissionScreen screen(
-    renderer, RenderOptions{}, difference(picture, bg, 96, 72), all(96, 72));
-  const double atTruth = screen.residual(truth);
-  for (const auto& other : { cameraMove(base, 70, 15, 10, 1.1, { 0.02, -0.01 }),
-         cameraMove(base, 40, 15, 100, 1.1, { 0.02, -0.01 }),
-         cameraMove(base, -140, -15, 190, 1.1, { 0.02, -0.01 }) })
-    EXPECT_LT(atTruth, 0.6 * screen.residual(other));
+  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
+  const EmissionScreen screen{ renderer, RenderOptions{},
+    difference(
+      compositeOverBackground(
+        renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg),
+      bg, 96, 72),
+    all(96, 72) };
+};
+
+TEST(MatchEmission, ResidualIsLeastAtThePicturesCamera)
+{
+  const BallPicture ball;
+  const double atTruth = ball.screen.residual(ball.truth);
+  for (const auto& other : { cameraMove(ball.base, 70, 15, 10, 1.1, { 0.02, -0.01 }),
+         cameraMove(ball.base, 40, 15, 100, 1.1, { 0.02, -0.01 }),
+         cameraMove(ball.base, -140, -15, 190, 1.1, { 0.02, -0.01 }) })
+    EXPECT_LT(atTruth, 0.6 * ball.screen.residual(other));
 }
 
 // The screen counts the volume's values along the rays: its residual at a camera is the same
@@ -93,24 +102,16 @@ TEST(MatchEmission, ResidualIsLeastAtThePicturesCamera)
 // lighting estimate runs the lighting-free stages of the search once: CameraSearchStages).
 TEST(MatchEmission, ResidualDoesNotDependOnTheLighting)
 {
-  const Volume vol = ballVolume();
-  const DifferentiableRenderer renderer(vol);
-  const std::array<double, 3> bg{ 0.32, 0.34, 0.43 };
-  const View base = defaultView(vol, 96, 72);
-  const View truth = cameraMove(base, 40, 15, 10, 1.1, { 0.02, -0.01 });
-  const Image picture = compositeOverBackground(
-    renderer.caster().render(renderer.caster().paraviewTable(translucent()), truth), bg);
-  const EmissionScreen screen(
-    renderer, RenderOptions{}, difference(picture, bg, 96, 72), all(96, 72));
-  for (const View& at : { truth, cameraMove(base, -140, -15, 190, 1.1, { 0.02, -0.01 }) })
+  const BallPicture ball;
+  for (const View& at : { ball.truth, cameraMove(ball.base, -140, -15, 190, 1.1, { 0.02, -0.01 }) })
   {
     View lit = at, specular = at;
     lit.lighting.shade = specular.lighting.shade = true;
     specular.lighting.specular = 0.5;
     specular.lighting.specularPower = 30;
-    const double unlit = screen.residual(at);
-    EXPECT_EQ(screen.residual(lit), unlit);
-    EXPECT_EQ(screen.residual(specular), unlit);
+    const double unlit = ball.screen.residual(at);
+    EXPECT_EQ(ball.screen.residual(lit), unlit);
+    EXPECT_EQ(ball.screen.residual(specular), unlit);
   }
 }
 
