@@ -313,7 +313,7 @@ struct DifferentiableRendererT<S>::Internals
               }
               // Shade on: the light sums of the batch's visible samples the ray reaches (its
               // opacity, which the lighting does not change, says where it stops), together
-              int lanes = 0, at[kB];
+              int lanes = 0;
               S kk[kB], diff[3][kB], spec[3][kB];
               if (s.lit)
               {
@@ -321,7 +321,6 @@ struct DifferentiableRendererT<S>::Internals
                 for (int l = l0; l < n; ++l)
                   if (c[l][3] > S(0))
                   {
-                    at[l] = lanes;
                     kk[lanes++] = static_cast<S>(j) + static_cast<S>(k0 + l);
                     adjoint::blend(ignored, reached, ignored, static_cast<double>(c[l][3]));
                     if (reached > static_cast<double>(s.termination))
@@ -330,7 +329,8 @@ struct DifferentiableRendererT<S>::Internals
                 sampleLightSums(
                   s.kit, s.frame, Stencil, Values.v, cell, e, st, kk, lanes, diff, spec);
               }
-              for (int l = l0; l < n; ++l)
+              // (the visible samples in the same order: the i-th has the light sums' lane i)
+              for (int l = l0, i = 0; l < n; ++l)
               {
                 k = k0 + l;
                 if (c[l][3] > S(0))
@@ -343,11 +343,11 @@ struct DifferentiableRendererT<S>::Internals
                       float* light = store + stride * (k - seg.kFirst) + channels;
                       for (int ch = 0; ch < 3; ++ch)
                       {
-                        light[ch] = static_cast<float>(diff[ch][at[l]]);
-                        light[3 + ch] = static_cast<float>(spec[ch][at[l]]);
+                        light[ch] = static_cast<float>(diff[ch][i]);
+                        light[3 + ch] = static_cast<float>(spec[ch][i]);
                       }
                     }
-                    shade(s, diff, spec, at[l], c[l], col, nullptr);
+                    shade(s, diff, spec, i++, c[l], col, nullptr);
                   }
                   adjoint::blend(C, A, col, static_cast<double>(c[l][3]));
                   if (A > static_cast<double>(s.termination))
