@@ -447,52 +447,10 @@ MatchResult matchPictureLit(const DifferentiableRenderer& renderer, const Image&
   std::optional<TransferTable1D> warm;
   if (search)
   {
-    std::vector<CameraParams> scored;
-    for (const auto& f : finalists)
-    {
-      bool distinct = true;
-      for (const auto& s : scored)
-        distinct = distinct && orientationDistance(f.view(start), s.view(start)) > 15;
-      if (distinct && !f.fromColours && f.score >= finalists.front().score - 0.1 &&
-        static_cast<int>(scored.size()) < std::max(1, opt.cameraCandidates))
-        scored.push_back(f);
-    }
-    if (scored.empty()) // a colours' camera overlaps best by far: the best silhouettes' one
-    {
-      const auto first = std::find_if(
-        finalists.begin(), finalists.end(), [](const CameraParams& f) { return !f.fromColours; });
-      scored.push_back(first != finalists.end() ? *first : finalists.front());
-    }
-    // and the colours' cameras that explain the picture's colours clearly better (a residual
-    // under 0.8 of theirs) than all of those, whose silhouettes then misled them; the best
-    // explained first. (Refined on the colours, a colour camera has the edge over a silhouette
-    // camera near the right one: the margin keeps it from displacing it.)
-    double silhouettesColour = std::numeric_limits<double>::infinity();
-    if (screen)
-      for (auto& f : scored)
-        silhouettesColour = std::min(silhouettesColour, f.colour = screen->residual(f.view(start)));
-    std::vector<CameraParams> byColour;
-    std::copy_if(finalists.begin(), finalists.end(), std::back_inserter(byColour),
-      [&](const CameraParams& f) { return f.fromColours && f.colour < 0.8 * silhouettesColour; });
-    std::sort(byColour.begin(), byColour.end(),
-      [](const CameraParams& a, const CameraParams& b) { return a.colour < b.colour; });
-    // (one near a silhouettes' camera replaces it: the same direction, better explained)
-    for (const auto& f : byColour)
-    {
-      std::vector<CameraParams> kept;
-      bool nearColours = false;
-      for (const auto& s : scored)
-      {
-        const bool near = orientationDistance(f.view(start), s.view(start)) <= 15;
-        nearColours = nearColours || (near && s.fromColours);
-        if (!near || s.fromColours)
-          kept.push_back(s);
-      }
-      if (nearColours)
-        continue;
-      kept.push_back(f);
-      scored = std::move(kept);
-    }
+    std::vector<CameraParams> scored = camerasToScore(finalists, start, opt.cameraCandidates,
+      screen
+        ? std::function<double(const View&)>([&](const View& v) { return screen->residual(v); })
+        : nullptr);
     ReconstructionOptions sopt = opt.reconstruction;
     sopt.twoD = false;
     sopt.primitives = 0;

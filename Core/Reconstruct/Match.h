@@ -115,8 +115,10 @@ struct MatchOptions
   /// Cameras found by the picture's colours (an emission model of each camera's rays, no TF)
   /// rather than silhouettes, refined on it; those that explain the colours clearly better than
   /// every silhouette camera (a residual under 0.8 of theirs) are scored by a short
-  /// reconstruction too. They tell apart the directions of a roundish or translucent object,
-  /// whose silhouettes are alike [8; 0: silhouettes only].
+  /// reconstruction too, and so is the best explained of them when no scored camera looks from
+  /// within 15 degrees of its direction and it explains the colours better than each
+  /// (matchparts::camerasToScore). They tell apart the directions of a roundish or translucent
+  /// object, whose silhouettes are alike [8; 0: silhouettes only].
   int colourCandidates = 8;
   /// Rounds of the camera's refinement on the picture's colours, each a Nelder-Mead search
   /// with the TF held, then a short refit of the TF [2]. The winner's polish then repeats a

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <memory>
 #include <numeric>
 #include <vector>
@@ -237,6 +238,21 @@ using Aligned = std::vector<std::pair<EmissionScreen::Alignment, CameraParams>>;
 std::vector<CameraParams> screenByColours(const EmissionScreen& screen, const View& start,
   const std::vector<std::pair<double, double>>& directions, std::vector<Aligned>& aligned,
   int count, int threads);
+
+/// Stage 3 of the search: the finalists (best silhouette overlap first) that get a short
+/// reconstruction each. The distinct (15 degrees apart) silhouettes' cameras within 0.1 of the
+/// best overlap, at most `cameraCandidates` (at least the best silhouettes' one); then the
+/// colours' cameras (fromColours, their residual in `colour`) that explain the picture's colours
+/// clearly better than all of those (a residual under 0.8 of theirs: refined on the colours, a
+/// colours' camera has the edge near the right direction), the best explained first, each
+/// replacing the silhouettes' cameras within 15 degrees of it; and the colours' best-explained
+/// camera when it looks from a direction none of the chosen does (more than 15 degrees from
+/// each) and explains the colours better than all of them, whatever the margin: a translucent
+/// object's silhouettes can all point elsewhere. `residual` gives a silhouettes' camera its
+/// emission residual (null: no colours' screening; the silhouettes' cameras alone). The
+/// silhouettes' cameras chosen get their residual in `colour`.
+std::vector<CameraParams> camerasToScore(const std::vector<CameraParams>& finalists,
+  const View& start, int cameraCandidates, const std::function<double(const View&)>& residual);
 
 /// The camera search's stages that do not depend on the lighting (Match.cxx): the volume's block
 /// silhouettes, the finalists of the silhouettes and of the colours' screening (their distances

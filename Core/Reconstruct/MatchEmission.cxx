@@ -1,5 +1,5 @@
-// MatchEmission.cxx: the emission model's screening of cameras by a picture's colours
-// (MatchCamera.h).
+// MatchEmission.cxx: the emission model's screening of cameras by a picture's colours, and the
+// choice of the cameras a short reconstruction scores (MatchCamera.h).
 #include "Reconstruct/MatchCamera.h"
 
 #include "Common/Error.h"
@@ -7,6 +7,10 @@
 #include "Render/PieceExchange.h"
 
 #include <Eigen/Cholesky>
+
+#include <algorithm>
+#include <iterator>
+#include <limits>
 
 namespace ddg
 {
@@ -237,6 +241,70 @@ std::vector<CameraParams> screenByColours(const EmissionScreen& screen, const Vi
       r.fromColours = true;
     });
   return refined;
+}
+
+std::vector<CameraParams> camerasToScore(const std::vector<CameraParams>& finalists,
+  const View& start, int cameraCandidates, const std::function<double(const View&)>& residual)
+{
+  const auto apart = [&](const CameraParams& a, const CameraParams& b)
+  { return orientationDistance(a.view(start), b.view(start)) > 15; };
+  std::vector<CameraParams> scored;
+  if (finalists.empty())
+    return scored;
+  for (const auto& f : finalists)
+  {
+    bool distinct = true;
+    for (const auto& s : scored)
+      distinct = distinct && apart(f, s);
+    if (distinct && !f.fromColours && f.score >= finalists.front().score - 0.1 &&
+      static_cast<int>(scored.size()) < std::max(1, cameraCandidates))
+      scored.push_back(f);
+  }
+  if (scored.empty()) // a colours' camera overlaps best by far: the best silhouettes' one
+  {
+    const auto first = std::find_if(
+      finalists.begin(), finalists.end(), [](const CameraParams& f) { return !f.fromColours; });
+    scored.push_back(first != finalists.end() ? *first : finalists.front());
+  }
+  if (!residual)
+    return scored;
+  double silhouettesColour = std::numeric_limits<double>::infinity();
+  for (auto& f : scored)
+    silhouettesColour = std::min(silhouettesColour, f.colour = residual(f.view(start)));
+  std::vector<CameraParams> byColour;
+  std::copy_if(finalists.begin(), finalists.end(), std::back_inserter(byColour),
+    [](const CameraParams& f) { return f.fromColours; });
+  std::sort(byColour.begin(), byColour.end(),
+    [](const CameraParams& a, const CameraParams& b) { return a.colour < b.colour; });
+  // (one near a silhouettes' camera replaces it: the same direction, better explained)
+  for (const auto& f : byColour)
+  {
+    if (f.colour >= 0.8 * silhouettesColour)
+      break;
+    std::vector<CameraParams> kept;
+    bool nearColours = false;
+    for (const auto& s : scored)
+    {
+      const bool near = !apart(f, s);
+      nearColours = nearColours || (near && s.fromColours);
+      if (!near || s.fromColours)
+        kept.push_back(s);
+    }
+    if (nearColours)
+      continue;
+    kept.push_back(f);
+    scored = std::move(kept);
+  }
+  if (!byColour.empty())
+  {
+    const CameraParams& best = byColour.front();
+    bool distinct = true, explainsBest = true;
+    for (const auto& s : scored)
+      distinct = distinct && apart(best, s), explainsBest = explainsBest && best.colour < s.colour;
+    if (distinct && explainsBest)
+      scored.push_back(best);
+  }
+  return scored;
 }
 
 } // namespace matchparts

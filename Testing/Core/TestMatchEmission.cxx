@@ -286,3 +286,52 @@ TEST(MatchCamera, HopsOutOfATwinBasin)
   const CameraParams clamped = hopAround(top, [](const CameraParams& c) { return -c.el; });
   EXPECT_DOUBLE_EQ(clamped.el, 89);
 }
+
+// Stage 3's choice of the cameras scored: the colours' best-explained camera is scored when it
+// looks from a direction no silhouettes' camera does, though its residual misses the margin that
+// lets a colours' camera replace a near silhouettes' one (a translucent chest's figure: its
+// silhouettes' cameras all 117 degrees or more off, the colours' best 8 degrees off).
+TEST(MatchCamera, ScoresTheColoursBestCameraFromAnotherDirection)
+{
+  View start;
+  start.camera.position = { 0, 0, 10 };
+  start.camera.focalPoint = { 0, 0, 0 };
+  start.camera.viewUp = { 0, 1, 0 };
+  auto camera = [](double az, double score, double colour = -1)
+  {
+    CameraParams c;
+    c.az = az;
+    c.score = score;
+    c.colour = colour;
+    c.fromColours = colour >= 0;
+    return c;
+  };
+  // the silhouettes' cameras at azimuth 0 and 40 explain the colours by 0.07 and 0.075
+  const auto residual = [](const View& v) { return v.camera.position.x() < 1 ? 0.07 : 0.075; };
+  const auto azimuths = [&](const std::vector<CameraParams>& finalists)
+  {
+    std::vector<double> az;
+    for (const auto& c : camerasToScore(finalists, start, 6, residual))
+      az.push_back(c.az);
+    return az;
+  };
+  const CameraParams s0 = camera(0, 0.91), s40 = camera(40, 0.90);
+  // above the margin (0.8 x 0.07), from a direction none scores, the best explained: scored too
+  EXPECT_EQ(azimuths({ s0, s40, camera(120, 0.75, 0.059) }), (std::vector<double>{ 0, 40, 120 }));
+  // only the best explained of the colours' cameras
+  EXPECT_EQ(azimuths({ s0, s40, camera(120, 0.75, 0.059), camera(-120, 0.8, 0.065) }),
+    (std::vector<double>{ 0, 40, 120 }));
+  // not better explained than every scored camera: not scored
+  EXPECT_EQ(azimuths({ s0, s40, camera(120, 0.75, 0.072) }), (std::vector<double>{ 0, 40 }));
+  // the best explained near a silhouettes' camera, above the margin: neither replaced nor added
+  EXPECT_EQ(azimuths({ s0, s40, camera(5, 0.85, 0.058), camera(120, 0.75, 0.059) }),
+    (std::vector<double>{ 0, 40 }));
+  // under the margin it replaces the near one, as before
+  EXPECT_EQ(azimuths({ s0, s40, camera(5, 0.85, 0.05) }), (std::vector<double>{ 40, 5 }));
+  // the silhouettes' cameras get their residual; without a screening they alone are scored
+  const auto chosen = camerasToScore({ s0, s40 }, start, 6, residual);
+  EXPECT_DOUBLE_EQ(chosen[0].colour, 0.07);
+  EXPECT_DOUBLE_EQ(chosen[1].colour, 0.075);
+  EXPECT_EQ(camerasToScore({ s0, s40, camera(120, 0.75, 0.01) }, start, 6, nullptr).size(), 2u);
+  EXPECT_TRUE(camerasToScore({}, start, 6, residual).empty());
+}
