@@ -2,6 +2,7 @@
 users have it (camera and background estimated), converted to ParaView's TransferFunction2D,
 exported as files.
 """
+import math
 import json
 import re
 
@@ -189,15 +190,20 @@ class Match:
         )
 
     def __repr__(self):
+        # without an initial TF there is no "before" (NaN): the found TF's figure alone
+        before = "" if math.isnan(self.psnr_before) else "%.1f -> " % self.psnr_before
+        lit = "lit" if self.lighting else "unlit"
         return (
-            "Match(PSNR %.1f -> %.1f dB against the picture, fit %.1f dB, overlap %.2f, camera %s, "
-            "%.1f s)"
+            "Match(PSNR %s%.1f dB against the picture, fit %.1f dB, overlap %.2f, camera %s, "
+            "picture %s (%s), %.1f s)"
             % (
-                self.psnr_before,
+                before,
                 self.psnr_after,
                 self.fit_psnr,
                 self.overlap,
                 "estimated" if self.camera_estimated else "given",
+                lit,
+                "estimated" if self.lighting_estimated else "given",
                 self.timings["total"],
             )
         )

@@ -87,6 +87,9 @@ off["camera"]["position"] = [p * 1.01 for p in off["camera"]["position"]]
 off["size"] = [100, 100]
 given = ddg.match(picture_path, neghip, camera=off, iterations=20)
 assert same_camera(given.view["camera"], off["camera"]) and given.view["size"] == [240, 180]
+# no initial TF, no "before": its repr gives the found TF's figure alone, not "nan"
+assert math.isnan(given.psnr_before) and "nan" not in repr(given), repr(given)
+assert repr(m).startswith("Match(PSNR %.1f -> " % m.psnr_before), repr(m)
 
 # apply with the camera, from elsewhere
 view.CameraPosition = [0, 0, 300]
