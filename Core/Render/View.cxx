@@ -32,6 +32,24 @@ Eigen::Vector3d vec3(const json& j, const char* key, const std::string& origin)
   return { a[0].get<double>(), a[1].get<double>(), a[2].get<double>() };
 }
 
+// An optional number (a JSON number) or flag (true/false, or a number: 0 is false) of an object.
+double numberOr(const json& j, const char* key, double otherwise, const std::string& what)
+{
+  if (!j.contains(key) || j[key].is_null())
+    return otherwise;
+  if (!j[key].is_number())
+    throw Error(what + " \"" + key + "\" must be a number");
+  return j[key].get<double>();
+}
+bool flagOr(const json& j, const char* key, bool otherwise, const std::string& what)
+{
+  if (!j.contains(key) || j[key].is_null())
+    return otherwise;
+  if (!j[key].is_boolean() && !j[key].is_number())
+    throw Error(what + " \"" + key + "\" must be true or false");
+  return j[key].is_boolean() ? j[key].get<bool>() : j[key].get<double>() != 0;
+}
+
 // "lighting": every key optional (ParaView's default), no other key (a typo would silently
 // render unlit or with the default coefficients).
 Lighting lightingOf(const json& l, const std::string& origin)
@@ -200,9 +218,9 @@ View parseView(const std::string& jsonText, const std::string& origin)
     v.camera.position = vec3(c, "position", origin);
     v.camera.focalPoint = vec3(c, "focal_point", origin);
     v.camera.viewUp = vec3(c, "view_up", origin);
-    v.camera.viewAngle = c.value("view_angle", 30.0);
-    v.camera.parallelProjection = c.value("parallel_projection", false);
-    v.camera.parallelScale = c.value("parallel_scale", 1.0);
+    v.camera.viewAngle = numberOr(c, "view_angle", 30.0, origin + ": camera");
+    v.camera.parallelProjection = flagOr(c, "parallel_projection", false, origin + ": camera");
+    v.camera.parallelScale = numberOr(c, "parallel_scale", 1.0, origin + ": camera");
     if (j.contains("size"))
     {
       const json& s = j["size"];
@@ -230,7 +248,7 @@ View parseView(const std::string& jsonText, const std::string& origin)
     }
     if (j.contains("opacity_unit_distance") && !j["opacity_unit_distance"].is_null())
     {
-      v.opacityUnitDistance = j["opacity_unit_distance"].get<double>();
+      v.opacityUnitDistance = numberOr(j, "opacity_unit_distance", 0.0, origin + ":");
     }
     if (j.contains("lighting") && !j["lighting"].is_null())
     {

@@ -192,36 +192,31 @@ void vtkSMDDGScene::PrintSelf(ostream& os, vtkIndent indent)
 
 // --- the view --------------------------------------------------------------------------------
 
-std::string vtkSMDDGScene::SetCamera(vtkSMProxy* view, const char* viewJSON)
+std::string vtkSMDDGScene::SetCamera(vtkSMProxy* view, const char* viewJSON, bool checkOnly)
 {
   auto* proxy = vtkSMRenderViewProxy::SafeDownCast(view);
   if (!proxy)
     return "not a render view";
-  const json v = json::parse(viewJSON ? viewJSON : "", nullptr, false);
-  if (!v.is_object() || !v.contains("camera") || !v["camera"].is_object())
-    return "the view JSON has no camera";
-  const json& c = v["camera"];
-  double position[3], focal[3], up[3];
-  for (auto [key, out] : { std::pair<const char*, double*>{ "position", position },
-         { "focal_point", focal }, { "view_up", up } })
+  const std::string text = viewJSON ? viewJSON : "";
+  ddg::Camera c;
+  try
   {
-    if (!c.contains(key) || !c[key].is_array() || c[key].size() != 3)
-      return std::string("the view JSON's camera has no ") + key;
-    for (int k = 0; k < 3; ++k)
-    {
-      if (!c[key][k].is_number() || !std::isfinite(c[key][k].get<double>()))
-        return std::string("the view JSON's camera ") + key + " is not 3 finite numbers";
-      out[k] = c[key][k].get<double>();
-    }
+    c = ddg::parseView(text).camera; // checked as every reader checks it
   }
-  vtkSMPropertyHelper(proxy, "CameraPosition").Set(position, 3);
-  vtkSMPropertyHelper(proxy, "CameraFocalPoint").Set(focal, 3);
-  vtkSMPropertyHelper(proxy, "CameraViewUp").Set(up, 3);
-  vtkSMPropertyHelper(proxy, "CameraViewAngle").Set(c.value("view_angle", 30.0));
-  vtkSMPropertyHelper(proxy, "CameraParallelProjection")
-    .Set(c.value("parallel_projection", false) ? 1 : 0);
-  if (c.contains("parallel_scale"))
-    vtkSMPropertyHelper(proxy, "CameraParallelScale").Set(c.value("parallel_scale", 1.0));
+  catch (const std::exception& e)
+  {
+    return e.what();
+  }
+  if (checkOnly)
+    return {};
+  vtkSMPropertyHelper(proxy, "CameraPosition").Set(c.position.data(), 3);
+  vtkSMPropertyHelper(proxy, "CameraFocalPoint").Set(c.focalPoint.data(), 3);
+  vtkSMPropertyHelper(proxy, "CameraViewUp").Set(c.viewUp.data(), 3);
+  vtkSMPropertyHelper(proxy, "CameraViewAngle").Set(c.viewAngle);
+  vtkSMPropertyHelper(proxy, "CameraParallelProjection").Set(c.parallelProjection ? 1 : 0);
+  // a JSON without a parallel scale leaves the view's (it matters only in parallel projection)
+  if (json::parse(text)["camera"].contains("parallel_scale"))
+    vtkSMPropertyHelper(proxy, "CameraParallelScale").Set(c.parallelScale);
   proxy->UpdateVTKObjects();
   return {};
 }

@@ -55,9 +55,11 @@ public:
    * view_up, view_angle, parallel_projection, parallel_scale; defaults as the view contract's)
    * through its properties (so that it is recorded on an open undo set) and pushes them. The
    * size and background of the JSON are not used. Returns an empty string, or the reason (not a
-   * render view, JSON without a valid camera) and then changes nothing.
+   * render view, a view JSON Core's parseView refuses: no camera, a degenerate one, a value of
+   * the wrong type) and then changes nothing. `checkOnly`: only that check, nothing is set (to
+   * refuse before writing anything else).
    */
-  static std::string SetCamera(vtkSMProxy* view, const char* viewJSON);
+  static std::string SetCamera(vtkSMProxy* view, const char* viewJSON, bool checkOnly = false);
 
   /**
    * Sets representation `representation`'s lighting from a DDG view JSON's "lighting": Shade on

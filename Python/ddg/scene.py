@@ -115,18 +115,16 @@ def view_json(view=None, source=None, max_side=None):
 
 def set_camera(view_file, view=None):
     """Sets a render view's camera (default: the active one) from a DDG view JSON file or dict
-    and renders (after a first render: paraview.simple resets the camera on that one)."""
-    v = view_json(view_file)
+    and renders (after a first render: paraview.simple resets the camera on that one). A view
+    JSON the project's readers refuse (no camera, a degenerate one, a value of the wrong type)
+    raises DDGError and leaves the camera as it was."""
+    text = json.dumps(view_json(view_file))
     view = _view(view)
+    error = _scene().SetCamera(view.SMProxy, text, True)  # the panel's rule; refused unchanged
+    if error:
+        raise DDGError("set_camera: " + error)
     simple.Render(view)  # paraview.simple resets the camera on a view's first render: do it first
-    c = v["camera"]
-    view.CameraPosition = c["position"]
-    view.CameraFocalPoint = c["focal_point"]
-    view.CameraViewUp = c["view_up"]
-    view.CameraViewAngle = c.get("view_angle", 30)
-    view.CameraParallelProjection = int(c.get("parallel_projection", False))
-    if "parallel_scale" in c:
-        view.CameraParallelScale = c["parallel_scale"]
+    _scene().SetCamera(view.SMProxy, text, False)
     simple.Render(view)
     return view
 
@@ -216,7 +214,8 @@ def apply(
     rendering off); 2D TFs into ParaView's TransferFunction2D (``paraview_2d``) with
     UseTransfer2D on. ``camera``: also moves the view's camera there (a view JSON dict or file,
     e.g. a ``Match``'s ``view``; True with a ``Match``: its camera; a ``CarriedLook`` has none,
-    its picture being of another volume; default: the camera stays). ParaView shares one colour
+    its picture being of another volume; default: the camera stays; a view JSON the project's
+    readers refuse raises DDGError before anything is written). ParaView shares one colour
     map per array name: when other shown volumes share this one, ``separate_color_map=True``
     first gives this display its own maps (ParaView's Use Separate Color Map), False recolours
     them all, and None (default) recolours them all with a warning naming them. ``lighting``:
@@ -256,6 +255,11 @@ def apply(
     if lighting is not None:  # refused before anything is written
         lighting = json.dumps(view_json(lighting))
         error = scene.SetLighting(display.SMProxy, lighting, True)
+        if error:
+            raise DDGError("apply: " + error)
+    if camera is not None:  # refused before anything is written, as the lighting
+        camera = view_json(camera)
+        error = scene.SetCamera(view.SMProxy, json.dumps(camera), True)
         if error:
             raise DDGError("apply: " + error)
     shared = scene.SharedColorMapUsers(display.SMProxy, array)

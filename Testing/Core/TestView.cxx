@@ -7,6 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <initializer_list>
+#include <string>
+#include <utility>
 
 using namespace ddg;
 
@@ -47,6 +50,38 @@ TEST(View, RejectsDegenerateCamerasAndSizes)
   EXPECT_THROW(parseView("{" + cam + R"(, "size": [10.5, 10]})"), Error);
   EXPECT_THROW(parseView("{" + cam + R"(, "background": [2, 0, 0]})"), Error);
   EXPECT_THROW(parseView("{" + cam + R"(, "opacity_unit_distance": -1})"), Error);
+  // a value of the wrong type names its key (not the JSON library's "type must be number")
+  const std::string camStart =
+    R"({"camera": {"position": [0, 0, 10], "focal_point": [0, 0, 0], "view_up": [0, 1, 0], )";
+  for (const auto& [bad, says] : std::initializer_list<std::pair<const char*, const char*>>{
+         { R"("view_angle": "wide"}})", R"(camera "view_angle" must be a number)" },
+         { R"("parallel_scale": [1]}})", R"(camera "parallel_scale" must be a number)" },
+         { R"("parallel_projection": "yes"}})",
+           R"(camera "parallel_projection" must be true or false)" } })
+  {
+    try
+    {
+      parseView(camStart + bad);
+      ADD_FAILURE() << bad << " was read";
+    }
+    catch (const Error& e)
+    {
+      EXPECT_NE(std::string(e.what()).find(says), std::string::npos) << e.what();
+    }
+  }
+  try
+  {
+    parseView("{" + cam + R"(, "opacity_unit_distance": "2"})");
+    ADD_FAILURE() << "a string opacity unit distance was read";
+  }
+  catch (const Error& e)
+  {
+    EXPECT_NE(
+      std::string(e.what()).find(R"("opacity_unit_distance" must be a number)"), std::string::npos)
+      << e.what();
+  }
+  // ParaView's integer flag is read as its truth (the camera properties take 0 or 1)
+  EXPECT_TRUE(parseView(camStart + R"("parallel_projection": 1}})").camera.parallelProjection);
 }
 
 TEST(View, LightingDefaultsRoundTripAndErrors)

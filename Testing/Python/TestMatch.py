@@ -138,6 +138,28 @@ for bad, words in (
         assert words in str(e), e
 assert list(lut.RGBPoints) == before and display.Shade == 1, "a refused apply changed the scene"
 
+# a bad camera: refused with the readers' reason before the TF, the lighting or the camera moves
+where = list(view.CameraPosition) + [view.CameraViewAngle]
+good = m.view["camera"]
+for bad, words in (
+    (dict(good, position=[0, 0]), "position"),
+    (dict(good, view_angle="wide"), "view_angle"),
+    (dict(good, view_up=list(np.subtract(good["focal_point"], good["position"]))), "degenerate"),
+    ({}, "camera"),
+):
+    for call in (
+        lambda: ddg.apply(cool_warm, source=neghip, view=view, camera={"camera": bad}),
+        lambda: ddg.set_camera({"camera": bad} if bad else {}, view),
+    ):
+        try:
+            call()
+            raise AssertionError("bad camera %s was set" % bad)
+        except ddg.DDGError as e:
+            print("bad camera:", e)
+            assert words in str(e), e
+assert list(lut.RGBPoints) == before and display.Shade == 1, "a refused camera changed the TF"
+assert list(view.CameraPosition) + [view.CameraViewAngle] == where, "a refused camera moved"
+
 # a picture the match cannot use
 uniform = os.path.join(outdir, "uniform.png")
 ddg.save_image(np.full((60, 80, 3), 0.4), uniform)
