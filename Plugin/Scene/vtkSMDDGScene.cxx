@@ -19,6 +19,7 @@
 
 #include "Gallery/Export.h"
 #include "Render/View.h"
+#include "TransferFunction/TransferFunction1D.h"
 
 #include <nlohmann/json.hpp>
 
@@ -80,11 +81,60 @@ const json& member(const json& object, const char* name)
 // vtkColorTransferFunction's ColorSpace enumeration, as the LUT proxy's ColorSpace domain names it.
 const char* const kColorSpaces[] = { "RGB", "HSV", "Lab", "Diverging", "Lab/CIEDE2000", "Step" };
 
+// The enumeration's index of a preset's ColorSpace (absent: RGB; ParaView's presets also say
+// "CIELAB" for Lab); -1 for a name ParaView does not know.
 int colorSpace(const json& name)
 {
-  const std::string s = name.is_string() ? name.get<std::string>() : "RGB";
-  const auto* it = std::find(std::begin(kColorSpaces), std::end(kColorSpaces), s);
-  return it == std::end(kColorSpaces) ? 0 : static_cast<int>(it - std::begin(kColorSpaces));
+  if (name.is_null())
+    return 0;
+  const std::string s = name.is_string() ? name.get<std::string>() : "";
+  const auto* it =
+    std::find(std::begin(kColorSpaces), std::end(kColorSpaces), s == "CIELAB" ? "Lab" : s);
+  return it == std::end(kColorSpaces) ? -1 : static_cast<int>(it - std::begin(kColorSpaces));
+}
+
+// What keeps a preset's maps from being written (empty: nothing): 4 numbers a node in RGBPoints
+// and Points, a ColorSpace ParaView knows, and Core's rules for a 1D TF (finite, increasing x;
+// colours, opacities, midpoints and sharpnesses in [0, 1]). A node at the x of the one before
+// replaces it, as vtkColorTransferFunction and vtkPiecewiseFunction do (three of ParaView's own
+// presets have such nodes).
+std::string presetProblem(const json& preset)
+{
+  for (const char* key : { "RGBPoints", "Points" })
+  {
+    const json& a = member(preset, key);
+    if (!a.is_array() || a.empty() || a.size() % 4 != 0 ||
+      !std::all_of(a.begin(), a.end(), [](const json& v) { return v.is_number(); }))
+      return std::string("\"") + key + "\" must hold 4 numbers a node (" +
+        (key[0] == 'R' ? "x, red, green, blue" : "x, opacity, midpoint, sharpness") + ")";
+  }
+  if (colorSpace(member(preset, "ColorSpace")) < 0)
+    return "ColorSpace " + member(preset, "ColorSpace").dump() +
+      " is not one of ParaView's (RGB, HSV, Lab, Diverging, Lab/CIEDE2000, Step)";
+  const auto rgb = numbers(member(preset, "RGBPoints"));
+  const auto opacity = numbers(member(preset, "Points"));
+  ddg::TransferFunction1D tf;
+  for (size_t i = 0; i < rgb.size(); i += 4)
+  {
+    if (!tf.color.empty() && tf.color.back().x == rgb[i])
+      tf.color.pop_back();
+    tf.color.push_back({ rgb[i], rgb[i + 1], rgb[i + 2], rgb[i + 3] });
+  }
+  for (size_t i = 0; i < opacity.size(); i += 4)
+  {
+    if (!tf.opacity.empty() && tf.opacity.back().x == opacity[i])
+      tf.opacity.pop_back();
+    tf.opacity.push_back({ opacity[i], opacity[i + 1], opacity[i + 2], opacity[i + 3] });
+  }
+  try
+  {
+    tf.validate();
+  }
+  catch (const std::exception& e)
+  {
+    return e.what();
+  }
+  return {};
 }
 
 /// The array the volume rule picks (nullptr: none, or not image data): the point array a visible
@@ -362,17 +412,20 @@ std::string vtkSMDDGScene::DefaultModelDirectory(vtkSMProxy* source, const char*
 // --- transfer functions ----------------------------------------------------------------------
 
 std::string vtkSMDDGScene::Apply1D(
-  vtkSMProxy* representation, const char* array, const char* presetJSON)
+  vtkSMProxy* representation, const char* array, const char* presetJSON, bool checkOnly)
 {
-  if (!representation)
+  if (!representation && !checkOnly)
     return "there is no representation of the volume in the active view";
   const json doc = parse(presetJSON);
   const json& preset = doc.is_array() && !doc.empty() ? doc.at(0) : doc;
+  if (doc.is_discarded() || !preset.is_object())
+    return "the transfer function is not a ParaView preset (JSON with RGBPoints and Points)";
+  if (const std::string problem = presetProblem(preset); !problem.empty())
+    return "the transfer function cannot be written into ParaView's maps: " + problem;
+  if (checkOnly)
+    return {};
   const auto rgb = numbers(member(preset, "RGBPoints"));
   const auto opacity = numbers(member(preset, "Points"));
-  if (doc.is_discarded() || rgb.empty() || rgb.size() % 4 != 0 || opacity.empty() ||
-    opacity.size() % 4 != 0)
-    return "the design's transfer function is not a ParaView preset with RGBPoints and Points";
   return applyMaps(representation, array ? array : "", false,
     [&](vtkSMProxy* lut, vtkSMProxy* sof)
     {
@@ -454,12 +507,12 @@ std::string vtkSMDDGScene::UseSeparateColorMap(vtkSMProxy* representation, const
 }
 
 std::string vtkSMDDGScene::Apply2D(
-  vtkSMProxy* representation, const char* array, const char* boxesJSON)
+  vtkSMProxy* representation, const char* array, const char* boxesJSON, bool checkOnly)
 {
-  if (!representation)
+  if (!representation && !checkOnly)
     return "there is no representation of the volume in the active view";
   const Boxes b = parseBoxes(boxesJSON);
-  if (!b.error.empty())
+  if (!b.error.empty() || checkOnly)
     return b.error;
   if (!representation->GetProperty("UseTransfer2D") ||
     !representation->GetProperty("TransferFunction2D"))

@@ -128,9 +128,13 @@ public:
    * "ColorSpace" (default RGB)) into `representation`'s LookupTable and ScalarOpacityFunction:
    * UseTransfer2D off, the Volume representation, coloured by point array `array`, the LUT set
    * never to rescale itself (AutomaticRescaleRangeMode Never). The values are the data values of
-   * the preset (no rescaling).
+   * the preset (no rescaling). A preset ParaView cannot draw is refused, nothing written: not 4
+   * numbers a node, a ColorSpace ParaView does not know, or against Core's rules for a 1D TF
+   * (finite, increasing x; colours, opacities, midpoints, sharpnesses in [0, 1]; a node at the
+   * x of the one before replaces it, as ParaView's maps do). `checkOnly`: only that check.
    */
-  static std::string Apply1D(vtkSMProxy* representation, const char* array, const char* presetJSON);
+  static std::string Apply1D(
+    vtkSMProxy* representation, const char* array, const char* presetJSON, bool checkOnly = false);
 
   /**
    * Writes a 2D design into `representation`'s TransferFunction2D: `boxesJSON` is the DDG
@@ -138,9 +142,10 @@ public:
    * "OutputDimensions": 2}). UseTransfer2D on with the gradient magnitude as Y
    * (UseGradientForTransfer2D), the Volume representation coloured by `array`, the LUT never
    * rescaled, VolumeRenderingMode "Ray Cast Only" turned to "Smart" (the fixed-point mapper has
-   * no 2D TFs), then WriteTransferFunction2D.
+   * no 2D TFs), then WriteTransferFunction2D. `checkOnly`: only the boxes' check, nothing written.
    */
-  static std::string Apply2D(vtkSMProxy* representation, const char* array, const char* boxesJSON);
+  static std::string Apply2D(
+    vtkSMProxy* representation, const char* array, const char* boxesJSON, bool checkOnly = false);
 
   /**
    * Only the 2D part of Apply2D: UseGradientForTransfer2D, the rendering mode and the

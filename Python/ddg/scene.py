@@ -252,12 +252,20 @@ def apply(
     array = volume_array(source, view)  # before the switch to Volume, which may colour by another
     scene = _scene()
     lighting = None if lighting is False else lighting
-    if lighting is not None:  # refused before anything is written
+    # the lighting, the TF and the camera: each refused before anything is written
+    if lighting is not None:
         lighting = json.dumps(view_json(lighting))
         error = scene.SetLighting(display.SMProxy, lighting, True)
         if error:
             raise DDGError("apply: " + error)
-    if camera is not None:  # refused before anything is written, as the lighting
+    error = (
+        scene.Apply2D(display.SMProxy, array, json.dumps(boxes), True)
+        if two_d
+        else scene.Apply1D(display.SMProxy, array, json.dumps(preset), True)
+    )
+    if error:
+        raise DDGError("apply: " + error)
+    if camera is not None:
         camera = view_json(camera)
         error = scene.SetCamera(view.SMProxy, json.dumps(camera), True)
         if error:

@@ -187,13 +187,27 @@ check(
     and back["ColorSpace"] == "HSV",
     "CurrentPreset gives back what was written",
 )
-before = list(lut.RGBPoints)
-error = S.Apply1D(display.SMProxy, "scalars", '{"RGBPoints": [0, 1, 0]}')
-check(
-    error == "the design's transfer function is not a ParaView preset with RGBPoints and Points"
-    and list(lut.RGBPoints) == before,
-    "Apply1D of a bad preset: %r, LUT unchanged" % error,
-)
+before = (list(lut.RGBPoints), list(sof.Points), lut.ColorSpace)
+good = preset[0]
+for bad, says in (
+    ('{"RGBPoints": [0, 1, 0]}', '"RGBPoints" must hold 4 numbers a node (x, red, green, blue)'),
+    (dict(good, Points=[0, 0, 0.5, 0, 255, "1", 0.5, 0]), '"Points" must hold 4 numbers a node'),
+    (dict(good, Points=[0, 0, 0.5, 0, 255, 2, 0.5, 0]), "Points: opacity of node 1 is 2"),
+    (dict(good, RGBPoints=[9, 0, 0, 0] + good["RGBPoints"]), "RGBPoints are not sorted"),
+    (dict(good, ColorSpace="Banana"), 'ColorSpace "Banana" is not one of ParaView\'s'),
+    ("[]", "is not a ParaView preset"),
+):
+    error = S.Apply1D(display.SMProxy, "scalars", bad if isinstance(bad, str) else json.dumps(bad))
+    check(
+        says in error and (list(lut.RGBPoints), list(sof.Points), lut.ColorSpace) == before,
+        "Apply1D of a bad preset: %r, the maps unchanged" % error,
+    )
+# ParaView's own presets say CIELAB for Lab, and three repeat an x (the later node replaces it)
+x0 = good["RGBPoints"][0]
+twice = dict(good, ColorSpace="CIELAB", RGBPoints=[x0, 1, 1, 1] + good["RGBPoints"])
+error = S.Apply1D(display.SMProxy, "scalars", json.dumps(twice))
+check(error == "" and lut.ColorSpace == "Lab", "Apply1D of CIELAB and a repeated x: %r" % error)
+S.Apply1D(display.SMProxy, "scalars", json.dumps(preset))
 
 # --- 2D TF ---
 boxes = {

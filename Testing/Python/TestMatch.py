@@ -157,6 +157,20 @@ for bad, words in (
         except ddg.DDGError as e:
             print("bad camera:", e)
             assert words in str(e), e
+# a preset ParaView cannot draw: refused before the colour map is made separate or written
+with open(cool_warm) as f:
+    good_tf = json.load(f)[0]
+for bad, words in (
+    (dict(good_tf, Points=[0, 0, 0.5, 0, 60, 2.0, 0.5, 0]), "opacity of node 1 is 2"),
+    (dict(good_tf, ColorSpace="Banana"), "Banana"),
+):
+    try:
+        ddg.apply(bad, source=neghip, view=view, separate_color_map=True)
+        raise AssertionError("bad preset %s was applied" % bad)
+    except ddg.DDGError as e:
+        print("bad preset:", e)
+        assert words in str(e), e
+assert display.UseSeparateColorMap == 0, "a refused preset made the colour map separate"
 assert list(lut.RGBPoints) == before and display.Shade == 1, "a refused camera changed the TF"
 assert list(view.CameraPosition) + [view.CameraViewAngle] == where, "a refused camera moved"
 
