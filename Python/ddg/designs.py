@@ -277,7 +277,7 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
         source,
         ModelDirectory=model.directory,
         ViewJSON=json.dumps(v),
-        ImageData=_image_text(image),
+        ImageData=_image_text(image, "query"),
         Neighbours=int(neighbours),
         ThumbnailSize=int(thumbnail_size),
         KindNetwork=_kind_network(kind, "query"),

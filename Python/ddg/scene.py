@@ -161,11 +161,16 @@ def save_image(pixels, path):
     return _png(pixels, path)
 
 
-def _image_text(image):
-    """base64 of a PNG/JPEG/TIFF file (path) or of a numpy image encoded as PNG."""
+def _image_text(image, label):
+    """base64 of a PNG/JPEG/TIFF file (path) or of a numpy image encoded as PNG; an empty file
+    raises DDGError named as ``_errors_named`` names the call's (``label``)."""
     if isinstance(image, str):
         with open(image, "rb") as f:
-            return base64.b64encode(f.read()).decode()
+            data = f.read()
+        if not data:  # else no ImageData would reach the filter: "no ImageFile or ImageData set"
+            with _errors_named(label, image):
+                raise DDGError("the picture file is empty (0 bytes)")
+        return base64.b64encode(data).decode()
     return base64.b64encode(_png(image)).decode()
 
 

@@ -69,7 +69,7 @@ def reconstruct(
     proxy = _proxy(
         "DDGReconstructTransferFunction",
         source,
-        TargetImageData=_image_text(image),
+        TargetImageData=_image_text(image, "reconstruct"),
         ViewJSON=json.dumps(v),
         Iterations=int(iterations),
         Bins=int(bins),
@@ -256,7 +256,7 @@ def match(
     init = _initial_json(initial, v, "match")
     props = dict(
         MatchPicture=1,
-        TargetImageData=_image_text(image),
+        TargetImageData=_image_text(image, "match"),
         ViewJSON=json.dumps(v) if v is not None else "",
         EstimateCamera=int(bool(refine_camera)),
         InitialTransferFunction=init,
@@ -383,7 +383,7 @@ def carry_look(image, source=None, initial=None, shade=None, seed=None, kind=Tru
         lighting = {"shade": True} if shade else None
     props = dict(
         CarryLook=1,
-        TargetImageData=_image_text(image),
+        TargetImageData=_image_text(image, "carry_look"),
         ViewJSON=json.dumps({"lighting": lighting}) if lighting else "",  # only its lighting read
         InitialTransferFunction=_initial_json(initial, None, "carry_look"),
     )

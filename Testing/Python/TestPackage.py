@@ -453,7 +453,13 @@ garbage = os.path.join(testdata, "garbage.png")
 truncated = os.path.join(tempfile.mkdtemp(), "truncated.png")
 with open(shot, "rb") as f, open(truncated, "wb") as out:
     out.write(f.read()[:3000])
-for path, reason in ((garbage, "the picture"), (truncated, "cannot read the picture: ")):
+empty = os.path.join(os.path.dirname(truncated), "empty.png")
+open(empty, "wb").close()
+for path, reason in (
+    (garbage, "the picture"),
+    (truncated, "cannot read the picture: "),
+    (empty, "the picture file is empty (0 bytes)"),
+):
     try:
         ddg.query(path, source=tooth, view=view_file)
         raise AssertionError("an unreadable query picture should raise")
