@@ -71,8 +71,8 @@ def reconstruct(
         source,
         TargetImageData=_image_text(image, "reconstruct"),
         ViewJSON=json.dumps(v),
-        Iterations=int(iterations),
-        Bins=int(bins),
+        Iterations=_whole(iterations, "reconstruct", "iterations", 1, 100000),
+        Bins=_whole(bins, "reconstruct", "bins", 2, 4096),
         TwoD=int(two_d),
         **_background_props(background),
     )
@@ -118,11 +118,18 @@ def _fit_picture(proxy, label, result, image=None, images=True):
         proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
 
 
+def _whole(value, caller, name, low, high=None):
+    """A filter's whole-number property, refused outside [low, high] (the filter would clamp it
+    silently: iterations=-5 ran one step)."""
+    if int(value) != value or value < low or (high is not None and value > high):
+        span = ">= %d" % low if high is None else "from %d to %d" % (low, high)
+        raise ValueError("%s: %s must be a whole number %s, not %r" % (caller, name, span, value))
+    return int(value)
+
+
 def _seed(seed, caller):
     """The filter's Seed (ddg reconstruct --seed): a whole number >= 0."""
-    if int(seed) != seed or seed < 0:
-        raise ValueError("%s: seed must be a whole number >= 0, not %r" % (caller, seed))
-    return int(seed)
+    return _whole(seed, caller, "seed", 0)
 
 
 class Match:
@@ -260,13 +267,13 @@ def match(
         ViewJSON=json.dumps(v) if v is not None else "",
         EstimateCamera=int(bool(refine_camera)),
         InitialTransferFunction=init,
-        Bins=int(bins),
+        Bins=_whole(bins, "match", "bins", 2, 4096),
         TwoD=int(two_d),
         MaskOverlays=int(bool(mask_overlays)),
         **_background_props(background),
     )
     if iterations is not None:
-        props["Iterations"] = int(iterations)
+        props["Iterations"] = _whole(iterations, "match", "iterations", 1, 100000)
     if minimum_overlap is not None:
         props["MinimumOverlap"] = float(minimum_overlap)
     if seed is not None:

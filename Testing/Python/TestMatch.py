@@ -174,6 +174,19 @@ assert display.UseSeparateColorMap == 0, "a refused preset made the colour map s
 assert list(lut.RGBPoints) == before and display.Shade == 1, "a refused camera changed the TF"
 assert list(view.CameraPosition) + [view.CameraViewAngle] == where, "a refused camera moved"
 
+# counts the filter would clamp silently are refused before anything runs
+for call, words in (
+    (lambda: ddg.match(picture_path, neghip, iterations=-5), "iterations must be a whole number"),
+    (lambda: ddg.match(picture_path, neghip, bins=1), "bins must be a whole number from 2"),
+    (lambda: ddg.reconstruct(picture_path, neghip, known, iterations=0.5), "iterations"),
+):
+    try:
+        call()
+        raise AssertionError("a count out of range was run: " + words)
+    except ValueError as e:
+        print("bad count:", e)
+        assert words in str(e), e
+
 # a picture the match cannot use
 uniform = os.path.join(outdir, "uniform.png")
 ddg.save_image(np.full((60, 80, 3), 0.4), uniform)
