@@ -338,7 +338,8 @@ void pqDDGDesignGalleryDock::loadModel()
     return;
   const QString dir = this->Ui->modelPath->text().trimmed();
   this->Ui->modelPath->setText(dir);
-  this->State->loadModel(dir);
+  if (!this->State->loadModel(dir) && this->State->isLoaded()) // the model before, given back
+    this->Ui->modelPath->setText(this->State->modelDirectory());
 }
 
 void pqDDGDesignGalleryDock::browseModel()

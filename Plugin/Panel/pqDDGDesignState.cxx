@@ -97,10 +97,32 @@ bool pqDDGDesignState::loadModel(const QString& directory)
   const ddgpanel::NoUndo quiet; // the panel's own proxies (its steps are Apply's alone)
   if (!this->Source || this->Array.isEmpty())
     return false;
+  // another bundle that cannot be loaded gives the one loaded before back, as it was left
+  Kept before;
+  bool hadModel = false;
+  if (this->Loaded && !this->ModelDirectory.isEmpty() && this->ModelDirectory != directory)
+  {
+    this->keepVolumeState();
+    hadModel = this->takeKept(this->ModelDirectory, before);
+  }
+  auto failed = [&]()
+  {
+    if (!hadModel)
+      return false;
+    const QString why = this->LastMessage;
+    this->putKept(before);
+    if (this->loadModel(before.ModelDirectory))
+      this->report(
+        tr("%1 The model loaded before stays: '%2'.").arg(why, before.ModelDirectory), true);
+    return false;
+  };
   this->clearModel();
   this->ModelDirectory = directory;
   if (directory.isEmpty())
-    return false;
+  {
+    this->report(tr("No model directory given: Load a bundle of this volume or build one."), true);
+    return failed();
+  }
   const int port = 0;
   this->GalleryProxy = ddgpanel::newFilter("DDGDesignGallery", this->Source, port);
   this->QueryProxy = ddgpanel::newFilter("DDGQuery", this->Source, port);
@@ -127,9 +149,11 @@ bool pqDDGDesignState::loadModel(const QString& directory)
     this->Seed = kept.Seed;
   this->Loaded = true;
   this->refreshOutline();
-  if (restore && this->Loaded)
+  if (!this->Loaded)
+    return failed();
+  if (restore)
     this->restoreVolumeState(kept);
-  return this->Loaded;
+  return true;
 }
 
 void pqDDGDesignState::setBusy(bool busy)

@@ -331,6 +331,8 @@ private:
   bool takeKept(const QString& directory, Kept& kept);
   /// Brings a kept state back once the model is loaded and the outline shows.
   void restoreVolumeState(Kept& kept);
+  /// Puts a state taken out of the keep back (a load that failed gives its model back).
+  void putKept(const Kept& kept);
   QHash<unsigned int, Kept> KeptStates; ///< by the volume proxy's global id
 
   vtkWeakPointer<vtkSMSourceProxy> Source;

@@ -91,6 +91,11 @@ void pqDDGDesignState::keepVolumeState()
   this->KeptStates.insert(keyOf(this->Source), k);
 }
 
+void pqDDGDesignState::putKept(const Kept& kept)
+{
+  this->KeptStates.insert(keyOf(this->Source), kept);
+}
+
 bool pqDDGDesignState::takeKept(const QString& directory, Kept& kept)
 {
   const unsigned int key = keyOf(this->Source);

@@ -476,10 +476,30 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
         .arg(state.lastMatch().DistanceStart)
         .arg(start));
   }
-  // another model on the volume starts afresh
-  state.loadModel(data + "/Models/engine");
-  check(state.steps().isEmpty() && state.pins().isEmpty() && !state.hasMatch(),
-    "another model on Tooth starts afresh");
+  // a bundle that cannot be loaded on this volume (Engine's on Tooth) gives Tooth's model back,
+  // its design, pins and match as they were
+  const QJsonArray stepsBefore = state.steps();
+  const bool engine = state.loadModel(data + "/Models/engine");
+  check(!engine && state.isLoaded() && state.modelDirectory() == data + "/Models/tooth" &&
+      state.steps() == stepsBefore && state.pins().size() == 1 && state.hasMatch() &&
+      state.lastMessage().startsWith("This model belongs to another volume") &&
+      state.lastMessage().endsWith("The model loaded before stays: '" + data + "/Models/tooth'."),
+    "Engine's model on Tooth refused, Tooth's kept: " + state.lastMessage());
+  state.loadModel(QString());
+  check(state.isLoaded() && state.steps() == stepsBefore &&
+      state.lastMessage().startsWith("No model directory given"),
+    "no directory, Tooth's kept: " + state.lastMessage());
+  // another model on the volume starts afresh (Tooth's bundle through another directory)
+  const QString again = outdir + "/tooth_again";
+  QDir().mkpath(again);
+  for (const QString& f : QDir(data + "/Models/tooth").entryList(QDir::Files))
+    QFile::link(data + "/Models/tooth/" + f, again + "/" + f);
+  outline = {};
+  const bool loaded = state.loadModel(again);
+  check(loaded && state.steps().isEmpty() && state.pins().isEmpty() && !state.hasMatch() &&
+      outline.Points.size() == 50000 &&
+      state.lastMessage().startsWith("50000 designs of 'tooth.vti'"),
+    "another model on Tooth starts afresh: " + state.lastMessage());
 }
 
 } // namespace
