@@ -11,7 +11,7 @@ import paraview.simple as simple
 from vtkmodules.util import numpy_support
 
 from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _history, _run, _tf_text
-from .plugin import _kind_network, _kind_of, _vtk_module, data_path
+from .plugin import _kind_network, _kind_of, _vtk_module, _whole, _within, data_path
 from .scene import (
     _display,
     _image_text,
@@ -78,24 +78,31 @@ def build_design_space(
     then ignored; ``build_plan`` shows the plan first). A directory that already holds a bundle
     is refused unless ``overwrite``. ``design_voxels``: volumes above this many voxels are
     downsampled for the design space (default: the filter's, 16 Mi). Returns the Model."""
+    # the filter's ranges (the CLI's), refused here rather than clamped there
+    what = "build_design_space"
+    props = dict(
+        Minutes=_within(minutes, what, "minutes", 0.01, 10000),
+        Count=_whole(count, what, "count", 8, 1000000),
+        Size=_whole(size, what, "size", 16, 512),
+        BudgetMinutes=0
+        if budget_minutes is None
+        else _within(budget_minutes, what, "budget_minutes", 1, 100000),
+    )
+    if iterations is not None:
+        props["Iterations"] = _whole(iterations, what, "iterations", 0, 10000000)
+    if outline is not None:
+        props["OutlineCount"] = _whole(outline, what, "outline", 3, 1000000)
+    if design_voxels is not None:
+        props["DesignVoxels"] = _whole(design_voxels, what, "design_voxels", 4096, 1 << 40)
     source = _source(source)
     directory = os.path.abspath(directory)
     build = _proxy(
         "DDGBuildDesignSpace",
         source,
         OutputDirectory=directory,
-        Minutes=float(minutes),
-        Count=int(count),
-        Size=int(size),
-        BudgetMinutes=float(budget_minutes or 0),
         Overwrite=int(bool(overwrite)),
+        **props,
     )
-    if iterations is not None:
-        build.SetPropertyWithName("Iterations", int(iterations))
-    if outline is not None:
-        build.SetPropertyWithName("OutlineCount", int(outline))
-    if design_voxels is not None:
-        build.SetPropertyWithName("DesignVoxels", int(design_voxels))
     build.UpdatePipeline()
     table = servermanager.Fetch(build, idx=0)
     if table.GetNumberOfRows() != 1:
@@ -112,16 +119,19 @@ def build_plan(budget_minutes, source=None, directory=None, size=64, design_voxe
     ``disk_bytes``, ``downsample`` and ``describe`` (text); ``output_error`` when ``directory``
     would be refused; ``design_voxels`` as in build_design_space. Raises DDGError for a volume
     no design space can be built on."""
+    props = dict(
+        BudgetMinutes=_within(budget_minutes, "build_plan", "budget_minutes", 1, 100000),
+        Size=_whole(size, "build_plan", "size", 16, 512),
+    )
+    if design_voxels is not None:
+        props["DesignVoxels"] = _whole(design_voxels, "build_plan", "design_voxels", 4096, 1 << 40)
     source = _source(source)
     build = _proxy(
         "DDGBuildDesignSpace",
         source,
         OutputDirectory=os.path.abspath(directory) if directory else "",
-        BudgetMinutes=float(budget_minutes),
-        Size=int(size),
+        **props,
     )
-    if design_voxels is not None:
-        build.SetPropertyWithName("DesignVoxels", int(design_voxels))
     build.SMProxy.InvokeCommand("PlanBuild")
     build.UpdatePropertyInformation()
     plan = json.loads(build.GetPropertyValue("BuildPlan"))

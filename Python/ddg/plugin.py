@@ -116,6 +116,22 @@ def _history(json_text=""):
 # --- running filters and reading their outputs ------------------------------------------------
 
 
+def _whole(value, caller, name, low, high=None):
+    """A filter's whole-number property, refused outside [low, high] (the filter would clamp it
+    silently: iterations=-5 ran one step)."""
+    if int(value) != value or value < low or (high is not None and value > high):
+        span = ">= %d" % low if high is None else "from %d to %d" % (low, high)
+        raise ValueError("%s: %s must be a whole number %s, not %r" % (caller, name, span, value))
+    return int(value)
+
+
+def _within(value, caller, name, low, high):
+    """A filter's number property, refused outside [low, high] (not clamped silently)."""
+    if not low <= float(value) <= high:
+        raise ValueError("%s: %s must lie in [%g, %g], not %r" % (caller, name, low, high, value))
+    return float(value)
+
+
 def _run(proxy):
     """Updates a filter; raises DDGError with its message when it failed."""
     proxy.UpdatePipeline()

@@ -11,7 +11,7 @@ from paraview import simple
 
 from .designs import Design
 from .plugin import DDGError, _field_numbers, _field_string, _first_tf, _kind_network, _kind_of
-from .plugin import _run, _tf_text
+from .plugin import _run, _tf_text, _whole
 from .scene import _errors_named, _image_text, _proxy, _rgb, _scene, _source, view_json
 
 
@@ -116,15 +116,6 @@ def _fit_picture(proxy, label, result, image=None, images=True):
             return result(table, servermanager.Fetch(proxy, idx=1) if images else None)
     finally:
         proxy.SetPropertyWithName("TargetImageData", "")  # do not keep megabytes in the proxy
-
-
-def _whole(value, caller, name, low, high=None):
-    """A filter's whole-number property, refused outside [low, high] (the filter would clamp it
-    silently: iterations=-5 ran one step)."""
-    if int(value) != value or value < low or (high is not None and value > high):
-        span = ">= %d" % low if high is None else "from %d to %d" % (low, high)
-        raise ValueError("%s: %s must be a whole number %s, not %r" % (caller, name, span, value))
-    return int(value)
 
 
 def _seed(seed, caller):

@@ -431,6 +431,19 @@ if not remote:  # the build writes where the filter runs; here the same machine
         raise AssertionError("a folder holding a bundle should be refused")
     except ddg.DDGError as e:
         check("build refuses a bundle's folder", "already holds a model bundle" in str(e), str(e))
+    # sizes the filter would clamp silently are refused before anything runs or is written
+    for call, words in (
+        (lambda: ddg.build_plan(0, small), "budget_minutes must lie in [1, 100000], not 0"),
+        (lambda: ddg.build_design_space(small, built.directory + "_x", budget_minutes=0), "[1,"),
+        (lambda: ddg.build_design_space(small, built.directory + "_x", minutes=-3), "minutes"),
+        (lambda: ddg.build_design_space(small, built.directory + "_x", count=0), "count must be"),
+    ):
+        try:
+            call()
+            raise AssertionError("a size out of range was run: " + words)
+        except ValueError as e:
+            check("a build's size out of range refused", words in str(e), str(e))
+    check("nothing written for them", not os.path.exists(built.directory + "_x"))
     plan = ddg.build_plan(2, small, built.directory)
     check(
         "build_plan(2 min)",
