@@ -207,9 +207,15 @@ Image decodeImage(const std::string& bytes, const std::string& origin)
     ext = ".jpg";
   else if (starts("II*\0", 4) || starts("MM\0*", 4))
     ext = ".tif";
+  else if (starts("BM", 2))
+    ext = ".bmp";
+  else if (starts("GIF87a", 6) || starts("GIF89a", 6))
+    ext = ".gif";
+  else if (starts("RIFF", 4) && bytes.size() >= 12 && bytes.compare(8, 4, "WEBP") == 0)
+    ext = ".webp";
   else
-    throw Error(
-      origin + " is not a PNG, JPEG or TIFF file (" + std::to_string(bytes.size()) + " bytes)");
+    throw Error(origin + " is not a PNG, JPEG, TIFF, BMP, GIF or WebP file (" +
+      std::to_string(bytes.size()) + " bytes)");
   OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
   // the name only tells OpenImageIO the format; errors name the origin
   try

@@ -69,10 +69,10 @@ struct ImageFileInfo
 };
 Image readImage(const std::string& path, ImageFileInfo* info);
 
-/// Reads an image file's contents held in memory (PNG, JPEG or TIFF, told by their first bytes;
-/// e.g. a screenshot sent by the GUI), as readImage. `origin` names it in errors ("cannot read
-/// <origin>: <reason>", "<origin> is not a PNG, JPEG or TIFF file"). Throws ddg::Error for
-/// another format or a file OpenImageIO cannot read.
+/// Reads an image file's contents held in memory (PNG, JPEG, TIFF, BMP, GIF or WebP, told by their
+/// first bytes; e.g. a screenshot sent by the GUI), as readImage. `origin` names it in errors
+/// ("cannot read <origin>: <reason>", "<origin> is not a PNG, JPEG, TIFF, BMP, GIF or WebP file").
+/// Throws ddg::Error for another format or a file OpenImageIO cannot read.
 Image decodeImage(const std::string& bytes, const std::string& origin = "the image data");
 
 /// The image JPEG-compressed at `quality` (1..100) with OpenImageIO and read back, in memory:

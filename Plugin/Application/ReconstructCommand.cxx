@@ -382,9 +382,9 @@ ddg::cli::Command ddg::cli::addReconstructCommand(CLI::App& app)
   reconstruct->add_option(
     "--smoothness", rc->smoothness, "Weight of the smoothness prior (default 0.01)");
   reconstruct
-    ->add_option(
-      "--iterations", rc->iterations, "Maximum Adam steps (default 500; --carry-look: 150)")
-    ->check(CLI::Range(1, 1000000));
+    ->add_option("--iterations", rc->iterations,
+      "Maximum Adam steps, 1 to 100000 as the filter's Iterations (default 500; --carry-look: 150)")
+    ->check(CLI::Range(1, 100000));
   reconstruct
     ->add_option("--lr", rc->learningRate, "Adam learning rate in logit space (default 0.2)")
     ->check(CLI::PositiveNumber);

@@ -27,11 +27,11 @@ DDGFILTERS_EXPORT Lighting filterLighting(const std::string& viewJson, const std
 DDGFILTERS_EXPORT void filterViewSize(
   const std::string& viewJson, const std::string& viewFile, int& width, int& height);
 
-/// The image of `base64` (an image file's contents, base64-encoded: PNG, JPEG or TIFF) when it
-/// is not empty, else of `file`. Throws ddg::Error naming `what` when both are empty or the text
-/// is not base64, and "the picture" (the file, when read from one) when it cannot be read. With
-/// `longest` > 0 the picture is as shrinkPicture(picture, longest) gives it (a file read strip by
-/// strip: readShrunkPicture).
+/// The image of `base64` (an image file's contents, base64-encoded: PNG, JPEG, TIFF, BMP, GIF or
+/// WebP) when it is not empty, else of `file`. Throws ddg::Error naming `what` when both are empty
+/// or the text is not base64, and "the picture" (the file, when read from one) when it cannot be
+/// read. With `longest` > 0 the picture is as shrinkPicture(picture, longest) gives it (a file read
+/// strip by strip: readShrunkPicture).
 DDGFILTERS_EXPORT Image filterImage(
   const std::string& base64, const std::string& file, const std::string& what, int longest = 0);
 

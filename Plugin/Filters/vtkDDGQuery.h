@@ -79,8 +79,8 @@ public:
   ///@}
 
   ///@{
-  /// The query image as a base64-encoded image file (PNG, JPEG or TIFF); when set, used instead
-  /// of ImageFile (a screenshot dropped or pasted into the panel). (default: empty)
+  /// The query image as a base64-encoded image file (PNG, JPEG, TIFF, BMP, GIF or WebP); when set,
+  /// used instead of ImageFile (a screenshot dropped or pasted into the panel). (default: empty)
   vtkSetStdStringFromCharMacro(ImageData);
   vtkGetCharFromStdStringMacro(ImageData);
   ///@}

@@ -91,8 +91,8 @@ public:
   ///@}
 
   ///@{
-  /// The target as a base64-encoded image file (PNG, JPEG or TIFF); when set, used instead of
-  /// TargetImageFile. (default: empty)
+  /// The target as a base64-encoded image file (PNG, JPEG, TIFF, BMP, GIF or WebP); when set, used
+  /// instead of TargetImageFile. (default: empty)
   vtkSetStdStringFromCharMacro(TargetImageData);
   vtkGetCharFromStdStringMacro(TargetImageData);
   ///@}

@@ -37,7 +37,8 @@ pqDDGDesignState::~pqDDGDesignState() = default;
 void pqDDGDesignState::report(const QString& text, bool error)
 {
   this->LastMessage = text;
-  if (error) // in Output Messages too, as a warning (a filter's own error comes as an error)
+  if (error && !this->HoldWarnings) // in Output Messages too, as a warning (a filter's own error
+                                    // comes as an error)
     vtkOutputWindow::GetInstance()->DisplayWarningText(
       ("Design Gallery: " + text + "\n").toUtf8().constData());
   Q_EMIT this->statusChanged(text, error);
@@ -105,8 +106,10 @@ bool pqDDGDesignState::loadModel(const QString& directory)
     this->keepVolumeState();
     hadModel = this->takeKept(this->ModelDirectory, before);
   }
+  this->HoldWarnings = hadModel;
   auto failed = [&]()
   {
+    this->HoldWarnings = false;
     if (!hadModel)
       return false;
     const QString why = this->LastMessage;
@@ -129,6 +132,7 @@ bool pqDDGDesignState::loadModel(const QString& directory)
   this->DesignProxy = ddgpanel::newFilter("DDGDesign", this->Source, port);
   if (!this->GalleryProxy || !this->QueryProxy || !this->DesignProxy)
   {
+    this->HoldWarnings = false;
     this->report(tr("The DesignGallery plugin is not loaded on the server (Tools > Manage "
                     "Plugins: load it on the remote side too)."),
       true);
@@ -151,6 +155,7 @@ bool pqDDGDesignState::loadModel(const QString& directory)
   this->refreshOutline();
   if (!this->Loaded)
     return failed();
+  this->HoldWarnings = false;
   if (restore)
     this->restoreVolumeState(kept);
   return true;

@@ -180,8 +180,8 @@ public:
   bool thumbnailsOutdated(const QJsonObject& view) const;
 
   // --- designs -------------------------------------------------------------------------------
-  /// Queries with an image file's bytes (PNG, JPEG or TIFF); `name` is recorded in the step.
-  /// Without a model the picture is kept for the match alone (queryDone, no design).
+  /// Queries with an image file's bytes (PNG, JPEG, TIFF, BMP, GIF or WebP); `name` is recorded in
+  /// the step. Without a model the picture is kept for the match alone (queryDone, no design).
   void query(const QByteArray& imageFile, const QString& name);
   void pick(int row);
   /// The outline part shown now (its drill-in depth: depth()).
@@ -349,6 +349,9 @@ private:
   bool Busy = false;
   bool Cancelled = false;
   QString LastMessage;
+  /// while a bundle is tried in place of the loaded one: its failure reaches Output Messages once,
+  /// with "the model loaded before stays"
+  bool HoldWarnings = false;
 
   QVector<QRectF> Boxes; ///< drill-in stack; the last is shown
   int Seed = 1;

@@ -27,6 +27,7 @@
 #include <cctype>
 #include <cmath>
 #include <iterator>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -113,6 +114,16 @@ std::string presetProblem(const json& preset)
       " is not one of ParaView's (RGB, HSV, Lab, Diverging, Lab/CIEDE2000, Step)";
   const auto rgb = numbers(member(preset, "RGBPoints"));
   const auto opacity = numbers(member(preset, "Points"));
+  for (const auto* nodes : { &rgb, &opacity })
+    for (size_t i = 4; i < nodes->size(); i += 4)
+      if ((*nodes)[i] < (*nodes)[i - 4]) // a repeated x is ParaView's; a smaller one is not
+      {
+        std::ostringstream msg;
+        msg << (nodes == &rgb ? "RGBPoints" : "Points") << " are not sorted: node " << i / 4
+            << " at x = " << (*nodes)[i] << " comes before x = " << (*nodes)[i - 4]
+            << " (x must not decrease)";
+        return msg.str();
+      }
   ddg::TransferFunction1D tf;
   for (size_t i = 0; i < rgb.size(); i += 4)
   {

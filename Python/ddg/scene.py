@@ -162,8 +162,9 @@ def save_image(pixels, path):
 
 
 def _image_text(image, label):
-    """base64 of a PNG/JPEG/TIFF file (path) or of a numpy image encoded as PNG; an empty file
-    raises DDGError named as ``_errors_named`` names the call's (``label``)."""
+    """base64 of an image file (a path: PNG, JPEG, TIFF, BMP, GIF or WebP) or of a numpy image
+    encoded as PNG; an empty file raises DDGError named as ``_errors_named`` names the call's
+    (``label``)."""
     if isinstance(image, str):
         with open(image, "rb") as f:
             data = f.read()

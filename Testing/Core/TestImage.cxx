@@ -77,6 +77,44 @@ TEST(ImageIO, PngRoundTripIsExactOn8BitValues)
   EXPECT_THROW(writeImage(a, "/nonexistent-dir/x.png"), Error);
 }
 
+// A picture a user has as BMP, GIF or WebP (the panel reads them through Qt) is read from memory
+// as a file of it is: pvpython and the filters send a file's bytes
+TEST(ImageIO, BmpGifAndWebPAreReadFromMemoryAsFromTheirFiles)
+{
+  Image a(64, 48, 3);
+  const float colours[3][3] = { { 0, 0, 0 }, { 1, 0.5f, 0 }, { 0.2f, 0.4f, 1 } };
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int c = 0; c < 3; ++c)
+        a.at(x, y, c) = std::round(colours[(x / 16 + y / 16) % 3][c] * 255.0f) / 255.0f;
+  for (const char* ext : { ".bmp", ".gif", ".webp" })
+  {
+    const std::string path = ddg::testing::tempDir() + "/ddg_memory" + ext;
+    writeImage(a, path);
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const Image file = readImage(path);
+    const Image memory = decodeImage(bytes, "the picture");
+    ASSERT_EQ(memory.width, a.width) << ext;
+    ASSERT_EQ(memory.height, a.height) << ext;
+    ASSERT_EQ(memory.channels, file.channels) << ext;
+    EXPECT_EQ(memory.pixels, file.pixels) << ext;
+    float worst = 0.0f, sum = 0.0f; // BMP and GIF (three colours) keep the pixels; WebP is lossy
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x)
+        for (int c = 0; c < 3; ++c)
+        {
+          const float d = std::abs(memory.at(x, y, c) - a.at(x, y, c));
+          worst = std::max(worst, d);
+          sum += d;
+        }
+    if (std::string(ext) == ".webp")
+      EXPECT_LE(sum / (a.width * a.height * 3), 0.05f);
+    else
+      EXPECT_LE(worst, 1e-6f) << ext;
+  }
+}
+
 TEST(ImageIO, UnreadablePicturesGiveOneLineNamingTheirOrigin)
 {
   auto message = [](auto read)
@@ -92,7 +130,7 @@ TEST(ImageIO, UnreadablePicturesGiveOneLineNamingTheirOrigin)
     return std::string("no error");
   };
   EXPECT_EQ(message([&] { decodeImage("hello", "the picture"); }),
-    "the picture is not a PNG, JPEG or TIFF file (5 bytes)");
+    "the picture is not a PNG, JPEG, TIFF, BMP, GIF or WebP file (5 bytes)");
 #if defined(__SANITIZE_ADDRESS__)
   // libpng leaves a truncated file by longjmp, past OpenImageIO's error string (31 bytes a read,
   // outside this project): LeakSanitizer would fail the run; the optimised build checks it

@@ -156,7 +156,9 @@ print("DDG Query: ImageData + ViewJSON = ImageFile + ViewFile")
 qerr = Errors(by_text)
 qerr.expect("not base64", "is not base64", ImageData="%%%%")
 qerr.expect(
-    "not an image", "not a PNG, JPEG or TIFF", ImageData=base64.b64encode(b"hello world!").decode()
+    "not an image",
+    "not a PNG, JPEG, TIFF, BMP, GIF or WebP",
+    ImageData=base64.b64encode(b"hello world!").decode(),
 )
 qerr.expect(
     "corrupt png",

@@ -35,6 +35,8 @@
 
 #include <vtkDataSetAttributes.h>
 #include <vtkNew.h>
+#include <vtkObjectFactory.h>
+#include <vtkOutputWindow.h>
 #include <vtkPVArrayInformation.h>
 #include <vtkPVDataInformation.h>
 #include <vtkPVDataSetAttributesInformation.h>
@@ -56,6 +58,18 @@
 namespace
 {
 int Failures = 0;
+
+/// Output Messages as the test sees them: what is written to them while it is installed
+class MessageLog : public vtkOutputWindow
+{
+public:
+  static MessageLog* New();
+  vtkTypeMacro(MessageLog, vtkOutputWindow);
+  void DisplayWarningText(const char* text) override { this->Texts << QString::fromUtf8(text); }
+  void DisplayErrorText(const char* text) override { this->Texts << QString::fromUtf8(text); }
+  QStringList Texts;
+};
+vtkStandardNewMacro(MessageLog);
 
 void check(bool ok, const QString& what)
 {
@@ -478,8 +492,16 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
   }
   // a bundle that cannot be loaded on this volume (Engine's on Tooth) gives Tooth's model back,
   // its design, pins and match as they were
+  // its failure is said once in Output Messages, with the model that stays
   const QJsonArray stepsBefore = state.steps();
+  vtkSmartPointer<vtkOutputWindow> window = vtkOutputWindow::GetInstance();
+  vtkNew<MessageLog> log;
+  vtkOutputWindow::SetInstance(log);
   const bool engine = state.loadModel(data + "/Models/engine");
+  vtkOutputWindow::SetInstance(window);
+  check(log->Texts.filter("Design Gallery:").size() == 1 &&
+      log->Texts.filter("Design Gallery:").front().contains("The model loaded before stays"),
+    "one warning for a bundle that cannot be loaded: " + log->Texts.join(" | "));
   check(!engine && state.isLoaded() && state.modelDirectory() == data + "/Models/tooth" &&
       state.steps() == stepsBefore && state.pins().size() == 1 && state.hasMatch() &&
       state.lastMessage().startsWith("This model belongs to another volume") &&

@@ -193,7 +193,11 @@ for bad, says in (
     ('{"RGBPoints": [0, 1, 0]}', '"RGBPoints" must hold 4 numbers a node (x, red, green, blue)'),
     (dict(good, Points=[0, 0, 0.5, 0, 255, "1", 0.5, 0]), '"Points" must hold 4 numbers a node'),
     (dict(good, Points=[0, 0, 0.5, 0, 255, 2, 0.5, 0]), "Points: opacity of node 1 is 2"),
-    (dict(good, RGBPoints=[9, 0, 0, 0] + good["RGBPoints"]), "RGBPoints are not sorted"),
+    (
+        dict(good, RGBPoints=[9, 0, 0, 0] + good["RGBPoints"]),
+        "RGBPoints are not sorted: node 1 at x = %g comes before x = 9 (x must not decrease)"
+        % good["RGBPoints"][0],
+    ),
     (dict(good, ColorSpace="Banana"), 'ColorSpace "Banana" is not one of ParaView\'s'),
     ("[]", "is not a ParaView preset"),
 ):
