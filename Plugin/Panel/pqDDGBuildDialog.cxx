@@ -8,7 +8,9 @@
 #include <QMessageBox>
 #include <QPushButton>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
 
 namespace
 {
@@ -26,6 +28,7 @@ pqDDGBuildDialog::pqDDGBuildDialog(pqServer* server, Planner planner, QWidget* p
   this->Ui->budget->setCurrentIndex(1);
   this->Ui->minutes->setEnabled(false);
   this->Ui->buttons->button(QDialogButtonBox::Ok)->setObjectName("ok"); // for test scripts
+  this->Ui->buttons->button(QDialogButtonBox::Cancel)->setObjectName("cancel");
   QObject::connect(this->Ui->buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
   QObject::connect(this->Ui->buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
   QObject::connect(this->Ui->budget, QOverload<int>::of(&QComboBox::currentIndexChanged), this,
@@ -59,6 +62,19 @@ pqDDGBuildDialog::pqDDGBuildDialog(pqServer* server, Planner planner, QWidget* p
 }
 
 pqDDGBuildDialog::~pqDDGBuildDialog() = default;
+
+void pqDDGBuildDialog::offer(const QString& folder, double minutes)
+{
+  if (!folder.isEmpty())
+    this->Ui->folder->setText(folder);
+  const double* known = std::find(std::begin(kBudgets), std::end(kBudgets), minutes);
+  const int index = static_cast<int>(known - std::begin(kBudgets)); // 3: Custom
+  this->Ui->minutes->setValue(minutes);
+  if (index == this->Ui->budget->currentIndex())
+    this->updatePlan();
+  else
+    this->Ui->budget->setCurrentIndex(index); // plans again
+}
 
 QString pqDDGBuildDialog::folder() const
 {

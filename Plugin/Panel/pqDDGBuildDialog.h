@@ -26,6 +26,10 @@ public:
   pqDDGBuildDialog(pqServer* server, Planner planner, QWidget* parent = nullptr);
   ~pqDDGBuildDialog() override;
 
+  /// Fills in a build's folder and budget (the last one the panel started that left no bundle:
+  /// cancelled or failed, so that trying again is one click); an empty folder keeps the field.
+  void offer(const QString& folder, double minutes);
+
   QString folder() const;
   /// The budget chosen, in minutes.
   double budgetMinutes() const;

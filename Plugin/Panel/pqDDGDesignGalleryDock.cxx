@@ -369,8 +369,12 @@ void pqDDGDesignGalleryDock::buildModel()
     [this](const QString& folder, double minutes)
     { return this->State->planBuild(folder, minutes, false); },
     this);
+  if (this->BuildMinutes > 0)
+    dialog.offer(this->BuildFolder, this->BuildMinutes);
   if (dialog.exec() != QDialog::Accepted)
     return;
+  this->BuildFolder = dialog.folder();
+  this->BuildMinutes = dialog.budgetMinutes();
   // runs on the server in the background: ParaView stays usable, the panel shows its progress
   this->State->startBuild(dialog.folder(), dialog.budgetMinutes(), dialog.overwrite());
 }
@@ -398,6 +402,7 @@ void pqDDGDesignGalleryDock::buildFinished(bool built, const QString& directory)
     this->Ui->progress->setValue(0);
     return;
   }
+  this->BuildFolder.clear(); // a bundle is there now: the next build is offered no folder
   this->Ui->modelPath->setText(directory);
   this->loadModel();
 }

@@ -78,4 +78,7 @@ private:
   QTimer* BoxTimer;
   QPointer<pqPipelineSource> Source;
   QMetaObject::Connection ViewWatch; ///< the active view's renders (thumbnails follow the camera)
+  /// what Build... offers: the last build's budget, and its folder while it left no bundle
+  QString BuildFolder;
+  double BuildMinutes = 0;
 };
