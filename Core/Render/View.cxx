@@ -362,6 +362,19 @@ View defaultView(const std::array<double, 6>& b, int width, int height)
   return v;
 }
 
+View resetCameraView(const std::array<double, 6>& bounds, int width, int height)
+{
+  View v = defaultView(bounds, width, height);
+  if (width >= height)
+    return v;
+  const double aspect = static_cast<double>(width) / height;
+  const double radius = v.camera.parallelScale;
+  const double angle = 2.0 * std::atan(std::tan(v.camera.viewAngle * M_PI / 360.0) * aspect);
+  v.camera.position = v.camera.focalPoint + Eigen::Vector3d(0, 0, radius / std::sin(0.5 * angle));
+  v.camera.parallelScale = radius / aspect;
+  return v;
+}
+
 RayGenerator::RayGenerator(const View& view)
   : V(view)
 {

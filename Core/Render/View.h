@@ -103,6 +103,11 @@ void writeView(const View& view, const std::string& path);
 View defaultView(const Volume& volume, int width = 512, int height = 512);
 /// The same for a volume's bounds (xmin, xmax, ymin, ...): a whole volume split into pieces.
 View defaultView(const std::array<double, 6>& bounds, int width, int height);
+/// ParaView's Reset Camera in a view of any shape: defaultView's, and in a view taller than wide
+/// (vtkRenderer::ResetCamera's vertical window) the distance that fits the horizontal angle,
+/// 2 atan(tan(view_angle / 2) width / height), and a parallel scale of radius height / width.
+/// (defaultView, which the match and the carried look start from, keeps the vertical angle.)
+View resetCameraView(const std::array<double, 6>& bounds, int width, int height);
 
 /// ParaView's sample distance for a volume of `dims` points at `spacing`: mean spacing / 2, times
 /// 0.01 + 0.99 n / 100 when n = ((nx-1)(ny-1)(nz-1))^0.333 < 100.

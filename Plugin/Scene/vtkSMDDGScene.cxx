@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <iterator>
@@ -307,6 +308,22 @@ std::string vtkSMDDGScene::SetLighting(
   return {};
 }
 
+namespace
+{
+/// Whether a render view shows any of its representations.
+bool showsAnything(vtkSMProxy* view)
+{
+  vtkSMPropertyHelper shown(view, "Representations", true);
+  for (unsigned int i = 0; i < shown.GetNumberOfElements(); ++i)
+  {
+    vtkSMProxy* r = shown.GetAsProxy(i);
+    if (r && r->GetProperty("Visibility") && vtkSMPropertyHelper(r, "Visibility").GetAsInt() != 0)
+      return true;
+  }
+  return false;
+}
+} // namespace
+
 std::string vtkSMDDGScene::ViewJSON(
   vtkSMProxy* view, vtkSMProxy* representationOrSource, int maxSide)
 {
@@ -324,6 +341,20 @@ std::string vtkSMDDGScene::ViewJSON(
   camera["parallel_scale"] = vtkSMPropertyHelper(proxy, "CameraParallelScale").GetAsDouble();
   vtkSMPropertyHelper size(proxy, "ViewSize");
   const double w = std::max(1, size.GetAsInt(0)), h = std::max(1, size.GetAsInt(1));
+  // A view that shows nothing (pvpython's after OpenDataFile) has ParaView's first camera, which
+  // does not look at the volume: the volume is seen as ParaView shows it once shown (Reset
+  // Camera on its bounds; paraview.simple's first render), not as an empty picture
+  auto* source = vtkSMSourceProxy::SafeDownCast(representationOrSource);
+  if (source && !showsAnything(proxy))
+  {
+    source->UpdatePipeline(); // a reader never shown has not read its file: no bounds yet
+    std::array<double, 6> b{ 1, 0, 1, 0, 1, 0 }; // none
+    if (vtkPVDataInformation* info = dataInformation(source, 0))
+      info->GetBounds(b.data());
+    if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
+      camera = json::parse(ddg::viewToJson(
+        ddg::resetCameraView(b, static_cast<int>(w), static_cast<int>(h))))["camera"];
+  }
   const double scale = maxSide > 0 ? std::min(1.0, maxSide / std::max(w, h)) : 1.0;
   json out;
   out["camera"] = camera;

@@ -46,7 +46,11 @@ public:
    * UseColorPaletteForBackground is on, as it is for a new view, else the view's Background) and,
    * when `representationOrSource` is a representation with a ScalarOpacityUnitDistance (or a source
    * shown in `view`), "opacity_unit_distance" and, with Shade on, "lighting" (Shade, Ambient,
-   * Diffuse, Specular, SpecularPower). Empty when `view` is not a render view.
+   * Diffuse, Specular, SpecularPower). When `representationOrSource` is a source and `view` shows
+   * nothing (no visible representation: pvpython's view after OpenDataFile, whose camera has
+   * never looked at the data), the camera is ParaView's Reset Camera on the source's bounds at
+   * the view's shape (Core's resetCameraView), as ParaView shows the source once it is shown.
+   * Empty when `view` is not a render view.
    */
   static std::string ViewJSON(vtkSMProxy* view, vtkSMProxy* representationOrSource, int maxSide);
 

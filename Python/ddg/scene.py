@@ -97,8 +97,10 @@ def _proxy(name, source, **props):
 def view_json(view=None, source=None, max_side=None):
     """The DDG view JSON (dict) of a render view's current camera (default: the active view):
     camera as ParaView states it, ViewSize (scaled so the longer side is at most ``max_side``),
-    background and the source's Scalar Opacity Unit Distance when it is shown. A ``str`` is read
-    as a view JSON file, a ``dict`` is returned as is."""
+    background and the source's Scalar Opacity Unit Distance when it is shown. A view that shows
+    nothing (after OpenDataFile, before Show) gives the camera ParaView's Reset Camera would give
+    ``source`` in it, since its own camera has never looked at the data. A ``str`` is read as a
+    view JSON file, a ``dict`` is returned as is."""
     if isinstance(view, str):
         with open(view) as f:
             return json.load(f)

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <initializer_list>
 #include <string>
@@ -137,6 +138,23 @@ TEST(View, LightingAloneNeedsNoCamera)
   for (const char* bad : { "[1]", "not json", R"({"lighting": {"diffuse": 2}})",
          R"({"lighting": {"shade": true, "speculr": 0.5}})", R"({"lighting": true})" })
     EXPECT_THROW(viewLighting(bad, "ViewJSON"), Error) << bad;
+}
+
+// ParaView 5.11's Reset Camera on Tooth's bounds in a 300 x 500 view (pvpython: Show, Render,
+// CameraPosition and CameraParallelScale): a view taller than wide fits the horizontal angle
+TEST(View, ResetCameraFollowsParaViewInATallView)
+{
+  const std::array<double, 6> tooth{ 0, 102, 0, 93, 0, 160 };
+  const View tall = resetCameraView(tooth, 300, 500);
+  EXPECT_NEAR(tall.camera.position.z() - tall.camera.focalPoint.z(), 665.6299954645581, 1e-6);
+  EXPECT_NEAR(tall.camera.parallelScale, 176.09380391648588, 1e-9);
+  EXPECT_EQ(tall.camera.focalPoint, Eigen::Vector3d(51, 46.5, 80));
+  for (auto [w, h] : { std::pair{ 500, 300 }, std::pair{ 400, 400 } }) // as wide or wider
+  {
+    const View a = resetCameraView(tooth, w, h), b = defaultView(tooth, w, h);
+    EXPECT_EQ(a.camera.position, b.camera.position);
+    EXPECT_EQ(a.camera.parallelScale, b.camera.parallelScale);
+  }
 }
 
 TEST(RayGenerator, PerspectiveAndParallelConventions)

@@ -31,6 +31,7 @@ if remote:
 import ddg  # noqa: E402  (loads the plugin, remotely too when connected)
 from paraview.simple import (
     ColorBy,
+    CreateView,
     Delete,
     GetActiveView,
     GetColorTransferFunction,
@@ -38,6 +39,8 @@ from paraview.simple import (
     GetOpacityTransferFunction,
     Hide,
     RenameSource,
+    Render,
+    SetActiveView,
     Show,
     XMLImageDataReader,
 )
@@ -68,6 +71,25 @@ def check(name, ok, detail=""):
     assert ok, f"{name}: {detail}"
     print(f"ok {name} {detail}")
 
+
+# a view that shows nothing has ParaView's first camera, away from the data: its view JSON gives the
+# camera ParaView's Reset Camera gives with the volume shown there (a view taller than wide)
+first = GetActiveView()
+empty = CreateView("RenderView")
+empty.ViewSize = [300, 500]
+unseen = ddg.view_json(empty, tooth)["camera"]
+Show(tooth, empty)
+Render(empty)
+empty.ResetCamera()  # paraview.simple resets on the session's first render alone; the GUI on Show
+seen = ddg.view_json(empty, tooth)["camera"]
+check(
+    "view_json of a view showing nothing",
+    all(np.allclose(unseen[k], seen[k], rtol=1e-9) for k in ("position", "focal_point", "view_up"))
+    and np.isclose(unseen["parallel_scale"], seen["parallel_scale"], rtol=1e-9),
+    "%s against ParaView's %s" % (unseen["position"], seen["position"]),
+)
+Delete(empty)
+SetActiveView(first)
 
 start = time.time()
 model = ddg.load_model(model_dir, tooth)
