@@ -16,6 +16,7 @@
 #include "Image/ImageMetrics.h"
 #include "Reconstruct/CarryLook.h"
 #include "Reconstruct/Match.h"
+#include "Reconstruct/MatchParts.h"
 #include "Reconstruct/Reconstruction.h"
 #include "TransferFunction/TransferFunctionIO.h"
 
@@ -431,19 +432,6 @@ std::pair<ddg::Image, std::string> firstRankReads(const ddg::RankGroup* ranks,
   return read;
 }
 
-/// The part {x, y, width, height} of an image (the whole image when the part is empty).
-ddg::Image cropped(const ddg::Image& image, const std::array<int, 4>& crop)
-{
-  if (crop[2] <= 0 || crop[3] <= 0 || (crop[2] == image.width && crop[3] == image.height))
-    return image;
-  ddg::Image out(crop[2], crop[3], image.channels);
-  for (int y = 0; y < crop[3]; ++y)
-    for (int x = 0; x < crop[2]; ++x)
-      for (int c = 0; c < image.channels; ++c)
-        out.at(x, y, c) = image.at(crop[0] + x, crop[1] + y, c);
-  return out;
-}
-
 /// The volume a match or a carried look renders: the whole (builtin), or under MPI this rank's
 /// piece rendering with the other ranks' (DDGPieces.h).
 struct PictureVolume
@@ -653,7 +641,7 @@ void vtkDDGReconstructTransferFunction::ExecuteMatch(
   if (!first)
     return;
   // the part of the picture matched (inside a letterbox): the view and the masks are its size
-  const ddg::Image rgbPicture = cropped(ddg::toChannels(picture, 3), result.crop);
+  const ddg::Image rgbPicture = ddg::matchparts::cropTo(ddg::toChannels(picture, 3), result.crop);
   vtkFieldData* fd = output->GetFieldData();
   addNumbers(fd, "Crop",
     { static_cast<double>(result.crop[0]), static_cast<double>(result.crop[1]),
