@@ -88,7 +88,7 @@ void pqDDGQueryBox::browse()
 {
   const QString path =
     QFileDialog::getOpenFileName(this, tr("Query image"), this->Ui->queryPath->text(),
-      tr("Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp);;All files (*)"));
+      tr("Images (*.png *.jpg *.jpeg *.tif *.tiff *.bmp *.gif *.webp);;All files (*)"));
   if (!path.isEmpty())
     this->queryPath(path);
 }
@@ -155,8 +155,11 @@ void pqDDGQueryBox::queryFile(const QString& path)
     }
   }
   const QByteArray bytes = file.readAll();
+  // what the server's reader (Core's decodeImage) tells by its first bytes: PNG, JPEG, TIFF, BMP,
+  // GIF, WebP (this Qt may lack a WebP plugin: the server reads it all the same)
   const bool direct = bytes.startsWith("\x89PNG") || bytes.startsWith("\xff\xd8\xff") ||
-    bytes.startsWith("II*") || bytes.startsWith("MM");
+    bytes.startsWith("II*") || bytes.startsWith("MM") || bytes.startsWith("BM") ||
+    bytes.startsWith("GIF8") || (bytes.startsWith("RIFF") && bytes.mid(8, 4) == "WEBP");
   if (direct && bytes.size() < 32 * 1024 * 1024)
   {
     // the file as it is: the server reads it exactly as `ddg query` reads the file

@@ -265,7 +265,8 @@ def query(image, source=None, view=None, model=None, neighbours=5, thumbnail_siz
     """Queries the model's design space with an image (a file path or a numpy image): the
     analyzer's design, placed on the outline, with its ``neighbours`` nearest outline rows.
     ``view`` is where its preview is rendered and its explicit TF made (default: the active
-    view's camera). Returns a Design; its ``picture_psnr`` is the design against the picture,
+    view's camera; a view that shows nothing yet: ParaView's Reset Camera on the volume, as
+    ``view_json`` gives it). Returns a Design; its ``picture_psnr`` is the design against the picture,
     both framed on their content (dB: how close it looks without the picture's camera; the
     picture's lighting not known either, the better of the design unlit and lit, which
     ``picture_lit`` says). A picture of lines or text (a chart) raises DDGError; one that cannot
