@@ -42,10 +42,12 @@ ddg::Image readTarget(const std::string& path, const ddg::View* view, bool resam
 {
   ddg::ImageFileInfo info;
   ddg::Image img = ddg::readImage(path, &info);
+  if (img.channels == 1 || img.channels == 2) // a grey figure: its grey in red, green and blue,
+    img = ddg::toChannels(img, img.channels == 2 ? 4 : 3); // as the filter reads it
   if (img.channels != 3 && img.channels != 4)
   {
     throw ddg::Error("target '" + path + "' has " + std::to_string(img.channels) +
-      " channels; an RGB screenshot or an RGBA image (straight alpha) is needed");
+      " channels; an RGB screenshot, an RGBA image (straight alpha) or a grey picture is needed");
   }
   if (info.format != "uint8")
   {
