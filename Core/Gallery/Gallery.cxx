@@ -373,8 +373,7 @@ QueryResult DesignGallery::query(const Image& picture, const View& view, int nei
   QueryResult r;
   r.input = prepareQueryImage(image, Model.config().imageSize);
   // a chart is refused; a picture that cannot be read as a rendered volume gets a warning
-  const Image colour =
-    image.channels >= 3 ? Image() : toChannels(image, image.channels == 2 ? 4 : 3);
+  const Image colour = image.channels >= 3 ? Image() : inColour(image);
   r.warning = checkQueryPicture(image.channels >= 3 ? image : colour);
   r.latent = Model.analyze(r.input);
   r.position = Outline.project(r.latent.data());

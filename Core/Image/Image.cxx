@@ -381,6 +381,15 @@ Image toChannels(const Image& in, int channels)
   return out;
 }
 
+Image inColour(Image image)
+{
+  if (image.channels == 1 || image.channels == 2)
+  {
+    return toChannels(image, image.channels + 2);
+  }
+  return image;
+}
+
 namespace
 {
 // One axis of OpenImageIO's separable resize (ImageBufAlgo::resize, OpenImageIO 2.4): for each

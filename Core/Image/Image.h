@@ -124,6 +124,10 @@ void writeAnimation(const std::vector<Image>& frames, const std::string& path, d
 /// Drops or adds channels: RGBA -> RGB (alpha dropped), gray -> RGB, RGB -> RGBA (alpha 1).
 Image toChannels(const Image& image, int channels);
 
+/// A picture in colour: grey -> RGB and grey-alpha -> RGBA (the grey in red, green and blue),
+/// RGB and RGBA as they are. How every reader of a user's picture takes a grey figure.
+Image inColour(Image image);
+
 /// A contact sheet: RGB images (RGBA: alpha dropped; gray: spread) row by row, `columns` per
 /// row, cells the size of the largest image, `gap` pixels of `background` between and around
 /// them. Throws ddg::Error for no images or columns < 1.

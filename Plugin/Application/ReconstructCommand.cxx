@@ -41,9 +41,7 @@ void warn(const std::string& text)
 ddg::Image readTarget(const std::string& path, const ddg::View* view, bool resample)
 {
   ddg::ImageFileInfo info;
-  ddg::Image img = ddg::readImage(path, &info);
-  if (img.channels == 1 || img.channels == 2) // a grey figure: its grey in red, green and blue,
-    img = ddg::toChannels(img, img.channels == 2 ? 4 : 3); // as the filter reads it
+  ddg::Image img = ddg::inColour(ddg::readImage(path, &info)); // a grey figure as the filter
   if (img.channels != 3 && img.channels != 4)
   {
     throw ddg::Error("target '" + path + "' has " + std::to_string(img.channels) +

@@ -40,6 +40,7 @@
 #include <limits>
 #include <memory>
 #include <optional>
+#include <utility>
 
 vtkStandardNewMacro(vtkDDGReconstructTransferFunction);
 
@@ -238,8 +239,7 @@ ddg::ReconstructionTarget targetOf(const std::string& data, const std::string& f
     throw ddg::Error("the target image is " + std::to_string(target.image.width) + " x " +
       std::to_string(target.image.height) + ", the view " + std::to_string(target.view.width) +
       " x " + std::to_string(target.view.height) + ": save the screenshot at the view's size");
-  if (target.image.channels == 1 || target.image.channels == 2)
-    target.image = ddg::toChannels(target.image, target.image.channels == 2 ? 4 : 3);
+  target.image = ddg::inColour(std::move(target.image));
   if (target.image.channels == 3)
   {
     std::optional<std::array<double, 3>> given;
@@ -399,10 +399,7 @@ ddg::Image overBackground(const ddg::Image& rgba, const ddg::View& view)
 /// The target picture (base64 data or a file), grey and grey-alpha made RGB and RGBA.
 ddg::Image pictureOf(const std::string& data, const std::string& file)
 {
-  ddg::Image picture = ddg::filterImage(data, file, "TargetImage");
-  if (picture.channels == 1 || picture.channels == 2)
-    picture = ddg::toChannels(picture, picture.channels == 2 ? 4 : 3);
-  return picture;
+  return ddg::inColour(ddg::filterImage(data, file, "TargetImage"));
 }
 
 /// The target picture and a text that goes with it (`readText`: a view's or its lighting's JSON):

@@ -20,6 +20,7 @@
 
 #include <QCoreApplication>
 #include <QJsonDocument>
+#include <QScopedValueRollback>
 
 #include <algorithm>
 #include <limits>
@@ -106,56 +107,59 @@ bool pqDDGDesignState::loadModel(const QString& directory)
     this->keepVolumeState();
     hadModel = this->takeKept(this->ModelDirectory, before);
   }
-  this->HoldWarnings = hadModel;
-  auto failed = [&]()
-  {
-    this->HoldWarnings = false;
-    if (!hadModel)
-      return false;
-    const QString why = this->LastMessage;
-    this->putKept(before);
-    if (this->loadModel(before.ModelDirectory))
-      this->report(
-        tr("%1 The model loaded before stays: '%2'.").arg(why, before.ModelDirectory), true);
-    return false;
-  };
-  this->clearModel();
-  this->ModelDirectory = directory;
-  if (directory.isEmpty())
-  {
-    this->report(tr("No model directory given: Load a bundle of this volume or build one."), true);
-    return failed();
-  }
-  const int port = 0;
-  this->GalleryProxy = ddgpanel::newFilter("DDGDesignGallery", this->Source, port);
-  this->QueryProxy = ddgpanel::newFilter("DDGQuery", this->Source, port);
-  this->DesignProxy = ddgpanel::newFilter("DDGDesign", this->Source, port);
-  if (!this->GalleryProxy || !this->QueryProxy || !this->DesignProxy)
-  {
-    this->HoldWarnings = false;
-    this->report(tr("The DesignGallery plugin is not loaded on the server (Tools > Manage "
-                    "Plugins: load it on the remote side too)."),
-      true);
-    return false;
-  }
-  for (vtkSMSourceProxy* p :
-    { this->GalleryProxy.Get(), this->QueryProxy.Get(), this->DesignProxy.Get() })
-  {
-    vtkSMPropertyHelper(p, "ModelDirectory").Set(directory.toUtf8().constData());
-    vtkSMPropertyHelper(p, "SelectInputScalars")
-      .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
-    p->UpdateVTKObjects();
-  }
   Kept kept;
-  const bool restore = this->takeKept(directory, kept);
-  this->Boxes = restore ? kept.Boxes : QVector<QRectF>{ QRectF() }; // else the whole outline
-  if (restore)
-    this->Seed = kept.Seed;
-  this->Loaded = true;
-  this->refreshOutline();
-  if (!this->Loaded)
-    return failed();
-  this->HoldWarnings = false;
+  bool restore = false;
+  {
+    const QScopedValueRollback<bool> hold(this->HoldWarnings, hadModel); // until the bundle is in
+    auto failed = [&]()
+    {
+      this->HoldWarnings = false; // what follows reaches Output Messages
+      if (!hadModel)
+        return false;
+      const QString why = this->LastMessage;
+      this->putKept(before);
+      if (this->loadModel(before.ModelDirectory))
+        this->report(
+          tr("%1 The model loaded before stays: '%2'.").arg(why, before.ModelDirectory), true);
+      return false;
+    };
+    this->clearModel();
+    this->ModelDirectory = directory;
+    if (directory.isEmpty())
+    {
+      this->report(
+        tr("No model directory given: Load a bundle of this volume or build one."), true);
+      return failed();
+    }
+    const int port = 0;
+    this->GalleryProxy = ddgpanel::newFilter("DDGDesignGallery", this->Source, port);
+    this->QueryProxy = ddgpanel::newFilter("DDGQuery", this->Source, port);
+    this->DesignProxy = ddgpanel::newFilter("DDGDesign", this->Source, port);
+    if (!this->GalleryProxy || !this->QueryProxy || !this->DesignProxy)
+    {
+      this->HoldWarnings = false; // this reaches Output Messages
+      this->report(tr("The DesignGallery plugin is not loaded on the server (Tools > Manage "
+                      "Plugins: load it on the remote side too)."),
+        true);
+      return false;
+    }
+    for (vtkSMSourceProxy* p :
+      { this->GalleryProxy.Get(), this->QueryProxy.Get(), this->DesignProxy.Get() })
+    {
+      vtkSMPropertyHelper(p, "ModelDirectory").Set(directory.toUtf8().constData());
+      vtkSMPropertyHelper(p, "SelectInputScalars")
+        .SetInputArrayToProcess(vtkDataObject::POINT, this->Array.toUtf8().constData());
+      p->UpdateVTKObjects();
+    }
+    restore = this->takeKept(directory, kept);
+    this->Boxes = restore ? kept.Boxes : QVector<QRectF>{ QRectF() }; // else the whole outline
+    if (restore)
+      this->Seed = kept.Seed;
+    this->Loaded = true;
+    this->refreshOutline();
+    if (!this->Loaded)
+      return failed();
+  }
   if (restore)
     this->restoreVolumeState(kept);
   return true;

@@ -14,6 +14,7 @@
 #include <fstream>
 #include <iterator>
 #include <random>
+#include <vector>
 
 using namespace ddg;
 
@@ -259,6 +260,29 @@ TEST(ImageAlpha, PremultiplyAndBack)
   EXPECT_FLOAT_EQ(ddg::unpremultiplyAlpha(over).pixels[0], 1.0f);
   EXPECT_THROW(ddg::premultiplyAlpha(ddg::Image(1, 1, 3, 0.0f)), ddg::Error);
   EXPECT_THROW(ddg::unpremultiplyAlpha(ddg::Image(1, 1, 3, 0.0f)), ddg::Error);
+}
+
+TEST(Image, InColourSpreadsGreyAndKeepsColour)
+{
+  ddg::Image grey(2, 1, 1, 0.0f);
+  grey.pixels = { 0.25f, 0.75f };
+  const ddg::Image rgb = ddg::inColour(grey);
+  ASSERT_EQ(rgb.channels, 3);
+  EXPECT_EQ(rgb.pixels, std::vector<float>({ 0.25f, 0.25f, 0.25f, 0.75f, 0.75f, 0.75f }));
+  ddg::Image greyAlpha(1, 1, 2, 0.0f);
+  greyAlpha.pixels = { 0.5f, 0.2f };
+  const ddg::Image rgba = ddg::inColour(greyAlpha);
+  ASSERT_EQ(rgba.channels, 4);
+  EXPECT_EQ(rgba.pixels, std::vector<float>({ 0.5f, 0.5f, 0.5f, 0.2f }));
+  for (int channels : { 3, 4 })
+  {
+    ddg::Image colour(1, 1, channels, 0.0f);
+    for (int c = 0; c < channels; ++c)
+      colour.pixels[c] = 0.1f * (c + 1);
+    const ddg::Image same = ddg::inColour(colour);
+    EXPECT_EQ(same.channels, channels);
+    EXPECT_EQ(same.pixels, colour.pixels);
+  }
 }
 
 TEST(ImageSheet, RendersTiledRowByRowOverTransparentGaps)
