@@ -18,8 +18,6 @@
 #include <QFileInfo>
 #include <QJsonDocument>
 #include <QMimeData>
-#include <QPainter>
-#include <QRegion>
 #include <QScrollArea>
 #include <QShortcut>
 #include <QTimer>
@@ -53,28 +51,7 @@ void pqDDGDesignGalleryDock::showMatch()
   const bool has = this->State->hasMatch();
   ui.applyMatch->setEnabled(has);
   ui.match->setEnabled(!this->State->queryPicture().isEmpty());
-  // the picture, with what the match left out (overlays; the bands of a letterbox and the panels
-  // around a window's render view: outside its crop) tinted red
-  QImage picture = QImage::fromData(this->State->queryPicture());
-  const QRect part = m.Crop.isValid() ? m.Crop : QRect(QPoint(0, 0), m.Overlay.size());
-  if (!picture.isNull() && has && m.Overlay.size() == part.size() && picture.rect().contains(part))
-  {
-    picture = picture.convertToFormat(QImage::Format_ARGB32);
-    QImage tint(part.size(), QImage::Format_ARGB32);
-    tint.fill(Qt::transparent);
-    for (int y = 0; y < tint.height(); ++y)
-    {
-      const uchar* mask = m.Overlay.constScanLine(y);
-      auto* row = reinterpret_cast<QRgb*>(tint.scanLine(y));
-      for (int x = 0; x < tint.width(); ++x)
-        if (mask[x] > 127)
-          row[x] = qRgba(255, 0, 0, 140);
-    }
-    QPainter painter(&picture);
-    painter.drawImage(part.topLeft(), tint);
-    painter.setClipRegion(QRegion(picture.rect()).subtracted(QRegion(part)));
-    painter.fillRect(picture.rect(), QColor(255, 0, 0, 140));
-  }
+  const QImage picture = this->State->pictureTile();
   if (picture.isNull())
     ui.pictureView->clear();
   else

@@ -218,6 +218,11 @@ public:
   const Match& lastMatch() const { return this->LastMatch; }
   /// The picture of the last query (an image file's bytes) and its name.
   const QByteArray& queryPicture() const { return this->QueryPicture; }
+  /// The query's picture as the match's tile shows it: what the match left out (overlays; the
+  /// bands of a letterbox and the panels around a window's render view: outside its crop) tinted
+  /// red when there is a match. Decoded by Qt, or as the filters read it when Qt has no reader for
+  /// its format (WebP); null when there is no picture.
+  QImage pictureTile() const;
   const QString& queryName() const { return this->QueryName; }
   /// The query's design against its picture, both framed on their content (Core's framedPSNR;
   /// NaN without a query): how close it looks without knowing the picture's camera.

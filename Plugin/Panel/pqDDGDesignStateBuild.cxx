@@ -123,10 +123,12 @@ void pqDDGDesignState::pollBuild()
     Q_EMIT this->buildFinished(true, dir);
     return;
   }
-  this->report(state == "cancelled"
-      ? tr("Build cancelled: nothing of it is left in %1.").arg(dir)
-      : tr("The build failed: %1").arg(error.isEmpty() ? tr("see the Output Messages") : error),
-    true);
+  if (state == "cancelled") // what the user asked for: not a warning in Output Messages
+    this->report(tr("Build cancelled: nothing of it is left in %1.").arg(dir), false);
+  else
+    this->report(
+      tr("The build failed: %1").arg(error.isEmpty() ? tr("see the Output Messages") : error),
+      true);
   Q_EMIT this->buildFinished(false, dir);
 }
 

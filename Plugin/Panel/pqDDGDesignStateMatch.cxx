@@ -5,6 +5,8 @@
 #include <QCoreApplication>
 #include <QFileInfo>
 #include <QJsonDocument>
+#include <QPainter>
+#include <QRegion>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -18,6 +20,7 @@
 #include <vtkImageData.h>
 #include <vtkOutputWindow.h>
 #include <vtkPointData.h>
+#include <vtkSMDDGScene.h>
 #include <vtkSMPropertyHelper.h>
 #include <vtkSMSessionProxyManager.h>
 #include <vtkSMSourceProxy.h>
@@ -160,16 +163,21 @@ bool pqDDGDesignState::match(bool fromCurrentCamera, bool otherVolume)
   vtkSMPropertyHelper(p, "TargetImageData").Set(""); // do not keep megabytes around
   vtkSMPropertyHelper(p, "InitialTransferFunction").Set("");
   p->UpdateVTKObjects();
-  if (cancelled || error == "cancelled" || !table || !error.isEmpty())
+  if (cancelled || error == "cancelled")
   {
-    const QString text = cancelled || error == "cancelled"
-      ? tr("Match cancelled: nothing was applied, the scene is unchanged.")
-      : tr("The match failed: %1. Nothing was applied, the scene is unchanged.%2")
-          .arg(error.isEmpty() ? tr("no transfer function (see the Output Messages)") : error)
-          .arg(!otherVolume && error.contains("no camera explains")
-              ? tr(" If the picture shows another volume, tick \"the picture shows another "
-                   "volume\" and Match again.")
-              : QString());
+    // what the user asked for: said in the panel, not as a warning in Output Messages
+    this->report(tr("Match cancelled: nothing was applied, the scene is unchanged."), false);
+    return false;
+  }
+  if (!table || !error.isEmpty())
+  {
+    const QString text =
+      tr("The match failed: %1. Nothing was applied, the scene is unchanged.%2")
+        .arg(error.isEmpty() ? tr("no transfer function (see the Output Messages)") : error)
+        .arg(!otherVolume && error.contains("no camera explains")
+            ? tr(" If the picture shows another volume, tick \"the picture shows another "
+                 "volume\" and Match again.")
+            : QString());
     this->report(text, true);
     return false;
   }
@@ -264,4 +272,38 @@ QString pqDDGDesignState::kindText(const QJsonObject& kind)
     .arg(threshold, 0, 'f', 2)
     .arg(kind.value("picture_like").toString())
     .arg(kind.value("volume_like").toString());
+}
+
+QImage pqDDGDesignState::pictureTile() const
+{
+  QImage picture = QImage::fromData(this->QueryPicture);
+  if (picture.isNull() && !this->QueryPicture.isEmpty()) // a format this Qt cannot read
+  {
+    int width = 0, height = 0;
+    const std::vector<unsigned char> rgb =
+      vtkSMDDGScene::DecodePicture(this->QueryPicture.toStdString(), width, height);
+    if (!rgb.empty())
+      picture = QImage(rgb.data(), width, height, 3 * width, QImage::Format_RGB888).copy();
+  }
+  const Match& m = this->LastMatch;
+  const QRect part = m.Crop.isValid() ? m.Crop : QRect(QPoint(0, 0), m.Overlay.size());
+  if (picture.isNull() || !this->hasMatch() || m.Overlay.size() != part.size() ||
+    !picture.rect().contains(part))
+    return picture;
+  picture = picture.convertToFormat(QImage::Format_ARGB32);
+  QImage tint(part.size(), QImage::Format_ARGB32);
+  tint.fill(Qt::transparent);
+  for (int y = 0; y < tint.height(); ++y)
+  {
+    const uchar* mask = m.Overlay.constScanLine(y);
+    auto* row = reinterpret_cast<QRgb*>(tint.scanLine(y));
+    for (int x = 0; x < tint.width(); ++x)
+      if (mask[x] > 127)
+        row[x] = qRgba(255, 0, 0, 140);
+  }
+  QPainter painter(&picture);
+  painter.drawImage(part.topLeft(), tint);
+  painter.setClipRegion(QRegion(picture.rect()).subtracted(QRegion(part)));
+  painter.fillRect(picture.rect(), QColor(255, 0, 0, 140));
+  return picture;
 }

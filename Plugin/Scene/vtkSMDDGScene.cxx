@@ -18,6 +18,7 @@
 #include <vtksys/SystemTools.hxx>
 
 #include "Gallery/Export.h"
+#include "Image/Image.h"
 #include "Render/View.h"
 #include "TransferFunction/TransferFunction1D.h"
 
@@ -28,6 +29,7 @@
 #include <cctype>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -331,19 +333,12 @@ std::string vtkSMDDGScene::ViewJSON(
   if (!proxy)
     return {};
   proxy->SynchronizeCameraProperties();
-  json camera;
-  camera["position"] = triple(proxy, "CameraPosition");
-  camera["focal_point"] = triple(proxy, "CameraFocalPoint");
-  camera["view_up"] = triple(proxy, "CameraViewUp");
-  camera["view_angle"] = vtkSMPropertyHelper(proxy, "CameraViewAngle").GetAsDouble();
-  camera["parallel_projection"] =
-    vtkSMPropertyHelper(proxy, "CameraParallelProjection").GetAsInt() != 0;
-  camera["parallel_scale"] = vtkSMPropertyHelper(proxy, "CameraParallelScale").GetAsDouble();
   vtkSMPropertyHelper size(proxy, "ViewSize");
   const double w = std::max(1, size.GetAsInt(0)), h = std::max(1, size.GetAsInt(1));
   // A view that shows nothing (pvpython's after OpenDataFile) has ParaView's first camera, which
   // does not look at the volume: the volume is seen as ParaView shows it once shown (Reset
   // Camera on its bounds; paraview.simple's first render), not as an empty picture
+  std::optional<ddg::Camera> reset;
   auto* source = vtkSMSourceProxy::SafeDownCast(representationOrSource);
   if (source && !showsAnything(proxy))
   {
@@ -352,8 +347,28 @@ std::string vtkSMDDGScene::ViewJSON(
     if (vtkPVDataInformation* info = dataInformation(source, 0))
       info->GetBounds(b.data());
     if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
-      camera = json::parse(ddg::viewToJson(
-        ddg::resetCameraView(b, static_cast<int>(w), static_cast<int>(h))))["camera"];
+      reset = ddg::resetCameraView(b, static_cast<int>(w), static_cast<int>(h)).camera;
+  }
+  json camera;
+  if (reset)
+  {
+    const auto xyz = [](const Eigen::Vector3d& p) { return json::array({ p[0], p[1], p[2] }); };
+    camera["position"] = xyz(reset->position);
+    camera["focal_point"] = xyz(reset->focalPoint);
+    camera["view_up"] = xyz(reset->viewUp);
+    camera["view_angle"] = reset->viewAngle;
+    camera["parallel_projection"] = reset->parallelProjection;
+    camera["parallel_scale"] = reset->parallelScale;
+  }
+  else
+  {
+    camera["position"] = triple(proxy, "CameraPosition");
+    camera["focal_point"] = triple(proxy, "CameraFocalPoint");
+    camera["view_up"] = triple(proxy, "CameraViewUp");
+    camera["view_angle"] = vtkSMPropertyHelper(proxy, "CameraViewAngle").GetAsDouble();
+    camera["parallel_projection"] =
+      vtkSMPropertyHelper(proxy, "CameraParallelProjection").GetAsInt() != 0;
+    camera["parallel_scale"] = vtkSMPropertyHelper(proxy, "CameraParallelScale").GetAsDouble();
   }
   const double scale = maxSide > 0 ? std::min(1.0, maxSide / std::max(w, h)) : 1.0;
   json out;
@@ -610,4 +625,26 @@ std::string vtkSMDDGScene::ExportName(const char* volume, const char* origin, co
 std::string vtkSMDDGScene::DesignOrigin(const char* action)
 {
   return ddg::designOrigin(action ? action : "");
+}
+
+std::vector<unsigned char> vtkSMDDGScene::DecodePicture(
+  const std::string& bytes, int& width, int& height)
+{
+  width = height = 0;
+  ddg::Image rgb;
+  try
+  {
+    rgb = ddg::toChannels(ddg::inColour(ddg::decodeImage(bytes, "the picture")), 3);
+  }
+  catch (const std::exception&)
+  {
+    return {};
+  }
+  std::vector<unsigned char> out(rgb.pixels.size());
+  std::transform(rgb.pixels.begin(), rgb.pixels.end(), out.begin(),
+    [](float v)
+    { return static_cast<unsigned char>(std::lround(255 * std::clamp(v, 0.0f, 1.0f))); });
+  width = rgb.width;
+  height = rgb.height;
+  return out;
 }

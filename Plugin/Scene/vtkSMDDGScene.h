@@ -7,6 +7,7 @@
 #include <vtkObject.h>
 
 #include <string>
+#include <vector>
 
 class vtkSMProxy;
 
@@ -23,6 +24,7 @@ class vtkSMProxy;
  *   written into (or read from) a representation's colour, opacity and 2D maps.
  * - SetCamera, SetLighting: a view JSON's camera and lighting written into a view and a
  *   representation.
+ * - DecodePicture: a picture's pixels as the filters read them.
  *
  * No Qt and no undo stack: the panel wraps Apply1D/Apply2D in an undo set (and lets ParaView's
  * Color Map Editor react before writing the 2D boxes again); Python calls them as they are
@@ -193,6 +195,15 @@ public:
   /// What a design history's last step `action` says of the design's origin ("pick": "outline
   /// design", "latent": "design", "axes": "edit", others as they are; Core's designOrigin).
   static std::string DesignOrigin(const char* action);
+
+  /**
+   * A picture's bytes as the filters read them (Core's decodeImage: PNG, JPEG, TIFF, BMP, GIF or
+   * WebP by their first bytes; grey spread to red, green and blue, alpha dropped) as 8-bit RGB,
+   * rows top first, `width` x `height`; empty (and 0 x 0) when they are none of those. For the
+   * panel to draw a picture its Qt has no reader for (Debian's Qt 5 has no WebP plugin).
+   */
+  VTK_WRAPEXCLUDE static std::vector<unsigned char> DecodePicture(
+    const std::string& bytes, int& width, int& height);
 
 protected:
   vtkSMDDGScene() = default;

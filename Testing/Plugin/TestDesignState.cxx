@@ -26,9 +26,11 @@
 // signal
 // ("Match cancelled: ..."), then run (the camera given back as it is, PSNR against the picture
 // >= 35 dB and above the query design's, the render and overlay mask at the picture's size,
-// previews while fitting); a query that fails after it (the chart again) keeps the last query
+// previews while fitting; the match's tile: the picture, tinted where the match left it out); a
+// query that fails after it (the chart again) keeps the last query
 // whole (its picture, nearest designs and match; no queried signal), and a picked nearest
-// design's figure against the picture is the strip's.
+// design's figure against the picture is the strip's; a WebP picture (no Qt reader here) has its
+// tile drawn from the pixels the filters read.
 //
 // Usage: TestDesignState BODY PLUGIN DATA TESTDATA OUTDIR (BODY: this module)
 #include "pqDDGDesignState.h"
@@ -52,6 +54,7 @@
 #include <QJsonDocument>
 #include <QPainter>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 
@@ -294,11 +297,21 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       ++progressEvents;
       state.cancel();
     });
-  const bool cancelledMatch = state.match(true);
+  bool cancelledMatch = true;
+  QStringList cancelWarnings; // the user asked for it: no warning in Output Messages
+  {
+    vtkSmartPointer<vtkOutputWindow> window = vtkOutputWindow::GetInstance();
+    vtkNew<MessageLog> log;
+    vtkOutputWindow::SetInstance(log);
+    cancelledMatch = state.match(true);
+    vtkOutputWindow::SetInstance(window);
+    cancelWarnings = log->Texts;
+  }
   QObject::disconnect(cancelling);
-  check(!cancelledMatch && !state.hasMatch() && progressEvents > 0 &&
+  check(!cancelledMatch && !state.hasMatch() && progressEvents > 0 && cancelWarnings.isEmpty() &&
       state.lastMessage() == "Match cancelled: nothing was applied, the scene is unchanged.",
-    "cancelled match: " + state.lastMessage());
+    "cancelled match: " + state.lastMessage() +
+      " | Output Messages: " + cancelWarnings.join(" | "));
   QStringList stages;
   QImage lastPreview;
   QObject::connect(&state, &pqDDGDesignState::matchProgress,
@@ -325,6 +338,27 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       .arg(m.PSNRAfter, 0, 'f', 1)
       .arg(stages.join(" "))
       .arg(m.Timings.value(3), 0, 'f', 1));
+  // the match's tile: the picture as it is where the match used it, tinted red where it did not
+  {
+    const QImage tile = state.pictureTile();
+    const QImage picture = QImage::fromData(readFile(data + "/Screenshots/" + shot))
+                             .convertToFormat(QImage::Format_RGB32);
+    int kept = 0, tinted = 0, wrong = 0;
+    for (int y = 0; y < std::min(tile.height(), m.Overlay.height()); ++y)
+      for (int x = 0; x < std::min(tile.width(), m.Overlay.width()); ++x)
+      {
+        const bool same = (tile.pixel(x, y) & 0xffffff) == (picture.pixel(x, y) & 0xffffff);
+        const bool left = qGray(m.Overlay.pixel(x, y)) > 127;
+        (same != left ? (left ? tinted : kept) : wrong) += 1;
+      }
+    check(tile.size() == picture.size() && wrong == 0 && kept > 0,
+      QString("match tile: %1 x %2, %3 pixels as the picture's, %4 tinted, %5 otherwise")
+        .arg(tile.width())
+        .arg(tile.height())
+        .arg(kept)
+        .arg(tinted)
+        .arg(wrong));
+  }
   // --- a query that fails keeps the last one whole: its picture, nearest designs and match ---
   {
     int emitted = 0;
@@ -522,6 +556,30 @@ void run(const QString& data, const QString& testdata, const QString& outdir)
       outline.Points.size() == 50000 &&
       state.lastMessage().startsWith("50000 designs of 'tooth.vti'"),
     "another model on Tooth starts afresh: " + state.lastMessage());
+  // a WebP picture (Debian's Qt 5 has no reader for it): the tile is drawn from the pixels the
+  // filters read, the shipped screenshot at half size
+  const QByteArray webp = readFile(testdata + "/query_tooth.webp");
+  state.query(webp, "query_tooth.webp");
+  const QImage tile = state.pictureTile();
+  const QImage full = QImage::fromData(readFile(data + "/Screenshots/" + shot));
+  const QImage half = full.scaled(full.size() / 2, Qt::IgnoreAspectRatio, Qt::SmoothTransformation);
+  double error = 0;
+  for (int y = 0; y < std::min(tile.height(), half.height()); ++y)
+    for (int x = 0; x < std::min(tile.width(), half.width()); ++x)
+    {
+      const QRgb a = tile.pixel(x, y), b = half.pixel(x, y);
+      error += std::abs(qRed(a) - qRed(b)) + std::abs(qGreen(a) - qGreen(b)) +
+        std::abs(qBlue(a) - qBlue(b));
+    }
+  error /= 3.0 * std::max(1, tile.width() * tile.height());
+  check(state.queryName() == "query_tooth.webp" && !tile.isNull() && tile.size() == half.size() &&
+      error < 8,
+    QString("WebP picture's tile (Qt reads it: %1): %2 x %3, mean error %4 against the "
+            "screenshot at half size")
+      .arg(!QImage::fromData(webp).isNull())
+      .arg(tile.width())
+      .arg(tile.height())
+      .arg(error, 0, 'f', 2));
 }
 
 } // namespace
