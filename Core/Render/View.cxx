@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <tuple>
@@ -373,6 +374,22 @@ View resetCameraView(const std::array<double, 6>& bounds, int width, int height)
   v.camera.position = v.camera.focalPoint + Eigen::Vector3d(0, 0, radius / std::sin(0.5 * angle));
   v.camera.parallelScale = radius / aspect;
   return v;
+}
+
+Camera cameraForShape(const View& view, int width, int height)
+{
+  Camera c = view.camera;
+  if (width < 1 || height < 1 || view.width < 1 || view.height < 1)
+    return c;
+  // the widening: the view's aspect over the target's (> 1: the target is narrower)
+  const double widen =
+    (static_cast<double>(view.width) / view.height) / (static_cast<double>(width) / height);
+  if (widen <= 1.0)
+    return c;
+  c.parallelScale *= widen;
+  const double half = std::atan(std::tan(c.viewAngle * M_PI / 360.0) * widen);
+  c.viewAngle = std::min(179.0, 360.0 * half / M_PI);
+  return c;
 }
 
 RayGenerator::RayGenerator(const View& view)

@@ -108,6 +108,12 @@ View defaultView(const std::array<double, 6>& bounds, int width, int height);
 /// 2 atan(tan(view_angle / 2) width / height), and a parallel scale of radius height / width.
 /// (defaultView, which the match and the carried look start from, keeps the vertical angle.)
 View resetCameraView(const std::array<double, 6>& bounds, int width, int height);
+/// `view`'s camera for a render view of `width` x `height` that shows all `view` shows: in a view
+/// narrower than `view` (width / height under its) the view angle (perspective) or the parallel
+/// scale is widened so that `view`'s width fills the view's; otherwise the camera as it is (VTK's
+/// vertical angle: a wider view shows more on the sides). How a picture's camera is put into a
+/// render view of another shape (vtkSMDDGScene::SetCamera).
+Camera cameraForShape(const View& view, int width, int height);
 
 /// ParaView's sample distance for a volume of `dims` points at `spacing`: mean spacing / 2, times
 /// 0.01 + 0.99 n / 100 when n = ((nx-1)(ny-1)(nz-1))^0.333 < 100.

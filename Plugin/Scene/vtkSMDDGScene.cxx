@@ -262,10 +262,10 @@ std::string vtkSMDDGScene::SetCamera(vtkSMProxy* view, const char* viewJSON, boo
   if (!proxy)
     return "not a render view";
   const std::string text = viewJSON ? viewJSON : "";
-  ddg::Camera c;
+  ddg::View v;
   try
   {
-    c = ddg::parseView(text).camera; // checked as every reader checks it
+    v = ddg::parseView(text); // checked as every reader checks it
   }
   catch (const std::exception& e)
   {
@@ -273,13 +273,18 @@ std::string vtkSMDDGScene::SetCamera(vtkSMProxy* view, const char* viewJSON, boo
   }
   if (checkOnly)
     return {};
+  const json doc = json::parse(text);
+  // a view JSON of another shape (a picture's): all the picture shows, in a narrower view too
+  vtkSMPropertyHelper size(proxy, "ViewSize");
+  const ddg::Camera c =
+    doc.contains("size") ? ddg::cameraForShape(v, size.GetAsInt(0), size.GetAsInt(1)) : v.camera;
   vtkSMPropertyHelper(proxy, "CameraPosition").Set(c.position.data(), 3);
   vtkSMPropertyHelper(proxy, "CameraFocalPoint").Set(c.focalPoint.data(), 3);
   vtkSMPropertyHelper(proxy, "CameraViewUp").Set(c.viewUp.data(), 3);
   vtkSMPropertyHelper(proxy, "CameraViewAngle").Set(c.viewAngle);
   vtkSMPropertyHelper(proxy, "CameraParallelProjection").Set(c.parallelProjection ? 1 : 0);
   // a JSON without a parallel scale leaves the view's (it matters only in parallel projection)
-  if (json::parse(text)["camera"].contains("parallel_scale"))
+  if (doc.at("camera").contains("parallel_scale"))
     vtkSMPropertyHelper(proxy, "CameraParallelScale").Set(c.parallelScale);
   proxy->UpdateVTKObjects();
   return {};

@@ -59,8 +59,11 @@ public:
   /**
    * Sets render view `view`'s camera from a DDG view JSON's "camera" (position, focal_point,
    * view_up, view_angle, parallel_projection, parallel_scale; defaults as the view contract's)
-   * through its properties (so that it is recorded on an open undo set) and pushes them. The
-   * size and background of the JSON are not used. Returns an empty string, or the reason (not a
+   * through its properties (so that it is recorded on an open undo set) and pushes them. With a
+   * "size" (a picture's) the view shows all it shows: in a view narrower than that size the view
+   * angle (or the parallel scale) is widened so that the picture's width fills the view's (Core's
+   * cameraForShape); a wider view shows more on the sides, as VTK does. The background of the
+   * JSON is not used. Returns an empty string, or the reason (not a
    * render view, a view JSON Core's parseView refuses: no camera, a degenerate one, a value of
    * the wrong type) and then changes nothing. `checkOnly`: only that check, nothing is set (to
    * refuse before writing anything else).

@@ -157,6 +157,34 @@ TEST(View, ResetCameraFollowsParaViewInATallView)
   }
 }
 
+TEST(View, CameraForShapeKeepsThePicturesWidthInANarrowerView)
+{
+  View picture;
+  picture.width = 400;
+  picture.height = 200;
+  picture.camera.position = { 0, 0, 10 };
+  picture.camera.viewAngle = 30;
+  picture.camera.parallelScale = 3;
+  const auto halfWidth = [](const Camera& c, double aspect, bool parallel)
+  { return aspect * (parallel ? c.parallelScale : std::tan(c.viewAngle * M_PI / 360.0)); };
+  // a narrower view (300 x 400): the picture's half width at unit distance kept, the rest as is
+  const Camera narrow = cameraForShape(picture, 300, 400);
+  EXPECT_NEAR(halfWidth(narrow, 0.75, false), halfWidth(picture.camera, 2.0, false), 1e-12);
+  EXPECT_NEAR(halfWidth(narrow, 0.75, true), halfWidth(picture.camera, 2.0, true), 1e-12);
+  EXPECT_EQ(narrow.position, picture.camera.position);
+  EXPECT_EQ(narrow.focalPoint, picture.camera.focalPoint);
+  EXPECT_EQ(narrow.viewUp, picture.camera.viewUp);
+  // as wide or wider: the camera as it is (more is seen on the sides)
+  for (auto [w, h] : { std::pair{ 400, 200 }, std::pair{ 800, 300 } })
+  {
+    const Camera same = cameraForShape(picture, w, h);
+    EXPECT_EQ(same.viewAngle, picture.camera.viewAngle);
+    EXPECT_EQ(same.parallelScale, picture.camera.parallelScale);
+  }
+  // the widest angle VTK takes
+  EXPECT_LE(cameraForShape(picture, 1, 1000).viewAngle, 179.0);
+}
+
 TEST(RayGenerator, PerspectiveAndParallelConventions)
 {
   View v;

@@ -102,6 +102,36 @@ check(
 )
 view.UseColorPaletteForBackground, view.Background = palette, own
 
+# --- SetCamera: a picture's camera in a view of another shape (this view: 300 x 200) ---
+saved = json.loads(S.ViewJSON(view.SMProxy, None, 0))
+# the view's own camera with another angle and scale, from a picture three times as wide as high
+picture = {
+    "camera": dict(saved["camera"], view_angle=30.0, parallel_scale=100.0),
+    "size": [600, 200],
+}
+half = lambda angle: math.tan(math.radians(angle) / 2)  # noqa: E731
+check(S.SetCamera(view.SMProxy, json.dumps(picture), False) == "", "SetCamera of a wider picture")
+check(
+    abs(half(view.CameraViewAngle) * 1.5 - half(30.0) * 3.0) < 1e-9
+    and abs(view.CameraParallelScale * 1.5 - 100.0 * 3.0) < 1e-9
+    and list(view.CameraPosition) == saved["camera"]["position"],
+    "a picture wider than the view: its width fills the view's (view angle %.4f, parallel scale "
+    "%.4f)" % (view.CameraViewAngle, view.CameraParallelScale),
+)
+for size in ([300, 200], [200, 200]):  # as wide as the view, narrower: the camera as stated
+    S.SetCamera(view.SMProxy, json.dumps(dict(picture, size=size)), False)
+    check(
+        view.CameraViewAngle == 30.0 and view.CameraParallelScale == 100.0,
+        "a picture %s in the view: the camera as stated (%s)" % (size, view.CameraViewAngle),
+    )
+S.SetCamera(view.SMProxy, json.dumps({"camera": picture["camera"]}), False)
+check(view.CameraViewAngle == 30.0, "no size: the camera as stated")
+check(S.SetCamera(view.SMProxy, json.dumps(saved), False) == "", "SetCamera back")
+check(
+    json.loads(S.ViewJSON(view.SMProxy, None, 0)) == saved,
+    "SetCamera of a live view's JSON: as it was",
+)
+
 # --- the volume ---
 check(
     S.CheckVolume(tooth.SMProxy, None, 0) == S.IS_VOLUME and S.VolumeProblem(S.IS_VOLUME) == "",
