@@ -152,7 +152,8 @@ QString setCamera(pqRenderView* view, const QJsonObject& viewJson, bool undoable
   undo->View = view->getProxy();
   undo->SetSession(view->getProxy()->GetSession());
   undo->Before = vtkSMDDGScene::ViewJSON(view->getProxy(), nullptr, 0);
-  undo->After = jsonText(viewJson).toStdString();
+  // all the picture shows, in the view's own shape (a view narrower than the picture would cut it)
+  undo->After = vtkSMDDGScene::FitToView(view->getProxy(), jsonText(viewJson).toUtf8().constData());
   const std::string error = vtkSMDDGScene::SetCamera(view->getProxy(), undo->After.c_str());
   if (!error.empty())
     return QString::fromStdString(error);

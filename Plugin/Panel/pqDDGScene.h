@@ -52,7 +52,8 @@ QString applyPreset(pqDataRepresentation* repr, const QString& array, const QStr
 QString applyTransferFunction2D(pqDataRepresentation* repr, const QString& array,
   const QString& boxesText, const QString& label, bool undoable = true);
 
-/// Sets `view`'s camera to the "camera" of a view JSON (vtkSMDDGScene::SetCamera). ParaView's undo
+/// Sets `view`'s camera to the "camera" of a view JSON, fitted to the view's shape so that all the
+/// picture shows is seen (vtkSMDDGScene::FitToView, then SetCamera). ParaView's undo
 /// stack does not record camera changes: with `undoable`, an element that sets the camera back
 /// (and forth on Redo) is added to the undo set open now (BEGIN_UNDO_SET), so the camera moves
 /// with the rest of that step. Returns an empty string or the reason (nothing changed then).

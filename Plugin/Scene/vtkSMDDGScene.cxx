@@ -273,21 +273,44 @@ std::string vtkSMDDGScene::SetCamera(vtkSMProxy* view, const char* viewJSON, boo
   }
   if (checkOnly)
     return {};
-  const json doc = json::parse(text);
-  // a view JSON of another shape (a picture's): all the picture shows, in a narrower view too
-  vtkSMPropertyHelper size(proxy, "ViewSize");
-  const ddg::Camera c =
-    doc.contains("size") ? ddg::cameraForShape(v, size.GetAsInt(0), size.GetAsInt(1)) : v.camera;
+  const ddg::Camera& c = v.camera;
   vtkSMPropertyHelper(proxy, "CameraPosition").Set(c.position.data(), 3);
   vtkSMPropertyHelper(proxy, "CameraFocalPoint").Set(c.focalPoint.data(), 3);
   vtkSMPropertyHelper(proxy, "CameraViewUp").Set(c.viewUp.data(), 3);
   vtkSMPropertyHelper(proxy, "CameraViewAngle").Set(c.viewAngle);
   vtkSMPropertyHelper(proxy, "CameraParallelProjection").Set(c.parallelProjection ? 1 : 0);
   // a JSON without a parallel scale leaves the view's (it matters only in parallel projection)
-  if (doc.at("camera").contains("parallel_scale"))
+  if (json::parse(text).at("camera").contains("parallel_scale"))
     vtkSMPropertyHelper(proxy, "CameraParallelScale").Set(c.parallelScale);
   proxy->UpdateVTKObjects();
   return {};
+}
+
+std::string vtkSMDDGScene::FitToView(vtkSMProxy* view, const char* viewJSON)
+{
+  auto* proxy = vtkSMRenderViewProxy::SafeDownCast(view);
+  const std::string text = viewJSON ? viewJSON : "";
+  json doc = json::parse(text, nullptr, false);
+  if (!proxy || doc.is_discarded() || !doc.is_object() || !doc.contains("size") ||
+    !doc.contains("camera") || !doc["camera"].is_object())
+    return text;
+  ddg::View v;
+  try
+  {
+    v = ddg::parseView(text);
+  }
+  catch (const std::exception&)
+  {
+    return text; // SetCamera says why
+  }
+  vtkSMPropertyHelper size(proxy, "ViewSize");
+  const int w = std::max(1, size.GetAsInt(0)), h = std::max(1, size.GetAsInt(1));
+  const ddg::Camera c = ddg::cameraForShape(v, w, h);
+  doc["camera"]["view_angle"] = c.viewAngle;
+  if (doc["camera"].contains("parallel_scale"))
+    doc["camera"]["parallel_scale"] = c.parallelScale;
+  doc["size"] = json::array({ w, h });
+  return doc.dump();
 }
 
 std::string vtkSMDDGScene::SetLighting(

@@ -23,7 +23,7 @@ class vtkSMProxy;
  * - Apply1D, Apply2D, WriteTransferFunction2D, CurrentPreset: a design's transfer function
  *   written into (or read from) a representation's colour, opacity and 2D maps.
  * - SetCamera, SetLighting: a view JSON's camera and lighting written into a view and a
- *   representation.
+ *   representation; FitToView: a picture's camera for a view of another shape.
  * - DecodePicture: a picture's pixels as the filters read them.
  *
  * No Qt and no undo stack: the panel wraps Apply1D/Apply2D in an undo set (and lets ParaView's
@@ -59,16 +59,25 @@ public:
   /**
    * Sets render view `view`'s camera from a DDG view JSON's "camera" (position, focal_point,
    * view_up, view_angle, parallel_projection, parallel_scale; defaults as the view contract's)
-   * through its properties (so that it is recorded on an open undo set) and pushes them. With a
-   * "size" (a picture's) the view shows all it shows: in a view narrower than that size the view
-   * angle (or the parallel scale) is widened so that the picture's width fills the view's (Core's
-   * cameraForShape); a wider view shows more on the sides, as VTK does. The background of the
-   * JSON is not used. Returns an empty string, or the reason (not a
+   * through its properties (so that it is recorded on an open undo set) and pushes them, as it
+   * is stated (a screenshot saved at the JSON's size then shows what the JSON's picture shows;
+   * FitToView first for all of it in the view's own shape). The size and background of the JSON
+   * are not used. Returns an empty string, or the reason (not a
    * render view, a view JSON Core's parseView refuses: no camera, a degenerate one, a value of
    * the wrong type) and then changes nothing. `checkOnly`: only that check, nothing is set (to
    * refuse before writing anything else).
    */
   static std::string SetCamera(vtkSMProxy* view, const char* viewJSON, bool checkOnly = false);
+
+  /**
+   * A view JSON with a "size" (a picture's) made to show all it shows in render view `view`'s
+   * shape: in a view narrower than that size the camera's view angle (and parallel scale) widened
+   * so that the picture's width fills the view's (Core's cameraForShape), the size the view's; a
+   * wider view keeps the camera (it shows more on the sides, as VTK does). What the panel's Apply
+   * with "move the camera to the picture's" sets. The JSON as it is without a size, a camera or
+   * a render view, or when it cannot be read (SetCamera then says why).
+   */
+  static std::string FitToView(vtkSMProxy* view, const char* viewJSON);
 
   /**
    * Sets representation `representation`'s lighting from a DDG view JSON's "lighting": Shade on

@@ -118,8 +118,6 @@ def view_json(view=None, source=None, max_side=None):
 def set_camera(view_file, view=None):
     """Sets a render view's camera (default: the active one) from a DDG view JSON file or dict
     and renders (after a first render: paraview.simple resets the camera on that one). A view
-    narrower than the JSON's size shows all it shows (its view angle or parallel scale widened to
-    the JSON's width; README "File contracts"). A view
     JSON the project's readers refuse (no camera, a degenerate one, a value of the wrong type)
     raises DDGError and leaves the camera as it was."""
     text = json.dumps(view_json(view_file))

@@ -102,7 +102,7 @@ check(
 )
 view.UseColorPaletteForBackground, view.Background = palette, own
 
-# --- SetCamera: a picture's camera in a view of another shape (this view: 300 x 200) ---
+# --- a picture's camera in a view of another shape (this view: 300 x 200) ---
 saved = json.loads(S.ViewJSON(view.SMProxy, None, 0))
 # the view's own camera with another angle and scale, from a picture three times as wide as high
 picture = {
@@ -110,22 +110,29 @@ picture = {
     "size": [600, 200],
 }
 half = lambda angle: math.tan(math.radians(angle) / 2)  # noqa: E731
-check(S.SetCamera(view.SMProxy, json.dumps(picture), False) == "", "SetCamera of a wider picture")
+fitted = json.loads(S.FitToView(view.SMProxy, json.dumps(picture)))
 check(
-    abs(half(view.CameraViewAngle) * 1.5 - half(30.0) * 3.0) < 1e-9
-    and abs(view.CameraParallelScale * 1.5 - 100.0 * 3.0) < 1e-9
-    and list(view.CameraPosition) == saved["camera"]["position"],
-    "a picture wider than the view: its width fills the view's (view angle %.4f, parallel scale "
-    "%.4f)" % (view.CameraViewAngle, view.CameraParallelScale),
+    abs(half(fitted["camera"]["view_angle"]) * 1.5 - half(30.0) * 3.0) < 1e-9
+    and abs(fitted["camera"]["parallel_scale"] * 1.5 - 100.0 * 3.0) < 1e-9
+    and fitted["size"] == [300, 200]
+    and fitted["camera"]["position"] == saved["camera"]["position"],
+    "FitToView: a picture wider than the view has its width fill the view's (view angle %.4f, "
+    "parallel scale %.4f)" % (fitted["camera"]["view_angle"], fitted["camera"]["parallel_scale"]),
 )
 for size in ([300, 200], [200, 200]):  # as wide as the view, narrower: the camera as stated
-    S.SetCamera(view.SMProxy, json.dumps(dict(picture, size=size)), False)
+    same = json.loads(S.FitToView(view.SMProxy, json.dumps(dict(picture, size=size))))
     check(
-        view.CameraViewAngle == 30.0 and view.CameraParallelScale == 100.0,
-        "a picture %s in the view: the camera as stated (%s)" % (size, view.CameraViewAngle),
+        same["camera"] == picture["camera"],
+        "FitToView: a picture %s in the view keeps its camera" % size,
     )
-S.SetCamera(view.SMProxy, json.dumps({"camera": picture["camera"]}), False)
-check(view.CameraViewAngle == 30.0, "no size: the camera as stated")
+no_size = json.dumps({"camera": picture["camera"]})
+check(S.FitToView(view.SMProxy, no_size) == no_size, "FitToView: no size, as it is")
+# SetCamera sets the camera as stated: a screenshot at the picture's size shows the picture
+check(S.SetCamera(view.SMProxy, json.dumps(picture), False) == "", "SetCamera of a wider picture")
+check(
+    view.CameraViewAngle == 30.0 and view.CameraParallelScale == 100.0,
+    "SetCamera: the camera as stated (%s)" % view.CameraViewAngle,
+)
 check(S.SetCamera(view.SMProxy, json.dumps(saved), False) == "", "SetCamera back")
 check(
     json.loads(S.ViewJSON(view.SMProxy, None, 0)) == saved,
