@@ -196,24 +196,29 @@ Image readShrunkPicture(const std::string& path, int longest, ImageFileInfo* inf
   return readImageFrom(path, info, nullptr, longest);
 }
 
-Image decodeImage(const std::string& bytes, const std::string& origin)
+std::string imageFormat(const std::string& bytes)
 {
   auto starts = [&bytes](const char* magic, size_t n)
   { return bytes.size() >= n && bytes.compare(0, n, magic, n) == 0; };
-  std::string ext;
   if (starts("\x89PNG\r\n\x1a\n", 8))
-    ext = ".png";
-  else if (starts("\xff\xd8\xff", 3))
-    ext = ".jpg";
-  else if (starts("II*\0", 4) || starts("MM\0*", 4))
-    ext = ".tif";
-  else if (starts("BM", 2))
-    ext = ".bmp";
-  else if (starts("GIF87a", 6) || starts("GIF89a", 6))
-    ext = ".gif";
-  else if (starts("RIFF", 4) && bytes.size() >= 12 && bytes.compare(8, 4, "WEBP") == 0)
-    ext = ".webp";
-  else
+    return ".png";
+  if (starts("\xff\xd8\xff", 3))
+    return ".jpg";
+  if (starts("II*\0", 4) || starts("MM\0*", 4))
+    return ".tif";
+  if (starts("BM", 2))
+    return ".bmp";
+  if (starts("GIF87a", 6) || starts("GIF89a", 6))
+    return ".gif";
+  if (starts("RIFF", 4) && bytes.size() >= 12 && bytes.compare(8, 4, "WEBP") == 0)
+    return ".webp";
+  return {};
+}
+
+Image decodeImage(const std::string& bytes, const std::string& origin)
+{
+  const std::string ext = imageFormat(bytes);
+  if (ext.empty())
     throw Error(origin + " is not a PNG, JPEG, TIFF, BMP, GIF or WebP file (" +
       std::to_string(bytes.size()) + " bytes)");
   OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());

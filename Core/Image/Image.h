@@ -74,6 +74,9 @@ Image readImage(const std::string& path, ImageFileInfo* info);
 /// ("cannot read <origin>: <reason>", "<origin> is not a PNG, JPEG, TIFF, BMP, GIF or WebP file").
 /// Throws ddg::Error for another format or a file OpenImageIO cannot read.
 Image decodeImage(const std::string& bytes, const std::string& origin = "the image data");
+/// The format decodeImage reads `bytes` as, told by their first bytes: ".png", ".jpg", ".tif",
+/// ".bmp", ".gif" or ".webp"; empty for anything else (the first 12 bytes are enough).
+std::string imageFormat(const std::string& bytes);
 
 /// The image JPEG-compressed at `quality` (1..100) with OpenImageIO and read back, in memory:
 /// what a picture saved as JPEG looks like. RGB (or gray) values k / 255. Throws ddg::Error.

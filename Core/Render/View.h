@@ -112,7 +112,7 @@ View resetCameraView(const std::array<double, 6>& bounds, int width, int height)
 /// narrower than `view` (width / height under its) the view angle (perspective) or the parallel
 /// scale is widened so that `view`'s width fills the view's; otherwise the camera as it is (VTK's
 /// vertical angle: a wider view shows more on the sides). How a picture's camera is put into a
-/// render view of another shape (vtkSMDDGScene::SetCamera).
+/// render view of another shape (vtkSMDDGScene::FitToView, the panel's Apply).
 Camera cameraForShape(const View& view, int width, int height);
 
 /// ParaView's sample distance for a volume of `dims` points at `spacing`: mean spacing / 2, times

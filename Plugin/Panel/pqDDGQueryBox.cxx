@@ -15,6 +15,7 @@
 #include <QImageReader>
 #include <QPixmap>
 #include <QToolButton>
+#include <vtkSMDDGScene.h>
 
 #include <algorithm>
 #include <cmath>
@@ -155,11 +156,9 @@ void pqDDGQueryBox::queryFile(const QString& path)
     }
   }
   const QByteArray bytes = file.readAll();
-  // what the server's reader (Core's decodeImage) tells by its first bytes: PNG, JPEG, TIFF, BMP,
-  // GIF, WebP (this Qt may lack a WebP plugin: the server reads it all the same)
-  const bool direct = bytes.startsWith("\x89PNG") || bytes.startsWith("\xff\xd8\xff") ||
-    bytes.startsWith("II*") || bytes.startsWith("MM") || bytes.startsWith("BM") ||
-    bytes.startsWith("GIF8") || (bytes.startsWith("RIFF") && bytes.mid(8, 4) == "WEBP");
+  // a format the server's reader (Core's decodeImage) tells by its first bytes: PNG, JPEG, TIFF,
+  // BMP, GIF, WebP (this Qt may lack a WebP plugin: the server reads it all the same)
+  const bool direct = !vtkSMDDGScene::PictureFormat(bytes.left(16).toStdString()).empty();
   if (direct && bytes.size() < 32 * 1024 * 1024)
   {
     // the file as it is: the server reads it exactly as `ddg query` reads the file

@@ -29,7 +29,6 @@
 #include <cctype>
 #include <cmath>
 #include <iterator>
-#include <optional>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -290,14 +289,13 @@ std::string vtkSMDDGScene::FitToView(vtkSMProxy* view, const char* viewJSON)
 {
   auto* proxy = vtkSMRenderViewProxy::SafeDownCast(view);
   const std::string text = viewJSON ? viewJSON : "";
-  json doc = json::parse(text, nullptr, false);
-  if (!proxy || doc.is_discarded() || !doc.is_object() || !doc.contains("size") ||
-    !doc.contains("camera") || !doc["camera"].is_object())
+  json doc = json::parse(text, nullptr, false); // not JSON: not an object
+  if (!proxy || !doc.is_object() || !doc.contains("size"))
     return text;
   ddg::View v;
   try
   {
-    v = ddg::parseView(text);
+    v = ddg::parseView(text); // a camera, as every reader checks it
   }
   catch (const std::exception&)
   {
@@ -366,38 +364,34 @@ std::string vtkSMDDGScene::ViewJSON(
   // A view that shows nothing (pvpython's after OpenDataFile) has ParaView's first camera, which
   // does not look at the volume: the volume is seen as ParaView shows it once shown (Reset
   // Camera on its bounds; paraview.simple's first render), not as an empty picture
-  std::optional<ddg::Camera> reset;
+  ddg::Camera c; // the view's own, or that reset camera
   auto* source = vtkSMSourceProxy::SafeDownCast(representationOrSource);
+  std::array<double, 6> b{ 1, 0, 1, 0, 1, 0 }; // none
   if (source && !showsAnything(proxy))
   {
     source->UpdatePipeline(); // a reader never shown has not read its file: no bounds yet
-    std::array<double, 6> b{ 1, 0, 1, 0, 1, 0 }; // none
     if (vtkPVDataInformation* info = dataInformation(source, 0))
       info->GetBounds(b.data());
-    if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
-      reset = ddg::resetCameraView(b, static_cast<int>(w), static_cast<int>(h)).camera;
   }
-  json camera;
-  if (reset)
-  {
-    const auto xyz = [](const Eigen::Vector3d& p) { return json::array({ p[0], p[1], p[2] }); };
-    camera["position"] = xyz(reset->position);
-    camera["focal_point"] = xyz(reset->focalPoint);
-    camera["view_up"] = xyz(reset->viewUp);
-    camera["view_angle"] = reset->viewAngle;
-    camera["parallel_projection"] = reset->parallelProjection;
-    camera["parallel_scale"] = reset->parallelScale;
-  }
+  if (b[0] <= b[1] && b[2] <= b[3] && b[4] <= b[5])
+    c = ddg::resetCameraView(b, static_cast<int>(w), static_cast<int>(h)).camera;
   else
   {
-    camera["position"] = triple(proxy, "CameraPosition");
-    camera["focal_point"] = triple(proxy, "CameraFocalPoint");
-    camera["view_up"] = triple(proxy, "CameraViewUp");
-    camera["view_angle"] = vtkSMPropertyHelper(proxy, "CameraViewAngle").GetAsDouble();
-    camera["parallel_projection"] =
-      vtkSMPropertyHelper(proxy, "CameraParallelProjection").GetAsInt() != 0;
-    camera["parallel_scale"] = vtkSMPropertyHelper(proxy, "CameraParallelScale").GetAsDouble();
+    vtkSMPropertyHelper(proxy, "CameraPosition").Get(c.position.data(), 3);
+    vtkSMPropertyHelper(proxy, "CameraFocalPoint").Get(c.focalPoint.data(), 3);
+    vtkSMPropertyHelper(proxy, "CameraViewUp").Get(c.viewUp.data(), 3);
+    c.viewAngle = vtkSMPropertyHelper(proxy, "CameraViewAngle").GetAsDouble();
+    c.parallelProjection = vtkSMPropertyHelper(proxy, "CameraParallelProjection").GetAsInt() != 0;
+    c.parallelScale = vtkSMPropertyHelper(proxy, "CameraParallelScale").GetAsDouble();
   }
+  const auto xyz = [](const Eigen::Vector3d& p) { return json::array({ p[0], p[1], p[2] }); };
+  json camera;
+  camera["position"] = xyz(c.position);
+  camera["focal_point"] = xyz(c.focalPoint);
+  camera["view_up"] = xyz(c.viewUp);
+  camera["view_angle"] = c.viewAngle;
+  camera["parallel_projection"] = c.parallelProjection;
+  camera["parallel_scale"] = c.parallelScale;
   const double scale = maxSide > 0 ? std::min(1.0, maxSide / std::max(w, h)) : 1.0;
   json out;
   out["camera"] = camera;
@@ -675,4 +669,9 @@ std::vector<unsigned char> vtkSMDDGScene::DecodePicture(
   width = rgb.width;
   height = rgb.height;
   return out;
+}
+
+std::string vtkSMDDGScene::PictureFormat(const std::string& firstBytes)
+{
+  return ddg::imageFormat(firstBytes);
 }

@@ -24,7 +24,7 @@ class vtkSMProxy;
  *   written into (or read from) a representation's colour, opacity and 2D maps.
  * - SetCamera, SetLighting: a view JSON's camera and lighting written into a view and a
  *   representation; FitToView: a picture's camera for a view of another shape.
- * - DecodePicture: a picture's pixels as the filters read them.
+ * - DecodePicture, PictureFormat: a picture's pixels and format as the filters read them.
  *
  * No Qt and no undo stack: the panel wraps Apply1D/Apply2D in an undo set (and lets ParaView's
  * Color Map Editor react before writing the 2D boxes again); Python calls them as they are
@@ -216,6 +216,11 @@ public:
    */
   VTK_WRAPEXCLUDE static std::vector<unsigned char> DecodePicture(
     const std::string& bytes, int& width, int& height);
+
+  /// The format DecodePicture (and the filters) read a picture's bytes as, told by its first
+  /// bytes (Core's imageFormat): ".png", ".jpg", ".tif", ".bmp", ".gif" or ".webp"; empty for
+  /// anything else. The first 16 bytes are enough.
+  VTK_WRAPEXCLUDE static std::string PictureFormat(const std::string& firstBytes);
 
 protected:
   vtkSMDDGScene() = default;
